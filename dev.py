@@ -1,0 +1,80 @@
+#!/usr/bin/env python3
+"""Set-up and task runner for dtcrit: needs only a Python >= 3.11 on the machine.
+
+    python3 dev.py demo       create .venv if missing, install dtcrit, run the main job
+    python3 dev.py test       the same set-up, then the whole test suite
+    python3 dev.py generate   regenerate the committed generated code and derivation records
+
+Every task creates the virtual environment ``.venv`` beside this file when it is missing and
+(re)installs the package whenever ``pyproject.toml`` changed since the last install.
+"""
+from __future__ import annotations
+
+import hashlib
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent
+VENV = ROOT / ".venv"
+BIN = VENV / ("Scripts" if os.name == "nt" else "bin")
+PY = BIN / ("python.exe" if os.name == "nt" else "python")
+STAMP = VENV / ".dtcrit-installed"
+
+DEMO_SCENE = "examples/paper_ellipsoids.toml"
+
+
+def run(*cmd: str | os.PathLike, env: dict | None = None) -> int:
+    print("+", " ".join(str(c) for c in cmd), flush=True)
+    return subprocess.call([str(c) for c in cmd], cwd=ROOT, env=env)
+
+
+def ensure_venv() -> None:
+    if sys.version_info < (3, 11):
+        sys.exit("dtcrit needs Python >= 3.11 (found %s)" % sys.version.split()[0])
+    if not PY.exists():
+        if run(sys.executable, "-m", "venv", VENV) != 0:
+            sys.exit("could not create the virtual environment .venv")
+    digest = hashlib.sha256((ROOT / "pyproject.toml").read_bytes()).hexdigest()
+    if STAMP.exists() and STAMP.read_text() == digest:
+        return
+    quiet = ["-q"] if os.environ.get("CI") else []
+    if run(PY, "-m", "pip", "install", *quiet, "--upgrade", "pip") != 0:
+        sys.exit("pip upgrade failed")
+    if run(PY, "-m", "pip", "install", *quiet, "-e", ".[test]") != 0:
+        sys.exit("installing dtcrit and its test dependencies failed")
+    STAMP.write_text(digest)
+
+
+def child_env() -> dict:
+    env = dict(os.environ)
+    env.setdefault("MPLBACKEND", "Agg")
+    env["PATH"] = str(BIN) + os.pathsep + env.get("PATH", "")
+    return env
+
+
+def demo() -> int:
+    return run(PY, "-m", "dtcrit", "step", DEMO_SCENE, env=child_env())
+
+
+def test() -> int:
+    env = child_env()
+    env.setdefault("HYPOTHESIS_PROFILE", "ci")
+    workers = os.environ.get("DTCRIT_TEST_WORKERS", "2")
+    rc = run(PY, "-m", "pytest", "-q", "-n", workers, "--dist", "loadfile", *sys.argv[2:], env=env)
+    return 0 if rc == 5 else rc  # 5: no tests collected
+
+
+def generate() -> int:
+    env = child_env()
+    return run(PY, "-m", "dtcrit.symbolic.regenerate", env=env) or run(PY, "derivations/run_all.py", *sys.argv[2:], env=env)
+
+
+TASKS = {"demo": demo, "test": test, "generate": generate}
+
+if __name__ == "__main__":
+    if len(sys.argv) < 2 or sys.argv[1] not in TASKS:
+        sys.exit("usage: python3 dev.py {%s} [args]" % "|".join(TASKS))
+    ensure_venv()
+    sys.exit(TASKS[sys.argv[1]]())

@@ -1,0 +1,47 @@
+"""dtcrit: the critical time step of explicit DEM simulations, derived, verified and emitted.
+
+Data flows one way: ``dtcrit.symbolic`` (SymPy derivations) -> ``dtcrit._generated`` (committed,
+emitted code) -> the runtime modules -> ``dtcrit.cli``.  Nothing imported from this top-level
+namespace imports SymPy.
+
+The public API is loaded lazily so that ``import dtcrit`` stays cheap for the command line.
+"""
+from __future__ import annotations
+
+import importlib
+
+__version__ = "0.1.0"
+
+# name -> module that defines it (relative to this package)
+_API = {
+    # shapes
+    "Sphere": "shapes",
+    "Ellipsoid": "shapes",
+    "Superquadric": "shapes",
+    "Box": "shapes",
+    "ConvexPolyhedron": "shapes",
+    # contact kinematics (Peng et al. 2020, Sections 2, 3, 5)
+    "a_max": "contact",
+    "a_bound": "contact",
+    "b_max": "contact",
+    "coefficient_matrix": "contact",
+    # stability engine (Peng et al. 2020, Section 4; CFL note)
+    "critical_dt": "stability",
+    "paper_eq46": "stability",
+    "INTEGRATORS": "stability",
+}
+
+__all__ = sorted(_API)
+
+
+def __getattr__(name: str):
+    module = _API.get(name)
+    if module is None:
+        raise AttributeError(f"module 'dtcrit' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{module}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_API))

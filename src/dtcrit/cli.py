@@ -1,0 +1,45 @@
+"""The ``dtcrit`` command line: it only parses arguments, calls the API and prints.
+
+Each subcommand lives in ``dtcrit.commands.<name>`` and exposes ``add_parser(subparsers)`` and
+``run(args) -> int``.  Bad input (``dtcrit.errors.InputError`` or ``ValueError``) is reported as a
+single line on standard error with exit status 2, never a traceback.
+"""
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+# Subcommands in the order ``dtcrit --help`` lists them.
+COMMANDS: tuple[str, ...] = ()
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line, exit status 2 (argparse's own convention)
+        sys.stderr.write(f"{self.prog}: {message}\n")
+        raise SystemExit(2)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="dtcrit", description="Critical time steps for explicit DEM simulations.")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    for name in COMMANDS:
+        importlib.import_module(f"dtcrit.commands.{name}").add_parser(sub)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "run", None):
+        parser.print_help()
+        return 2
+    try:
+        return int(args.run(args) or 0)
+    except ValueError as exc:  # includes dtcrit.errors.InputError
+        source = getattr(args, "source_label", None)
+        prefix = f"{source}:" if source else "dtcrit: "
+        sys.stderr.write(f"{prefix}{' '.join(str(exc).split())}\n")
+        return 2
+    except BrokenPipeError:
+        return 0

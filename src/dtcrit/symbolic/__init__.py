@@ -1,0 +1,1 @@
+"""SymPy derivations.  Imported only when deriving or generating code, never by the runtime."""
