@@ -29,16 +29,37 @@ class Kernel:
     extra_lines: Sequence[str] = field(default_factory=tuple)
 
 
+def _square_root_of_term(term: sp.Expr) -> sp.Expr | None:
+    """``r`` with ``r**2 == term`` and no radical in ``r``, or None."""
+    if term.could_extract_minus_sign():
+        return None
+    r = sp.sqrt(term)
+    if r.has(sp.I) or any(not p.exp.is_integer for p in r.atoms(sp.Pow)):
+        return None
+    return r
+
+
 class _Printer(NumPyPrinter):
-    """NumPy printer that writes ``np.`` instead of ``numpy.``."""
+    """NumPy printer: ``np.`` prefix, ``hypot`` for the root of a sum of two squares (no overflow)."""
 
     def __init__(self, settings=None):
-        super().__init__(settings or {})
+        settings = dict(settings or {})
+        settings.setdefault("allow_unknown_functions", True)
+        super().__init__(settings)
         self._module = "np"
 
     def _module_format(self, fqn, register=True):
         text = super()._module_format(fqn, register)
         return text.replace("numpy.", "np.")
+
+    def _print_Pow(self, expr, rational=False):
+        base, exp = expr.args
+        if exp in (sp.S.Half, -sp.S.Half) and base.is_Add and len(base.args) == 2:
+            roots = [_square_root_of_term(t) for t in base.args]
+            if all(r is not None for r in roots):
+                text = f"np.hypot({self._print(roots[0])}, {self._print(roots[1])})"
+                return text if exp == sp.S.Half else f"1/{text}"
+        return super()._print_Pow(expr, rational=rational)
 
 
 def expr_code(expr: sp.Expr) -> str:
@@ -79,7 +100,9 @@ def kernel_source(k: Kernel) -> str:
     return "\n".join(lines) + "\n"
 
 
-def python_module(producer: str, summary: str, kernels: Sequence[Kernel], preamble: str = "") -> str:
+def python_module(
+    producer: str, summary: str, kernels: Sequence[Kernel], preamble: str = "", postamble: str = ""
+) -> str:
     """Full text of a generated module.  ``producer`` is the dotted name of the generating module."""
     exprs: list[sp.Basic] = []
     for k in kernels:
@@ -95,4 +118,5 @@ def python_module(producer: str, summary: str, kernels: Sequence[Kernel], preamb
     if preamble:
         head += [preamble.rstrip(), ""]
     body = "\n\n".join(kernel_source(k) for k in kernels)
-    return "\n".join(head) + "\n" + body
+    tail = ("\n\n" + postamble.rstrip() + "\n") if postamble else ""
+    return "\n".join(head) + "\n" + body + tail

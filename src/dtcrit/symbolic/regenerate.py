@@ -12,7 +12,9 @@ from pathlib import Path
 
 GENERATED_DIR = Path(__file__).resolve().parents[1] / "_generated"
 
-PRODUCERS: tuple[str, ...] = ()
+PRODUCERS: tuple[str, ...] = (
+    "dtcrit.symbolic.stability_codegen",
+)
 
 
 def all_generated_files() -> dict[str, str]:

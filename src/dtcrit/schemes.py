@@ -1,0 +1,147 @@
+"""Explicit DEM integrators, each written once as its update rule.
+
+This is a leaf module: plain arithmetic, no imports from the rest of dtcrit, no SymPy.  The same
+update rule is
+
+* applied to SymPy symbols by ``dtcrit.symbolic.integrators`` to build the amplification matrix
+  (the rule is linear in the state, so its Jacobian *is* the amplification matrix), and
+* applied to floats / NumPy arrays / mpmath numbers by ``dtcrit.simulate`` to time-step the
+  contact system itself, an independent check of every bound.
+
+The contact law is Peng et al. 2020, Eq. (29)-(30): a contact coordinate ``x`` with inverse-inertia
+coefficient ``A`` under ``F = -k x - c xdot`` obeys ``xddot = f(x, v) = -K x - C v`` with
+``K = k A`` and ``C = c A``.  ``force`` below is that ``f``; ``force.dv`` is ``df/dv = -C``, needed
+only by the scheme that is implicit in the (linear) damping term and solved exactly.
+
+Adding an integrator is one new ``Integrator(...)`` entry in ``INTEGRATORS``.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, Sequence
+
+
+class LinearForce:
+    """``f(x, v) = -K x - C v`` with ``K = k A`` and ``C = c A`` (Peng et al. 2020, Eq. (30))."""
+
+    def __init__(self, K, C):
+        self.K = K
+        self.C = C
+        self.dv = -C
+
+    def __call__(self, x, v):
+        return -self.K * x - self.C * v
+
+
+Step = Callable[[Sequence, object, LinearForce], tuple]
+
+
+@dataclass(frozen=True)
+class Integrator:
+    """An explicit scheme: its state variables and one step of its update rule."""
+
+    name: str
+    state: tuple[str, ...]
+    step: Step
+    summary: str
+    damping_velocity: str
+    used_by: str = ""
+
+
+def _paper_eq40(s, h, f):
+    # Peng et al. 2020, Eqs (38)-(40) as printed: x and v advance with the old v and a, and the
+    # acceleration row is evaluated from the *previous* state (x_n, v_n).
+    x, v, a = s
+    return x + h * v, v + h * a, f(x, v)
+
+
+def _forward_euler(s, h, f):
+    x, v = s
+    a = f(x, v)
+    return x + h * v, v + h * a
+
+
+def _symplectic_euler(s, h, f):
+    x, v = s
+    v_new = v + h * f(x, v)
+    return x + h * v_new, v_new
+
+
+def _leapfrog(s, h, f):
+    # state (x_n, v_{n-1/2}); the damping force uses the lagged half-step velocity v_{n-1/2}.
+    x, v_half = s
+    v_next = v_half + h * f(x, v_half)
+    return x + h * v_next, v_next
+
+
+def _leapfrog_centred(s, h, f):
+    # state (x_n, v_{n-1/2}); damping uses (v_{n-1/2} + v_{n+1/2})/2.  The update
+    #   v' = v + h f(x, (v + v')/2)
+    # is linear in v', solved exactly:  v' (1 - h f_v / 2) = v + h f(x, v/2).
+    x, v_half = s
+    v_next = (v_half + h * f(x, v_half / 2)) / (1 - h * f.dv / 2)
+    return x + h * v_next, v_next
+
+
+def _velocity_verlet(s, h, f):
+    # state (x_n, v_n, a_n); the damping force at n+1 uses the half-step velocity v_{n+1/2}.
+    x, v, a = s
+    v_half = v + h / 2 * a
+    x_next = x + h * v_half
+    a_next = f(x_next, v_half)
+    return x_next, v_half + h / 2 * a_next, a_next
+
+
+def _velocity_verlet_predicted(s, h, f):
+    # as velocity Verlet, but the damping force uses the predicted full-step velocity v_n + h a_n.
+    x, v, a = s
+    v_half = v + h / 2 * a
+    x_next = x + h * v_half
+    a_next = f(x_next, v + h * a)
+    return x_next, v_half + h / 2 * a_next, a_next
+
+
+INTEGRATORS: dict[str, Integrator] = {
+    i.name: i
+    for i in (
+        Integrator(
+            "paper-eq40", ("x_n", "v_n", "a_n"), _paper_eq40,
+            "the scheme exactly as printed in Peng et al. 2020, Eq. (40): the acceleration row uses the previous state",
+            "v_n (one step old)",
+        ),
+        Integrator(
+            "forward-euler", ("x_n", "v_n"), _forward_euler,
+            "a_n = f(x_n, v_n); x and v advance with the old values",
+            "v_n",
+        ),
+        Integrator(
+            "symplectic-euler", ("x_n", "v_n"), _symplectic_euler,
+            "v advances with the force at (x_n, v_n) first, then x with the new v",
+            "v_n",
+        ),
+        Integrator(
+            "leapfrog", ("x_n", "v_{n-1/2}"), _leapfrog,
+            "central difference; damping uses the lagged half-step velocity v_{n-1/2}",
+            "v_{n-1/2}",
+            "PFC/YADE-style central difference with lagged viscous damping",
+        ),
+        Integrator(
+            "leapfrog-centred", ("x_n", "v_{n-1/2}"), _leapfrog_centred,
+            "central difference; damping uses (v_{n-1/2} + v_{n+1/2})/2, solved exactly (it is linear)",
+            "(v_{n-1/2} + v_{n+1/2})/2",
+        ),
+        Integrator(
+            "velocity-verlet", ("x_n", "v_n", "a_n"), _velocity_verlet,
+            "velocity Verlet; damping force from the half-step velocity v_{n+1/2}",
+            "v_{n+1/2}",
+            "LAMMPS, LIGGGHTS, PFC",
+        ),
+        Integrator(
+            "velocity-verlet-predicted", ("x_n", "v_n", "a_n"), _velocity_verlet_predicted,
+            "velocity Verlet; damping force from the predicted full-step velocity v_n + dt a_n",
+            "v_n + dt a_n",
+        ),
+    )
+}
+
+NAMES: tuple[str, ...] = tuple(INTEGRATORS)

@@ -1,0 +1,144 @@
+"""Critical time steps of explicit integrators for the linear contact ODE (runtime; no SymPy).
+
+``critical_dt(integrator, k, c, A)`` evaluates the exact boundary derived by ``dtcrit.symbolic``
+(amplification matrix of the update rule, Jury conditions; Peng et al. 2020, Section 4.2) through
+the generated kernels in ``dtcrit._generated.critical_steps``.
+
+Numerics: the kernels are homogeneous of degree -1 in ``omega = sqrt(k A)`` and ``gamma = c A/2``.
+Inputs are split into mantissa and exponent and both rates rescaled by the same power of two (an
+exact operation), so ``k A`` may lie anywhere in the float64 range without overflow or underflow.
+"""
+from __future__ import annotations
+
+import difflib
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from dtcrit._generated import critical_steps as _gen
+from dtcrit.errors import InputError
+from dtcrit.schemes import INTEGRATORS, NAMES
+
+__all__ = ["CriticalStep", "critical_dt", "critical_dt_array", "paper_eq46", "scaled_rates", "INTEGRATORS"]
+
+
+@dataclass(frozen=True)
+class CriticalStep:
+    """Result of ``critical_dt``: ``dt`` in seconds (0.0 when no dt > 0 is stable)."""
+
+    integrator: str
+    dt: float
+    reason: str
+    formula: str
+    omega: float  # sqrt(k A) [rad/s]
+    zeta: float  # damping ratio c A / (2 omega)
+    regime: str  # undamped | underdamped | critically damped | overdamped
+
+    @property
+    def omega_dt(self) -> float:
+        return self.dt * self.omega
+
+
+def check_integrator(name: str) -> str:
+    if name in INTEGRATORS:
+        return name
+    close = difflib.get_close_matches(str(name), NAMES, n=1)
+    hint = f" (did you mean '{close[0]}'?)" if close else ""
+    raise InputError("integrator", f"unknown integrator {name!r}{hint}; choose one of {', '.join(NAMES)}")
+
+
+def _check_positive(key: str, value, allow_zero: bool = False) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(key, f"must be a number (got {value!r})") from None
+    if not math.isfinite(v):
+        raise InputError(key, f"must be finite (got {v})")
+    if v < 0 or (v == 0 and not allow_zero):
+        raise InputError(key, f"must be {'non-negative' if allow_zero else 'positive'} (got {v})")
+    return v
+
+
+def scaled_rates(k, c, A):
+    """(omega', gamma', s) with omega = omega' 2^s and gamma = gamma' 2^s, omega' in [0.7, 1.42).
+
+    Works elementwise on arrays; exact apart from the roundings of k*A, c*A and one square root.
+    """
+    mk, ek = np.frexp(np.asarray(k, dtype=float))
+    mA, eA = np.frexp(np.asarray(A, dtype=float))
+    mc, ec = np.frexp(np.asarray(c, dtype=float))
+    e = ek + eA
+    odd = e & 1
+    w = np.sqrt(mk * mA * np.where(odd, 2.0, 1.0))  # mk*mA in [1/4, 1): w in [1/2, 1.42)
+    s = (e - odd) // 2
+    g = np.ldexp(mc * mA * 0.5, ec + eA - s)
+    return w, g, s
+
+
+def critical_dt_array(integrator: str, k, c, A):
+    """Vectorised exact critical step [s] for arrays of k [N/m], c [N s/m], A [1/kg]."""
+    kernel = _gen.DT_KERNELS[check_integrator(integrator)]
+    w, g, s = scaled_rates(k, c, A)
+    with np.errstate(all="ignore"):
+        return np.ldexp(kernel(w, g), -s)
+
+
+def _regime(zeta: float) -> str:
+    if zeta == 0:
+        return "undamped"
+    return "underdamped" if zeta < 1 else ("critically damped" if zeta == 1 else "overdamped")
+
+
+def _governing_condition(integrator: str, zeta: float) -> str:
+    for zeta_hi, label in _gen.GOVERNING[integrator]:
+        if zeta <= zeta_hi:
+            return label
+    return _gen.GOVERNING[integrator][-1][1]
+
+
+def critical_dt(integrator: str, k, c, A) -> CriticalStep:
+    """Exact critical step of ``integrator`` for ``xddot = -k A x - c A xdot`` (Peng et al. 2020, Eq. (30)).
+
+    ``k`` contact stiffness [N/m] (> 0), ``c`` viscous damping [N s/m] (>= 0), ``A`` inverse inertia
+    coefficient [1/kg] (> 0; e.g. ``dtcrit.a_bound`` or Eq. (26)'s ``A_max``).
+    """
+    name = check_integrator(integrator)
+    k = _check_positive("k", k)
+    c = _check_positive("c", c, allow_zero=True)
+    A = _check_positive("A", A)
+    w, g, s = scaled_rates(k, c, A)
+    w, g, s = float(w), float(g), int(s)
+    if not math.isfinite(g):
+        raise InputError("c", f"damping ratio c*A/(2*sqrt(k*A)) beyond the float64 range (c={c}, k={k}, A={A})")
+    zeta = g / w
+    omega = math.ldexp(w, s) if s < 1000 else math.inf
+    with np.errstate(all="ignore"):
+        dt = math.ldexp(float(_gen.DT_KERNELS[name](w, g)), -s)
+    regime = _regime(zeta)
+    if dt > 0:
+        reason = (
+            f"{regime} (zeta = {zeta:.6g}): the spectral radius of the '{name}' amplification matrix "
+            f"reaches 1 at dt = {dt:.6g} s; governing Jury condition: {_governing_condition(name, zeta)}"
+        )
+    else:
+        reason = (
+            f"no dt > 0 is stable: the '{name}' scheme is unstable for every step when {regime} "
+            f"(zeta = {zeta:.6g}); the spectral radius exceeds 1 for all dt > 0"
+        )
+    return CriticalStep(name, dt, reason, _gen.FORMULAS[name], omega, zeta, regime)
+
+
+def paper_eq46(k, c, A) -> float:
+    """The paper's printed critical step, Peng et al. 2020, Eq. (46), for comparison only.
+
+    It is the boundary where a *real* eigenvalue of Eq. (40)'s amplification matrix reaches -1;
+    it is not a stability bound of that scheme (see derivations/records/sec4_stability.md).
+    """
+    k = _check_positive("k", k)
+    c = _check_positive("c", c, allow_zero=True)
+    A = _check_positive("A", A)
+    w, g, s = scaled_rates(k, c, A)
+    # Eq. (46) = (c A + sqrt(c^2 A^2 + 4 k A)) / (k A) = 2 (gamma + hypot(gamma, omega)) / omega^2
+    w, g, s = float(w), float(g), int(s)
+    return math.ldexp(2.0 * (g + math.hypot(g, w)) / (w * w), -s)

@@ -1,0 +1,147 @@
+"""Producer of ``dtcrit/_generated/critical_steps.py``: the exact critical step of every integrator.
+
+For each integrator of ``dtcrit.schemes`` the kernel ``dt_<name>(omega, gamma)`` evaluates the
+closed form of ``dtcrit.symbolic.closed_forms`` piece by piece, with ``omega = sqrt(k A)`` and
+``gamma = c A / 2`` (both in 1/s).  The kernels are homogeneous of degree -1 in (omega, gamma), so
+the runtime may rescale both by a power of two (exactly) to stay clear of overflow and underflow.
+
+The same module carries the labelled comparison formulas of Peng et al. 2020 (Eqs. (34), (36),
+(37), (46), (58)-(60)), derived in ``dtcrit.symbolic.paper_section4``.
+"""
+from __future__ import annotations
+
+import sympy as sp
+
+from dtcrit.schemes import NAMES
+from dtcrit.symbolic import paper_section4 as p4
+from dtcrit.symbolic.closed_forms import closed_pieces, formula_text, gamma, omega
+from dtcrit.symbolic.emit import Kernel, python_module
+from dtcrit.symbolic.integrators import zeta
+
+CUBIC_ROOT = sp.Function("_smallest_positive_cubic_root")
+
+PREAMBLE = '''
+def _smallest_positive_cubic_root(a2, a1, a0):
+    """Smallest positive real root t of t^3 + a2 t^2 + a1 t + a0 (0.0 where there is none).
+
+    Viete's forms: trigonometric when the three roots are real, hyperbolic (no cancellation)
+    otherwise; then three Newton steps on the cubic polish the root to working precision.
+    """
+    a2, a1, a0 = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (a2, a1, a0)))
+    shift = a2 / 3.0
+    p = a1 - a2 * shift
+    q = (2.0 * shift * shift - a1) * shift + a0
+    with np.errstate(all="ignore"):
+        # three real roots (p < 0 and the discriminant is non-positive)
+        r = 2.0 * np.sqrt(np.maximum(-p, 0.0) / 3.0)
+        arg = np.clip(np.where(r > 0, 4.0 * q / np.where(r > 0, r, 1.0) ** 3, 0.0), -1.0, 1.0)
+        phi = np.arccos(-arg) / 3.0
+        trig = np.stack([r * np.cos(phi - 2.0 * np.pi * j / 3.0) - shift for j in range(3)])
+        # one real root: hyperbolic forms of Cardano's formula
+        sp3 = np.sqrt(np.abs(p) / 3.0)
+        pos = np.where(sp3 > 0, sp3, 1.0)
+        hyp_pos = -2.0 * sp3 * np.sinh(np.arcsinh(1.5 * q / (np.abs(p) * pos)) / 3.0)
+        hyp_neg = -2.0 * np.sign(q) * sp3 * np.cosh(np.arccosh(np.maximum(1.5 * np.abs(q) / (np.abs(p) * pos), 1.0)) / 3.0)
+        zero_p = -np.cbrt(q)
+        one = np.where(p > 0, hyp_pos, np.where(p < 0, hyp_neg, zero_p)) - shift
+        three_real = (p < 0) & (q * q / 4.0 + p * p * p / 27.0 <= 0)
+        cand = np.where(three_real, trig, np.stack([one, np.full_like(one, np.nan), np.full_like(one, np.nan)]))
+        cand = np.where(cand > 0, cand, np.inf)
+        t = np.min(cand, axis=0)
+        for _ in range(3):
+            g = ((t + a2) * t + a1) * t + a0
+            dg = (3.0 * t + 2.0 * a2) * t + a1
+            step = np.where(np.isfinite(t) & (dg != 0), g / np.where(dg != 0, dg, 1.0), 0.0)
+            t = t - step
+        t = np.where(np.isfinite(t), t, 0.0)
+    return t[()] if t.ndim == 0 else t
+'''
+
+
+def py_name(integrator: str) -> str:
+    return "dt_" + integrator.replace("-", "_")
+
+
+def kernel_expr(name: str) -> sp.Expr:
+    """dt(omega, gamma) for one integrator, as a SymPy expression (Piecewise over zeta ranges)."""
+    branches = []
+    for cp in closed_pieces(name):
+        if cp.kind == "root":
+            e = cp.dt_expr
+        else:
+            a2, a1, a0 = (sp.simplify(c.subs(zeta, gamma / omega)) for c in cp.cubic)
+            e = CUBIC_ROOT(a2, a1, a0) / omega
+        hi = cp.piece.zeta_hi
+        branches.append((e, sp.true if hi == sp.oo else sp.Le(gamma, hi * omega)))
+    if len(branches) == 1:
+        return branches[0][0]
+    branches[-1] = (branches[-1][0], sp.true)
+    return sp.Piecewise(*branches)
+
+
+RATE_ARGS = (
+    (omega, "sqrt(k*A), undamped contact frequency [rad/s]"),
+    (gamma, "c*A/2, half the damping rate [1/s]; zeta = gamma/omega"),
+)
+
+
+def integrator_kernels() -> list[Kernel]:
+    return [
+        Kernel(
+            py_name(n),
+            RATE_ARGS,
+            kernel_expr(n),
+            f"Exact critical step of the '{n}' integrator for xddot = -kA x - cA xdot.\n\n"
+            f"    {formula_text(n)}.\n    Peng et al. 2020, Eqs. (29)-(30); derived from the update rule by\n"
+            "    dtcrit.symbolic (amplification matrix, Jury conditions).",
+            returns="dt [s] (0.0 where no positive step is stable)",
+        )
+        for n in NAMES
+    ]
+
+
+def paper_kernels() -> list[Kernel]:
+    k, c, A, m, beta = p4.k, p4.c, p4.A, p4.m, p4.beta
+    kcA = ((k, "contact stiffness [N/m]"), (c, "viscous damping coefficient [N s/m]"), (A, "inverse inertia coefficient [1/kg]"))
+    return [
+        Kernel("paper_eq46", kcA, p4.eq46(), "Peng et al. 2020, Eq. (46) as printed: the 'real eigenvalue at -1' boundary of Eq. (40)."),
+        Kernel("belytschko_eq34", kcA, p4.eq34(), "Peng et al. 2020, Eq. (34): Belytschko's 2/omega_max with the damped frequency of Eq. (33); NaN when not underdamped."),
+        Kernel("critical_damping_eq37", ((k, "contact stiffness [N/m]"), (A, "inverse inertia coefficient [1/kg]")), p4.eq37(), "Peng et al. 2020, Eq. (37): critical damping coefficient [N s/m]."),
+        Kernel("silbert_eq36", ((k, "normal stiffness [N/m]"), (c, "normal damping [N s/m]"), (m, "particle mass [kg] (the paper's convention)")), p4.eq36(), "Peng et al. 2020, Eq. (36): Silbert et al.'s collision time as printed (m the particle mass)."),
+        Kernel("beta_eq58", ((beta, "c/sqrt(m k)"),), p4.beta_form(p4.eq34()), "Peng et al. 2020, Eq. (58): Eq. (34) for identical spheres, dt*sqrt(k/m)."),
+        Kernel("beta_eq59", ((beta, "c/sqrt(m k)"),), sp.simplify(p4.eq36().subs(c, beta * sp.sqrt(m * k)) * sp.sqrt(k / m)), "Peng et al. 2020, Eq. (59): Eq. (36) for identical spheres, dt*sqrt(k/m)."),
+        Kernel("beta_eq60", ((beta, "c/sqrt(m k)"),), p4.beta_form(p4.eq46()), "Peng et al. 2020, Eq. (60): Eq. (46) for identical spheres, dt*sqrt(k/m)."),
+    ]
+
+
+def _float_text(value: sp.Expr) -> str:
+    return 'float("inf")' if value == sp.oo else repr(float(value))
+
+
+def postamble() -> str:
+    lines = ["DT_KERNELS = {"]
+    lines += [f"    {n!r}: {py_name(n)}," for n in NAMES]
+    lines += ["}", "", "FORMULAS = {"]
+    lines += [f"    {n!r}: {formula_text(n)!r}," for n in NAMES]
+    lines += ["}", "", "# zeta at which the governing boundary factor changes (exact values in the record)", "SWITCH_POINTS = {"]
+    for n in NAMES:
+        pts = [cp.piece.zeta_hi for cp in closed_pieces(n)][:-1]
+        lines.append(f"    {n!r}: ({''.join(repr(float(p)) + ', ' for p in pts)}),")
+    lines.append("}")
+    lines += ["", "# (upper zeta of the piece, Jury condition that governs it) for each integrator", "GOVERNING = {"]
+    for n in NAMES:
+        items = "".join(f"({_float_text(cp.piece.zeta_hi)}, {cp.piece.factor.condition!r}), " for cp in closed_pieces(n))
+        lines.append(f"    {n!r}: ({items}),")
+    lines.append("}")
+    return "\n".join(lines)
+
+
+def generated_files() -> dict[str, str]:
+    text = python_module(
+        "dtcrit.symbolic.stability_codegen",
+        "Exact critical time steps of explicit integrators and the paper's comparison formulas.",
+        integrator_kernels() + paper_kernels(),
+        preamble=PREAMBLE,
+        postamble=postamble(),
+    )
+    return {"critical_steps.py": text}
