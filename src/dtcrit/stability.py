@@ -113,8 +113,8 @@ def critical_dt(integrator: str, k, c, A) -> CriticalStep:
         raise InputError("c", f"damping ratio c*A/(2*sqrt(k*A)) beyond the float64 range (c={c}, k={k}, A={A})")
     zeta = g / w
     omega = math.ldexp(w, s) if s < 1000 else math.inf
-    with np.errstate(all="ignore"):
-        dt = math.ldexp(float(_gen.DT_KERNELS[name](w, g)), -s)
+    with np.errstate(all="ignore"):  # unused Piecewise branches may divide by zero
+        dt = math.ldexp(float(_gen.DT_KERNELS[name](np.float64(w), np.float64(g))), -s)
     regime = _regime(zeta)
     if dt > 0:
         reason = (

@@ -35,6 +35,31 @@ class ClosedPiece:
     tau_expr: sp.Expr | None  # dimensionless tau(zeta), for degree <= 2
     dt_expr: sp.Expr | None  # dt(omega, gamma), for degree <= 2
     cubic: tuple[sp.Expr, ...] | None  # monic coefficients (a2, a1, a0) in zeta, for degree 3
+    cubic_large: tuple[sp.Expr, ...] | None = None  # zeta >= 1: monic (b2, b1, b0) in eps = 1/zeta^2
+
+
+eps = sp.Symbol("epsilon", positive=True)
+y = sp.Symbol("y", positive=True)
+
+
+def reciprocal_cubic(monic: tuple[sp.Expr, ...]) -> tuple[sp.Expr, ...]:
+    """Coefficients of the cubic in y, tau = 1/(zeta y), as polynomials in eps = 1/zeta^2.
+
+    For large zeta the smallest root tau ~ 1/zeta, and the monic cubic in tau has coefficients
+    growing like zeta^2 (overflowing float64 beyond zeta ~ 1e150).  In y the coefficients stay
+    bounded for zeta >= 1 and the wanted root is the *largest* positive y.
+    """
+    a2, a1, a0 = monic
+    g = tau**3 + a2 * tau**2 + a1 * tau + a0
+    expr = sp.expand(g.subs(tau, 1 / (zeta * y)) * zeta**3 * y**3)
+    poly = sp.Poly(expr, y)
+    lead = poly.LC()
+    coeffs = [sp.expand(sp.cancel(c / lead)) for c in poly.all_coeffs()[1:]]
+    out = tuple(sp.expand(c.subs(zeta, 1 / sp.sqrt(eps))) for c in coeffs)
+    for c in out:
+        if c.has(zeta) or not c.is_polynomial(eps):
+            raise RuntimeError(f"reciprocal cubic coefficient {c} is not a polynomial in eps")
+    return out
 
 
 def _homogeneous_sqrt(f: sp.Expr) -> sp.Expr:
@@ -92,7 +117,7 @@ def closed_pieces(name: str) -> tuple[ClosedPiece, ...]:
         elif deg == 3:
             coeffs = p.factor.poly.all_coeffs()
             monic = tuple(sp.expand(c / coeffs[0]) for c in coeffs[1:])
-            out.append(ClosedPiece(p, "cubic", None, None, monic))
+            out.append(ClosedPiece(p, "cubic", None, None, monic, reciprocal_cubic(monic)))
         else:
             raise NotImplementedError(f"{name}: boundary factor of degree {deg}")
     return tuple(out)
@@ -111,3 +136,62 @@ def formula_text(name: str) -> str:
             body = f"omega*dt = smallest positive root tau of {poly} = 0"
         parts.append(f"{body}  ({rng})")
     return "; ".join(parts) + "; with omega = sqrt(k*A), zeta = c*A/(2*omega)"
+
+
+def tau_crit_closed_mp(name: str, z, dps: int = 50):
+    """tau_crit(zeta) from the closed form, evaluated in mpmath at ``dps`` digits (reference values).
+
+    ``z`` may be an mpmath number or anything mpmath converts exactly (a float is taken exactly).
+    """
+    with mp.workdps(dps + 10):
+        z = mp.mpf(z)
+        for cp in closed_pieces(name):
+            hi = cp.piece.zeta_hi
+            if hi != sp.oo and z > mp.mpf(sp.N(hi, dps + 20)):
+                continue
+            if cp.kind == "root":
+                f = sp.lambdify(zeta, cp.tau_expr, modules="mpmath")
+                return +f(z)
+            return _cubic_tau_mp(cp, z, dps)
+    raise AssertionError("unreachable")
+
+
+def _cubic_tau_mp(cp: ClosedPiece, z, dps: int):
+    """Smallest positive root of the governing cubic at high precision.
+
+    mpmath's polyroots on the cubic in tau (zeta < 1) or in y = 1/(zeta tau) (zeta >= 1, where the
+    tau-coefficients span too many decades), then Newton on the *original* cubic in tau at
+    2*dps digits, so the reference does not rest on the reciprocal transformation.
+    """
+    def positive_real(coeffs, pick):
+        roots = mp.polyroots(coeffs, maxsteps=800, extraprec=6 * dps)
+        good = [mp.re(r) for r in roots if abs(mp.im(r)) <= mp.mpf(10) ** (-dps) * (1 + abs(r)) and mp.re(r) > 0]
+        return pick(good) if good else None
+
+    if z == 0:
+        coeffs = [mp.mpf(1)] + [mp.mpf(sp.N(c.subs(zeta, 0), dps)) for c in cp.cubic]
+        t = positive_real(coeffs, min)
+        return t if t is not None else mp.mpf(0)
+    if z < mp.mpf(10) ** -6:
+        t = z  # tiny damping: a single simple real root near zeta; Newton below converges from here
+    elif z < 1:
+        t = positive_real([mp.mpf(1)] + [sp.lambdify(zeta, c, modules="mpmath")(z) for c in cp.cubic], min)
+    else:
+        e = 1 / (z * z)
+        yy = positive_real([mp.mpf(1)] + [sp.lambdify(eps, c, modules="mpmath")(e) for c in cp.cubic_large], max)
+        t = None if yy is None else 1 / (z * yy)
+    if t is None:
+        return mp.mpf(0)
+    with mp.workdps(2 * dps):
+        fs = [sp.lambdify(zeta, c, modules="mpmath") for c in cp.cubic]
+        a2, a1, a0 = (f(z) for f in fs)
+        t = mp.findroot(lambda u: ((u + a2) * u + a1) * u + a0, t)
+    return +t
+
+
+def dt_crit_mp(name: str, k, c, A, dps: int = 50):
+    """Reference critical step for the exact float inputs (k, c, A), at ``dps`` digits."""
+    with mp.workdps(dps + 10):
+        k, c, A = mp.mpf(k), mp.mpf(c), mp.mpf(A)
+        w = mp.sqrt(k * A)
+        return tau_crit_closed_mp(name, c * A / (2 * w), dps) / w

@@ -14,15 +14,15 @@ import sympy as sp
 
 from dtcrit.schemes import NAMES
 from dtcrit.symbolic import paper_section4 as p4
-from dtcrit.symbolic.closed_forms import closed_pieces, formula_text, gamma, omega
+from dtcrit.symbolic.closed_forms import closed_pieces, eps, formula_text, gamma, omega
 from dtcrit.symbolic.emit import Kernel, python_module
 from dtcrit.symbolic.integrators import zeta
 
-CUBIC_ROOT = sp.Function("_smallest_positive_cubic_root")
+CUBIC_ROOT = sp.Function("_cubic_positive_root")
 
 PREAMBLE = '''
-def _smallest_positive_cubic_root(a2, a1, a0):
-    """Smallest positive real root t of t^3 + a2 t^2 + a1 t + a0 (0.0 where there is none).
+def _cubic_positive_root(a2, a1, a0, largest):
+    """Smallest (largest if ``largest``) positive real root of t^3 + a2 t^2 + a1 t + a0; 0.0 if none.
 
     Viete's forms: trigonometric when the three roots are real, hyperbolic (no cancellation)
     otherwise; then three Newton steps on the cubic polish the root to working precision.
@@ -46,8 +46,10 @@ def _smallest_positive_cubic_root(a2, a1, a0):
         one = np.where(p > 0, hyp_pos, np.where(p < 0, hyp_neg, zero_p)) - shift
         three_real = (p < 0) & (q * q / 4.0 + p * p * p / 27.0 <= 0)
         cand = np.where(three_real, trig, np.stack([one, np.full_like(one, np.nan), np.full_like(one, np.nan)]))
-        cand = np.where(cand > 0, cand, np.inf)
-        t = np.min(cand, axis=0)
+        if largest:
+            t = np.max(np.where(cand > 0, cand, -np.inf), axis=0)
+        else:
+            t = np.min(np.where(cand > 0, cand, np.inf), axis=0)
         for _ in range(3):
             g = ((t + a2) * t + a1) * t + a0
             dg = (3.0 * t + 2.0 * a2) * t + a1
@@ -69,8 +71,12 @@ def kernel_expr(name: str) -> sp.Expr:
         if cp.kind == "root":
             e = cp.dt_expr
         else:
+            # zeta <= 1: the cubic in tau; zeta > 1: the cubic in y = 1/(zeta tau), eps = (omega/gamma)^2
             a2, a1, a0 = (sp.simplify(c.subs(zeta, gamma / omega)) for c in cp.cubic)
-            e = CUBIC_ROOT(a2, a1, a0) / omega
+            b2, b1, b0 = (sp.simplify(c.subs(eps, (omega / gamma) ** 2)) for c in cp.cubic_large)
+            small = CUBIC_ROOT(a2, a1, a0, False) / omega
+            large = 1 / (gamma * CUBIC_ROOT(b2, b1, b0, True))
+            e = sp.Piecewise((small, sp.Le(gamma, omega)), (large, True))
         hi = cp.piece.zeta_hi
         branches.append((e, sp.true if hi == sp.oo else sp.Le(gamma, hi * omega)))
     if len(branches) == 1:
