@@ -17,13 +17,15 @@ from dtcrit.schemes import INTEGRATORS, LinearForce
 
 @dataclass(frozen=True)
 class Trajectory:
-    early: np.ndarray  # max state norm over the first quarter of the run
-    late: np.ndarray  # max state norm over the last quarter of the run
+    log_early: np.ndarray  # log of the max state norm over the first quarter of the run
+    log_late: np.ndarray  # log of the max state norm over the last quarter of the run
     n_steps: int
 
     @property
     def growth(self) -> np.ndarray:
-        return self.late / self.early
+        """Late amplitude over early amplitude (inf when it exceeds float64's range)."""
+        with np.errstate(over="ignore"):
+            return np.exp(self.log_late - self.log_early)
 
 
 def run(integrator: str, tau, zeta, n_steps: int, x0: float = 1.0, v0: float = 0.0) -> Trajectory:
@@ -43,8 +45,8 @@ def run(integrator: str, tau, zeta, n_steps: int, x0: float = 1.0, v0: float = 0
     state = (x, v) if len(integ.state) == 2 else (x, v, force(x, v))
     quarter = max(1, n_steps // 4)
     log_scale = np.zeros(tau.shape)
-    early = np.zeros(tau.shape)
-    late = np.zeros(tau.shape)
+    early = np.full(tau.shape, -np.inf)
+    late = np.full(tau.shape, -np.inf)
     block = 64
     with np.errstate(all="ignore"):
         for i in range(n_steps):
@@ -54,12 +56,12 @@ def run(integrator: str, tau, zeta, n_steps: int, x0: float = 1.0, v0: float = 0
                 if i < quarter:
                     early = np.maximum(early, np.log(norm) + log_scale)
                 if i >= n_steps - quarter:
-                    late = np.maximum(late, np.log(norm) + log_scale) if i > n_steps - quarter else np.log(norm) + log_scale
+                    late = np.maximum(late, np.log(norm) + log_scale)
                 if i % block == block - 1:
                     scale = np.where(norm > 0, norm, 1.0)
                     state = tuple(s / scale for s in state)
                     log_scale = log_scale + np.log(scale)
-    return Trajectory(np.exp(early), np.exp(late - early) * np.exp(early), n_steps)
+    return Trajectory(early, late, n_steps)
 
 
 def is_growing(integrator: str, tau, zeta, n_steps: int, factor: float = 100.0) -> np.ndarray:
