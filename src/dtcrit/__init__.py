@@ -29,6 +29,7 @@ _API = {
     "critical_dt": "stability",
     "paper_eq46": "stability",
     "INTEGRATORS": "stability",
+    "spectral_radius": "amplification",
 }
 
 __all__ = sorted(_API)

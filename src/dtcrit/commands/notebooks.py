@@ -1,0 +1,26 @@
+"""``dtcrit notebooks --out DIR``: execute the teaching notebooks and write them with outputs."""
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+
+def add_parser(sub):
+    p = sub.add_parser("notebooks", help="execute the teaching notebooks into .ipynb files with outputs")
+    p.add_argument("--out", default="out/notebooks", help="folder for the executed notebooks (default: out/notebooks)")
+    p.add_argument("--only", nargs="*", default=None, help="stems of the notebooks to run (default: all)")
+    p.add_argument("--timeout", type=int, default=300, help="seconds per cell (default 300)")
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    from dtcrit.notebooks import render, sources
+
+    todo = [s for s in sources() if not args.only or s.stem in args.only]
+    if not todo:
+        raise ValueError("notebooks: no notebook sources matched")
+    for src in todo:
+        start = time.perf_counter()
+        render(src, Path(args.out), timeout=args.timeout)
+        print(f"{src.stem}: executed in {time.perf_counter() - start:.1f} s -> {Path(args.out) / (src.stem + '.ipynb')}")
+    return 0
