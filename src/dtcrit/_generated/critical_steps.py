@@ -56,12 +56,15 @@ def dt_paper_eq40(omega, gamma):
     
     Returns: dt [s] (0.0 where no positive step is stable)
     """
-    _t0 = omega**(-1.0)
-    _t1 = _t0*gamma
-    _t2 = gamma**2
-    _t3 = omega**2
-    _t4 = _t3/_t2
-    return np.select([np.less_equal(gamma, omega),True], [_t0*_cubic_positive_root(-4*_t1, 4*_t2/_t3 + 2, -2*_t1, False),_cubic_positive_root(-_t4 - 2, 2*_t4, -1/2*omega**4/gamma**4, True)**(-1.0)/gamma], default=np.nan)
+    omega = np.asarray(omega, dtype=float)
+    gamma = np.asarray(gamma, dtype=float)
+    with np.errstate(all="ignore"):  # unused Piecewise branches may divide by zero
+        _t0 = omega**(-1.0)
+        _t1 = _t0*gamma
+        _t2 = gamma**2
+        _t3 = omega**2
+        _t4 = _t3/_t2
+        return np.select([np.less_equal(gamma, omega),True], [_t0*_cubic_positive_root(-4*_t1, 4*_t2/_t3 + 2, -2*_t1, False),_cubic_positive_root(-_t4 - 2, 2*_t4, -1/2*omega**4/gamma**4, True)**(-1.0)/gamma], default=np.nan)
 
 
 def dt_forward_euler(omega, gamma):
@@ -77,7 +80,10 @@ def dt_forward_euler(omega, gamma):
     
     Returns: dt [s] (0.0 where no positive step is stable)
     """
-    return np.select([np.less_equal(gamma, omega),True], [2*gamma/omega**2,2/(gamma + np.sqrt(gamma - omega)*np.sqrt(gamma + omega))], default=np.nan)
+    omega = np.asarray(omega, dtype=float)
+    gamma = np.asarray(gamma, dtype=float)
+    with np.errstate(all="ignore"):  # unused Piecewise branches may divide by zero
+        return np.select([np.less_equal(gamma, omega),True], [2*gamma/omega**2,2/(gamma + np.sqrt(gamma - omega)*np.sqrt(gamma + omega))], default=np.nan)
 
 
 def dt_symplectic_euler(omega, gamma):
@@ -93,7 +99,10 @@ def dt_symplectic_euler(omega, gamma):
     
     Returns: dt [s] (0.0 where no positive step is stable)
     """
-    return 2/(gamma + np.hypot(gamma, omega))
+    omega = np.asarray(omega, dtype=float)
+    gamma = np.asarray(gamma, dtype=float)
+    with np.errstate(all="ignore"):  # unused Piecewise branches may divide by zero
+        return 2/(gamma + np.hypot(gamma, omega))
 
 
 def dt_leapfrog(omega, gamma):
@@ -109,7 +118,10 @@ def dt_leapfrog(omega, gamma):
     
     Returns: dt [s] (0.0 where no positive step is stable)
     """
-    return 2/(gamma + np.hypot(gamma, omega))
+    omega = np.asarray(omega, dtype=float)
+    gamma = np.asarray(gamma, dtype=float)
+    with np.errstate(all="ignore"):  # unused Piecewise branches may divide by zero
+        return 2/(gamma + np.hypot(gamma, omega))
 
 
 def dt_leapfrog_centred(omega, gamma):
@@ -125,7 +137,10 @@ def dt_leapfrog_centred(omega, gamma):
     
     Returns: dt [s] (0.0 where no positive step is stable)
     """
-    return 2/omega
+    omega = np.asarray(omega, dtype=float)
+    gamma = np.asarray(gamma, dtype=float)
+    with np.errstate(all="ignore"):  # unused Piecewise branches may divide by zero
+        return 2/omega
 
 
 def dt_velocity_verlet(omega, gamma):
@@ -141,7 +156,10 @@ def dt_velocity_verlet(omega, gamma):
     
     Returns: dt [s] (0.0 where no positive step is stable)
     """
-    return 2/(gamma + np.hypot(gamma, omega))
+    omega = np.asarray(omega, dtype=float)
+    gamma = np.asarray(gamma, dtype=float)
+    with np.errstate(all="ignore"):  # unused Piecewise branches may divide by zero
+        return 2/(gamma + np.hypot(gamma, omega))
 
 
 def dt_velocity_verlet_predicted(omega, gamma):
@@ -157,7 +175,10 @@ def dt_velocity_verlet_predicted(omega, gamma):
     
     Returns: dt [s] (0.0 where no positive step is stable)
     """
-    return 2/(2*gamma + np.hypot(omega, 2*gamma))
+    omega = np.asarray(omega, dtype=float)
+    gamma = np.asarray(gamma, dtype=float)
+    with np.errstate(all="ignore"):  # unused Piecewise branches may divide by zero
+        return 2/(2*gamma + np.hypot(omega, 2*gamma))
 
 
 def paper_eq46(k, c, A):

@@ -27,6 +27,7 @@ class Kernel:
     cse: bool = True
     returns: str = ""
     extra_lines: Sequence[str] = field(default_factory=tuple)
+    as_arrays: bool = False  # convert the arguments to float arrays and silence IEEE warnings
 
 
 def _square_root_of_term(term: sp.Expr) -> sp.Expr | None:
@@ -87,16 +88,21 @@ def kernel_source(k: Kernel) -> str:
     lines.append('    """' + "\n    ".join(doc[:1]) + ("\n\n    " + "\n    ".join(doc[2:]) if len(doc) > 2 else ""))
     lines[-1] += '\n    """'
     lines += [f"    {line}" for line in k.extra_lines]
+    indent = "    "
+    if k.as_arrays:
+        lines += [f"    {n} = np.asarray({n}, dtype=float)" for n in names]
+        lines.append('    with np.errstate(all="ignore"):  # unused Piecewise branches may divide by zero')
+        indent = "        "
     if k.cse:
         repl, reduced = sp.cse(outputs, symbols=sp.numbered_symbols("_t"), optimizations="basic")
     else:
         repl, reduced = [], outputs
     for sym, sub in repl:
-        lines.append(f"    {sym} = {expr_code(sub)}")
+        lines.append(f"{indent}{sym} = {expr_code(sub)}")
     if len(reduced) == 1 and not isinstance(k.expr, (list, tuple)):
-        lines.append(f"    return {expr_code(reduced[0])}")
+        lines.append(f"{indent}return {expr_code(reduced[0])}")
     else:
-        lines.append("    return (" + ", ".join(expr_code(r) for r in reduced) + ",)")
+        lines.append(f"{indent}return (" + ", ".join(expr_code(r) for r in reduced) + ",)")
     return "\n".join(lines) + "\n"
 
 

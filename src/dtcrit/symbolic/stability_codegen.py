@@ -101,6 +101,7 @@ def integrator_kernels() -> list[Kernel]:
             f"    {formula_text(n)}.\n    Peng et al. 2020, Eqs. (29)-(30); derived from the update rule by\n"
             "    dtcrit.symbolic (amplification matrix, Jury conditions).",
             returns="dt [s] (0.0 where no positive step is stable)",
+            as_arrays=True,
         )
         for n in NAMES
     ]
