@@ -20,6 +20,8 @@ _API = {
     "Superquadric": "shapes",
     "Box": "shapes",
     "ConvexPolyhedron": "shapes",
+    "shape_from_spec": "shapes",
+    "AssumptionWarning": "shapes",
     # contact kinematics (Peng et al. 2020, Sections 2, 3, 5)
     "a_max": "contact",
     "a_bound": "contact",
@@ -30,6 +32,9 @@ _API = {
     "paper_eq46": "stability",
     "INTEGRATORS": "stability",
     "spectral_radius": "amplification",
+    # impact (CFL note, Feng 2005)
+    "exact_impact": "impact",
+    "impact_report": "impact",
 }
 
 __all__ = sorted(_API)
