@@ -4,9 +4,11 @@
 (amplification matrix of the update rule, Jury conditions; Peng et al. 2020, Section 4.2) through
 the generated kernels in ``dtcrit._generated.critical_steps``.
 
-Numerics: the kernels are homogeneous of degree -1 in ``omega = sqrt(k A)`` and ``gamma = c A/2``.
-Inputs are split into mantissa and exponent and both rates rescaled by the same power of two (an
-exact operation), so ``k A`` may lie anywhere in the float64 range without overflow or underflow.
+Numerics (``dtcrit.precise``): the kernels are homogeneous of degree -1 in ``omega = sqrt(k A)``
+and ``gamma = c A/2``; inputs are split into mantissa and exponent and both rates rescaled by the
+same power of two (exact), so any float64 inputs work; forward Euler near critical damping and
+the Eq. (40) cubic use error-free residuals and an identity of the cubic.  A step that lies beyond
+or below the float64 range is refused with ``InputError``, never returned as inf or 0.
 """
 from __future__ import annotations
 
@@ -16,6 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from dtcrit import precise
 from dtcrit._generated import critical_steps as _gen
 from dtcrit.errors import InputError
 from dtcrit.schemes import INTEGRATORS, NAMES
@@ -76,12 +79,48 @@ def scaled_rates(k, c, A):
     return w, g, s
 
 
-def critical_dt_array(integrator: str, k, c, A):
-    """Vectorised exact critical step [s] for arrays of k [N/m], c [N s/m], A [1/kg]."""
-    kernel = _gen.DT_KERNELS[check_integrator(integrator)]
-    w, g, s = scaled_rates(k, c, A)
+UNSTABLE_UNDAMPED = ("forward-euler", "paper-eq40")  # no stable dt > 0 when c = 0
+
+
+def _exact_steps(name: str, k, c, A) -> np.ndarray:
+    if name == "forward-euler":
+        return precise.forward_euler_exact(k, c, A)
+    if name == "paper-eq40":
+        return precise.paper_eq40_identity(k, c, A)
+    return precise.scaled_closed_form(name, k, c, A)
+
+
+def refuse_unrepresentable(integrator: str, dt: np.ndarray, k, c, A) -> np.ndarray:
+    """Raise InputError where the exact step lies beyond float64 (inf) or below it (0
+    although the contact has a stable step: every scheme has one when damped, and all but forward
+    Euler and the Eq. (40) scheme have one when undamped).  Subnormal steps are returned."""
+    k, c, A = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (k, c, A)))
+    has_step = (c > 0) | (integrator not in UNSTABLE_UNDAMPED)
+    bad = ~np.isfinite(dt) | ((dt == 0) & has_step)
+    if np.any(bad):
+        i = np.unravel_index(int(np.flatnonzero(bad)[0]), np.shape(bad))
+        where = "below" if np.isfinite(dt[i]) else "beyond"
+        raise InputError(
+            "k",
+            f"the critical step of '{integrator}' lies {where} the float64 range "
+            f"(k = {k[i]:g}, c = {c[i]:g}, A = {A[i]:g}); rescale the units and retry",
+        )
+    return dt
+
+
+def critical_dt_array(integrator: str, k, c, A) -> np.ndarray:
+    """Vectorised exact critical step [s] for arrays of k [N/m], c [N s/m], A [1/kg].
+
+    Within 4 ulp of the exact step for every float64 input (tests/test_stability_engine.py, the
+    bench's extreme-case suite); refuses (InputError) a step outside the float64 range.
+    """
+    name = check_integrator(integrator)
+    k, c, A = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (k, c, A)))
+    shape = k.shape
+    k, c, A = (np.ravel(v) for v in (k, c, A))
     with np.errstate(all="ignore"):
-        return np.ldexp(kernel(w, g), -s)
+        dt = np.asarray(_exact_steps(name, k, c, A), dtype=float)
+    return refuse_unrepresentable(name, dt, k, c, A).reshape(shape)
 
 
 def _regime(zeta: float) -> str:
@@ -109,12 +148,9 @@ def critical_dt(integrator: str, k, c, A) -> CriticalStep:
     A = _check_positive("A", A)
     w, g, s = scaled_rates(k, c, A)
     w, g, s = float(w), float(g), int(s)
-    if not math.isfinite(g):
-        raise InputError("c", f"damping ratio c*A/(2*sqrt(k*A)) beyond the float64 range (c={c}, k={k}, A={A})")
-    zeta = g / w
+    zeta = g / w if math.isfinite(g) else math.inf
     omega = math.ldexp(w, s) if s < 1000 else math.inf
-    with np.errstate(all="ignore"):  # unused Piecewise branches may divide by zero
-        dt = math.ldexp(float(_gen.DT_KERNELS[name](np.float64(w), np.float64(g))), -s)
+    dt = float(critical_dt_array(name, k, c, A))
     regime = _regime(zeta)
     if dt > 0:
         reason = (

@@ -1,0 +1,205 @@
+"""The quick bench (``dtcrit bench --quick``) run once; its accuracy claims asserted, never its times.
+
+* dtcrit's own routes (``critical_dt_array``, the scalar ``critical_dt`` -- both through
+  ``dtcrit.precise`` -- and the fused kernel) are within 4 ulp of the 50-digit reference on the
+  batch sample and on the whole extreme-case suite, or refuse the input;
+* the bare emitted C kernel (the generated expression alone) shows exactly the limits listed in
+  ``C_KERNEL_LIMITS`` (a strict xfail turns red as soon as they disappear);
+* mpmath eigenvalues at 30 and 50 digits + bisection agree with the reference (an independent
+  route: no closed form, no polynomial) to half an ulp;
+* the direct routes and the paper's forms lose digits where the analysis says they must;
+* the simulation check (section 3) never disagrees with the reference step;
+* the report files and the ``--json`` summary have the documented content.
+"""
+import csv
+import json
+
+import pytest
+
+from dtcrit.bench.report import json_summary, write_report
+from dtcrit.bench.runner import QUICK, run_bench
+from dtcrit.bench.suite import SUITE
+from dtcrit.schemes import NAMES
+
+OWN_ROUTES = ("closed-form-numpy", "closed-form-scalar")
+
+# (case, integrator) where the bare emitted C kernel is neither within 4 ulp nor refusing:
+#   near-critical forward Euler: sqrt(gamma - omega) sqrt(gamma + omega) from the *rounded* rates;
+#   zeta beyond float64: the omega-based scale overflows gamma' and the step comes out as 0;
+#   a step below float64 comes out as 0 (= "no stable step") and one beyond as inf / OverflowError.
+_ALL_BUT_CENTRED = tuple(n for n in NAMES if n != "leapfrog-centred")
+C_KERNEL_LIMITS = (
+    {("zeta-1+1e-8", "forward-euler"), ("zeta-1+1e-4", "forward-euler")}
+    | {("zeta-overflow", n) for n in _ALL_BUT_CENTRED}
+    | {("zeta-underflow", n) for n in ("paper-eq40", "forward-euler")}
+    | {("dt-underflow", n) for n in _ALL_BUT_CENTRED}
+    | {("dt-overflow", n) for n in NAMES if n not in ("paper-eq40", "forward-euler")}
+)
+# batch sample: the same near-critical cancellation (forward Euler) and up to ~5 ulp for the cubic
+C_KERNEL_BATCH = {"forward-euler", "paper-eq40"}
+
+
+@pytest.fixture(scope="module")
+def result():
+    return run_bench(QUICK)
+
+
+def _entries(result, route):
+    return [e for e in result["suite"] if e["route"] == route]
+
+
+def _route(result, name):
+    return next(r for r in result["routes"] if r["name"] == name)
+
+
+def test_fused_route_within_4_ulp_or_refuses_everywhere(result):
+    r = _route(result, "closed-form-fused")
+    assert r["failures"] == 0 and r["max_ulp"] <= 4.0
+    bad = [(e["case"], e["integrator"], e["outcome"], e["ulp"], e["note"]) for e in _entries(result, "closed-form-fused")
+           if e["outcome"] not in ("ok", "refused")]
+    assert not bad
+    refused = {(e["case"], e["integrator"]) for e in _entries(result, "closed-form-fused") if e["outcome"] == "refused"}
+    # it refuses exactly the steps float64 cannot hold
+    assert refused == {(e["case"], e["integrator"]) for e in _entries(result, "closed-form-fused")
+                       if not e["step_representable"]}
+
+
+@pytest.mark.parametrize("route", OWN_ROUTES)
+def test_own_routes_within_4_ulp_or_refuse_everywhere(result, route):
+    bad = [(e["case"], e["integrator"], e["outcome"], e["ulp"]) for e in _entries(result, route)
+           if e["outcome"] not in ("ok", "refused")]
+    assert not bad
+    for name, e in _route(result, route)["by_integrator"].items():
+        assert e["failures"] == 0
+        assert e["max_ulp"] <= 4.0, (route, name, e["max_ulp"])
+
+
+def test_bare_c_kernel_within_4_ulp_or_refuses_apart_from_its_listed_limits(result):
+    bad = [(e["case"], e["integrator"], e["outcome"], e["ulp"]) for e in _entries(result, "closed-form-c")
+           if e["outcome"] not in ("ok", "refused") and (e["case"], e["integrator"]) not in C_KERNEL_LIMITS]
+    assert not bad
+    for name, e in _route(result, "closed-form-c")["by_integrator"].items():
+        assert e["failures"] == 0
+        if name not in C_KERNEL_BATCH:
+            assert e["max_ulp"] <= 4.0, ("closed-form-c", name, e["max_ulp"])
+
+
+@pytest.mark.xfail(strict=True, reason="the bare emitted C kernel lacks dtcrit.precise's forms (see C_KERNEL_LIMITS)")
+def test_c_kernel_limits_are_gone(result):
+    still = [(e["case"], e["integrator"]) for e in _entries(result, "closed-form-c")
+             if (e["case"], e["integrator"]) in C_KERNEL_LIMITS and e["outcome"] not in ("ok", "refused")]
+    batch = [n for n, e in _route(result, "closed-form-c")["by_integrator"].items()
+             if n in C_KERNEL_BATCH and e["max_ulp"] > 4.0]
+    assert not still and not batch
+
+
+def test_the_suite_covers_every_case_integrator_and_route(result):
+    seen = {(e["case"], e["integrator"], e["route"]) for e in result["suite"]}
+    for case in SUITE:
+        for name in NAMES:
+            for route in ("closed-form-numpy", "closed-form-fused", "closed-form-c", "closed-form-scalar",
+                          "eigvals+bisection", "eigenvalues-closed+bisection"):
+                assert (case.name, name, route) in seen
+            if name == "paper-eq40":
+                assert (case.name, name, "paper-cardano+bisection") in seen
+
+
+def test_high_precision_eigenvalue_routes_agree_with_the_reference(result):
+    """mpmath.eig at 30 and 50 digits + bisection: no closed form involved, within half an ulp
+    (batch sample and the quick run's suite subset; the full run also shows where eigenvalue
+    routes lose digits even at 50 digits: the defective double eigenvalue -1 of undamped
+    velocity Verlet at tau = 2)."""
+    for name in ("mpmath-eig-30", "mpmath-eig-50"):
+        r = _route(result, name)
+        assert r["failures"] == 0 and r["max_ulp"] <= 0.5
+        entries = _entries(result, name)
+        assert entries and all(e["outcome"] == "ok" and e["ulp"] <= 0.5 for e in entries), name
+
+
+def test_float64_eigenvalue_routes_lose_digits_where_expected(result):
+    by = {(e["case"], e["integrator"], e["route"]): e for e in result["suite"]}
+    for route in ("eigvals+bisection", "eigenvalues-closed+bisection"):
+        # forward Euler at zeta = 1e-12: rho - 1 ~ tau (tau - 2 zeta) / 2 ~ 1e-24, invisible in float64
+        assert by[("zeta-1e-12", "forward-euler", route)]["digits_lost"] >= 10
+        # undamped forward Euler has no stable step; rounding makes tiny steps look stable
+        assert by[("zeta-0", "forward-euler", route)]["outcome"] == "failed"
+    # the paper's Cardano route (Eqs. 42-43): D -> 0 and cancellation wreck it at ordinary damping
+    lost = [e for e in _entries(result, "paper-cardano+bisection") if e["outcome"] == "digits_lost" and e["digits_lost"] >= 10]
+    assert {"zeta-10", "zeta-1e3"} <= {e["case"] for e in lost}
+    assert _route(result, "paper-cardano+bisection")["median_ulp"] > 1e3
+
+
+def test_the_paper_forms_lose_digits_where_expected(result):
+    by = {(e["case"], e["route"]): e for e in result["paper_forms"]}
+    # Eq. (58) at its pole beta = 2/sqrt(7): 28 - 49 beta^2 cancels every digit
+    assert by[("eq58-asymptote", "eq58-printed")]["digits_lost"] >= 12
+    assert by[("eq58-asymptote-1e-9", "eq58-printed")]["digits_lost"] >= 6
+    # Eq. (59) at its pole beta = 2 sqrt(2)
+    assert by[("eq59-asymptote-1e-9", "eq59-printed")]["digits_lost"] >= 6
+    # the CFL note's sqrt(zeta^2 + 1) - zeta at heavy damping
+    assert by[("zeta-1e6", "cfl-note-printed")]["digits_lost"] >= 8
+    # Eq. (46) as printed overflows in c^2 A^2 and k A; dtcrit's hypot form does not
+    for case in ("c2A2-overflow", "kA-overflow", "kA-underflow"):
+        assert by[(case, "eq46-printed")]["outcome"] == "failed"
+        assert by[(case, "eq46-dtcrit")]["outcome"] == "ok"
+    # Eqs. (34) and (58) have no real value beyond critical damping
+    assert by[("zeta-10", "eq34-printed")]["outcome"] == "undefined"
+    # as a *bound*, Eq. (46) exceeds the verified velocity-Verlet step once damped
+    assert by[("zeta-0.5", "eq46-printed")]["ratio_to_velocity_verlet_bound"] > 2
+
+
+def test_simulation_agrees_with_the_reference_step(result):
+    rows = result["simulation"]
+    assert len(rows) == len(SUITE) * len(NAMES)  # no row dropped
+    assert not [r for r in rows if r["outcome"] == "disagrees"]
+    counts = {o: sum(r["outcome"] == o for r in rows) for o in ("agrees", "no-stable-step", "unobservable")}
+    assert counts["agrees"] >= 200 and counts["no-stable-step"] >= 8
+    for r in rows:
+        if r["outcome"] == "unobservable":
+            assert "needs" in r["note"]
+
+
+def test_json_summary_has_the_documented_keys(result):
+    doc = json.loads(json.dumps(json_summary(result)))
+    assert {"routes", "suite", "speedup_vs_eig", "kernel_vs_floor"} <= set(doc)
+    for r in doc["routes"]:
+        assert {"name", "max_ulp", "median_ulp", "seconds_per_scene", "failures"} <= set(r)
+    assert {r["name"] for r in doc["routes"]} >= {"closed-form-numpy", "closed-form-c", "paper-cardano+bisection",
+                                                  "eigvals+bisection", "mpmath-eig-15", "mpmath-eig-30", "mpmath-eig-50"}
+    for e in doc["suite"]:
+        assert {"case", "route", "outcome", "ulp"} <= set(e)
+        assert e["outcome"] in ("ok", "digits_lost", "refused", "failed", "undefined")
+    assert isinstance(doc["speedup_vs_eig"], float) and isinstance(doc["kernel_vs_floor"], float)
+
+
+def test_report_files(result, tmp_path):
+    paths = write_report(result, tmp_path)
+    names = {p.name for p in paths}
+    assert {"bench.md", "routes.csv", "suite.csv", "paper_forms.csv", "simulation.csv", "work_precision.png"} <= names
+    md = (tmp_path / "bench.md").read_text()
+    for text in ("## Routes", "speedup_vs_eig", "kernel_vs_floor", "## Machine", "numpy:", "mpmath:", "sympy:"):
+        assert text in md
+    with (tmp_path / "routes.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    assert {r["route"] for r in rows} >= {"closed-form-numpy", "eigvals+bisection"}
+    assert (tmp_path / "work_precision.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_cli_prints_json_and_writes_the_report(result, tmp_path, monkeypatch, capsys):
+    import dtcrit.bench.runner as runner
+    from dtcrit.cli import main
+
+    monkeypatch.setattr(runner, "run_bench", lambda config: result)
+    assert main(["bench", "--quick", "--json", "--out", str(tmp_path)]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["routes"] and doc["suite"]
+    assert (tmp_path / "bench.md").exists()
+    assert main(["bench", "--quick", "--out", str(tmp_path)]) == 0
+    assert "speedup_vs_eig" in capsys.readouterr().out
+
+
+def test_cli_rejects_a_batch_smaller_than_the_samples(capsys):
+    from dtcrit.cli import main
+
+    assert main(["bench", "--quick", "--scenes", "3"]) == 2
+    assert "scenes" in capsys.readouterr().err
