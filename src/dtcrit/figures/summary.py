@@ -1,0 +1,129 @@
+"""The JSON summary of ``dtcrit figures --json``: the verdicts of every figure in numbers.
+
+Keys (each present when its figure was run):
+
+* ``fig3``: for two spheres, ``A*m`` of Eq. (26) and of the verified bound, and dt*sqrt(k/m) at
+  beta = 0 and 1 for the printed Eq. (60) and each integrator's verified bound;
+* ``fig4`` / ``fig5``: the trend with damping N of the printed Eq. (46) and of each scene integrator's
+  verified bound, the ratio a_bound/A_max, and the values at the first sweep point;
+* ``aspect_ratio`` (Fig. 6): ``min_ratio``, ``max_ratio`` (largest finite), ``fraction_over_1e4``
+  over the grid of rotation-dominant / translation-dominant steps (Eq. (57) / Eq. (48)), the grid
+  points where the ratio is unbounded (a sphere: B_max = 0), the same with the verified bound on
+  its sub-grid, and ``four_orders_region`` (distance from e1 = e2 = 1 within which the printed
+  ratio exceeds 1e4; with a_bound <= A_max the verified ratio is smaller still);
+* ``appendix_a``: ``orthogonal``, ``max_found``, ``max_config``, ``orthogonal_is_max`` (|xdd_c| for
+  F = (1, 1, 1)), the eigenvalue maxima, and the superquadric and box searches.
+
+Values are plain floats; nothing infinite or NaN is emitted (strict JSON).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["summary", "fig3_summary", "pair_summary", "aspect_ratio_summary"]
+
+
+def _clean(obj):
+    """Round-trip-safe JSON values: numpy scalars to Python, non-finite floats to None."""
+    if isinstance(obj, dict):
+        return {str(k): _clean(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_clean(v) for v in obj]
+    if isinstance(obj, (np.bool_, bool)):
+        return bool(obj)
+    if isinstance(obj, (np.integer, int)):
+        return int(obj)
+    if isinstance(obj, (np.floating, float)):
+        v = float(obj)
+        return v if math.isfinite(v) else None
+    return obj
+
+
+def fig3_summary() -> dict:
+    from .fig3_damping import fig3_data
+
+    d = fig3_data(n=4)  # beta = 0, 1, 2, 3
+    return {
+        "a_max_eq26_times_m": d.a_max_times_m,
+        "a_bound_times_m": d.a_bound_times_m,
+        "beta": d.beta.tolist(),
+        "eq60_printed": d.printed["eq60"].tolist(),
+        "verified": {k: v.tolist() for k, v in d.verified.items()},
+        "identical_groups": [list(g) for g in d.groups],
+    }
+
+
+def pair_summary(data) -> dict:
+    from .ellipsoid_pair import SCENE_INTEGRATORS, describe_trend
+
+    j = 0
+    return {
+        "first_point": {"k_n": float(data.stiffness[j]), "density": float(data.density[j])},
+        "a_max_eq26": float(data.a_max[j]),
+        "a_bound": float(data.a_bound[j]),
+        "a_bound_over_a_max": float(data.a_bound[j] / data.a_max[j]),
+        "N": list(data.n_values),
+        "eq46_printed": data.printed_eq46[:, j].tolist(),
+        "eq46_trend_with_N": describe_trend(data.printed_eq46[:, j]),
+        "verified_a_max": {n: data.verified_a_max[n][:, j].tolist() for n in SCENE_INTEGRATORS},
+        "verified_a_bound": {n: data.verified_a_bound[n][:, j].tolist() for n in SCENE_INTEGRATORS},
+        "verified_trend_with_N": {n: describe_trend(data.verified_a_max[n][:, j]) for n in SCENE_INTEGRATORS},
+    }
+
+
+def aspect_ratio_summary(fine: bool = False, region: bool = True) -> dict:
+    from .fig6_aspect_ratio import fig6_data, four_orders_region, ratio_at
+
+    d = fig6_data(161 if fine else 41)
+    out = {}
+    for key, verified in (("printed", False), ("verified", True)):
+        st = d.ratio_stats(verified)
+        r = d.ratio_verified if verified else d.ratio_printed
+        ev = d.e_verified if verified else d.e1
+        inf_pts = [[float(ev[i]), float(ev[j])] for i, j in zip(*np.nonzero(~np.isfinite(r)))]
+        out[key] = {
+            "min_ratio": st["min_ratio"],
+            "max_ratio": st["max_finite_ratio"],
+            "fraction_over_1e4": st["fraction_over_1e4"],
+            "points_over_1e4": st["points_over_1e4"],
+            "points": st["points"],
+            "unbounded_at": inf_pts,
+        }
+    idx = [int(np.argmin(np.abs(d.e1 - v))) for v in d.e_verified]
+    res = dict(out["printed"])
+    res.update({
+        "grid": f"{d.e1.size} x {d.e2.size}, e1, e2 in [1, 5]",
+        "ratio_at_a3_b2_c1": ratio_at(1.5, 2.0),
+        "ratio_at_a3_b2_c1_verified": ratio_at(1.5, 2.0, verified=True),
+        "verified": dict(out["verified"], grid=f"{d.e_verified.size} x {d.e_verified.size} sub-grid",
+                         a_bound_below_a_max=bool(np.all(d.a_bound <= d.a_max[np.ix_(idx, idx)]))),
+    })
+    if region:
+        res["four_orders_region"] = four_orders_region()
+    return res
+
+
+def summary(names, fine: bool = False, appendix: dict | None = None) -> dict:
+    """Summary for the figures in ``names`` (``appendix``: a finished appendix_a_study to reuse)."""
+    out: dict = {}
+    if "fig3" in names:
+        out["fig3"] = fig3_summary()
+    if "fig4" in names:
+        from .fig4_stiffness import fig4_data
+
+        out["fig4"] = pair_summary(fig4_data(2))
+    if "fig5" in names:
+        from .fig5_density import fig5_data
+
+        out["fig5"] = pair_summary(fig5_data(2))
+    if "fig6" in names:
+        out["aspect_ratio"] = aspect_ratio_summary(fine)
+    if "appendix_a" in names:
+        if appendix is None:
+            from .appendix_a import appendix_a_study
+
+            appendix = appendix_a_study(fine=fine)
+        out["appendix_a"] = appendix["summary"]
+    return _clean(out)
