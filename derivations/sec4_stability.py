@@ -18,8 +18,9 @@ from functools import lru_cache
 import mpmath as mp
 import sympy as sp
 
+from dtcrit.amplification import matrix_mp
 from dtcrit import contact
-from dtcrit.schemes import INTEGRATORS, NAMES, LinearForce
+from dtcrit.schemes import NAMES
 from dtcrit.shapes import Sphere
 from dtcrit.symbolic import paper_section4 as p4
 from dtcrit.symbolic import roots as R
@@ -59,21 +60,6 @@ def _zero(expr) -> bool:
 
 def _verdict(ok: bool, yes: str = "reproduced", no: str = "differs") -> str:
     return f"**{yes if ok else no}**"
-
-
-def matrix_mp(name: str, t, z) -> mp.matrix:
-    """Amplification matrix from the update rule applied to unit vectors (omega = 1, step tau)."""
-    integ = INTEGRATORS[name]
-    n = len(integ.state)
-    f = LinearForce(mp.mpf(1), 2 * mp.mpf(z))
-    G = mp.matrix(n, n)
-    for j in range(n):
-        e = [mp.mpf(0)] * n
-        e[j] = mp.mpf(1)
-        col = integ.step(tuple(e), mp.mpf(t), f)
-        for i in range(n):
-            G[i, j] = col[i]
-    return G
 
 
 def eigenvalues(name: str, t, z) -> list:

@@ -18,10 +18,10 @@ import mpmath as mp
 import numpy as np
 import sympy as sp
 
+from dtcrit.amplification import spectral_radius_mp
 from dtcrit.figures.ellipsoid_pair import N_VALUES, describe_trend, pair_steps
 from dtcrit.figures.fig3_damping import fig3_data
 from dtcrit.figures.fig6_aspect_ratio import CLAIM_RATIO, ellipsoid_axes, fig6_data, four_orders_region, ratio_at
-from dtcrit.schemes import INTEGRATORS, LinearForce
 
 RECORD = "sec6_numerics.md"
 DPS = 50
@@ -40,19 +40,7 @@ def _n(x, digits: int = 6) -> str:
 
 def _rho(name: str, tau, zeta) -> mp.mpf:
     """Spectral radius of the amplification matrix of ``name`` (omega = 1, step tau, damping zeta)."""
-    integ = INTEGRATORS[name]
-    n = len(integ.state)
-    with mp.workdps(DPS):
-        f = LinearForce(mp.mpf(1), 2 * mp.mpf(zeta))
-        G = mp.matrix(n, n)
-        for j in range(n):
-            e = [mp.mpf(0)] * n
-            e[j] = mp.mpf(1)
-            col = integ.step(tuple(e), mp.mpf(tau), f)
-            for i in range(n):
-                G[i, j] = col[i]
-        ev, _ = mp.eig(G)
-        return max(abs(v) for v in ev)
+    return spectral_radius_mp(name, tau, zeta, dps=DPS)
 
 
 def _slice_inertia(a, b, c, rho):

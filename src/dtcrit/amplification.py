@@ -30,3 +30,27 @@ def spectral_radius(integrator: str, tau, zeta) -> np.ndarray:
     """max |lambda(G)| over all eigenvalues (complex included), by batched ``numpy.linalg.eigvals``."""
     rho = np.max(np.abs(np.linalg.eigvals(matrices(integrator, tau, zeta))), axis=-1)
     return rho[()] if rho.ndim == 0 else rho
+
+
+def matrix_mp(integrator: str, tau, zeta):
+    """The amplification matrix as an ``mpmath.matrix`` at the current working precision."""
+    import mpmath as mp
+
+    integ = INTEGRATORS[integrator]
+    d = len(integ.state)
+    force = LinearForce(mp.mpf(1), 2 * mp.mpf(zeta))
+    G = mp.matrix(d, d)
+    for j in range(d):
+        column = integ.step(tuple(mp.mpf(1) if i == j else mp.mpf(0) for i in range(d)), mp.mpf(tau), force)
+        for i in range(d):
+            G[i, j] = column[i]
+    return G
+
+
+def spectral_radius_mp(integrator: str, tau, zeta, dps: int | None = None):
+    """max |lambda(G)| by ``mpmath.eig`` (at ``dps`` digits, or the current working precision)."""
+    import mpmath as mp
+
+    with mp.workdps(dps or mp.mp.dps):
+        eigenvalues = mp.eig(matrix_mp(integrator, tau, zeta), left=False, right=False)
+        return max(abs(v) for v in eigenvalues)
