@@ -61,6 +61,9 @@ def demo() -> int:
 def test() -> int:
     env = child_env()
     env.setdefault("HYPOTHESIS_PROFILE", "ci")
+    # two pytest workers on two cores: BLAS's own threads would only compete with them
+    for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+        env.setdefault(var, "1")
     workers = os.environ.get("DTCRIT_TEST_WORKERS", "2")
     rc = run(PY, "-m", "pytest", "-q", "-n", workers, "--dist", "loadfile", *sys.argv[2:], env=env)
     return 0 if rc == 5 else rc  # 5: no tests collected

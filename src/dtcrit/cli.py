@@ -11,7 +11,7 @@ import importlib
 import sys
 
 # Subcommands in the order ``dtcrit --help`` lists them.
-COMMANDS: tuple[str, ...] = ()
+COMMANDS: tuple[str, ...] = ("step", "codegen", "packing", "impact", "figures", "bench", "notebooks")
 
 
 class _Parser(argparse.ArgumentParser):

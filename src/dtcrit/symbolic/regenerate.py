@@ -13,7 +13,11 @@ from pathlib import Path
 GENERATED_DIR = Path(__file__).resolve().parents[1] / "_generated"
 
 PRODUCERS: tuple[str, ...] = (
+    "dtcrit.symbolic.mass_properties",
+    "dtcrit.symbolic.impact",
     "dtcrit.symbolic.stability_codegen",
+    "dtcrit.symbolic.roots_codegen",
+    "dtcrit.symbolic.contact_codegen",
 )
 
 

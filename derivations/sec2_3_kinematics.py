@@ -1,0 +1,525 @@
+"""Record: Peng, Burns & Hanley 2020, Sections 2-3 (Eqs. (1)-(27), (49)) and Appendix A.
+
+The contact kinematics is rebuilt from first principles by ``dtcrit.symbolic.kinematics``
+(quaternion rotation, Euler's equations, frame changes, contact-point accelerations); the three
+tip-to-tip configurations of Figure 2 are *reconstructed* by scoring every axis-aligned candidate
+against the printed entries, and the claim of Eq. (26) is tested on the full coefficient matrix
+for admissible contacts of the paper's shape classes (``dtcrit.contact``,
+``dtcrit.contact_search``).
+"""
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import sympy as sp
+
+import dtcrit
+from dtcrit import contact_search as cs
+from dtcrit.shapes import Box, ConvexPolyhedron, Ellipsoid, Sphere, Superquadric
+from dtcrit.symbolic import kinematics as kin
+
+RECORD = "sec2_3_kinematics.md"
+
+SEARCH = dict(n_random=2000, n_starts=6, iterations=100)
+
+
+def _n(x: float, digits: int = 6) -> str:
+    return f"{float(x):.{digits}g}"
+
+
+def _latex(e) -> str:
+    return sp.latex(e, mul_symbol=None)
+
+
+def _mat(R) -> str:
+    return _latex(sp.Matrix(R))
+
+
+def _verdict(k) -> str:
+    if k is None:
+        return "illegible"
+    return "**reproduced**" if k >= 0 else "**differs**"
+
+
+# ============================================================================================
+# 1. Convention
+# ============================================================================================
+def section_convention() -> list[str]:
+    checks = kin.check_rotation_convention()
+    out = [
+        "## 1. Rotation convention (Eqs. (5)-(8), (13)-(16))",
+        "",
+        "Eq. (7) is transcribed as printed (no extraction damage; Eq. (8) is the same matrix for particle 2, "
+        "extracted twice).  The paper uses it as $M_L = R M_G$ (Eq. 5): $R$ maps global components to local "
+        "components, so its rows are the body axes in global components, and Eqs. (13)-(16) return with "
+        "$R^{-1}$.  Checked symbolically (unit quaternion imposed by $q_w = \\sqrt{1-q_x^2-q_y^2-q_z^2}$):",
+        "",
+        "| check | result |",
+        "| --- | --- |",
+    ]
+    out += [f"| {name} | {'holds' if ok else '**fails**'} |" for name, ok in checks.items()]
+    out += [
+        "",
+        "So the convention is self-consistent.  Euler's equations (11)-(12) are applied to the local moment "
+        "$R M_G$ and the angular acceleration is returned with $R^T$; the global inverse inertia is "
+        "$W = R^T I^{-1} R$.  The Figure 2 quaternions below are given in this convention.",
+        "",
+    ]
+    return out
+
+
+# ============================================================================================
+# 2. Eqs. (1)-(20): the general kinematics
+# ============================================================================================
+def section_general() -> list[str]:
+    r = sp.Matrix(sp.symbols("r_x r_y r_z", real=True))
+    Ixx, Iyy, Izz, Ixy, Ixz, Iyz = sp.symbols("I_xx I_yy I_zz I_xy I_xz I_yz", real=True)
+    general_I = kin.inertia_tensor(Ixx, Iyy, Izz, Ixy, Ixz, Iyz)
+    closed_general = kin.check_arm_term_closed_form(r, general_I)
+    closed_diag = kin.check_arm_term_closed_form(r, kin.inertia_tensor(Ixx, Iyy, Izz))
+    v = sp.Matrix(sp.symbols("v_x v_y v_z", real=True))
+    W = sp.diag(*sp.symbols("W_x W_y W_z", positive=True))
+    T = kin.skew(r).T * W * kin.skew(r)
+    quad = sp.expand((v.T * T * v)[0] - (kin.cross(r, v).T * W * kin.cross(r, v))[0]) == 0
+    p1, p2 = kin.FIG2["A"].particles(w_is_local=False)
+    affine = kin.check_affine_in_force(p1, p2)
+    return [
+        "## 2. Eqs. (1)-(20): two arbitrary rigid particles",
+        "",
+        "Rebuilt as general functions (not per configuration): Eqs. (1)-(2) arms $r_i = x_c - x_i$; (3)-(4) "
+        "`global_moments`; (5)-(6) `to_local`; (7)-(8) `quaternion_rotation_matrix`; (9)-(10) `inertia_tensor`; "
+        "(11)-(12) `euler_angular_acceleration` $\\dot\\omega_L = I^{-1}(M_L - \\omega_L\\times I\\omega_L)$; "
+        "(13)-(16) `to_global`; (17)-(18) `contact_point_acceleration`; (19)-(20) `relative_accelerations`.  "
+        "Extraction fixes: Eq. (10) prints $I_{zy2}$ in the first column of the last row (read $I_{zx2}$), "
+        "Eq. (12) prints $\\Gamma_2^{-1}$ (read $I_2^{-1}$).  All of Eqs. (1)-(20) are used exactly as printed otherwise.",
+        "",
+        "Consequences computed from these functions:",
+        "",
+        f"* $\\ddot x_c$ is affine in $F$ (Jacobian constant, $\\ddot x_c = A F + \\Omega$ identically; checked on "
+        f"configuration (A) with symbolic $\\omega$): {'holds' if affine else '**fails**'}.  So Eq. (25)'s split is exact, "
+        "and the general coefficient matrix is $A = (1/m_1 + 1/m_2)\\,\\mathbb 1 + \\sum_i [r_i]_\\times^T W_i [r_i]_\\times$, "
+        "a full symmetric positive-definite $3\\times 3$ matrix; it is diagonal only in special configurations.",
+        f"* One particle's term, derived from the general kinematics with the partner removed, equals "
+        f"$[r]_\\times^T I^{{-1}} [r]_\\times$ for a general symmetric $I$ ({'holds' if closed_general else '**fails**'}) "
+        f"and for principal $I$ ({'holds' if closed_diag else '**fails**'}); this is the generated kernel `arm_term`.",
+        f"* $v^T [r]_\\times^T W [r]_\\times v = |W^{{1/2}}(r\\times v)|^2$ ({'holds' if quad else '**fails**'}): for fixed $v$ a "
+        "convex quadratic in $r$, so $\\lambda_{\\max}([r]_\\times^T W [r]_\\times) = \\max_{|v|=1}|W^{1/2}(r\\times v)|^2$ is "
+        "convex in $r$ and its supremum over a convex body is attained at extreme points (vertices of a polyhedron).",
+        "",
+    ]
+
+
+# ============================================================================================
+# 3. Figure 2: reconstruction of the three configurations, Eqs. (22)-(24)
+# ============================================================================================
+def _printed_for(panel: str, e: kin.PrintedEntry, k: int | None) -> str:
+    if not e.legible:
+        return f"illegible (`{e.raw[:60]}...`)" if len(e.raw) > 60 else f"illegible (`{e.raw}`)"
+    text = e.readings[k if (k is not None and k >= 0) else 0]
+    expr = kin.parse_reading(text)
+    if panel == "C":
+        expr = expr.subs(kin.P2.half_lengths[0], kin.P2.half_lengths[1])
+    return f"${_latex(expr)}$"
+
+
+def section_fig2() -> tuple[list[str], dict]:
+    cands = kin.candidate_configurations()
+    scores = kin.score_candidates()
+    out = [
+        "## 3. Figure 2 reconstructed: Eqs. (22)-(24) and the velocity terms",
+        "",
+        "Figure 2 is not in the seed, so the three configurations are reconstructed.  Candidates: particle 1 axis "
+        "aligned (as in Appendix A), its arm any of its 6 tips $\\pm a_1 e_x, \\pm b_1 e_y, \\pm c_1 e_z$; particle 2 in "
+        "any of the 24 axis-permuting rotations with any of its 6 tips: 864 candidates.  Each is evaluated through "
+        "the general kinematics and compared with every legible printed entry of Eq. (22)/(23)/(24) (diagonal of "
+        "$A$ and $\\Omega$) and of Eq. (50)/(51)/(52) (the same panel's $\\dot\\omega_c$, Section 5), with the "
+        "$\\omega$ symbols read either as global components (Eqs. 15-16) or as local (body) components, and printed "
+        "$a_2$ read either literally or as the length of particle 2's arm.  Floating-point screening at two random "
+        "parameter sets; the chosen configurations are then re-checked exactly in SymPy (tables below).",
+        "",
+        "Transcription fixes (the only edits; every ambiguous subscript is kept as alternative readings, and a "
+        "printed entry is *reproduced* if one reading equals the derivation exactly):",
+        "",
+    ]
+    for eq in ("22", "23", "24", "50", "51", "52"):
+        fixes = [f"{e.entry}: {e.fixes}" for e in kin.printed_entries(eq) if e.fixes]
+        if fixes:
+            out.append(f"* Eq. ({eq}): " + "; ".join(fixes) + ".")
+    out += [
+        "",
+        "Best number of reproduced legible entries over all candidates, per reading:",
+        "",
+        "| panel (equations) | legible entries | $\\omega$ global, $a_2$ literal | global, $a_2$ = arm | local, literal | local, arm |",
+        "| --- | --- | --- | --- | --- | --- |",
+    ]
+    for panel, (eqa, eqw) in kin.PANELS.items():
+        legible = sum(e.legible for eq in (eqa, eqw) for e in kin.printed_entries(eq))
+        cells = []
+        for lw in (False, True):
+            for al in (False, True):
+                cells.append(str(max(s.total for s in scores if s.panel == panel and s.w_is_local == lw and s.arm_length == al)))
+        out.append(f"| {panel} ({eqa}, {eqw}) | {legible} | " + " | ".join(cells) + " |")
+    chosen = {}
+    out += [""]
+    for panel, (eqa, eqw) in kin.PANELS.items():
+        best = kin.best_candidates(panel)
+        b = best[0]
+        cand = cands[b.index]
+        lib = kin.FIG2[panel]
+        same = (cand.arm1 == lib.arm1 and cand.arm2 == lib.arm2 and sp.Matrix(cand.R2) == sp.Matrix(lib.R2))
+        chosen[panel] = b
+        q1, q2 = lib.quaternions()
+        out += [
+            f"### Figure 2({panel}): Eqs. ({eqa}) and ({eqw})",
+            "",
+            f"Best score {b.total} of {sum(e.legible for eq in (eqa, eqw) for e in kin.printed_entries(eq))} legible entries, "
+            f"{len(best)} candidate(s) after the tie-breaks (literal $a_2$ first, then opposite normals); reading: "
+            f"$\\omega$ {'local (body)' if b.w_is_local else 'global'} components, $a_2$ "
+            f"{'= length of the arm of particle 2' if b.arm_length else 'literal'}.  "
+            f"The library's `FIG2['{panel}']` is this candidate: {'yes' if same else '**no**'}.",
+            "",
+            f"* $R_1 = {_mat(lib.R1)}$, $q_1 = {_latex(sp.Matrix(q1).T)}$; $R_2 = {_mat(lib.R2)}$, "
+            f"$q_2 = {_latex(sp.Matrix(q2).T)}$ (rows of $R_2$: body axes of particle 2 in global components).",
+            f"* Arms (global): $r_1 = {_latex(lib.arm_global(1).T)}$, $r_2 = {_latex(lib.arm_global(2).T)}$; outward normals at "
+            f"the two tips opposite (admissible contact of smooth bodies): **{'yes' if lib.normals_opposite() else 'no'}**.",
+            "",
+            "| entry | printed (reading used) | derived ($\\omega$ local) | $\\omega$ local | $\\omega$ global (Eq. 16) |",
+            "| --- | --- | --- | --- | --- |",
+        ]
+        derived = kin.fig2_symbolic(panel, True)
+        derived_g = kin.fig2_symbolic(panel, False)
+        subs = {kin.P2.half_lengths[0]: kin.P2.half_lengths[lib.arm2[0]]} if b.arm_length else {}
+        notes = []
+        for eq in (eqa, eqw):
+            for e in kin.printed_entries(eq):
+                d = kin.derived_entry(derived, e.entry)
+                k = kin.compare_entry(d, e, subs)
+                kg = kin.compare_entry(kin.derived_entry(derived_g, e.entry), e, subs)
+                pr = _printed_for(panel if b.arm_length else "", e, k if (k is not None and k >= 0) else kg)
+                which = ""
+                if k is not None and k >= 0 and len(e.readings) > 1:
+                    which = f" (reading {k + 1} of {len(e.readings)})"
+                out.append(f"| Eq. ({eq}) {e.entry} | {pr} | ${_latex(sp.factor(d))}$ | {_verdict(k)}{which} | {_verdict(kg)} |")
+                if k is not None and k < 0 and kg is not None and kg < 0:
+                    diffs = []
+                    for label, dd in (("local", d), ("global", kin.derived_entry(derived_g, e.entry))):
+                        diff = sp.factor(sp.cancel(dd - kin.parse_reading(e.readings[0]).subs(subs)))
+                        diffs.append(f"{label}: ${_latex(diff)}$")
+                    notes.append(f"* Eq. ({eq}) {e.entry}: derived minus printed (first reading) -- " + "; ".join(diffs) + ".")
+        if notes:
+            out += ["", "Entries that differ under both readings of $\\omega$:", "", *notes]
+        off = all(derived["A"][i, j] == 0 for i in range(3) for j in range(3) if i != j)
+        out += ["", f"Off-diagonal entries of the derived $A$ all zero: {'yes' if off else '**no**'}.", ""]
+    return out, chosen
+
+
+def _overlap_witness() -> list[str]:
+    """Configuration (A) with the paper's ellipsoids a=3, b=2, c=1: a point inside both bodies."""
+    a, b, c = 3, 2, 1
+    lib = kin.FIG2["A"]
+    subs = {kin.P1.half_lengths[0]: a, kin.P2.half_lengths[0]: a}
+    xc = lib.arm_global(1).subs(subs)
+    x2 = xc - lib.arm_global(2).subs(subs)
+    q = sp.Matrix([sp.Rational(5, 2), 0, sp.Rational(1, 2)])
+    D = sp.diag(sp.Rational(1, a * a), sp.Rational(1, b * b), sp.Rational(1, c * c))
+    f1 = (q.T * D * q)[0]
+    local2 = sp.Matrix(lib.R2) * (q - x2)
+    f2 = (local2.T * D * local2)[0]
+    return [
+        f"With the paper's ellipsoids ($a=3, b=2, c=1$) configuration (A) puts particle 2's centre at "
+        f"${_latex(x2.T)}$ for contact point ${_latex(xc.T)}$; the point ${_latex(q.T)}$ has "
+        f"$x^T D^{{-2}} x = {_latex(f1)}$ in particle 1 and ${_latex(f2)}$ in particle 2 (both $< 1$): the bodies overlap "
+        "by far more than a contact overlap, so (A) is a kinematic configuration, not an admissible contact "
+        "(consistent with Appendix A, whose 'orthogonal' maximiser has the centre of ellipsoid 2 at $z = 3$ m above "
+        "the tip $(3,0,0)$).",
+        "",
+    ]
+
+
+# ============================================================================================
+# 4. Eq. (26) in the Figure 2 configurations, and the spheres (Eq. 49)
+# ============================================================================================
+def section_eq26_configs() -> list[str]:
+    out = [
+        "## 4. Eq. (26) on the Figure 2 configurations; two spheres (Eq. (49))",
+        "",
+        "Eq. (26) transcribed without fixes: $A_{x/y/z} \\le A_{\\max} = a_1^2/I_{xx1} + a_2^2/I_{xx2} + 1/m_1 + 1/m_2$.  "
+        "Under assumption 3 ($a\\ge b\\ge c$, $I_{zz}\\ge I_{yy}\\ge I_{xx}$), written as $I_{yy} = I_{xx}+u$, "
+        "$I_{zz} = I_{xx}+u+v$, $b = c+p$, $a = c+p+q$ with $u, v, p, q \\ge 0$, each $A_{\\max} - A_{kk}$ of the "
+        "derived matrices is a ratio of polynomials with non-negative coefficients (a certificate of $\\ge 0$):",
+        "",
+        "| configuration | $A_x \\le A_{\\max}$ | $A_y \\le A_{\\max}$ | $A_z \\le A_{\\max}$ |",
+        "| --- | --- | --- | --- |",
+    ]
+    for panel in kin.FIG2:
+        cert = kin.eq26_dominates(panel)
+        out.append(f"| {panel} | " + " | ".join("certified" if cert[k] else "**no certificate**" for k in ("A_x", "A_y", "A_z")) + " |")
+    out += ["", "So the inequality of Eq. (26) is **reproduced** for the three configurations it was stated for (they "
+            "are diagonal, so the diagonal entries are the eigenvalues).  Section 5 shows it does not extend to "
+            "every admissible contact.", ""]
+    sph = kin.sphere_pair_check()
+    m, rho = sph["m"], sph["rho"]
+    k_n = sp.Symbol("k_n", positive=True)
+    dt = sp.simplify(2 / sp.sqrt(k_n * sph["lambda_max"]))
+    out += [
+        "**Two identical spheres (Section 4.3, Eq. (49)).**  Through the general kinematics with *arbitrary* unit "
+        "quaternions $q_1, q_2$ and an arbitrary unit normal $n$ (arms $\\pm\\rho n$, $I = \\tfrac25 m\\rho^2$), the "
+        "coefficient matrix reduces (modulo $|q_1| = |q_2| = |n| = 1$) to",
+        "",
+        f"$$A = {_latex(sph['closed_form'])}$$",
+        "",
+        f"(residual {'zero' if sph['residual'] == sp.zeros(3, 3) else '**non-zero**'}); $n$ is an eigenvector with "
+        f"eigenvalue $2/m$ ({'checked' if sph['eigen_along_n'] == sp.zeros(3, 1) else '**fails**'}), every vector normal to "
+        f"$n$ has eigenvalue $7/m$ ({'checked' if sph['eigen_across_n'] == sp.zeros(3, 1) else '**fails**'}; trace "
+        f"$= {sph['trace_times_m']}/m$).  Hence $\\lambda_{{\\max}}(A) = {_latex(sph['lambda_max'])}$ from the general code, "
+        f"equal to Eq. (26)'s $A_{{\\max}} = {_latex(sph['a_max_eq26'])}$: **reproduced**, and Eq. (48) gives "
+        f"$\\Delta t = 2/\\sqrt{{k_n \\lambda_{{\\max}}}} = {_latex(dt)}$ = Eq. (49): **reproduced**.",
+        "",
+    ]
+    return out
+
+
+# ============================================================================================
+# 5-6. The full coefficient matrix over admissible contacts
+# ============================================================================================
+def _shapes():
+    rng = np.random.default_rng(7)
+    dirs = rng.normal(size=(7, 3))
+    half = dirs / np.linalg.norm(dirs, axis=1, keepdims=True) * np.array([2.0, 1.3, 0.8])  # convex position
+    pts = np.vstack([half, -half])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        poly = ConvexPolyhedron(pts, density=1000.0)
+        octa = ConvexPolyhedron([[2, 0, 0], [-2, 0, 0], [0, 1.5, 0], [0, -1.5, 0], [0, 0, 1], [0, 0, -1]], density=1000.0)
+    rho = 1000.0
+    return {
+        "sphere r=1": Sphere(1.0, density=rho),
+        "ellipsoid 3,2,1 (paper)": Ellipsoid(3.0, 2.0, 1.0, density=rho),
+        "ellipsoid 2,1.5,1": Ellipsoid(2.0, 1.5, 1.0, density=rho),
+        "superquadric 3,2,1, eps 0.3,0.5": Superquadric(3.0, 2.0, 1.0, 0.3, 0.5, density=rho),
+        "superquadric 1,1,1, eps 0.1,0.1": Superquadric(1.0, 1.0, 1.0, 0.1, 0.1, density=rho),
+        "superquadric 2,1,0.5, eps 1.5,1.5": Superquadric(2.0, 1.0, 0.5, 1.5, 1.5, density=rho),
+        "cube 1,1,1": Box(1.0, 1.0, 1.0, density=rho),
+        "box 3,2,1": Box(3.0, 2.0, 1.0, density=rho),
+        "octahedron 2,1.5,1": octa,
+        "random symmetric polyhedron (14 vertices)": poly,
+    }
+
+
+PAIRS = [
+    ("sphere r=1", "sphere r=1"),
+    ("ellipsoid 3,2,1 (paper)", "ellipsoid 3,2,1 (paper)"),
+    ("ellipsoid 3,2,1 (paper)", "ellipsoid 2,1.5,1"),
+    ("superquadric 3,2,1, eps 0.3,0.5", "superquadric 3,2,1, eps 0.3,0.5"),
+    ("superquadric 1,1,1, eps 0.1,0.1", "superquadric 1,1,1, eps 0.1,0.1"),
+    ("superquadric 2,1,0.5, eps 1.5,1.5", "superquadric 2,1,0.5, eps 1.5,1.5"),
+    ("cube 1,1,1", "cube 1,1,1"),
+    ("box 3,2,1", "box 3,2,1"),
+    ("octahedron 2,1.5,1", "octahedron 2,1.5,1"),
+    ("random symmetric polyhedron (14 vertices)", "random symmetric polyhedron (14 vertices)"),
+    ("ellipsoid 3,2,1 (paper)", "box 3,2,1"),
+    ("random symmetric polyhedron (14 vertices)", "box 3,2,1"),
+]
+
+
+def _cube_counterexample() -> list[str]:
+    a, m = sp.symbols("a m", positive=True)
+    I = kin.inertia_tensor(*(sp.Rational(2, 3) * m * a**2,) * 3)
+    corner = sp.Matrix([a, a, a])
+    p1 = kin.RigidParticle(m, I, sp.eye(3), corner)
+    p2 = kin.RigidParticle(m, I, sp.eye(3), -corner)
+    A = kin.coefficient_matrix(p1, p2)
+    eig = {sp.simplify(k): v for k, v in A.eigenvals().items()}
+    amax = kin.a_max_printed(m, I[0, 0], a, m, I[0, 0], a)
+    lam = max(eig, key=lambda e: float(e.subs(m, 1)))
+    return [
+        "**Counter-example (exact, from the general kinematics).**  Two axis-aligned cubes of half-length $a$, mass $m$ "
+        "($I = \\tfrac23 m a^2$) touching corner to corner: $r_1 = a(1,1,1)$, $r_2 = -a(1,1,1)$, common normal "
+        "$(1,1,1)/\\sqrt3$, which lies in the normal cone of both corners (the octant spanned by the three face "
+        f"normals), so the contact is admissible.  $A = {_latex(A)}$ with eigenvalues "
+        + ", ".join(f"${_latex(k)}$ (multiplicity {v})" for k, v in sorted(eig.items(), key=lambda kv: float(kv[0].subs(m, 1))))
+        + f".  $\\lambda_{{\\max}} = {_latex(lam)}$ but Eq. (26) gives $A_{{\\max}} = {_latex(sp.simplify(amax))}$: Eq. (26) "
+        f"**fails** by the factor ${_latex(sp.nsimplify(lam / amax))}$, and Eq. (48) with $A_{{\\max}}$ would give a step "
+        f"${_latex(sp.sqrt(sp.nsimplify(lam / amax)))} \\approx {_n(float(sp.sqrt(lam / amax)), 4)}$ times the value with "
+        "$\\lambda_{\\max}$.  (Eq. (26) assumes the largest arm is $a$ along $x$ acting against $I_{xx}$; a corner's arm is "
+        "$\\sqrt3 a$.)",
+        "",
+    ]
+
+
+def _ellipsoid_closed_form() -> list[str]:
+    rng = np.random.default_rng(11)
+    rows = []
+    worst = 0.0
+    for _ in range(6):
+        d = np.sort(np.exp(rng.uniform(-1.5, 1.5, 3)))[::-1]
+        e = Ellipsoid(*d, density=float(np.exp(rng.uniform(0, 8))))
+        sup = cs.arm_term_supremum(e)
+        inv = 1.0 / np.array(e.inertia)
+        closed = max(d[i] ** 2 * inv[j] for i in range(3) for j in range(3) if i != j)
+        formula = 5 * d[0] ** 2 / (e.mass * (d[0] ** 2 + d[2] ** 2))
+        ok = sup.lower <= closed * (1 + 1e-12) and closed <= sup.upper * (1 + 1e-12)
+        worst = max(worst, sup.upper / closed - 1)
+        rows.append(f"| {_n(d[0], 4)}, {_n(d[1], 4)}, {_n(d[2], 4)} | {_n(closed * e.mass)} | {_n(formula * e.mass)} | "
+                    f"{'yes' if ok else '**no**'} |")
+    return [
+        "**Ellipsoids.**  For $r$ on an ellipsoid with semi-axes $d_i$ and principal inverse moments $W_j$, the searched "
+        "supremum of $\\lambda_{\\max}([r]_\\times^T I^{-1}[r]_\\times)$ equals $\\max_{i\\ne j} d_i^2 W_j$, attained at a tip "
+        "with the eigenvector along another principal axis.  Evidence (not a proof): the cutting-plane bounds of "
+        "`arm_term_supremum` bracket this value for random ellipsoids (below); in development, 300 random "
+        "ellipsoids with independent random diagonal inertias and 40 local maximisations each never exceeded it by "
+        "more than $2\\times10^{-15}$ (relative).  For a uniform ellipsoid ($I_{xx} = m(b^2+c^2)/5$, ...) this is "
+        "$5a^2/(m(a^2+c^2))$ (tip $a e_x$ against $I_{yy}$), always $\\le$ Eq. (26)'s $a^2/I_{xx} = 5a^2/(m(b^2+c^2))$: "
+        "Eq. (26) holds for ellipsoids but over-estimates each particle's term by $(a^2+c^2)/(b^2+c^2)$.",
+        "",
+        "| semi-axes | $m \\max_{i\\ne j} d_i^2 W_j$ | $5a^2/(a^2+c^2)$ | within the bounds |",
+        "| --- | --- | --- | --- |",
+        *rows,
+        "",
+    ]
+
+
+def section_full_matrix() -> list[str]:
+    shapes = _shapes()
+    out = [
+        "## 5. Eq. (26) against the full coefficient matrix for every admissible contact",
+        "",
+        "An admissible contact of two convex particles: a surface point of each with outward normals opposite "
+        "(at a vertex or edge of a polyhedron any normal of its normal cone), particle 2 free to spin about the "
+        "normal.  The stability-relevant coefficient is $\\lambda_{\\max}(A)$ (with $k_n \\ge k_s$, "
+        "$k_{\\max}\\lambda_{\\max}(A)$ bounds the largest eigenvalue of $AK$).  Since $\\lambda_{\\max}$ is subadditive,",
+        "",
+        "$$\\lambda_{\\max}(A) \\le \\frac1{m_1} + \\frac1{m_2} + S_1 + S_2,\\qquad S_i = \\sup_{p\\in\\text{body } i} "
+        "\\lambda_{\\max}([p]_\\times^T I_i^{-1} [p]_\\times),$$",
+        "",
+        "which is `dtcrit.a_bound`.  $S_i$ is exact for polyhedra (maximum over the vertices, by the convexity of "
+        "Section 2) and for isotropic inertia ($\\mathrm{max\\_arm}^2/I$); for smooth bodies it is the maximum over the "
+        "vertices of an outer polytope of support half-spaces, refined until within $10^{-7}$ (relative) of the best "
+        "surface value.  For identical particles the bound is attained by the mirrored contact "
+        "(`contact_search.mirror_contact`: particle 2 turned half a turn about the axis normal to the contact normal "
+        "and to the top eigenvector).",
+        "",
+        *_cube_counterexample(),
+        *_ellipsoid_closed_form(),
+        "**Search.**  For each pair: 10000 random admissible contacts (surface points with their normals, support "
+        "points of random directions so that vertex normals fill their cones, random orientation of particle 1, "
+        "random spin of particle 2), then an evolution-strategy maximisation from the best ones (`search_supremum`, "
+        f"{SEARCH['n_random']} samples, {SEARCH['n_starts']} starts, {SEARCH['iterations']} generations of 16).  All "
+        "values in units of $1/m_1$ (SI shapes of density 1000 kg/m$^3$; the ratios do not depend on density or "
+        "scale).",
+        "",
+        "| pair | Eq. (26) $A_{\\max}$ | `a_bound` | searched sup of $\\lambda_{\\max}(A)$ | sup / $A_{\\max}$ | "
+        "`a_bound` / sup $-1$ | random contacts with $\\lambda_{\\max} > A_{\\max}$ | Eq. (26) bounds $A$? |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    verdicts = {}
+    for n1, n2 in PAIRS:
+        s1, s2 = shapes[n1], shapes[n2]
+        amax = dtcrit.a_max(s1, s2)
+        bound = dtcrit.a_bound(s1, s2)
+        batch = cs.random_contacts(s1, s2, 10000, seed=3)
+        lam = batch.largest_eigenvalues(s1, s2)
+        res = cs.search_supremum(s1, s2, seed=5, **SEARCH)
+        sup = max(res.value, float(lam.max()))
+        if s1 is s2:
+            arm = cs.arm_term_supremum(s1)
+            mirror = cs.mirror_contact(s1, np.array(arm.point), np.array(arm.normal)).largest_eigenvalues(s1, s1)[0]
+            sup = max(sup, float(mirror))
+        frac = float(np.mean(lam > amax * (1 + 1e-12)))
+        gap = bound / sup - 1
+        gap_text = "< 1e-12" if abs(gap) < 1e-12 else ("< 1e-7" if gap < 1e-7 else _n(gap, 3))
+        holds = sup <= amax * (1 + 1e-12)
+        verdicts[(n1, n2)] = holds
+        m1 = s1.mass
+        out.append(
+            f"| {n1} / {n2} | {_n(amax * m1)} | {_n(bound * m1)} | {_n(sup * m1)} | {_n(sup / amax, 4)} | {gap_text} | "
+            f"{_n(100 * frac, 3)} % | {'yes' if holds else '**no**'} |"
+        )
+    out += [
+        "",
+        "Reading: wherever the searched supremum exceeds $A_{\\max}$, a concrete admissible contact violates Eq. (26) "
+        "(the search returns it); `a_bound` is never exceeded and meets the searched supremum to the stated gap "
+        "(for the non-identical pairs too: the top eigenvectors could be aligned).  For the paper's ellipsoids "
+        "the admissible supremum is reached by the collinear tip-to-tip contact with *parallel* axes, not by the "
+        "orthogonal configurations of Figure 2, whose largest diagonal entry is smaller (below).",
+        "",
+    ]
+    e = shapes["ellipsoid 3,2,1 (paper)"]
+    best_fig2 = 0.0
+    for panel in kin.FIG2:
+        A = kin.fig2_symbolic(panel, True)["A"]
+        vals = {}
+        for j, ps in ((1, kin.P1), (2, kin.P2)):
+            vals.update({ps.m: e.mass, ps.Ixx: e.inertia[0], ps.Iyy: e.inertia[1], ps.Izz: e.inertia[2]})
+            vals.update(dict(zip(ps.half_lengths, e.half_lengths)))
+        best_fig2 = max(best_fig2, max(float(A[k, k].subs(vals)) for k in range(3)))
+    out += [
+        f"Paper's ellipsoids ($a=3,b=2,c=1$, $m = {_n(e.mass)}$ kg): largest diagonal entry over the three Figure 2 "
+        f"configurations $= {_n(best_fig2 * e.mass, 5)}/m$; admissible supremum `a_bound` $= {_n(dtcrit.a_bound(e) * e.mass, 6)}/m$ "
+        f"(exactly $2/m + 2\\cdot 9/(2m) = 11/m$ by the ellipsoid formula); Eq. (26) $= {_n(dtcrit.a_max(e) * e.mass, 6)}/m$.  So "
+        "Eq. (26) is conservative for this pair by $\\sqrt{20/11} = "
+        f"{_n(np.sqrt(20 / 11), 4)}$ in the time step, while the Figure 2 configurations alone would under-estimate "
+        "the coefficient.",
+        "",
+    ]
+    return out, verdicts
+
+
+# ============================================================================================
+# 7. Numeric API and summary
+# ============================================================================================
+def section_api(verdicts) -> list[str]:
+    fails = [f"{a} / {b}" for (a, b), ok in verdicts.items() if not ok]
+    holds = [f"{a} / {b}" for (a, b), ok in verdicts.items() if ok]
+    return [
+        "## 6. Numeric API (no SymPy at call time)",
+        "",
+        "Generated from this derivation into `dtcrit/_generated/contact.py`: `a_max` (Eq. 26 as printed), `b_max` "
+        "(Eq. 54), `rotation_matrix` (Eq. 7), `arm_term` (one particle's $[r]_\\times^T I^{-1}[r]_\\times$ from the "
+        "general kinematics), `gyroscopic_coefficients` (Eqs. 11-12 with $M_L = 0$).  Run-time functions "
+        "(`dtcrit.contact`): `a_max(p1, p2=None)`, `a_bound(p1, p2=None)`, `b_max(p)`, `b_bound(p)`, "
+        "`coefficient_matrix(p1, p2, r1, r2, R1=None, R2=None)` (global frame; $R$ as quaternion or matrix in the "
+        "paper's convention).",
+        "",
+        "## Summary",
+        "",
+        "| equation | verdict |",
+        "| --- | --- |",
+        "| (1)-(20) | rebuilt as general functions; Eq. (7) convention self-consistent (Section 1) |",
+        "| (22)-(24), diagonal of $A$ | reproduced for configurations (A), (B); (C) reproduced only reading printed $a_2$ "
+        "as particle 2's arm length (its $b_2$ tip is on the contact line, as Eq. (52) requires) |",
+        "| (22)-(24), $\\Omega$ | (22): legible entries reproduced with $\\omega$ as global components (Eq. 16); (23): "
+        "$\\Omega_x$ reproduced, $\\Omega_y$ differs by one term; (24): all differ; (22), (23) $\\Omega_z$ illegible (Section 3) |",
+        "| (50)-(52) | reproduced with $\\omega$ as *local* (body) components (not the global ones of Eq. 16) (Section 3; "
+        "`sec5_rotation.md`) |",
+        "| (25) | reproduced in form (exact affine split); $A$ is a full matrix in general |",
+        "| (26) on the Figure 2 configurations | reproduced (certified under assumption 3) |",
+        f"| (26) for every admissible contact | holds (conservatively) for {len(holds)} of {len(verdicts)} pairs searched "
+        "(spheres, ellipsoids, rounded superquadrics, the octahedron, the random polyhedron); **fails** for "
+        + ("; ".join(fails) if fails else "none") + " (Section 5; exact cube counter-example: $11/m$ vs $5/m$) |",
+        "| (27) | uses $A_{\\max}$ as a scalar; the valid scalar is $\\lambda_{\\max}(A) \\le$ `a_bound` |",
+        "| (49) | reproduced from the general kinematics (arbitrary orientations) |",
+        "",
+    ]
+
+
+def build() -> str:
+    fig2, _chosen = section_fig2()
+    full, verdicts = section_full_matrix()
+    lines = [
+        "# Sections 2-3: contact kinematics and the inverse-inertia coefficient $A$",
+        "",
+        "Source: Peng, Burns & Hanley 2020 (seed 000), Sections 2-3, 4.3 and Appendix A.  Built by "
+        "`derivations/sec2_3_kinematics.py` with `dtcrit.symbolic.kinematics`, `dtcrit.contact` and "
+        "`dtcrit.contact_search`; regenerate with `python3 dev.py generate`.",
+        "",
+        *section_convention(),
+        *section_general(),
+        *fig2,
+        *_overlap_witness(),
+        *section_eq26_configs(),
+        *full,
+        *section_api(verdicts),
+    ]
+    return "\n".join(lines)

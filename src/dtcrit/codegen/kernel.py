@@ -1,0 +1,487 @@
+"""The per-contact critical-step kernel as a chain of SymPy assignments, specialised to a structure.
+
+For a contact between particles 1 and 2 (Peng, Burns & Hanley 2020):
+
+* inverse inertia coefficient (Eq. (26) with the contact arms r1, r2 in place of the semi-axes)::
+
+      A = 1/m1 + 1/m2 + r1^2/I_xx1 + r2^2/I_xx2
+
+  ``I_xx`` is the smallest principal moment.  A bounds the largest eigenvalue of the 3x3
+  coefficient matrix (1/m1 + 1/m2) 1 + sum_i [r_i]x I_i^-1 [r_i]x^T of *any* contact with those
+  arms, because ||[r]x I^-1 [r]x^T|| <= |r|^2 / I_min (checked against the matrix in the tests).
+  A sphere side gives r^2/I = 5/(2 m), hence A = 7/m for two identical spheres (Section 4.3);
+* per direction j = n, s (Eqs. (29)-(30)): omega_j = sqrt(k_j A), zeta_j = c_j A / (2 omega_j) and
+  dt_j = tau(zeta_j) / omega_j, tau the exact dimensionless critical step of the integrator from
+  ``dtcrit.symbolic`` (its piecewise closed form or the root of its cubic); undamped, tau is a
+  constant and min(dt_n, dt_s) = tau / sqrt(max(k_n, k_s) A);
+* rotation (Eqs. (54), (56)): B_i = max(|I_xx - I_yy|/I_zz, |I_xx - I_zz|/I_yy, |I_yy - I_zz|/I_xx),
+  dt_rot = 2 / (omega_max (B1 + B2)) (1 / (omega_max B) for identical particles);
+* the result is the smallest of these.
+
+Arguments the chain does not use are dropped, so the emitted code takes exactly the scene's free
+parameters.  :func:`evaluate_mp` evaluates the same chain in mpmath (the reference of the tests).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property, lru_cache
+
+import mpmath as mp
+import sympy as sp
+
+from dtcrit.errors import InputError
+from dtcrit.symbolic.closed_forms import closed_pieces, eps, formula_text, gamma, omega
+from dtcrit.symbolic.emit import _square_root_of_term, derivation_hash
+from dtcrit.symbolic.integrators import zeta as zeta_sym
+
+from .structure import KernelStructure
+
+
+class cubic_positive_root(sp.Function):
+    """Smallest (largest when the fourth argument is true) positive real root of
+    t^3 + a2 t^2 + a1 t + a0 (0 when there is none); emitted as a helper function."""
+
+    nargs = 4
+    is_real = True
+    is_nonnegative = True
+
+
+class hypot(sp.Function):
+    """sqrt(x^2 + y^2) without overflow or underflow (C99/Fortran 2008 ``hypot``, ``np.hypot``)."""
+
+    nargs = 2
+    is_real = True
+    is_nonnegative = True
+
+
+def _with_hypot(expr: sp.Expr) -> sp.Expr:
+    """Rewrite every sqrt(x^2 + y^2) (x, y free of radicals) as hypot(x, y)."""
+    def is_hypot(e):
+        if not (e.is_Pow and e.exp in (sp.S.Half, -sp.S.Half) and e.base.is_Add and len(e.base.args) == 2):
+            return False
+        return all(_square_root_of_term(t) is not None for t in e.base.args)
+
+    def make(e):
+        h = hypot(*(_square_root_of_term(t) for t in e.base.args))
+        return h if e.exp == sp.S.Half else 1 / h
+
+    return expr.replace(is_hypot, make)
+
+
+def _pos(name: str) -> sp.Symbol:
+    return sp.Symbol(name, positive=True)
+
+
+@dataclass(frozen=True)
+class Argument:
+    symbol: sp.Symbol
+    meaning: str
+    unit: str
+
+    @property
+    def name(self) -> str:
+        return self.symbol.name
+
+
+@dataclass(frozen=True)
+class ContactKernel:
+    """An emitted kernel: arguments in order, assignment chain, and the result symbol."""
+
+    structure: KernelStructure
+    arguments: tuple[Argument, ...]
+    steps: tuple[tuple[sp.Symbol, sp.Expr], ...]  # (name, expression of args and earlier names)
+    result: sp.Symbol
+    equations: tuple[str, ...]  # human-readable lines for the header
+
+    @property
+    def symbols(self) -> tuple[sp.Symbol, ...]:
+        return tuple(a.symbol for a in self.arguments)
+
+    @property
+    def uses_cubic(self) -> bool:
+        return any(e.has(cubic_positive_root) for _, e in self.steps)
+
+    def hash(self) -> str:
+        """Short stable hash of the derivation (integrator, arguments and every step)."""
+        items = [sp.Symbol(self.structure.integrator)] + list(self.symbols)
+        for s, e in self.steps:
+            items += [s, e]
+        return derivation_hash(items)
+
+    def cse(self) -> tuple[list[tuple[sp.Symbol, sp.Expr]], list[tuple[sp.Symbol, sp.Expr]]]:
+        """Common-subexpression elimination over the whole chain.
+
+        Returns ``(temporaries, steps)``: temporaries ``x0, x1, ...`` first, then the named steps
+        rewritten in terms of them; the last step defines ``result``.
+        """
+        return _cse_chain(self.symbols, self.steps)
+
+    def statements(self) -> list[tuple[sp.Symbol, sp.Expr]]:
+        """All assignments after CSE, each after everything it uses; the last defines ``result``."""
+        return list(self._statements)
+
+    @cached_property
+    def _statements(self) -> tuple[tuple[sp.Symbol, sp.Expr], ...]:
+        """See :meth:`statements`.
+
+        Assignments nothing uses (a name CSE made redundant) are dropped; a bare copy ``y = x`` is
+        folded into its uses."""
+        temps, steps = self.cse()
+        items = temps + steps
+        changed = True
+        while changed:
+            changed = False
+            for n, (sym, expr) in enumerate(items):
+                if sym != self.result and expr.is_Symbol:  # y = x: use x directly
+                    items = [(s, e.xreplace({sym: expr})) for s, e in items[:n] + items[n + 1:]]
+                    changed = True
+                    break
+            used = set().union(*(e.free_symbols for _, e in items))
+            kept = [(s, e) for s, e in items if s == self.result or s in used]
+            if len(kept) != len(items):
+                items, changed = kept, True
+        return tuple(_dependency_order(self.symbols, items, self.result))
+
+    def op_count(self) -> int:
+        """Arithmetic and function operations after CSE (``sympy.count_ops``, each emitted statement)."""
+        return int(sum(sp.count_ops(e) for _, e in self.statements()))
+
+    def full_expression(self) -> sp.Expr:
+        """The result as one expression of the arguments (steps substituted back)."""
+        expr = self.result
+        for s, e in reversed(self.steps):
+            expr = expr.xreplace({s: e})
+        return expr
+
+
+def _cse_chain(args, steps):
+    names = [s for s, _ in steps]
+    exprs = [e for _, e in steps]
+    temps, reduced = sp.cse(exprs, symbols=sp.numbered_symbols("x", real=True), order="canonical")
+    # A shared reciprocal 1/y would turn every u/y into u*(1/y): two roundings instead of one.
+    # Such temporaries are put back, so divisions stay divisions.
+    inline = {}
+    kept = []
+    for sym, expr in temps:
+        expr = expr.xreplace(inline)
+        if expr.is_Pow and expr.exp == -1 and expr.base.is_Atom:
+            inline[sym] = expr
+        else:
+            kept.append((sym, expr))
+    reduced = [e.xreplace(inline) for e in reduced]
+    return kept, list(zip(names, reduced))
+
+
+def _dependency_order(args, items, result):
+    """Order assignments so each comes after the names it uses (stable: earliest ready first)."""
+    defined = set(args)
+    pending = list(items)
+    out = []
+    while pending:
+        for n, (sym, expr) in enumerate(pending):
+            if expr.free_symbols <= defined and (sym != result or len(pending) == 1):
+                out.append((sym, expr))
+                defined.add(sym)
+                del pending[n]
+                break
+        else:  # pragma: no cover - the chain is acyclic by construction
+            raise RuntimeError("cyclic assignment chain")
+    return out
+
+
+# ----------------------------------------------------------------------------------------------
+# Building blocks
+# ----------------------------------------------------------------------------------------------
+# placeholders of one direction's rates, replaced per direction
+OMEGA, GAMMA, KA, ZETA, EPS = (_pos(n) for n in ("OMEGA", "GAMMA", "KA", "ZETA", "EPS"))
+
+ZETA_SCALED = sp.Rational(1, 2)
+"""Below this damping ratio a cubic piece multiplies its root by omega/(k A) instead of dividing
+by omega (equal in exact arithmetic; fewer correlated roundings where dt ~ gamma/(k A))."""
+
+
+@lru_cache(maxsize=None)
+def undamped_tau(integrator: str) -> sp.Expr:
+    """tau_crit(0) = omega dt_crit at zeta = 0 (a number)."""
+    cp = closed_pieces(integrator)[0]
+    if cp.kind == "cubic":  # smallest positive real root of the cubic at zeta = 0, or 0 if none
+        t = sp.Symbol("t")
+        a2, a1, a0 = (c.subs(zeta_sym, 0) for c in cp.cubic)
+        positive = [r for r in sp.Poly(t**3 + a2 * t**2 + a1 * t + a0, t).real_roots() if r > 0]
+        return min(positive) if positive else sp.Integer(0)
+    return sp.simplify(cp.tau_expr.subs(zeta_sym, 0))
+
+
+@lru_cache(maxsize=None)
+def direction_kernel(integrator: str) -> sp.Expr:
+    """dt of one direction in the placeholders OMEGA = sqrt(k A), GAMMA = c A/2, KA = k A,
+    ZETA = GAMMA/OMEGA and EPS = 1/ZETA^2 (Peng et al. 2020, Eqs. (29)-(30)).
+
+    Built piece by piece from ``dtcrit.symbolic.closed_forms.closed_pieces`` (the exact boundary of
+    the integrator): closed-form pieces as derived, with sqrt(x^2 + y^2) as ``hypot`` and omega^2
+    as k A itself; a cubic piece as the root of the cubic in tau (zeta <= 1) or in
+    y = 1/(zeta tau) (zeta > 1), whose coefficients are polynomials in the *ratios* zeta and
+    eps = 1/zeta^2, so nothing overflows for any k, c, A in the float range.
+    """
+    branches = []
+    for cp in closed_pieces(integrator):
+        if cp.kind == "root":
+            e = _with_hypot(cp.dt_expr).subs(omega**2, KA).xreplace({omega: OMEGA, gamma: GAMMA})
+        else:
+            a2, a1, a0 = (c.subs(zeta_sym, ZETA) for c in cp.cubic)
+            b2, b1, b0 = (c.subs(eps, EPS) for c in cp.cubic_large)
+            # zeta <= 1/2, where dt ~ tau(zeta)/omega ~ gamma/(k A): the factor 1/omega is taken as
+            # omega/(k A), whose rounding error cancels the one omega passes on through zeta
+            scale = sp.Piecewise((OMEGA / KA, sp.Le(ZETA, ZETA_SCALED)), (1 / OMEGA, True))
+            small = cubic_positive_root(a2, a1, a0, sp.false) * scale
+            large = 1 / (GAMMA * cubic_positive_root(b2, b1, b0, sp.true))
+            e = sp.Piecewise((small, sp.Le(GAMMA, OMEGA)), (large, True))
+        hi = cp.piece.zeta_hi
+        branches.append((e, sp.true if hi == sp.oo else sp.Le(GAMMA, hi * OMEGA)))
+    if len(branches) == 1:
+        return branches[0][0]
+    branches[-1] = (branches[-1][0], sp.true)
+    return sp.Piecewise(*branches)
+
+
+def _side_symbols(suffix: str, kind: str, rotation: bool) -> dict[str, sp.Symbol]:
+    syms = {"m": _pos(f"m{suffix}")}
+    if kind == "general":
+        syms["I_xx"] = _pos(f"I_xx{suffix}")
+        syms["r"] = _pos(f"r{suffix}")
+        if rotation:
+            syms["I_yy"] = _pos(f"I_yy{suffix}")
+            syms["I_zz"] = _pos(f"I_zz{suffix}")
+    return syms
+
+
+def _side_arguments(suffix: str, kind: str, rotation: bool, syms: dict[str, sp.Symbol]) -> list[Argument]:
+    who = f"particle {suffix}" if suffix else "each particle"
+    out = [Argument(syms["m"], f"mass of {who}", "kg")]
+    if kind == "general":
+        out.append(Argument(syms["I_xx"], f"smallest principal moment of inertia of {who} (I_xx <= I_yy <= I_zz)", "kg m^2"))
+        if rotation:
+            out.append(Argument(syms["I_yy"], f"middle principal moment of inertia of {who}", "kg m^2"))
+            out.append(Argument(syms["I_zz"], f"largest principal moment of inertia of {who}", "kg m^2"))
+        out.append(Argument(syms["r"], f"contact arm of {who}: distance from its centre of mass to the contact point "
+                            "(the largest centre-to-surface distance bounds every contact)", "m"))
+    return out
+
+
+def _side_A_term(kind: str, syms: dict[str, sp.Symbol]) -> sp.Expr:
+    if kind == "sphere":
+        return sp.Rational(7, 2) / syms["m"]  # 1/m + R^2 / (2/5 m R^2)
+    return 1 / syms["m"] + syms["r"] ** 2 / syms["I_xx"]
+
+
+def _b_max(syms: dict[str, sp.Symbol]) -> sp.Expr:
+    """Peng et al. 2020, Eq. (54)."""
+    ixx, iyy, izz = syms["I_xx"], syms["I_yy"], syms["I_zz"]
+    return sp.Max(sp.Abs(ixx - iyy) / izz, sp.Abs(ixx - izz) / iyy, sp.Abs(iyy - izz) / ixx)
+
+
+# ----------------------------------------------------------------------------------------------
+# The chain
+# ----------------------------------------------------------------------------------------------
+def build_kernel(structure: KernelStructure) -> ContactKernel:
+    """The specialised assignment chain for ``structure`` (see the module docstring)."""
+    integrator = structure.integrator
+    kernel = direction_kernel(integrator)
+    depends_on_damping = kernel.has(GAMMA)
+    tau0 = undamped_tau(integrator)
+    undamped = [] if depends_on_damping and structure.damped_normal else ["normal"]
+    undamped += [] if depends_on_damping and structure.damped_shear else ["shear"]
+    if undamped and not (tau0.is_number and tau0 > 0) and depends_on_damping:
+        where = "an undamped contact" if len(undamped) == 2 else f"a contact undamped in the {undamped[0]} direction"
+        raise InputError(
+            "integrator",
+            f"'{integrator}' has no stable step for {where} (tau_crit(0) = {tau0}); nothing to generate",
+        )
+
+    steps: list[tuple[sp.Symbol, sp.Expr]] = []
+    args: list[Argument] = []
+    equations: list[str] = []
+
+    # particles and A
+    if structure.identical:
+        kind = structure.sides[0]
+        syms = _side_symbols("", kind, structure.rotation)
+        args += _side_arguments("", kind, structure.rotation, syms)
+        side_syms = [syms]
+        if kind == "sphere":
+            A_expr = 7 / syms["m"]
+            equations.append("A = 7/m  (two identical spheres, Peng et al. 2020, Section 4.3, from Eq. (26))")
+        else:
+            half = _pos("A_half")
+            steps.append((half, _side_A_term(kind, syms)))
+            A_expr = 2 * half
+            equations.append("A = 2 (1/m + r^2/I_xx)  (Peng et al. 2020, Eq. (26), identical particles, arm r)")
+    else:
+        side_syms = []
+        terms = []
+        for n, kind in enumerate(structure.sides, start=1):
+            syms = _side_symbols(str(n), kind, structure.rotation)
+            args += _side_arguments(str(n), kind, structure.rotation, syms)
+            side_syms.append(syms)
+            terms.append(_side_A_term(kind, syms))
+        A_expr = terms[0] + terms[1]
+        parts = ["(7/2)/m%d" % n if k == "sphere" else "1/m%d + r%d^2/I_xx%d" % (n, n, n) for n, k in enumerate(structure.sides, 1)]
+        equations.append("A = " + " + ".join(parts) + "  (Peng et al. 2020, Eq. (26) with the contact arms)")
+    A = _pos("A")
+    steps.append((A, A_expr))
+
+    # translation: per direction
+    kn, ks, cn, cs = _pos("kn"), _pos("ks"), _pos("cn"), _pos("cs")
+    damping = {"n": cn if structure.damped_normal else None, "s": cs if structure.damped_shear else None}
+    stiff = {"n": kn, "s": ks}
+    args.append(Argument(kn, "normal contact stiffness (Hertz: tangent stiffness 2 E* sqrt(R* delta) at the overlap delta)", "N/m"))
+    args.append(Argument(ks, "shear contact stiffness (Hertz-Mindlin: 8 G* sqrt(R* delta))", "N/m"))
+    for j in ("n", "s"):
+        if damping[j] is not None and depends_on_damping:
+            args.append(Argument(damping[j], f"viscous damping coefficient, {'normal' if j == 'n' else 'shear'} direction", "N s/m"))
+
+    dt_names = []
+    tau_text = formula_text(integrator)
+    if not structure.damped or not depends_on_damping:
+        w, kA = _pos("omega"), _pos("kA")
+        steps.append((kA, sp.Max(kn, ks) * A))
+        steps.append((w, sp.sqrt(kA)))
+        dt_t = _pos("dt_translation")
+        steps.append((dt_t, tau0 / w))
+        dt_names.append(dt_t)
+        equations.append(f"dt_translation = {sp.sstr(tau0)}/omega, omega = sqrt(max(kn, ks) A)  "
+                         f"(tau_crit = omega dt = {sp.sstr(tau0)} for this integrator{' at zeta = 0' if depends_on_damping else ', any damping'})")
+    else:
+        for j in ("n", "s"):
+            w, kA = _pos(f"omega_{j}"), _pos(f"kA_{j}")
+            steps.append((kA, stiff[j] * A))  # one rounding, then one square root
+            steps.append((w, sp.sqrt(kA)))
+            dt_j = _pos(f"dt_{j}")
+            if damping[j] is not None:
+                g = _pos(f"gamma_{j}")
+                steps.append((g, damping[j] * A / 2))
+                e = kernel
+                if e.has(ZETA) or e.has(EPS):
+                    z = _pos(f"zeta_{j}")
+                    steps.append((z, g / w))
+                    e = e.xreplace({ZETA: z})
+                if e.has(EPS):  # (omega/gamma)^2 from the ratio: no overflow of omega^2 or gamma^2
+                    ep = _pos(f"eps_{j}")
+                    steps.append((ep, 1 / z**2))
+                    e = e.xreplace({EPS: ep})
+                steps.append((dt_j, e.xreplace({OMEGA: w, GAMMA: g, KA: kA})))
+            else:
+                steps.append((dt_j, tau0 / w))
+            dt_names.append(dt_j)
+        equations.append("dt_j = tau(zeta_j)/omega_j, omega_j = sqrt(k_j A), gamma_j = c_j A/2, zeta_j = gamma_j/omega_j, "
+                         "j = n, s  (Peng et al. 2020, Eqs. (29)-(30))")
+        equations.append(f"tau: {tau_text}")
+        if kernel.has(cubic_positive_root):
+            equations.append("cubic roots: zeta <= 1: smallest positive root tau of the cubic above; zeta > 1: tau = 1/(zeta y), "
+                             "y the largest positive root of the cubic in y with coefficients in eps = 1/zeta^2 = (omega/gamma)^2")
+
+    # rotation
+    if structure.rotation:
+        om = _pos("omega_max")
+        args.append(Argument(om, "largest particle angular speed", "rad/s"))
+        bs = [(_b_max(s) if k == "general" else sp.S.Zero) for s, k in zip(side_syms, structure.sides)]
+        dt_r = _pos("dt_rotation")
+        if structure.identical:
+            B = _pos("B")
+            steps.append((B, bs[0]))
+            steps.append((dt_r, 1 / (om * B)))
+            equations.append("dt_rotation = 1/(omega_max B), B = max(|I_xx-I_yy|/I_zz, |I_xx-I_zz|/I_yy, |I_yy-I_zz|/I_xx)  "
+                             "(Peng et al. 2020, Eqs. (54), (56) with B1 = B2)")
+        else:
+            total = 0
+            for n, b in enumerate(bs, start=1):
+                if b != 0:
+                    Bn = _pos(f"B{n}")
+                    steps.append((Bn, b))
+                    total += Bn
+            steps.append((dt_r, 2 / (om * total)))
+            equations.append("dt_rotation = 2/(omega_max (B1 + B2)), B_i = max(|I_xx-I_yy|/I_zz, |I_xx-I_zz|/I_yy, "
+                             "|I_yy-I_zz|/I_xx)  (Peng et al. 2020, Eqs. (54), (56); B = 0 for a sphere)")
+        dt_names.append(dt_r)
+
+    result = _pos("dt")
+    if len(dt_names) > 1:
+        steps.append((result, sp.Min(*dt_names)))
+        equations.append("dt = min(" + ", ".join(s.name for s in dt_names) + ")")
+    else:  # a single bound: it is the result
+        last, expr = steps.pop()
+        steps.append((result, expr))
+        equations.append(f"dt = {last.name}")
+
+    used = set().union(*(e.free_symbols for _, e in steps))
+    arguments = tuple(a for a in args if a.symbol in used)
+    return ContactKernel(structure, arguments, tuple(steps), result, tuple(equations))
+
+
+# ----------------------------------------------------------------------------------------------
+# High-precision evaluation (the reference the emitted code is tested against)
+# ----------------------------------------------------------------------------------------------
+def mp_cubic_positive_root(a2, a1, a0, largest) -> mp.mpf:
+    """Smallest (largest if ``largest``) positive real root of t^3 + a2 t^2 + a1 t + a0, at the
+    working precision (mpmath ``polyroots`` with extra precision, then Newton steps at twice the
+    precision); 0 if none."""
+    dps = mp.mp.dps
+    coeffs = [mp.mpf(1), mp.mpf(a2), mp.mpf(a1), mp.mpf(a0)]
+    nonzero = [abs(c) for c in coeffs if c != 0]
+    spread_bits = int(mp.log(max(nonzero) / min(nonzero), 2)) if len(nonzero) > 1 else 0
+    extra = min(spread_bits, 256)  # widely spread coefficients: more bits for the root iteration
+    with mp.workdps(2 * dps + 20):
+        roots = mp.polyroots(coeffs, maxsteps=2000, extraprec=8 * dps + 4 * extra)
+        scale = 1 + max(abs(r) for r in roots)
+        good = [mp.re(r) for r in roots if abs(mp.im(r)) <= mp.mpf(10) ** (-dps) * scale and mp.re(r) > 0]
+        if not good:
+            return mp.mpf(0)
+        t = max(good) if bool(largest) else min(good)
+        for _ in range(8):  # Newton polish at the raised precision (quadratic from polyroots' value)
+            f = ((t + coeffs[1]) * t + coeffs[2]) * t + coeffs[3]
+            df = (3 * t + 2 * coeffs[1]) * t + coeffs[2]
+            if df == 0:
+                break
+            t -= f / df
+    return +mp.re(t)
+
+
+def _mp_max(*xs):
+    return max(xs)
+
+
+def _mp_min(*xs):
+    return min(xs)
+
+
+_MP_MODULES = [
+    {"cubic_positive_root": mp_cubic_positive_root, "hypot": mp.hypot, "Max": _mp_max, "Min": _mp_min},
+    "mpmath",
+]
+
+
+@lru_cache(maxsize=64)
+def _step_functions(kernel: ContactKernel):
+    known = list(kernel.symbols)
+    funcs = []
+    for s, e in kernel.steps:
+        funcs.append((s, tuple(known), sp.lambdify(known, e, modules=_MP_MODULES)))
+        known.append(s)
+    return funcs
+
+
+def evaluate_mp(kernel: ContactKernel, values, dps: int = 50) -> mp.mpf:
+    """The kernel's result at ``dps`` digits for argument values taken as exact (floats are exact).
+
+    ``values``: a sequence in argument order or a mapping from argument name to value.
+    """
+    if isinstance(values, dict):
+        values = [values[a.name] for a in kernel.arguments]
+    with mp.workdps(dps + 20):
+        env = [mp.mpf(v) for v in values]
+        for _, _, f in _step_functions(kernel):
+            try:
+                env.append(f(*env))
+            except ZeroDivisionError:  # x/0 with x > 0 (e.g. eps = 1/zeta^2 at zeta = 0): +inf, as in IEEE
+                env.append(mp.inf)
+        return +env[-1]

@@ -1,0 +1,134 @@
+"""SymPy printers for the emitted languages (C99, Fortran 2008, NumPy).
+
+Common rules: the root of a sum of two squares is printed as ``hypot`` (no overflow, no
+cancellation); small integer powers are multiplications in C; the cubic-root helper is printed as
+a call to the helper emitted next to the kernel.
+"""
+from __future__ import annotations
+
+import sympy as sp
+from sympy.printing.c import C99CodePrinter
+from sympy.printing.fortran import FCodePrinter
+
+from dtcrit.symbolic.emit import _Printer as _NumPyBase
+from dtcrit.symbolic.emit import _square_root_of_term
+
+
+def _hypot_args(expr: sp.Pow):
+    """(x, y) when ``expr`` is sqrt(x^2 + y^2) or 1/sqrt(x^2 + y^2) with x, y free of radicals."""
+    base, exp = expr.args
+    if exp in (sp.S.Half, -sp.S.Half) and base.is_Add and len(base.args) == 2:
+        roots = [_square_root_of_term(t) for t in base.args]
+        if all(r is not None for r in roots):
+            return roots
+    return None
+
+
+class CPrinter(C99CodePrinter):
+    """C99 with ``hypot``, ``x*x`` for squares and the cubic helper ``<prefix>_cubic_positive_root``."""
+
+    def __init__(self, helper_name: str):
+        super().__init__()
+        self.helper_name = helper_name
+
+    def _print_Pow(self, expr):
+        roots = _hypot_args(expr)
+        if roots is not None:
+            text = f"hypot({self._print(roots[0])}, {self._print(roots[1])})"
+            return text if expr.exp == sp.S.Half else f"(1.0/{text})"
+        base, exp = expr.args
+        if exp == 2:
+            b = self.parenthesize(base, sp.printing.precedence.PRECEDENCE["Mul"], strict=True)
+            return f"({b}*{b})"
+        if exp == -1:
+            return f"(1.0/{self.parenthesize(base, sp.printing.precedence.PRECEDENCE['Mul'], strict=True)})"
+        if exp == -2:
+            b = self.parenthesize(base, sp.printing.precedence.PRECEDENCE["Mul"], strict=True)
+            return f"(1.0/({b}*{b}))"
+        if exp == 4:
+            b = self.parenthesize(base, sp.printing.precedence.PRECEDENCE["Mul"], strict=True)
+            return f"(({b}*{b})*({b}*{b}))"
+        if exp == -4:
+            b = self.parenthesize(base, sp.printing.precedence.PRECEDENCE["Mul"], strict=True)
+            return f"(1.0/(({b}*{b})*({b}*{b})))"
+        return super()._print_Pow(expr)
+
+    def _print_Piecewise(self, expr):
+        if expr.args[-1].cond != sp.true:
+            raise ValueError("Piecewise without a default branch")
+        text = self._print(expr.args[-1].expr)
+        for e, c in reversed(expr.args[:-1]):
+            text = f"(({self._print(c)}) ? ({self._print(e)}) : ({text}))"
+        return text
+
+    def _print_cubic_positive_root(self, expr):
+        a2, a1, a0, largest = expr.args
+        return f"{self.helper_name}({self._print(a2)}, {self._print(a1)}, {self._print(a0)}, {1 if largest else 0})"
+
+    def _print_hypot(self, expr):
+        return f"hypot({self._print(expr.args[0])}, {self._print(expr.args[1])})"
+
+
+class FortranPrinter(FCodePrinter):
+    """Fortran 2008 free form (``hypot`` intrinsic, ``merge`` for inline branches)."""
+
+    def __init__(self, helper_name: str):
+        super().__init__({"standard": 2008, "source_format": "free"})
+        self.helper_name = helper_name
+
+    def _print_Pow(self, expr):
+        roots = _hypot_args(expr)
+        if roots is not None:
+            text = f"hypot({self._print(roots[0])}, {self._print(roots[1])})"
+            return text if expr.exp == sp.S.Half else f"(1.0d0/{text})"
+        return super()._print_Pow(expr)
+
+    def _print_cubic_positive_root(self, expr):
+        a2, a1, a0, largest = expr.args
+        flag = ".true." if largest else ".false."
+        return f"{self.helper_name}({self._print(a2)}, {self._print(a1)}, {self._print(a0)}, {flag})"
+
+    def _print_hypot(self, expr):
+        return f"hypot({self._print(expr.args[0])}, {self._print(expr.args[1])})"
+
+
+class NumPyPrinter(_NumPyBase):
+    """NumPy (vectorised): ``np.hypot``, elementwise ``np.minimum``/``np.maximum``, ``np.where``."""
+
+    def __init__(self, helper_name: str):
+        super().__init__({"fully_qualified_modules": True, "inline": True})
+        self.helper_name = helper_name
+
+    def _print_Pow(self, expr, rational=False):
+        base, exp = expr.args
+        if exp == -1:
+            return f"(1/{self.parenthesize(base, sp.printing.precedence.PRECEDENCE['Mul'], strict=True)})"
+        return super()._print_Pow(expr, rational=rational)
+
+    def _nested(self, fn, args):
+        args = [self._print(a) for a in args]
+        text = args[-1]
+        for a in reversed(args[:-1]):
+            text = f"{fn}({a}, {text})"
+        return text
+
+    def _print_Min(self, expr):
+        return self._nested("np.minimum", expr.args)
+
+    def _print_Max(self, expr):
+        return self._nested("np.maximum", expr.args)
+
+    def _print_Piecewise(self, expr):
+        if expr.args[-1].cond != sp.true:
+            raise ValueError("Piecewise without a default branch")
+        text = self._print(expr.args[-1].expr)
+        for e, c in reversed(expr.args[:-1]):
+            text = f"np.where({self._print(c)}, {self._print(e)}, {text})"
+        return text
+
+    def _print_cubic_positive_root(self, expr):
+        a2, a1, a0, largest = expr.args
+        return f"{self.helper_name}({self._print(a2)}, {self._print(a1)}, {self._print(a0)}, {bool(largest)})"
+
+    def _print_hypot(self, expr):
+        return f"np.hypot({self._print(expr.args[0])}, {self._print(expr.args[1])})"

@@ -1,0 +1,80 @@
+"""What a generated per-contact kernel has to cover, read off a scene.
+
+The emitted function computes the critical step of *one contact* between two particles.  Its
+shape depends only on the scene's structure, not on its numbers:
+
+* ``identical``: one particle type, so one set of particle arguments serves both sides;
+* ``sides``: per side ``"sphere"`` (the arm term r^2/I collapses to 5/(2 m), so A = 7/m for two
+  identical spheres, Peng et al. 2020, Section 4.3) or ``"general"`` (mass, smallest principal
+  moment, contact arm; plus all three principal moments when the rotation bound is emitted);
+* ``damped_normal`` / ``damped_shear``: whether a viscous term exists in that direction;
+* ``rotation``: whether the rotation-dominant bound (Eqs. (54), (56)) is emitted: ``omega_max``
+  given and at least one side non-spherical (B_max = 0 for a sphere).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from dtcrit.errors import InputError
+from dtcrit.stability import check_integrator
+
+SIDE_KINDS = ("sphere", "general")
+
+
+@dataclass(frozen=True)
+class KernelStructure:
+    integrator: str
+    identical: bool
+    sides: tuple[str, ...]  # one entry when identical, else two
+    damped_normal: bool
+    damped_shear: bool
+    rotation: bool
+
+    def __post_init__(self):
+        check_integrator(self.integrator)
+        if len(self.sides) != (1 if self.identical else 2) or any(s not in SIDE_KINDS for s in self.sides):
+            raise InputError("sides", f"need {'one side' if self.identical else 'two sides'} from {SIDE_KINDS} (got {self.sides})")
+
+    @property
+    def damped(self) -> bool:
+        return self.damped_normal or self.damped_shear
+
+    def specialisations(self) -> list[str]:
+        """What this structure leaves out compared with :func:`general_structure`."""
+        out = []
+        if self.identical:
+            out.append("identical particles: one set of particle arguments")
+        spheres = [n for n, s in enumerate(self.sides) if s == "sphere"]
+        if spheres and len(spheres) == len(self.sides):
+            out.append("spheres: A = 7/m" if self.identical else "spheres: A = (7/2) (1/m1 + 1/m2)")
+        elif spheres:
+            out.append(f"particle {spheres[0] + 1} is a sphere: its arm term is 5/(2 m{spheres[0] + 1})")
+        if not self.damped:
+            out.append("undamped: no damping terms")
+        elif not (self.damped_normal and self.damped_shear):
+            out.append(f"no damping in the {'shear' if self.damped_normal else 'normal'} direction")
+        if not self.rotation:
+            out.append("no rotation-dominant bound (omega_max not given, or spheres only)")
+        return out
+
+
+def general_structure(integrator: str) -> KernelStructure:
+    """Two different non-spherical particles, damped in both directions, with the rotation bound."""
+    return KernelStructure(integrator, False, ("general", "general"), True, True, True)
+
+
+def structure_of_scene(scene) -> KernelStructure:
+    """The structure a scene needs (``scene`` a :class:`dtcrit.scene.Scene`)."""
+    kinds = ["sphere" if p.kind == "sphere" else "general" for p in scene.particles]
+    if scene.identical:
+        sides = (kinds[0],)
+    elif scene.pairs == "all" and kinds[0] != kinds[1]:
+        # every pairing can occur: a sphere side cannot stand for the other type
+        sides = ("general", "general")
+    else:
+        sides = tuple(kinds)
+    contacts = [scene.pair_contact(i, j) for i, j in scene.pair_numbers()]
+    damped_n = any(c.cn > 0 for c in contacts)
+    damped_s = any(c.cs > 0 for c in contacts)
+    rotation = scene.omega_max is not None and any(s == "general" for s in sides)
+    return KernelStructure(scene.integrator, scene.identical, sides, damped_n, damped_s, rotation)

@@ -1,0 +1,109 @@
+"""``dtcrit packing``: global eigenmode analysis of a packing (Otsubo et al. 2017).
+
+    dtcrit packing FILE [--density RHO]                    a LAMMPS / LIGGGHTS dump file
+    dtcrit packing --lattice fcc --cells 4 [--radius R]    a periodic lattice
+    dtcrit packing --random 500 --cn 6 [--sizes lognormal --spread 0.3] [--seed 1]
+    dtcrit packing --scale 1e3,1e4,1e5                     the scale benchmark (table)
+
+Contact law: ``--kn/--ks`` linear springs (``--ks`` defaults to ``--kn``) or ``--youngs/--poisson``
+for Hertz-Mindlin tangent stiffness at each contact's overlap.
+"""
+from __future__ import annotations
+
+import json
+import math
+import sys
+
+DEFAULT_KN = 1.0e5  # N/m
+DEFAULT_DENSITY = 2650.0  # kg/m^3 (quartz), for generated packings
+DEFAULT_RADIUS = 1.0e-3  # m
+
+
+def add_parser(subparsers) -> None:
+    p = subparsers.add_parser(
+        "packing", help="critical time step of a whole packing from its largest eigenfrequency",
+        description="Global eigenmode analysis of a DEM packing (Otsubo, O'Sullivan & Shire 2017): "
+                    "dt_crit = 2/omega_max beside the cheap estimates.")
+    p.add_argument("file", nargs="?", help="LAMMPS/LIGGGHTS text dump (ITEM: ATOMS id type x y z radius [mass])")
+    src = p.add_argument_group("generated packings")
+    src.add_argument("--lattice", choices=("sc", "bcc", "fcc", "hcp"), help="periodic lattice")
+    src.add_argument("--cells", type=int, default=2, help="lattice cells along each axis (default 2)")
+    src.add_argument("--random", type=int, metavar="N", help="random packing of N spheres")
+    src.add_argument("--cn", type=float, default=6.0, help="target mean coordination of --random (default 6)")
+    src.add_argument("--sizes", choices=("mono", "uniform", "lognormal"), default="mono")
+    src.add_argument("--spread", type=float, default=0.0,
+                     help="uniform: half-width / radius; lognormal: sigma of ln R (default 0)")
+    src.add_argument("--seed", type=int, default=0)
+    src.add_argument("--radius", type=float, default=DEFAULT_RADIUS, help="sphere (median) radius [m]")
+    mat = p.add_argument_group("material and contacts")
+    mat.add_argument("--density", type=float, help=f"particle density [kg/m^3] (generated default {DEFAULT_DENSITY:g}; "
+                                                   "required for a dump without a mass column)")
+    mat.add_argument("--kn", type=float, help=f"normal spring stiffness [N/m] (default {DEFAULT_KN:g})")
+    mat.add_argument("--ks", type=float, help="tangential spring stiffness [N/m] (default: equal to kn)")
+    mat.add_argument("--youngs", type=float, help="Young's modulus [Pa]: Hertz-Mindlin tangent stiffness instead")
+    mat.add_argument("--poisson", type=float, default=0.25, help="Poisson's ratio with --youngs (default 0.25)")
+    mat.add_argument("--snapshot", type=int, default=-1, help="snapshot index in the dump (default: last)")
+    run = p.add_argument_group("analysis")
+    run.add_argument("--integrator", default="velocity-verlet", help="integrator for the damped bound (default velocity-verlet)")
+    run.add_argument("--damping-ratio", type=float, default=0.0, help="modal damping ratio of the highest mode")
+    run.add_argument("--solver", choices=("auto", "dense", "eigsh", "lobpcg"), default="auto")
+    run.add_argument("--json", action="store_true", help="print the report as JSON")
+    run.add_argument("--write-dump", metavar="PATH", help="also write the analysed sphere packing as a dump file")
+    run.add_argument("--scale", metavar="SIZES", help="run the scale benchmark, e.g. 1e3,1e4,1e5")
+    run.add_argument("--scale-packing", choices=("fcc", "random"), default="fcc")
+    p.set_defaults(run=run_command)
+
+
+def _law(args):
+    from dtcrit.packing.model import HertzMindlinLaw, LinearLaw
+
+    if args.youngs is not None:
+        if args.kn is not None or args.ks is not None:
+            raise ValueError("kn: give either --kn/--ks or --youngs/--poisson, not both")
+        return HertzMindlinLaw(args.youngs, args.poisson)
+    kn = DEFAULT_KN if args.kn is None else args.kn
+    return LinearLaw(kn, kn if args.ks is None else args.ks)
+
+
+def _packing(args):
+    from dtcrit.packing.dump_io import read_dump
+    from dtcrit.packing.lattices import lattice
+    from dtcrit.packing.random_packing import random_packing
+
+    chosen = [name for name, v in (("FILE", args.file), ("--lattice", args.lattice), ("--random", args.random))
+              if v is not None]
+    if len(chosen) != 1:
+        raise ValueError("packing: give exactly one of FILE, --lattice or --random"
+                         + (f" (got {', '.join(chosen)})" if chosen else ""))
+    if args.file is not None:
+        args.source_label = args.file
+        return read_dump(args.file, density=args.density, snapshot=args.snapshot)
+    density = DEFAULT_DENSITY if args.density is None else args.density
+    if args.lattice is not None:
+        return lattice(args.lattice, args.cells, radius=args.radius, density=density)
+    return random_packing(args.random, cn=args.cn, sizes=args.sizes, radius=args.radius, spread=args.spread,
+                          density=density, seed=args.seed)
+
+
+def run_command(args) -> int:
+    if args.scale:
+        from dtcrit.packing.scaling import parse_sizes, run_sizes
+
+        run_sizes(parse_sizes(args.scale), args.scale_packing)
+        return 0
+    from dtcrit.packing.dump_io import write_dump
+    from dtcrit.packing.report import analyse, format_report
+
+    if not math.isfinite(args.damping_ratio) or args.damping_ratio < 0:
+        raise ValueError(f"damping-ratio: must be a finite number >= 0, got {args.damping_ratio}")
+    law = _law(args)
+    packing = _packing(args)
+    report = analyse(packing, law, integrator=args.integrator, damping_ratio=args.damping_ratio, method=args.solver)
+    if args.write_dump:
+        write_dump(args.write_dump, packing)
+    if args.json:
+        json.dump(report.to_dict(), sys.stdout, indent=2, sort_keys=True)
+        sys.stdout.write("\n")
+    else:
+        print(format_report(report))
+    return 0

@@ -1,0 +1,168 @@
+"""Inverse-inertia coefficients of a contact between two particles (run time; no SymPy).
+
+Peng, Burns & Hanley (2020), Sections 2, 3 and 5.  With force ``F`` on particle 2 (``-F`` on 1)
+at the contact arms ``r1, r2`` and no angular velocity, the relative acceleration of the contact
+points is ``xdd_c = A F`` with the symmetric positive definite coefficient matrix
+
+    A = (1/m1 + 1/m2) 1 + sum_i [r_i]x^T W_i [r_i]x,   W_i = R_i^T I_i^-1 R_i
+
+(derived from Eqs 1-19 in ``dtcrit.symbolic.kinematics``; the paper keeps its diagonal in three
+special configurations, Eqs 22-25).  The functions here:
+
+* :func:`a_max` -- Eq (26) as printed.  It bounds ``A`` for the ellipsoids of the paper but *not*
+  for boxes, polyhedra or box-like superquadrics (see ``derivations/records/sec2_3_kinematics.md``).
+* :func:`a_bound` -- an upper bound on ``lambda_max(A)`` valid for every admissible contact of the
+  two shapes: ``1/m1 + 1/m2 + S1 + S2`` with ``S_i`` the supremum over the body of
+  ``lambda_max([p]x^T I_i^-1 [p]x)`` (:func:`dtcrit.contact_search.arm_term_supremum`).  It is
+  attained for identical particles and, whenever the top eigenvectors can be aligned, for others.
+* :func:`b_max` -- Eq (54); :func:`b_bound` -- the tight constant of the gyroscopic term.
+* :func:`coefficient_matrix` -- ``A`` for given arms and orientations.
+
+Units: SI throughout; ``A`` in 1/kg, ``B`` dimensionless.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._generated import contact as _k
+from .contact_search import arm_term_supremum, arm_terms_local
+from .errors import InputError
+
+__all__ = ["a_max", "a_bound", "b_max", "b_bound", "coefficient_matrix"]
+
+
+# ============================================================================================
+# Input checks
+# ============================================================================================
+def _shape(key: str, p):
+    """Accept anything with the dtcrit shape interface: positive finite ``mass``, ``inertia`` (3),
+    ``half_lengths`` (3) and ``max_arm``."""
+    try:
+        mass = float(p.mass)
+        inertia = tuple(float(i) for i in p.inertia)
+        half = tuple(float(h) for h in p.half_lengths)
+        arm = float(p.max_arm)
+    except (AttributeError, TypeError, ValueError):
+        raise InputError(key, f"must be a dtcrit shape (Sphere, Ellipsoid, Superquadric, Box, ConvexPolyhedron); got {type(p).__name__}") from None
+    values = (mass, *inertia, *half, arm)
+    if len(inertia) != 3 or len(half) != 3 or not all(math.isfinite(v) and v > 0 for v in values):
+        raise InputError(key, "mass, principal moments, half-lengths and max_arm must be positive and finite")
+    return p
+
+
+def _vector(key: str, v) -> np.ndarray:
+    try:
+        x = np.asarray(v, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(key, f"must be a 3-vector of real numbers (got {v!r})") from None
+    if x.shape != (3,):
+        raise InputError(key, f"must be a 3-vector (got shape {x.shape})")
+    if not np.all(np.isfinite(x)):
+        raise InputError(key, "must be finite")
+    return x
+
+
+def _rotation(key: str, R) -> np.ndarray:
+    """The paper's rotation (global -> local, Eq 5) from ``None`` (identity), a unit quaternion
+    ``(qw, qx, qy, qz)`` (Eq 7; normalised here) or a proper orthogonal 3x3 matrix."""
+    if R is None:
+        return np.eye(3)
+    try:
+        x = np.asarray(R, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(key, f"must be a quaternion (qw, qx, qy, qz) or a 3x3 rotation matrix (got {R!r})") from None
+    if not np.all(np.isfinite(x)):
+        raise InputError(key, "must be finite")
+    if x.shape == (4,):
+        norm = float(np.linalg.norm(x))
+        if norm == 0.0:
+            raise InputError(key, "quaternion must be non-zero")
+        q = x / norm
+        return np.array([float(e) for e in _k.rotation_matrix(*q)]).reshape(3, 3)
+    if x.shape != (3, 3):
+        raise InputError(key, f"must be a quaternion (4,) or a rotation matrix (3, 3) (got shape {x.shape})")
+    if np.max(np.abs(x @ x.T - np.eye(3))) > 1e-9 or np.linalg.det(x) <= 0:
+        raise InputError(key, "must be a proper rotation matrix (R R^T = 1 within 1e-9, det R = +1)")
+    return x
+
+
+# ============================================================================================
+# Eq (26), the valid bound, Eq (54) and the coefficient matrix
+# ============================================================================================
+def a_max(p1, p2=None) -> float:
+    """Peng et al. 2020, Eq (26) as printed: ``a1^2/Ixx1 + a2^2/Ixx2 + 1/m1 + 1/m2`` [1/kg].
+
+    ``a`` is the largest half-length and ``Ixx`` the first principal moment of each particle;
+    ``p2=None`` means two identical particles.  Not an upper bound on ``lambda_max(A)`` for boxes,
+    polyhedra and box-like superquadrics (use :func:`a_bound`).
+    """
+    p1 = _shape("p1", p1)
+    p2 = p1 if p2 is None else _shape("p2", p2)
+    return float(_k.a_max(p1.mass, p1.inertia[0], p1.half_lengths[0], p2.mass, p2.inertia[0], p2.half_lengths[0]))
+
+
+def a_bound(p1, p2=None) -> float:
+    """Upper bound on ``lambda_max(A)`` over every admissible contact of the two shapes [1/kg].
+
+    ``1/m1 + 1/m2 + S1 + S2`` where ``S_i >= sup over the body of lambda_max([p]x^T I_i^-1 [p]x)``:
+    exact for polyhedra (vertex maximum) and isotropic inertia, within ``SUP_RTOL`` (1e-7) of the
+    best surface value for smooth bodies (outer support polytopes; the returned value is an upper
+    bound in every case).  Holds because ``lambda_max`` is subadditive; equality for identical
+    particles (``dtcrit.contact_search.mirror_contact``).  ``p2=None``: identical particles.
+    """
+    p1 = _shape("p1", p1)
+    p2 = p1 if p2 is None else _shape("p2", p2)
+    s1 = arm_term_supremum(p1).upper
+    s2 = s1 if p2 is p1 else arm_term_supremum(p2).upper
+    return float(1.0 / p1.mass + 1.0 / p2.mass + s1 + s2)
+
+
+def b_max(p) -> float:
+    """Peng et al. 2020, Eq (54): ``max(|Ixx-Iyy|/Izz, |Ixx-Izz|/Iyy, |Iyy-Izz|/Ixx)`` (dimensionless)."""
+    p = _shape("p", p)
+    return float(_k.b_max(*p.inertia))
+
+
+def b_bound(p) -> float:
+    """Tight constant ``G = max over unit w of |I^-1 (w x I w)|`` of the gyroscopic term.
+
+    Euler's equations (Eqs 11-12, ``M_L = 0``) give ``|wdot| <= G |w|^2`` with equality for some
+    ``w``, so for any orientation every global component satisfies ``|wdot_k| <= G w_max^2`` and the
+    bound is attained.  ``B_max/2 <= G <= B_max/sqrt(3)`` (derivations/records/sec5_rotation.md).
+
+    With ``x_i = w_i^2`` on the simplex, ``|wdot|^2 = c_x^2 x_y x_z + c_y^2 x_z x_x + c_z^2 x_x x_y`` is
+    a quadratic form; its maximum is at an edge midpoint (``c_i^2/4``) or at the interior stationary
+    point, both evaluated here in closed form.
+    """
+    p = _shape("p", p)
+    c = np.array([float(x) for x in _k.gyroscopic_coefficients(*p.inertia)])
+    a, b, g = c**2
+    best = max(a, b, g) / 4.0
+    Q = np.array([[0.0, g, b], [g, 0.0, a], [b, a, 0.0]])
+    det = 2.0 * a * b * g
+    if det > 1e-300:
+        y = np.linalg.solve(Q, np.ones(3))
+        if np.all(y > 0):
+            x = y / np.sum(y)
+            best = max(best, 0.5 * float(x @ Q @ x))
+    return math.sqrt(best)
+
+
+def coefficient_matrix(p1, p2, r1, r2, R1=None, R2=None) -> np.ndarray:
+    """The 3x3 coefficient matrix ``A`` of the contact force in ``xdd_c = A F + Omega`` (global frame).
+
+    ``r1, r2``: contact arms ``x_c - x_i`` in global components (Peng et al. 2020, Eqs 1-2);
+    ``R1, R2``: orientations in the paper's convention ``M_L = R M_G`` (Eq 5) as a unit quaternion
+    ``(qw, qx, qy, qz)`` (Eq 7) or a rotation matrix; ``None`` means axis aligned.  The arms need not
+    lie on the surfaces (pure kinematics); ``A = (1/m1 + 1/m2) 1 + sum_i R_i^T T_i(R_i r_i) R_i`` with
+    the generated per-particle term ``T(p) = [p]x^T I^-1 [p]x`` (Eqs 3-19).
+    """
+    p1, p2 = _shape("p1", p1), _shape("p2", p2)
+    r1, r2 = _vector("r1", r1), _vector("r2", r2)
+    R1, R2 = _rotation("R1", R1), _rotation("R2", R2)
+    T1 = R1.T @ arm_terms_local((R1 @ r1)[None, :], p1.inertia)[0] @ R1
+    T2 = R2.T @ arm_terms_local((R2 @ r2)[None, :], p2.inertia)[0] @ R2
+    A = (1.0 / p1.mass + 1.0 / p2.mass) * np.eye(3) + T1 + T2
+    return 0.5 * (A + A.T)

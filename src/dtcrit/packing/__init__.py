@@ -1,0 +1,30 @@
+"""Global eigenmode analysis of DEM packings (Otsubo, O'Sullivan & Shire 2017).
+
+The largest eigenfrequency of ``K phi = omega^2 M phi`` over the whole packing gives the critical
+step ``dt_crit = 2 / omega_max`` of the central-difference family; the report sets it beside the
+cheap estimates (Gershgorin, per-body diagonal and block bounds, the two-particle bound of Peng et
+al. 2020, a Rayleigh quotient).
+
+    >>> from dtcrit.packing import lattice, analyse, LinearLaw
+    >>> round(analyse(lattice("sc", 2, mass=1.0), LinearLaw(1.0, 1.0)).alpha, 4)
+    0.4472
+
+Modules: ``model`` (Packing, Box, Contacts, contact laws), ``contacts`` (detection), ``assembly``
+(sparse M and K), ``eigen`` (largest mode), ``estimates``, ``damping`` (integrator bound via
+``dtcrit.stability``), ``report``, ``lattices``, ``random_packing``, ``dump_io`` (LAMMPS/LIGGGHTS
+dumps), ``study`` (alpha against CN_max), ``scaling`` (benchmark).
+"""
+from .assembly import mass_matrix, scale_symmetric, stiffness_matrix
+from .contacts import find_contacts, find_convex_contacts, find_sphere_contacts
+from .dump_io import read_dump, write_dump
+from .eigen import largest_mode
+from .lattices import LATTICES, lattice
+from .model import Box, Contacts, HertzMindlinLaw, LinearLaw, Packing, apply_law
+from .random_packing import random_packing
+from .report import PackingReport, analyse, format_report
+
+__all__ = [
+    "Box", "Contacts", "HertzMindlinLaw", "LATTICES", "LinearLaw", "Packing", "PackingReport", "analyse",
+    "apply_law", "find_contacts", "find_convex_contacts", "find_sphere_contacts", "format_report", "largest_mode",
+    "lattice", "mass_matrix", "random_packing", "read_dump", "scale_symmetric", "stiffness_matrix", "write_dump",
+]

@@ -1,0 +1,159 @@
+"""Global mass and stiffness matrices of a packing as ``scipy.sparse`` matrices.
+
+Degrees of freedom, six per particle ``p``: ``q_p = (u_x, u_y, u_z, t_1, t_2, t_3)``, the
+translation of the centre in the global frame and a small rotation about the particle's principal
+axes (global rotation ``R_p t``), so that the mass matrix is ``diag(m, m, m, I_1, I_2, I_3)``
+(Otsubo et al. 2017, Section 3).
+
+A contact between ``i`` and ``j`` with contact point ``x_c``, arms ``a_i = x_c - x_i`` and
+``a_j = x_c - x_j`` and unit normal ``n`` moves the two material points at ``x_c`` apart by
+
+    delta = (u_j + theta_j x a_j) - (u_i + theta_i x a_i) = B_i q_i + B_j q_j,
+    B_i = [-1, [a_i]_x R_i],   B_j = [1, -[a_j]_x R_j]
+
+(``[a]_x`` the cross-product matrix; Peng et al. 2020, Eqs (1)-(2), (17)-(19) linearised).  Its
+springs store ``1/2 delta^T K_c delta`` with ``K_c = k_n n n^T + k_s (1 - n n^T)``, so the contact
+adds the 12 x 12 element ``[B_i B_j]^T K_c [B_i B_j]`` to the global stiffness.  The initial-stress
+(geometric) stiffness of the pre-loaded contacts is neglected, as in Otsubo et al.: it is of
+relative order ``F / (k R)``, the overlap strain.
+"""
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sps
+
+from dtcrit.errors import InputError
+
+from .model import Contacts, Packing
+from .progress_ticker import chunked
+
+
+def cross_matrix(a: np.ndarray) -> np.ndarray:
+    """``[a]_x`` for a stack of vectors (..., 3): ``[a]_x b = a x b``."""
+    z = np.zeros(a.shape[:-1])
+    return np.stack([
+        np.stack([z, -a[..., 2], a[..., 1]], -1),
+        np.stack([a[..., 2], z, -a[..., 0]], -1),
+        np.stack([-a[..., 1], a[..., 0], z], -1),
+    ], -2)
+
+
+def contact_stiffness_tensor(normal: np.ndarray, kn: np.ndarray, ks: np.ndarray) -> np.ndarray:
+    """``K_c = k_n n n^T + k_s (1 - n n^T)`` for each contact, shape (nc, 3, 3)."""
+    nn = normal[:, :, None] * normal[:, None, :]
+    return kn[:, None, None] * nn + ks[:, None, None] * (np.eye(3) - nn)
+
+
+def contact_kinematics(packing: Packing, contacts: Contacts, sl=slice(None)):
+    """``(B_i, B_j)``, each (nc, 3, 6): relative contact displacement per particle DOF."""
+    ai, aj = contacts.arm_i[sl], contacts.arm_j[sl]
+    nc = ai.shape[0]
+    rot_i = cross_matrix(ai)
+    rot_j = -cross_matrix(aj)
+    if packing.orientations is not None:
+        rot_i = rot_i @ packing.orientations[contacts.i[sl]]
+        rot_j = rot_j @ packing.orientations[contacts.j[sl]]
+    eye = np.broadcast_to(np.eye(3), (nc, 3, 3))
+    return np.concatenate([-eye, rot_i], axis=2), np.concatenate([eye, rot_j], axis=2)
+
+
+def mass_diagonal(packing: Packing) -> np.ndarray:
+    """Diagonal of the global mass matrix, ``(m, m, m, I_1, I_2, I_3)`` per particle, length 6N."""
+    m = packing.masses[:, None]
+    return np.concatenate([np.repeat(m, 3, axis=1), packing.inertia], axis=1).reshape(-1)
+
+
+def mass_matrix(packing: Packing) -> sps.dia_matrix:
+    """Global mass matrix ``M`` (6N x 6N, diagonal) as a sparse matrix."""
+    d = mass_diagonal(packing)
+    return sps.dia_matrix((d[None, :], [0]), shape=(d.size, d.size))
+
+
+def _require_stiffness(contacts: Contacts) -> None:
+    if contacts.kn is None or contacts.ks is None:
+        raise InputError("contacts", "no stiffness: apply a contact law first (model.apply_law)")
+
+
+def stiffness_matrix(packing: Packing, contacts: Contacts, *, chunk: int = 1 << 17,
+                     label: str = "assembly") -> sps.bsr_matrix:
+    """Global stiffness matrix ``K`` (6N x 6N, symmetric, 6 x 6 blocks) as ``scipy.sparse.bsr_matrix``.
+
+    Sums the element matrices of the module docstring.  A contact with one's own periodic image
+    (``i == j``) adds ``(B_i + B_j)^T K_c (B_i + B_j)`` to the particle's diagonal block.  Built in
+    chunks of ``chunk`` contacts (a progress bar shows when the assembly is long).
+    """
+    _require_stiffness(contacts)
+    n = packing.n
+    nc = contacts.count
+    diag = np.zeros((n, 6, 6))
+    upper = np.empty((nc, 6, 6))
+    for start in chunked(nc, chunk, label=label):
+        sl = slice(start, min(start + chunk, nc))
+        bi, bj = contact_kinematics(packing, contacts, sl)
+        kc = contact_stiffness_tensor(contacts.normal[sl], contacts.kn[sl], contacts.ks[sl])
+        kbi = kc @ bi
+        kbj = kc @ bj
+        k_ii = np.swapaxes(bi, 1, 2) @ kbi
+        k_jj = np.swapaxes(bj, 1, 2) @ kbj
+        k_ij = np.swapaxes(bi, 1, 2) @ kbj
+        ci, cj = contacts.i[sl], contacts.j[sl]
+        self_contact = ci == cj
+        if self_contact.any():  # coupling blocks of a self-image contact land on the diagonal
+            k_ii = k_ii.copy()
+            k_ii[self_contact] += k_ij[self_contact] + np.swapaxes(k_ij[self_contact], 1, 2)
+            k_ij[self_contact] = 0.0
+        flat_ii = k_ii.reshape(-1, 36)
+        flat_jj = k_jj.reshape(-1, 36)
+        for e in range(36):
+            diag.reshape(n, 36)[:, e] += np.bincount(ci, weights=flat_ii[:, e], minlength=n)
+            diag.reshape(n, 36)[:, e] += np.bincount(cj, weights=flat_jj[:, e], minlength=n)
+        upper[sl] = k_ij
+    # off-diagonal blocks: orient each as (row < col), merge repeated pairs, then mirror
+    off = contacts.i != contacts.j
+    ci, cj = contacts.i[off], contacts.j[off]
+    swap = ci > cj
+    rows = np.where(swap, cj, ci).astype(np.int64)
+    cols = np.where(swap, ci, cj).astype(np.int64)
+    key = rows * n + cols
+    order = np.argsort(key, kind="stable")
+    key = key[order]
+    blocks = upper[np.flatnonzero(off)[order]] if not off.all() else upper[order]
+    del upper
+    flip = swap[order]
+    if flip.any():
+        blocks[flip] = np.swapaxes(blocks[flip], 1, 2)
+    if key.size and np.any(key[1:] == key[:-1]):
+        first = np.concatenate([[True], key[1:] != key[:-1]])
+        blocks = np.add.reduceat(blocks, np.flatnonzero(first), axis=0)
+        key = key[first]
+    rows, cols = key // n, key % n
+    nb = key.size
+    # place diagonal, upper and mirrored lower blocks straight into row-major (BSR) order
+    all_rows = np.concatenate([np.arange(n), rows, cols])
+    all_cols = np.concatenate([np.arange(n), cols, rows])
+    dest = np.empty(n + 2 * nb, dtype=np.int64)
+    dest[np.lexsort((all_cols, all_rows))] = np.arange(n + 2 * nb)
+    data = np.empty((n + 2 * nb, 6, 6))
+    data[dest[:n]] = diag
+    del diag
+    data[dest[n:n + nb]] = blocks
+    data[dest[n + nb:]] = np.swapaxes(blocks, 1, 2)
+    del blocks
+    indices = np.empty(n + 2 * nb, dtype=np.int32 if n < 2**31 else np.int64)
+    indices[dest] = all_cols
+    indptr = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(np.bincount(all_rows, minlength=n), out=indptr[1:])
+    return sps.bsr_matrix((data, indices, indptr), shape=(6 * n, 6 * n))
+
+
+def scale_symmetric(k: sps.bsr_matrix, mass_diag: np.ndarray, *, inplace: bool = False) -> sps.bsr_matrix:
+    """``A = M^(-1/2) K M^(-1/2)``: the symmetric standard form of ``K phi = omega^2 M phi``."""
+    s = 1.0 / np.sqrt(mass_diag)
+    a = k if inplace else k.copy()
+    nb = a.indptr.size - 1
+    block_rows = np.repeat(np.arange(nb), np.diff(a.indptr))
+    srow = s.reshape(-1, 6)[block_rows]
+    scol = s.reshape(-1, 6)[a.indices]
+    a.data *= srow[:, :, None]
+    a.data *= scol[:, None, :]
+    return a

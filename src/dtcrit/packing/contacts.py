@@ -1,0 +1,184 @@
+"""Contact detection for packings: spheres by overlap (``scipy.spatial.cKDTree``), convex shapes by
+penetration depth from their support functions.
+
+Spheres ``i`` and ``j`` touch when their centre distance ``d <= (R_i + R_j) (1 + tolerance)``.
+Periodic axes use the minimum image when the box is wider than twice the contact range; for
+narrower boxes every periodic image in range is searched explicitly, so a particle may touch its
+own image or the same neighbour through several images (small lattice cells need this).
+The contact point is the middle of the overlap along the centre line,
+``x_c = x_i + (R_i - delta/2) n`` (Peng et al. 2020, Eqs (1)-(2) define both arms from this one
+point).
+"""
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from dtcrit.errors import InputError
+
+from .model import Box, Contacts, Packing
+
+
+def wrap_positions(positions: np.ndarray, box: Box | None) -> np.ndarray:
+    """Positions mapped into ``[lo, hi)`` along the periodic axes of ``box``."""
+    x = np.array(positions, dtype=float, copy=True)
+    if box is None:
+        return x
+    for a in range(3):
+        if box.periodic[a]:
+            length = box.lengths[a]
+            x[:, a] = box.lo[a] + np.mod(x[:, a] - box.lo[a], length)
+            x[x[:, a] >= box.hi[a], a] = box.lo[a]  # mod can round up to exactly L
+    return x
+
+
+def _candidate_pairs(x: np.ndarray, cutoff: float, box: Box | None):
+    """Pairs ``(i, j, image)`` with centre distance < cutoff, each physical pair once."""
+    periodic = np.zeros(3, bool) if box is None else np.array(box.periodic)
+    lengths = np.ones(3) if box is None else box.lengths
+    if not periodic.any():
+        pairs = cKDTree(x).query_pairs(cutoff, output_type="ndarray")
+        return pairs[:, 0], pairs[:, 1], np.zeros((len(pairs), 3), dtype=np.int64)
+    if np.all(lengths[periodic] > 2.0 * cutoff):
+        # unique minimum image: a toroidal tree; non-periodic axes get a box too wide to wrap
+        shift = x.min(axis=0)
+        y = x - np.where(periodic, box.lo, shift)
+        size = np.where(periodic, lengths, (x.max(axis=0) - shift) + 4.0 * cutoff + 1.0)
+        y = np.minimum(y, np.nextafter(size, 0))  # cKDTree wants data strictly inside [0, L)
+        pairs = cKDTree(y, boxsize=size).query_pairs(cutoff, output_type="ndarray")
+        i, j = pairs[:, 0], pairs[:, 1]
+        sep = x[j] - x[i]
+        image = np.zeros((len(i), 3), dtype=np.int64)
+        image[:, periodic] = -np.rint(sep[:, periodic] / lengths[periodic]).astype(np.int64)
+        return i, j, image
+    # narrow periodic box: search every image within range explicitly
+    reach = [int(np.ceil(cutoff / lengths[a])) if periodic[a] else 0 for a in range(3)]
+    tree = cKDTree(x)
+    out_i, out_j, out_s = [], [], []
+    for s in itertools.product(*(range(-r, r + 1) for r in reach)):
+        s = np.array(s, dtype=np.int64)
+        other = cKDTree(x + s * lengths)
+        sdm = tree.sparse_distance_matrix(other, cutoff, output_type="ndarray")
+        i, j = sdm["i"].astype(np.int64), sdm["j"].astype(np.int64)
+        positive = tuple(s) > (0, 0, 0)
+        keep = (i < j) | ((i == j) & positive)  # (i, j, s) and (j, i, -s) are one contact
+        out_i.append(i[keep])
+        out_j.append(j[keep])
+        out_s.append(np.repeat(s[None, :], keep.sum(), axis=0))
+    return np.concatenate(out_i), np.concatenate(out_j), np.concatenate(out_s)
+
+
+def find_sphere_contacts(packing: Packing, tolerance: float = 1e-9) -> Contacts:
+    """Every touching or overlapping pair of spheres of ``packing`` (periodic images included)."""
+    if not packing.is_spheres:
+        raise InputError("packing", "find_sphere_contacts needs a sphere packing; use find_convex_contacts")
+    if not np.isfinite(tolerance) or tolerance < 0:
+        raise InputError("tolerance", f"must be a finite number >= 0, got {tolerance}")
+    box = packing.box
+    x = wrap_positions(packing.positions, box)
+    r = packing.radii
+    cutoff = 2.0 * r.max() * (1.0 + tolerance)
+    i, j, image = _candidate_pairs(x, cutoff, box)
+    lengths = np.zeros(3) if box is None else box.lengths
+    sep = x[j] + image * lengths - x[i]
+    d = np.sqrt(np.einsum("ij,ij->i", sep, sep))
+    touch = d <= (r[i] + r[j]) * (1.0 + tolerance)
+    i, j, image, sep, d = i[touch], j[touch], image[touch], sep[touch], d[touch]
+    if np.any(d <= 0):
+        k = int(np.argmax(d <= 0))
+        raise InputError("positions", f"particles {int(i[k])} and {int(j[k])} have coincident centres")
+    order = np.lexsort((image[:, 2], image[:, 1], image[:, 0], j, i))
+    i, j, image, sep, d = i[order], j[order], image[order], sep[order], d[order]
+    n = sep / d[:, None]
+    overlap = np.maximum(r[i] + r[j] - d, 0.0)
+    arm_len_i = r[i] - 0.5 * overlap
+    arm_len_j = r[j] - 0.5 * overlap
+    return Contacts(
+        i=i, j=j, normal=n, arm_i=arm_len_i[:, None] * n, arm_j=-arm_len_j[:, None] * n,
+        overlap=overlap, image=image, radius_eff=r[i] * r[j] / (r[i] + r[j]),
+    )
+
+
+# --------------------------------------------------------------------------- convex shapes
+
+def _support_point(shape, rotation: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    """Global-frame support point (relative to the centre) of a rotated convex shape."""
+    local = np.asarray(shape.support(rotation.T @ direction), dtype=float).reshape(3)
+    return rotation @ local
+
+
+def convex_penetration(shape_i, rot_i, shape_j, rot_j, separation, n0=None):
+    """Penetration of two convex bodies with centre separation ``x_j - x_i``.
+
+    The overlap along a unit direction ``n`` is ``h(n) = s_i(n) + s_j(-n) - n . separation`` with
+    ``s`` the support functions; the penetration depth is its minimum over ``n`` (the minimum
+    translation that separates the bodies) and the minimiser is the contact normal.  By Danskin's
+    theorem ``grad h = p_i(n) - p_j(-n) - separation`` (the support points), which drives a BFGS
+    search over ``v`` with ``n = v / |v|``.  Returns ``(depth, normal, point_i, point_j)``: the two
+    support points relative to their centres.
+    """
+    from scipy.optimize import minimize
+
+    sep = np.asarray(separation, dtype=float)
+    scale = float(np.linalg.norm(sep)) or 1.0
+
+    def value_and_grad(v):
+        nv = np.linalg.norm(v)
+        n = v / nv
+        pi = _support_point(shape_i, rot_i, n)
+        pj = _support_point(shape_j, rot_j, -n)
+        g = pi - pj - sep
+        value = float(n @ g)
+        return value / scale, ((g - value * n) / nv) / scale
+
+    start = sep / scale if n0 is None else np.asarray(n0, float)
+    best = minimize(value_and_grad, start, jac=True, method="BFGS", options={"gtol": 1e-15, "maxiter": 500})
+    n = best.x / np.linalg.norm(best.x)
+    pi = _support_point(shape_i, rot_i, n)
+    pj = _support_point(shape_j, rot_j, -n)
+    return float(n @ (pi - pj - sep)), n, pi, pj
+
+
+def find_convex_contacts(packing: Packing, tolerance: float = 1e-9) -> Contacts:
+    """Contacts of a packing of convex, centrally symmetric shapes with true contact points.
+
+    Candidates come from the bounding spheres (``radii``); each candidate's normal and depth come
+    from :func:`convex_penetration`; the contact point is the middle of the two deepest support
+    points and both arms point from the centres to it.  Suited to small packings (one
+    optimisation per candidate pair).
+    """
+    if packing.shapes is None:
+        return find_sphere_contacts(packing, tolerance)
+    box = packing.box
+    x = wrap_positions(packing.positions, box)
+    rot = packing.orientations if packing.orientations is not None else np.repeat(np.eye(3)[None], packing.n, 0)
+    cutoff = 2.0 * packing.radii.max() * (1.0 + tolerance)
+    i, j, image = _candidate_pairs(x, cutoff, box)
+    lengths = np.zeros(3) if box is None else box.lengths
+    rows = []
+    for a, b, s in zip(i, j, image):
+        sep = x[b] + s * lengths - x[a]
+        d = np.linalg.norm(sep)
+        if d > (packing.radii[a] + packing.radii[b]) * (1.0 + tolerance):
+            continue
+        depth, n, pa, pb = convex_penetration(packing.shapes[a], rot[a], packing.shapes[b], rot[b], sep)
+        scale = packing.radii[a] + packing.radii[b]
+        if depth < -tolerance * scale:
+            continue
+        point = 0.5 * (pa + (sep + pb))  # relative to x_i
+        rows.append((a, b, s, n, point, point - sep, max(depth, 0.0)))
+    if not rows:
+        return Contacts.empty()
+    a, b, s, n, ai, aj, dep = zip(*rows)
+    return Contacts(
+        i=np.array(a, dtype=np.int64), j=np.array(b, dtype=np.int64), normal=np.array(n),
+        arm_i=np.array(ai), arm_j=np.array(aj), overlap=np.array(dep), image=np.array(s, dtype=np.int64),
+        radius_eff=np.full(len(rows), np.nan),
+    )
+
+
+def find_contacts(packing: Packing, tolerance: float = 1e-9) -> Contacts:
+    """Sphere or convex-shape contacts, whichever the packing holds."""
+    return find_sphere_contacts(packing, tolerance) if packing.is_spheres else find_convex_contacts(packing, tolerance)

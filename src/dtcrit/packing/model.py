@@ -1,0 +1,278 @@
+"""Data model of a packing: particles, an optional (periodic) box and the contact list.
+
+The global analysis (Otsubo, O'Sullivan & Shire 2017) gives every particle six degrees of freedom:
+three translations in the global frame and three small rotations about the particle's own
+principal axes.  With that choice the mass matrix is diagonal, ``(m, m, m, I1, I2, I3)`` per
+particle, for any shape and orientation.
+
+Everything here is plain NumPy; nothing imports SymPy.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import Any, Sequence
+
+import numpy as np
+
+from dtcrit.errors import InputError
+
+
+@dataclass(frozen=True)
+class Box:
+    """An axis-aligned simulation box ``[lo, hi)``; ``periodic[a]`` says whether axis ``a`` wraps."""
+
+    lo: np.ndarray
+    hi: np.ndarray
+    periodic: tuple[bool, bool, bool]
+
+    def __post_init__(self):
+        lo = np.asarray(self.lo, dtype=float).reshape(3)
+        hi = np.asarray(self.hi, dtype=float).reshape(3)
+        if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi))):
+            raise InputError("box", "bounds must be finite numbers")
+        if np.any(hi <= lo):
+            raise InputError("box", f"each upper bound must exceed its lower bound (lo={lo}, hi={hi})")
+        object.__setattr__(self, "lo", lo)
+        object.__setattr__(self, "hi", hi)
+        object.__setattr__(self, "periodic", tuple(bool(p) for p in self.periodic))
+
+    @property
+    def lengths(self) -> np.ndarray:
+        return self.hi - self.lo
+
+    @classmethod
+    def cube(cls, length: float, periodic: bool = True) -> "Box":
+        return cls(np.zeros(3), np.full(3, float(length)), (periodic,) * 3)
+
+
+@dataclass(frozen=True)
+class Packing:
+    """Particles of a packing.
+
+    ``positions`` (N, 3) centres of mass; ``masses`` (N,); ``inertia`` (N, 3) principal moments of
+    inertia; ``radii`` (N,) sphere radii, or for non-spherical particles the radius of the
+    bounding sphere (used only to find candidate contacts); ``orientations`` (N, 3, 3) rotation
+    matrices from each body frame to the global frame, or ``None`` for spheres (identity);
+    ``shapes`` one object per particle with ``.support(direction)`` for non-spheres, else ``None``.
+    """
+
+    positions: np.ndarray
+    masses: np.ndarray
+    inertia: np.ndarray
+    radii: np.ndarray
+    box: Box | None = None
+    orientations: np.ndarray | None = None
+    shapes: Sequence[Any] | None = None
+    half_lengths: np.ndarray | None = None
+    label: str = ""
+
+    def __post_init__(self):
+        x = np.ascontiguousarray(self.positions, dtype=float)
+        if x.ndim != 2 or x.shape[1] != 3:
+            raise InputError("positions", f"expected an (N, 3) array, got shape {x.shape}")
+        n = x.shape[0]
+        if n < 1:
+            raise InputError("positions", "a packing needs at least one particle")
+        m = np.ascontiguousarray(self.masses, dtype=float).reshape(-1)
+        inertia = np.ascontiguousarray(self.inertia, dtype=float)
+        if inertia.ndim == 1:
+            inertia = np.repeat(inertia[:, None], 3, axis=1)
+        r = np.ascontiguousarray(self.radii, dtype=float).reshape(-1)
+        for key, arr, shape in (("masses", m, (n,)), ("inertia", inertia, (n, 3)), ("radii", r, (n,))):
+            if arr.shape != shape:
+                raise InputError(key, f"expected shape {shape}, got {arr.shape}")
+            if not np.all(np.isfinite(arr)) or np.any(arr <= 0):
+                raise InputError(key, "every value must be a positive finite number")
+        if not np.all(np.isfinite(x)):
+            raise InputError("positions", "every coordinate must be a finite number")
+        q = self.orientations
+        if q is not None:
+            q = np.ascontiguousarray(q, dtype=float)
+            if q.shape != (n, 3, 3):
+                raise InputError("orientations", f"expected shape {(n, 3, 3)}, got {q.shape}")
+            err = np.abs(np.einsum("nij,nkj->nik", q, q) - np.eye(3)).max()
+            if err > 1e-8:
+                raise InputError("orientations", f"not rotation matrices (|R R^T - I| = {err:.2e})")
+        h = self.half_lengths
+        if h is not None:
+            h = np.ascontiguousarray(h, dtype=float)
+            if h.shape != (n, 3):
+                raise InputError("half_lengths", f"expected shape {(n, 3)}, got {h.shape}")
+        if self.shapes is not None and len(self.shapes) != n:
+            raise InputError("shapes", f"expected {n} shapes, got {len(self.shapes)}")
+        object.__setattr__(self, "positions", x)
+        object.__setattr__(self, "masses", m)
+        object.__setattr__(self, "inertia", inertia)
+        object.__setattr__(self, "radii", r)
+        object.__setattr__(self, "orientations", q)
+        object.__setattr__(self, "half_lengths", h)
+
+    @property
+    def n(self) -> int:
+        return self.positions.shape[0]
+
+    @property
+    def dofs(self) -> int:
+        return 6 * self.n
+
+    @property
+    def is_spheres(self) -> bool:
+        return self.shapes is None
+
+    def with_label(self, label: str) -> "Packing":
+        return replace(self, label=label)
+
+    @classmethod
+    def spheres(cls, positions, radii, *, density=None, masses=None, box: Box | None = None,
+                label: str = "") -> "Packing":
+        """Solid spheres: ``m = 4/3 pi R^3 rho`` (or given masses) and ``I = 2/5 m R^2``."""
+        positions = np.asarray(positions, dtype=float)
+        radii = np.broadcast_to(np.asarray(radii, dtype=float), positions.shape[:1]).copy()
+        if np.any(~np.isfinite(radii)) or np.any(radii <= 0):
+            raise InputError("radius", "every radius must be a positive finite number")
+        if (density is None) == (masses is None):
+            raise InputError("density", "give exactly one of density or masses")
+        if masses is None:
+            density = float(density)
+            if not np.isfinite(density) or density <= 0:
+                raise InputError("density", f"must be a positive finite number, got {density}")
+            masses = (4.0 / 3.0) * np.pi * radii**3 * density
+        masses = np.broadcast_to(np.asarray(masses, dtype=float), radii.shape).copy()
+        if np.any(~np.isfinite(masses)) or np.any(masses <= 0):
+            raise InputError("mass", "every mass must be a positive finite number")
+        inertia = 0.4 * masses * radii**2
+        return cls(positions, masses, np.repeat(inertia[:, None], 3, axis=1), radii, box=box,
+                   half_lengths=np.repeat(radii[:, None], 3, axis=1), label=label)
+
+    @classmethod
+    def from_shapes(cls, shapes, positions, orientations=None, *, box: Box | None = None,
+                    label: str = "") -> "Packing":
+        """Convex, centrally symmetric bodies (``dtcrit.shapes`` objects: ``mass``, ``inertia``,
+        ``half_lengths``, ``max_arm``, ``support``) at ``positions`` with body-to-global rotation
+        matrices ``orientations`` (identity when omitted)."""
+        shapes = list(shapes)
+        x = np.asarray(positions, dtype=float)
+        if len(shapes) != x.shape[0]:
+            raise InputError("shapes", f"expected {x.shape[0]} shapes, got {len(shapes)}")
+        for k, s in enumerate(shapes):
+            for attr in ("mass", "inertia", "half_lengths", "max_arm", "support"):
+                if not hasattr(s, attr):
+                    raise InputError("shapes", f"shape {k} has no {attr!r}")
+        q = None if orientations is None else np.asarray(orientations, dtype=float)
+        return cls(x, np.array([s.mass for s in shapes]), np.array([s.inertia for s in shapes], dtype=float),
+                   np.array([s.max_arm for s in shapes]), box=box, orientations=q, shapes=shapes,
+                   half_lengths=np.array([s.half_lengths for s in shapes], dtype=float), label=label)
+
+
+@dataclass(frozen=True)
+class Contacts:
+    """Contact list: pair ``(i[c], j[c])``, unit normal from ``i`` to ``j``, contact arms.
+
+    ``arm_i = x_c - x_i`` and ``arm_j = x_c - (x_j + shift)`` share one contact point ``x_c`` (Peng
+    et al. 2020, Eqs (1)-(2)), so rigid-body motions of the pair strain no spring.  ``image`` is
+    the integer periodic-image shift of ``j`` (``x_j + image * L``); ``i == j`` is a particle
+    touching its own periodic image.  ``overlap`` >= 0; ``radius_eff`` is the effective radius of
+    curvature ``R* = R_i R_j / (R_i + R_j)`` for spheres (Hertz), NaN otherwise.  ``kn``/``ks``
+    are the normal and tangential spring stiffnesses [N/m] once a contact law was applied.
+    """
+
+    i: np.ndarray
+    j: np.ndarray
+    normal: np.ndarray
+    arm_i: np.ndarray
+    arm_j: np.ndarray
+    overlap: np.ndarray
+    image: np.ndarray
+    radius_eff: np.ndarray
+    kn: np.ndarray | None = None
+    ks: np.ndarray | None = None
+
+    @property
+    def count(self) -> int:
+        return int(self.i.shape[0])
+
+    def coordination(self, n_particles: int) -> np.ndarray:
+        """Contacts per particle; a contact with one's own image counts twice (both sides)."""
+        return (np.bincount(self.i, minlength=n_particles) + np.bincount(self.j, minlength=n_particles))
+
+    def with_stiffness(self, kn, ks) -> "Contacts":
+        kn = np.broadcast_to(np.asarray(kn, dtype=float), self.i.shape).copy()
+        ks = np.broadcast_to(np.asarray(ks, dtype=float), self.i.shape).copy()
+        for key, k in (("kn", kn), ("ks", ks)):
+            if np.any(~np.isfinite(k)) or np.any(k < 0):
+                raise InputError(key, "contact stiffness must be a finite number >= 0")
+        return replace(self, kn=kn, ks=ks)
+
+    def subset(self, mask) -> "Contacts":
+        pick = lambda a: None if a is None else a[mask]  # noqa: E731
+        return Contacts(self.i[mask], self.j[mask], self.normal[mask], self.arm_i[mask], self.arm_j[mask],
+                        self.overlap[mask], self.image[mask], self.radius_eff[mask], pick(self.kn), pick(self.ks))
+
+    @classmethod
+    def empty(cls) -> "Contacts":
+        z3 = np.zeros((0, 3))
+        zi = np.zeros(0, dtype=np.int64)
+        return cls(zi, zi.copy(), z3, z3.copy(), z3.copy(), np.zeros(0), np.zeros((0, 3), dtype=np.int64),
+                   np.zeros(0), np.zeros(0), np.zeros(0))
+
+
+@dataclass(frozen=True)
+class LinearLaw:
+    """Linear spring contact: constant normal ``kn`` and tangential ``ks`` stiffness [N/m]."""
+
+    kn: float
+    ks: float
+
+    def __post_init__(self):
+        for key in ("kn", "ks"):
+            value = float(getattr(self, key))
+            if not np.isfinite(value) or value < 0:
+                raise InputError(key, f"must be a finite number >= 0, got {value}")
+        if float(self.kn) == 0 and float(self.ks) == 0:
+            raise InputError("kn", "kn and ks cannot both be zero")
+
+    def stiffness(self, contacts: Contacts) -> tuple[np.ndarray, np.ndarray]:
+        n = contacts.count
+        return np.full(n, float(self.kn)), np.full(n, float(self.ks))
+
+    def describe(self) -> str:
+        return f"linear springs kn = {float(self.kn):.6g} N/m, ks = {float(self.ks):.6g} N/m"
+
+
+@dataclass(frozen=True)
+class HertzMindlinLaw:
+    """Hertz-Mindlin (no-slip) spheres: tangent stiffnesses at each contact's overlap ``delta``.
+
+    ``kn = dF/d(delta) = 2 E* sqrt(R* delta)`` (from ``F = 4/3 E* sqrt(R*) delta^(3/2)``) and
+    ``ks = 8 G* sqrt(R* delta)`` (Mindlin, no slip), one material for all particles:
+    ``E* = E / (2 (1 - nu^2))``, ``G = E / (2 (1 + nu))``, ``G* = G / (2 (2 - nu))``.
+    """
+
+    youngs: float
+    poisson: float
+
+    def __post_init__(self):
+        e, nu = float(self.youngs), float(self.poisson)
+        if not np.isfinite(e) or e <= 0:
+            raise InputError("youngs", f"must be a positive finite number, got {e}")
+        if not np.isfinite(nu) or not (-1.0 < nu < 0.5):
+            raise InputError("poisson", f"must lie in (-1, 0.5), got {nu}")
+
+    def stiffness(self, contacts: Contacts) -> tuple[np.ndarray, np.ndarray]:
+        if np.any(~np.isfinite(contacts.radius_eff)):
+            raise InputError("law", "the Hertz-Mindlin law needs sphere contacts (effective radius)")
+        e, nu = float(self.youngs), float(self.poisson)
+        e_star = e / (2.0 * (1.0 - nu * nu))
+        g = e / (2.0 * (1.0 + nu))
+        g_star = g / (2.0 * (2.0 - nu))
+        a = np.sqrt(contacts.radius_eff * np.maximum(contacts.overlap, 0.0))
+        return 2.0 * e_star * a, 8.0 * g_star * a
+
+    def describe(self) -> str:
+        return f"Hertz-Mindlin tangent stiffness, E = {float(self.youngs):.6g} Pa, nu = {float(self.poisson):.6g}"
+
+
+def apply_law(contacts: Contacts, law) -> Contacts:
+    """Contacts with per-contact ``kn``/``ks`` from ``law`` (``LinearLaw`` or ``HertzMindlinLaw``)."""
+    kn, ks = law.stiffness(contacts)
+    return contacts.with_stiffness(kn, ks)

@@ -1,0 +1,157 @@
+"""One report per packing: the exact ``omega_max``-based step and the cheap estimates side by side.
+
+``dt_crit = 2 / omega_max`` (Otsubo et al. 2017, Eq. (13)) is the undamped critical step of the
+central-difference family (leapfrog, velocity Verlet).  ``alpha = dt_crit / sqrt(m_min / K_max)``
+with ``m_min`` the smallest mass among particles that have a contact (rattlers do not vibrate)
+and ``K_max`` the largest contact stiffness ``max(k_n, k_s)``.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import estimates as est
+from .assembly import mass_diagonal, scale_symmetric, stiffness_matrix
+from .contacts import find_contacts
+from .damping import DEFAULT_INTEGRATOR, integrator_dt
+from .eigen import DEFAULT_TOL, TopMode, largest_mode, mode_character, rotational_fraction
+from .model import Contacts, LinearLaw, Packing, apply_law
+
+
+@dataclass
+class PackingReport:
+    """Everything ``dtcrit packing`` prints: sizes, coordination, ``omega_max`` [rad/s], ``dt_crit``
+    [s], ``alpha``, the integrator's (damped) bound, the top mode's character, solver diagnostics and
+    the cheap estimates (``estimates.Estimate``) keyed by name."""
+
+    label: str
+    law: str
+    n_particles: int
+    dofs: int
+    n_contacts: int
+    cn_mean: float
+    cn_max: int
+    m_min: float
+    k_max: float
+    omega_max: float
+    dt_crit: float
+    alpha: float
+    integrator: str
+    damping_ratio: float
+    dt_integrator: float
+    integrator_formula: str
+    mode: str
+    rotational_fraction: float
+    solver: str
+    matvecs: int
+    relative_residual: float
+    estimates: dict[str, est.Estimate] = field(default_factory=dict)
+
+    def estimate_table(self) -> list[dict]:
+        rows = []
+        for e in self.estimates.values():
+            rows.append({
+                "name": e.name, "dt": e.dt, "omega": math.sqrt(e.omega2) if e.omega2 > 0 else 0.0,
+                "ratio": e.dt / self.dt_crit if self.dt_crit > 0 and math.isfinite(self.dt_crit) else float("nan"),
+                "safe": bool(e.dt <= self.dt_crit * (1 + 1e-9)), "kind": e.kind, "detail": e.detail,
+            })
+        return rows
+
+    def to_dict(self) -> dict:
+        out = {k: getattr(self, k) for k in (
+            "label", "law", "n_particles", "dofs", "n_contacts", "cn_mean", "cn_max", "m_min", "k_max",
+            "omega_max", "dt_crit", "alpha", "integrator", "damping_ratio", "dt_integrator",
+            "integrator_formula", "mode", "rotational_fraction", "solver", "matvecs", "relative_residual")}
+        out["estimates"] = {row.pop("name"): row for row in self.estimate_table()}
+        return _json_safe(out)
+
+
+def _json_safe(value):
+    if isinstance(value, dict):
+        return {k: _json_safe(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_json_safe(v) for v in value]
+    if isinstance(value, (np.floating, float)):
+        v = float(value)
+        return v if math.isfinite(v) else None
+    if isinstance(value, np.integer):
+        return int(value)
+    if isinstance(value, np.bool_):
+        return bool(value)
+    return value
+
+
+def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, integrator: str = DEFAULT_INTEGRATOR,
+            damping_ratio: float = 0.0, method: str = "auto", tolerance: float = DEFAULT_TOL,
+            with_estimates: bool = True) -> PackingReport:
+    """Global eigenmode analysis of ``packing`` (contacts found by overlap unless given).
+
+    ``law`` (default linear ``k_n = k_s = 1``) sets each contact's stiffness unless ``contacts``
+    already carry one.  Returns the :class:`PackingReport`.
+    """
+    if contacts is None:
+        contacts = find_contacts(packing)
+    if contacts.kn is None or law is not None:
+        law = law if law is not None else LinearLaw(1.0, 1.0)
+        contacts = apply_law(contacts, law)
+        law_text = law.describe()
+    else:
+        law_text = "per-contact stiffness given"
+    md = mass_diagonal(packing)
+    a = scale_symmetric(stiffness_matrix(packing, contacts), md, inplace=True)
+    hint = est.co_rotation(packing, 0) + est.co_rotation(packing, 1) + est.co_rotation(packing, 2)
+    top: TopMode = largest_mode(a, method, tol=tolerance, hint=hint)
+    omega = top.omega
+    dt = 2.0 / omega if omega > 0 else math.inf
+    cn = contacts.coordination(packing.n)
+    stiff = np.maximum(contacts.kn, contacts.ks)
+    active = stiff > 0
+    k_max = float(stiff.max(initial=0.0))
+    touched = np.zeros(packing.n, bool)
+    touched[contacts.i[active]] = True
+    touched[contacts.j[active]] = True
+    m_min = float(packing.masses[touched].min()) if touched.any() else float(packing.masses.min())
+    alpha = dt / math.sqrt(m_min / k_max) if k_max > 0 and math.isfinite(dt) else math.inf
+    dt_int, formula = integrator_dt(omega, integrator, damping_ratio)
+    estimates: dict[str, est.Estimate] = {}
+    if with_estimates:
+        w_c = est.single_contact_frequencies(packing, contacts) if contacts.count else None
+        for e in (est.gershgorin(a, md), est.block_diagonal(a), est.diagonal_stiffness(a),
+                  est.two_particle_amax(packing, contacts),
+                  est.two_particle_exact(packing, contacts, w_c), est.rayleigh(a, packing, contacts, w_c)):
+            estimates[e.name] = e
+    return PackingReport(
+        label=packing.label, law=law_text, n_particles=packing.n, dofs=packing.dofs, n_contacts=contacts.count,
+        cn_mean=float(cn.mean()), cn_max=int(cn.max(initial=0)), m_min=m_min, k_max=k_max, omega_max=omega,
+        dt_crit=dt, alpha=alpha, integrator=integrator, damping_ratio=float(damping_ratio), dt_integrator=dt_int,
+        integrator_formula=formula, mode=mode_character(top.vector), rotational_fraction=rotational_fraction(top.vector),
+        solver=top.method, matvecs=top.matvecs,
+        relative_residual=top.residual / top.value if top.value > 0 else 0.0, estimates=estimates,
+    )
+
+
+def format_report(r: PackingReport) -> str:
+    """Human-readable text of a report."""
+    lines = [
+        f"packing: {r.label or '(unnamed)'}",
+        f"contact law: {r.law}",
+        f"particles {r.n_particles}, DOFs {r.dofs}, contacts {r.n_contacts}, "
+        f"coordination mean {r.cn_mean:.4g} max {r.cn_max}",
+        f"omega_max = {r.omega_max:.6g} rad/s  ({r.solver}, relative residual {r.relative_residual:.2g}"
+        f"{f', {r.matvecs} matrix-vector products' if r.matvecs else ''})",
+        f"dt_crit = 2/omega_max = {r.dt_crit:.6g} s   alpha = dt_crit / sqrt(m_min/K_max) = {r.alpha:.5g}"
+        f"   (m_min {r.m_min:.4g} kg, K_max {r.k_max:.4g} N/m)",
+        f"highest mode: {r.mode} ({100 * r.rotational_fraction:.1f} % of its kinetic energy in rotation)",
+        f"{r.integrator}, modal damping ratio {r.damping_ratio:g}: dt = {r.dt_integrator:.6g} s"
+        + ("  (no step is stable)" if r.dt_integrator == 0 else ""),
+    ]
+    if r.estimates:
+        lines.append("")
+        lines.append(f"{'estimate':<20}{'dt [s]':>14}{'dt / dt_crit':>14}  {'safe':<5} kind")
+        for row in r.estimate_table():
+            lines.append(f"{row['name']:<20}{row['dt']:>14.6g}{row['ratio']:>14.5f}  {'yes' if row['safe'] else 'NO':<5} "
+                         f"{row['kind']}; {row['detail']}")
+    return "\n".join(lines)
+

@@ -1,0 +1,95 @@
+"""``dtcrit packing`` command line: sources, JSON keys, one-line errors."""
+import json
+import math
+
+import pytest
+
+from dtcrit.cli import main
+
+KEYS = ("omega_max", "dt_crit", "alpha", "cn_mean", "cn_max", "n_particles", "dofs", "estimates")
+
+
+def _json(capsys, argv):
+    assert main(argv + ["--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def test_lattice_json(capsys):
+    out = _json(capsys, ["packing", "--lattice", "sc", "--cells", "2", "--kn", "1e6", "--ks", "1e6",
+                         "--density", "1000", "--radius", "0.01"])
+    for key in KEYS:
+        assert key in out
+    m = 4 / 3 * math.pi * 0.01**3 * 1000
+    assert out["omega_max"] == pytest.approx(math.sqrt(20 * 1e6 / m), rel=1e-10)  # co-rotation, (10/3) CN k/m
+    assert out["alpha"] == pytest.approx(math.sqrt(1.2 / 6), rel=1e-10)
+    assert out["cn_max"] == 6 and out["n_particles"] == 8 and out["dofs"] == 48
+    assert set(out["estimates"]) == {"gershgorin", "block_diagonal", "diagonal", "two_particle_amax", "two_particle_exact", "rayleigh"}
+    assert out["estimates"]["gershgorin"]["safe"] is True
+
+
+def test_random_text_report(capsys):
+    assert main(["packing", "--random", "40", "--cn", "5", "--sizes", "uniform", "--spread", "0.2", "--seed", "3"]) == 0
+    text = capsys.readouterr().out
+    assert "dt_crit = 2/omega_max" in text and "gershgorin" in text and "coordination mean 5" in text
+
+
+def test_damped_integrator_bound(capsys):
+    pytest.importorskip("dtcrit.stability")
+    out = _json(capsys, ["packing", "--lattice", "fcc", "--cells", "1", "--damping-ratio", "0.1"])
+    assert out["dt_integrator"] < out["dt_crit"]
+    assert out["dt_integrator"] == pytest.approx(out["dt_crit"] / (0.1 + math.sqrt(1.01)), rel=1e-9)
+
+
+@pytest.mark.parametrize("argv,words", [
+    (["packing"], "give exactly one of FILE, --lattice or --random"),
+    (["packing", "--lattice", "sc", "--random", "10"], "give exactly one"),
+    (["packing", "--lattice", "sc", "--kn", "-1"], "kn: must be a finite number >= 0"),
+    (["packing", "--lattice", "sc", "--cells", "0"], "cells"),
+    (["packing", "--lattice", "sc", "--youngs", "1e9", "--kn", "1e5"], "either --kn/--ks or --youngs"),
+    (["packing", "--lattice", "sc", "--damping-ratio", "-0.1"], "damping-ratio"),
+    (["packing", "--lattice", "sc", "--radius", "0"], "radius"),
+    (["packing", "--random", "10", "--cn", "30"], "cn"),
+    (["packing", "--scale", "1e3,abc"], "scale"),
+])
+def test_bad_input_is_one_line_exit_2(capsys, argv, words):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and words in err and "Traceback" not in err
+
+
+def test_hertz_on_a_touching_lattice_has_no_stiffness(capsys):
+    """Hertz tangent stiffness vanishes at zero overlap: a touching lattice has no vibrating mode."""
+    out = _json(capsys, ["packing", "--lattice", "sc", "--youngs", "7e10"])
+    assert out["omega_max"] == 0.0 and out["dt_crit"] is None
+
+
+def test_progress_lines_when_asked(monkeypatch, capsys):
+    """With DTCRIT_PROGRESS=1 long assemblies draw a bar and the eigen-solve a counter; chunked
+    assembly gives the same matrix as one chunk."""
+    import numpy as np
+
+    import dtcrit.packing.eigen as eigen
+    import dtcrit.packing.progress_ticker as ticker
+    from dtcrit.packing import LinearLaw, apply_law, find_sphere_contacts, largest_mode, lattice, stiffness_matrix
+
+    monkeypatch.setenv("DTCRIT_PROGRESS", "1")
+    monkeypatch.setattr(eigen, "LONG_WORK", 0)
+    monkeypatch.setattr(ticker, "LONG_WORK", 0)
+    p = lattice("fcc", 2, mass=1.0)
+    c = apply_law(find_sphere_contacts(p), LinearLaw(1.0, 0.5))
+    k16 = stiffness_matrix(p, c, chunk=16)
+    largest_mode(k16, "eigsh")
+    err = capsys.readouterr().err
+    assert "assembly [" in err and "eigen-solve:" in err and "matrix-vector products" in err
+    assert np.allclose(k16.toarray(), stiffness_matrix(p, c).toarray(), rtol=1e-13, atol=1e-13)
+
+
+def test_scaling_helpers():
+    from dtcrit.packing.scaling import fit_exponent, parse_sizes, run_one
+
+    assert parse_sizes("1e3,2000") == [1000, 2000]
+    assert fit_exponent([1e3, 1e4, 1e5], [2.0, 20.0, 200.0]) == pytest.approx(1.0)
+    row = run_one(100, "fcc")
+    assert row["n"] == 108 and row["dense_rel_diff"] < 1e-7
+    assert row["estimates"]["block_diagonal"] >= row["omega2"] * (1 - 1e-9)  # omega^2 bounds: above
+    assert row["estimates"]["rayleigh"] <= row["omega2"] * (1 + 1e-9)
