@@ -27,9 +27,15 @@ _API = {
     "a_bound": "contact",
     "b_max": "contact",
     "coefficient_matrix": "contact",
+    "b_bound": "contact",
+    # scenes and the `dtcrit step` API
+    "load_scene": "scene",
+    "parse_scene": "scene",
+    "critical_step": "timestep",
     # stability engine (Peng et al. 2020, Section 4; CFL note)
     "critical_dt": "stability",
     "paper_eq46": "stability",
+    "critical_dt_array": "stability",
     "INTEGRATORS": "stability",
     "spectral_radius": "amplification",
     # impact (CFL note, Feng 2005)

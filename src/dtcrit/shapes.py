@@ -39,9 +39,6 @@ import warnings
 from typing import Any
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
-from scipy.spatial import ConvexHull, QhullError, cKDTree
 
 from ._generated import mass_properties as _mp
 from .errors import InputError
@@ -515,6 +512,8 @@ def _superquadric_surface_points(n: int, axes: np.ndarray, e1: float, e2: float)
             h = math.sqrt(lo * hi) if 0 < lo and hi < math.inf else h * math.sqrt(chosen.size / target)
         chosen, pts, h = best
         chosen = pts[chosen]
+        from scipy.spatial import cKDTree
+
         near_tip = cKDTree(tips).query(chosen)[0] < 0.5 * h
         points = np.concatenate([tips, chosen[~near_tip]])
     else:
@@ -670,6 +669,8 @@ class _PolyhedralSurface:
     def __init__(self, vertices: np.ndarray):
         self.vertices = vertices
         scale = float(np.max(np.linalg.norm(vertices, axis=1)))
+        from scipy.spatial import ConvexHull
+
         hull = ConvexHull(vertices)
         eq, tri = hull.equations, hull.simplices.copy()
         # orient every triangle counter-clockwise about its outward normal
@@ -681,6 +682,9 @@ class _PolyhedralSurface:
         f = np.repeat(np.arange(eq.shape[0]), 3)
         g = hull.neighbors.ravel()
         same = (np.max(np.abs(eq[f, :3] - eq[g, :3]), axis=1) < _PLANE_RTOL) & (np.abs(eq[f, 3] - eq[g, 3]) < _PLANE_RTOL * scale)
+        from scipy.sparse import coo_matrix
+        from scipy.sparse.csgraph import connected_components
+
         graph = coo_matrix((np.ones(int(same.sum())), (f[same], g[same])), shape=(eq.shape[0],) * 2)
         _, comp = connected_components(graph, directed=False)
         _, first, label = np.unique(comp, return_index=True, return_inverse=True)
@@ -899,7 +903,7 @@ class Box(_PolyhedralShape):
 # ============================================================================================
 # Convex, centrally symmetric polyhedron
 # ============================================================================================
-def _tetra_decomposition(points: np.ndarray, hull: ConvexHull) -> tuple[float, np.ndarray, np.ndarray]:
+def _tetra_decomposition(points: np.ndarray, hull) -> tuple[float, np.ndarray, np.ndarray]:
     """Volume, centroid and second-moment tensor ``int r r^T dV`` about the origin (exact).
 
     The hull is the union of the tetrahedra (origin, facet triangle) when the origin is inside;
@@ -920,6 +924,8 @@ def _tetra_decomposition(points: np.ndarray, hull: ConvexHull) -> tuple[float, n
 
 def _min_area_rectangle(points2: np.ndarray) -> tuple[float, float]:
     """Angle and area of the smallest bounding rectangle of 2-D points (one side on a hull edge)."""
+    from scipy.spatial import ConvexHull, QhullError
+
     try:
         hull = ConvexHull(points2)
         ring = points2[hull.vertices]
@@ -1030,6 +1036,8 @@ def _plane_basis_within(points: np.ndarray, e1: np.ndarray, e2: np.ndarray, *, a
     degree; within the first family that has feasible members, the least bounding area wins.
     ``None`` if no candidate is feasible.
     """
+    from scipy.spatial import ConvexHull, QhullError  # lazy: keeps start-up short
+
     p2 = np.column_stack([points @ e1, points @ e2])
     try:
         ring = p2[ConvexHull(p2).vertices]
@@ -1060,6 +1068,8 @@ def _plane_basis_within(points: np.ndarray, e1: np.ndarray, e2: np.ndarray, *, a
 
 def _mirror_symmetric(points: np.ndarray, rtol: float) -> bool:
     """Whether reflection in each coordinate plane maps every point within ``rtol`` of a point."""
+    from scipy.spatial import cKDTree  # lazy: keeps start-up short
+
     tree = cKDTree(points)
     for k in range(3):
         mirrored = points.copy()
@@ -1114,6 +1124,8 @@ class ConvexPolyhedron(_PolyhedralShape):
 
     def __init__(self, vertices: Any, *, density: float | None = None, mass: float | None = None,
                  rtol: float = SYMMETRY_RTOL):
+        from scipy.spatial import ConvexHull, QhullError, cKDTree  # lazy: keeps start-up short
+
         rtol = _positive("rtol", rtol)
         try:
             pts = np.array(vertices, dtype=float)

@@ -7,7 +7,11 @@ Derived in dtcrit.symbolic.mass_properties; used by dtcrit.shapes.
 """
 import numpy as np
 
-from scipy.special import gamma
+def gamma(x):
+    """scipy.special.gamma, imported on first use (keeps ``dtcrit step`` start-up short)."""
+    from scipy.special import gamma as _gamma
+
+    return _gamma(x)
 
 def sphere_volume(radius):
     """Volume of a ball, 4/3 pi R^3 (spherical-coordinate integration).

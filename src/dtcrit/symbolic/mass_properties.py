@@ -297,5 +297,11 @@ def generated_files() -> dict[str, str]:
         "superquadric) and the moments of a tetrahedron for the exact decomposition of convex polyhedra.\n"
         "Derived in dtcrit.symbolic.mass_properties; used by dtcrit.shapes."
     )
-    preamble = "from scipy.special import gamma"
+    preamble = (
+        "def gamma(x):\n"
+        "    \"\"\"scipy.special.gamma, imported on first use (keeps ``dtcrit step`` start-up short).\"\"\"\n"
+        "    from scipy.special import gamma as _gamma\n"
+        "\n"
+        "    return _gamma(x)"
+    )
     return {TARGET: python_module(PRODUCER, summary, kernels(), preamble=preamble)}
