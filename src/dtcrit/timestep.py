@@ -16,7 +16,7 @@ For every pair of particle types that can touch (``Scene.pair_numbers``):
 ``dt_crit`` is the smallest of all of these; ``dt_recommended = safety * dt_crit``.  The
 estimates DEM codes use (``dtcrit.estimators``) are computed beside it and flagged ``unsafe`` when
 they exceed ``dt_crit``.  :meth:`StepResult.to_json` gives the stable, documented JSON form
-(``README.md, "Scene files"``).  No SymPy is imported here or below.
+(``README.md, section Scene files``).  No SymPy is imported here or below.
 """
 from __future__ import annotations
 
@@ -101,7 +101,7 @@ class StepResult:
         return FORMULAS[self.scene.integrator]
 
     def to_json(self) -> dict:
-        """The documented JSON form (schema ``dtcrit-step/1``; see README.md, "Scene files")."""
+        """The documented JSON form (schema ``dtcrit-step/1``; see README.md, section Scene files)."""
         sc = self.scene
         t = self.translation
         g = t.governing_direction
