@@ -32,7 +32,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import HalfspaceIntersection, QhullError
 
 from ._generated import contact as _k
 
@@ -263,6 +262,8 @@ def _cutting_planes(shape, inertia: np.ndarray, crude: float) -> ArmSupremum:
     lower, point, normal = float(lam[best]), pts[best], normals[best]
     upper = crude
     for _ in range(SUP_MAX_ITERATIONS):
+        from scipy.spatial import HalfspaceIntersection, QhullError  # lazy: keeps start-up short
+
         try:
             hs = HalfspaceIntersection(np.column_stack([normals, -h]), np.zeros(3))
         except QhullError:  # pragma: no cover - degenerate input; keep the bound found so far
