@@ -44,7 +44,10 @@ def test_two_unequal_spheres_pair_frequencies(r1, r2, rho1, rho2, kn, ks_ratio, 
     sliding = ks * (1 / m1 + 1 / m2 + r1**2 / i1 + r2**2 / i2)
     w = _omega2_all(p, c)
     top = max(normal, sliding)
-    assert w.max() == pytest.approx(top, rel=1e-9)
+    # the dense reference solve loses accuracy with the mass ratio (cond(M) up to 1e21 here):
+    # allow rounding of order eps * sqrt(m_max/m_min) on top of the 1e-9 target
+    rel = 1e-9 + 1e-15 * math.sqrt(max(m1 / m2, m2 / m1))
+    assert w.max() == pytest.approx(top, rel=rel)
     nonzero = np.sort(w[w > 1e-9 * top])
     assert nonzero == pytest.approx(np.sort([normal, sliding, sliding]), rel=1e-8)
 
