@@ -531,6 +531,21 @@ class _SuperquadricFamily(_Shape):
         arr.flags.writeable = False
         self._axes_arr, self._e1, self._e2 = arr, e1, e2
 
+    @property
+    def a(self) -> float:
+        """Semi-axis along local x [m]."""
+        return float(self._axes_arr[0])
+
+    @property
+    def b(self) -> float:
+        """Semi-axis along local y [m]."""
+        return float(self._axes_arr[1])
+
+    @property
+    def c(self) -> float:
+        """Semi-axis along local z [m]."""
+        return float(self._axes_arr[2])
+
     def _sample(self, n: int) -> tuple[np.ndarray, np.ndarray]:
         """About ``n`` surface points (never fewer than the six axis tips ``(+-a,0,0), ...``).
 
@@ -588,18 +603,6 @@ class Ellipsoid(_SuperquadricFamily):
         self._set_geometry(a, b, c, 1.0, 1.0)
         self._finish(_kernel(_mp.ellipsoid_volume, a, b, c), density, mass, _kernel(_mp.ellipsoid_inertia_per_mass, a, b, c), (a, b, c), a, "a")
 
-    @property
-    def a(self) -> float:
-        return float(self._axes_arr[0])
-
-    @property
-    def b(self) -> float:
-        return float(self._axes_arr[1])
-
-    @property
-    def c(self) -> float:
-        return float(self._axes_arr[2])
-
     def _label(self) -> str:
         a, b, c = self._axes_arr
         return f"Ellipsoid(a={_fmt(a)}, b={_fmt(b)}, c={_fmt(c)})"
@@ -631,18 +634,6 @@ class Superquadric(_SuperquadricFamily):
             superquadric_max_arm(a, b, c, e1, e2),
             "a",
         )
-
-    @property
-    def a(self) -> float:
-        return float(self._axes_arr[0])
-
-    @property
-    def b(self) -> float:
-        return float(self._axes_arr[1])
-
-    @property
-    def c(self) -> float:
-        return float(self._axes_arr[2])
 
     @property
     def eps1(self) -> float:

@@ -109,6 +109,24 @@ def _power_substitution(integrand: sp.Expr, u: sp.Symbol, scale: sp.Expr, power:
 # --------------------------------------------------------------------------------------------
 # Moments: volume and the diagonal second moments  int x^2 dV, int y^2 dV, int z^2 dV
 # --------------------------------------------------------------------------------------------
+def _stretched_ball_moments(sx, sy, sz) -> dict[str, sp.Expr]:
+    """Volume and second moments of the unit ball stretched by (sx, sy, sz), by direct integration."""
+    position = sp.Matrix(
+        [sx * _r * sp.sin(_theta) * sp.cos(_phi), sy * _r * sp.sin(_theta) * sp.sin(_phi), sz * _r * sp.cos(_theta)]
+    )
+    jac = sp.simplify(position.jacobian([_r, _theta, _phi]).det())
+
+    def integrate(f):
+        return sp.simplify(sp.integrate(f * jac, (_r, 0, 1), (_theta, 0, sp.pi), (_phi, 0, 2 * sp.pi)))
+
+    return {
+        "volume": integrate(sp.Integer(1)),
+        "xx": integrate(position[0] ** 2),
+        "yy": integrate(position[1] ** 2),
+        "zz": integrate(position[2] ** 2),
+    }
+
+
 @lru_cache(maxsize=None)
 def ellipsoid_moments() -> dict[str, sp.Expr]:
     """Volume and second moments of ``(x/a)^2 + (y/b)^2 + (z/c)^2 <= 1`` by direct integration.
@@ -116,39 +134,13 @@ def ellipsoid_moments() -> dict[str, sp.Expr]:
     Stretched spherical coordinates ``(a r sin(th) cos(ph), b r sin(th) sin(ph), c r cos(th))``;
     SymPy computes the Jacobian determinant ``a b c r^2 sin(th)``.
     """
-    position = sp.Matrix(
-        [a * _r * sp.sin(_theta) * sp.cos(_phi), b * _r * sp.sin(_theta) * sp.sin(_phi), c * _r * sp.cos(_theta)]
-    )
-    jac = sp.simplify(position.jacobian([_r, _theta, _phi]).det())
-
-    def integrate(f):
-        return sp.simplify(sp.integrate(f * jac, (_r, 0, 1), (_theta, 0, sp.pi), (_phi, 0, 2 * sp.pi)))
-
-    return {
-        "volume": integrate(sp.Integer(1)),
-        "xx": integrate(position[0] ** 2),
-        "yy": integrate(position[1] ** 2),
-        "zz": integrate(position[2] ** 2),
-    }
+    return _stretched_ball_moments(a, b, c)
 
 
 @lru_cache(maxsize=None)
 def sphere_moments() -> dict[str, sp.Expr]:
     """Volume and second moments of the ball of radius ``radius`` (spherical coordinates)."""
-    position = sp.Matrix(
-        [radius * _r * sp.sin(_theta) * sp.cos(_phi), radius * _r * sp.sin(_theta) * sp.sin(_phi), radius * _r * sp.cos(_theta)]
-    )
-    jac = sp.simplify(position.jacobian([_r, _theta, _phi]).det())
-
-    def integrate(f):
-        return sp.simplify(sp.integrate(f * jac, (_r, 0, 1), (_theta, 0, sp.pi), (_phi, 0, 2 * sp.pi)))
-
-    return {
-        "volume": integrate(sp.Integer(1)),
-        "xx": integrate(position[0] ** 2),
-        "yy": integrate(position[1] ** 2),
-        "zz": integrate(position[2] ** 2),
-    }
+    return _stretched_ball_moments(radius, radius, radius)
 
 
 @lru_cache(maxsize=None)
