@@ -15,8 +15,10 @@ import numpy as np
 import sympy as sp
 
 import dtcrit
+from dtcrit import arm_supremum as asup
 from dtcrit import contact_search as cs
 from dtcrit.shapes import Box, ConvexPolyhedron, Ellipsoid, Sphere, Superquadric
+from dtcrit.symbolic import contact_codegen as cc
 from dtcrit.symbolic import kinematics as kin
 
 RECORD = "sec2_3_kinematics.md"
@@ -351,31 +353,46 @@ def _cube_counterexample() -> list[str]:
 def _ellipsoid_closed_form() -> list[str]:
     rng = np.random.default_rng(11)
     rows = []
-    worst = 0.0
     for _ in range(6):
         d = np.sort(np.exp(rng.uniform(-1.5, 1.5, 3)))[::-1]
         e = Ellipsoid(*d, density=float(np.exp(rng.uniform(0, 8))))
-        sup = cs.arm_term_supremum(e)
-        inv = 1.0 / np.array(e.inertia)
-        closed = max(d[i] ** 2 * inv[j] for i in range(3) for j in range(3) if i != j)
+        closed = cs.arm_term_supremum(e).upper  # the generated kernel ellipsoid_arm_supremum
+        planes = asup.cutting_plane_supremum(e, e.inertia)  # independent: Qhull outer polytopes
         formula = 5 * d[0] ** 2 / (e.mass * (d[0] ** 2 + d[2] ** 2))
-        ok = sup.lower <= closed * (1 + 1e-12) and closed <= sup.upper * (1 + 1e-12)
-        worst = max(worst, sup.upper / closed - 1)
+        ok = planes.lower <= closed * (1 + 1e-12) and closed <= planes.upper * (1 + 1e-12)
         rows.append(f"| {_n(d[0], 4)}, {_n(d[1], 4)}, {_n(d[2], 4)} | {_n(closed * e.mass)} | {_n(formula * e.mass)} | "
-                    f"{'yes' if ok else '**no**'} |")
+                    f"[{_n(planes.lower * e.mass, 9)}, {_n(planes.upper * e.mass, 9)}] | {'yes' if ok else '**no**'} |")
+    tips = ", ".join(f"${_latex(v)}$" for v in cc.ellipsoid_tip_values())
     return [
-        "**Ellipsoids.**  For $r$ on an ellipsoid with semi-axes $d_i$ and principal inverse moments $W_j$, the searched "
-        "supremum of $\\lambda_{\\max}([r]_\\times^T I^{-1}[r]_\\times)$ equals $\\max_{i\\ne j} d_i^2 W_j$, attained at a tip "
-        "with the eigenvector along another principal axis.  Evidence (not a proof): the cutting-plane bounds of "
-        "`arm_term_supremum` bracket this value for random ellipsoids (below); in development, 300 random "
-        "ellipsoids with independent random diagonal inertias and 40 local maximisations each never exceeded it by "
-        "more than $2\\times10^{-15}$ (relative).  For a uniform ellipsoid ($I_{xx} = m(b^2+c^2)/5$, ...) this is "
-        "$5a^2/(m(a^2+c^2))$ (tip $a e_x$ against $I_{yy}$), always $\\le$ Eq. (26)'s $a^2/I_{xx} = 5a^2/(m(b^2+c^2))$: "
-        "Eq. (26) holds for ellipsoids but over-estimates each particle's term by $(a^2+c^2)/(b^2+c^2)$.",
+        "**Ellipsoids (proved).**  Write $W = I^{-1}$ and let $h$ be the support function of a convex body $K$.",
         "",
-        "| semi-axes | $m \\max_{i\\ne j} d_i^2 W_j$ | $5a^2/(a^2+c^2)$ | within the bounds |",
-        "| --- | --- | --- | --- |",
+        "1. $\\lambda_{\\max}([p]_\\times^T W [p]_\\times) = \\max_{|u|=1} |p \\times W^{1/2}u|^2$.",
+        "2. For fixed $w$, $\\sup_{p\\in K}|p\\times w|^2 = |w|^2 \\max_{e\\perp w,\\,|e|=1} h(e)^2$: the largest radius of "
+        "the projection of $K$ along $w$.",
+        "3. Hence $S = \\max h(e)^2/(\\hat w^T I \\hat w)$ over orthonormal pairs $(e, \\hat w)$.",
+        "4. For an ellipsoid with semi-axes $d_1 \\ge d_2 \\ge d_3$ along the principal axes, $h(e)^2 = \\sum_i d_i^2 e_i^2$.  "
+        "Put $x_i = e_i^2$, $y_j = \\hat w_j^2$: $\\sum x = \\sum y = 1$ and $x_i + y_i \\le 1$ (the third row of the "
+        "orthogonal matrix $[e\\;\\hat w\\;e\\times\\hat w]$).  The linear programme $\\max \\sum d_i^2 x_i$ under these "
+        "constraints is solved greedily: $\\sum d_i^2 x_i \\le d_1^2(1-y_1) + d_2^2 y_1 = d_1^2 y_2 + d_1^2 y_3 + d_2^2 y_1 "
+        "\\le M\\,(I_2 y_2 + I_3 y_3 + I_1 y_1) = M\\,\\hat w^T I \\hat w$ with $M = \\max_{i\\ne j} d_i^2/I_j$.",
+        "5. Equality at $e = e_i$, $\\hat w = e_j$: the tip $d_i e_i$ with the eigenvector along axis $j$.",
+        "",
+        "So $S = \\max_{i\\ne j} d_i^2/I_j$ for **any** principal inertia, not only the uniform ellipsoid's.  SymPy takes "
+        "the candidates from the eigenvalues of the derived per-particle term at the six tips "
+        f"(`contact_codegen.ellipsoid_tip_values`: {tips}) and emits their maximum as the kernel "
+        "`ellipsoid_arm_supremum`, which `a_bound` uses (no search).  For a uniform ellipsoid "
+        "($I_{xx} = m(b^2+c^2)/5$, ...) this is $5a^2/(m(a^2+c^2))$ (tip $a e_x$ against $I_{yy}$), always $\\le$ "
+        "Eq. (26)'s $a^2/I_{xx} = 5a^2/(m(b^2+c^2))$: Eq. (26) holds for ellipsoids but over-estimates each particle's "
+        "term by $(a^2+c^2)/(b^2+c^2)$.  Check against an independent route (support cutting planes, vertices by Qhull):",
+        "",
+        "| semi-axes | $m S$ (kernel) | $5a^2/(a^2+c^2)$ | cutting-plane bracket of $m S$ | inside |",
+        "| --- | --- | --- | --- | --- |",
         *rows,
+        "",
+        "**Superquadrics.**  No closed form (box-like ones reach their largest values near the corners).  `a_bound` uses "
+        "a branch and bound over cones of directions in the first octant (`dtcrit.arm_supremum_cones`: reflection "
+        "symmetry, supporting half-spaces at the corner points, vertex enumeration of small polytopes), NumPy only; "
+        "the tests check it against the cutting planes and dense surface samples.",
         "",
     ]
 
@@ -394,9 +411,10 @@ def section_full_matrix() -> list[str]:
         "\\lambda_{\\max}([p]_\\times^T I_i^{-1} [p]_\\times),$$",
         "",
         "which is `dtcrit.a_bound`.  $S_i$ is exact for polyhedra (maximum over the vertices, by the convexity of "
-        "Section 2) and for isotropic inertia ($\\mathrm{max\\_arm}^2/I$); for smooth bodies it is the maximum over the "
-        "vertices of an outer polytope of support half-spaces, refined until within $10^{-7}$ (relative) of the best "
-        "surface value.  For identical particles the bound is attained by the mirrored contact "
+        "Section 2), for isotropic inertia ($\\mathrm{max\\_arm}^2/I$) and for ellipsoids (the closed form proved "
+        "below); for superquadrics it is the largest vertex value of small outer polytopes over cones of directions "
+        "(branch and bound, below), and for any other smooth body the maximum over the vertices of an outer polytope "
+        "of support half-spaces; both are refined until within $10^{-7}$ (relative) of the best surface value.  For identical particles the bound is attained by the mirrored contact "
         "(`contact_search.mirror_contact`: particle 2 turned half a turn about the axis normal to the contact normal "
         "and to the top eigenvector).",
         "",

@@ -9,13 +9,8 @@ contact force in three tip-to-tip configurations and state (Eq 26) that
 where ``p_i`` is the contact point in particle ``i``'s local frame and ``Q_i`` its orientation
 (body -> global).  This module provides
 
-* :func:`arm_term_supremum`: bounds on ``S = sup over the body of lambda_max([p]x^T I^-1 [p]x)``.
-  ``lambda_max`` of that matrix is a maximum of convex quadratics in ``p`` (``v^T T v =
-  |I^-1/2 (p x v)|^2``), hence convex in ``p``: over a convex body its supremum sits at extreme
-  points.  Polyhedra: exact maximum over the vertices.  Isotropic inertia: ``max_arm^2 / I``
-  exactly.  Smooth bodies: outer approximation by support half-spaces (every polytope
-  ``{x : n.x <= h(n)}`` contains the body, so the maximum over its vertices is an upper bound),
-  refined where the bound is largest until it meets the best value found on the surface.
+* :func:`arm_term_supremum` (from :mod:`dtcrit.arm_supremum`, re-exported): bounds on
+  ``S = sup over the body of lambda_max([p]x^T I^-1 [p]x)``.
 * :func:`contact_frames` / :func:`random_contacts`: admissible contacts (the two outward normals
   opposite, particle 2 free to spin about the normal), for sampling.
 * :func:`search_supremum`: random sampling plus local maximisation of ``lambda_max(A)`` over
@@ -34,13 +29,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._generated import contact as _k
-
-# Cutting-plane controls for smooth bodies (the returned upper bound is valid whatever they are).
-SUP_RTOL = 1e-7
-"""Stop refining when the upper bound is within this relative distance of the best surface value."""
-SUP_MAX_HALFSPACES = 12000
-SUP_MAX_ITERATIONS = 80
-_SUPPORT_SLACK = 1e-12  # relative inflation of h(n): rounding in the support point never cuts the body
+from .arm_supremum import (  # noqa: F401  (re-exported: the per-particle supremum lives there)
+    SUP_RTOL,
+    ArmSupremum,
+    arm_lambda,
+    arm_term_supremum,
+    arm_terms_local,
+    largest_eigenvalue,
+)
 
 
 # ============================================================================================
@@ -52,26 +48,6 @@ def skew(v: np.ndarray) -> np.ndarray:
     z = np.zeros(v.shape[:-1])
     x, y, w = v[..., 0], v[..., 1], v[..., 2]
     return np.stack([np.stack([z, -w, y], -1), np.stack([w, z, -x], -1), np.stack([-y, x, z], -1)], -2)
-
-
-def arm_terms_local(points: np.ndarray, inertia) -> np.ndarray:
-    """``[p]x^T I^-1 [p]x`` (generated kernel ``arm_term``) for each row of ``points`` (local frame)."""
-    p = np.atleast_2d(np.asarray(points, dtype=float))
-    ixx, iyy, izz = (float(i) for i in inertia)
-    txx, tyy, tzz, txy, txz, tyz = (np.broadcast_to(np.asarray(t, float), p.shape[:1])
-                                    for t in _k.arm_term(p[:, 0], p[:, 1], p[:, 2], ixx, iyy, izz))
-    return np.stack([np.stack([txx, txy, txz], -1), np.stack([txy, tyy, tyz], -1),
-                     np.stack([txz, tyz, tzz], -1)], -2)
-
-
-def largest_eigenvalue(sym: np.ndarray) -> np.ndarray:
-    """Largest eigenvalue of each symmetric 3x3 matrix in ``sym`` (..., 3, 3)."""
-    return np.linalg.eigvalsh(sym)[..., -1]
-
-
-def arm_lambda(points: np.ndarray, inertia) -> np.ndarray:
-    """``lambda_max([p]x^T I^-1 [p]x)`` for each row of ``points``."""
-    return largest_eigenvalue(arm_terms_local(points, inertia))
 
 
 def rotation_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -113,188 +89,6 @@ def random_rotations(rng: np.random.Generator, n: int) -> np.ndarray:
 def unit_vectors(rng: np.random.Generator, n: int) -> np.ndarray:
     v = rng.normal(size=(n, 3))
     return v / np.linalg.norm(v, axis=1, keepdims=True)
-
-
-def fibonacci_sphere(n: int) -> np.ndarray:
-    """``n`` nearly uniform unit vectors (deterministic)."""
-    i = np.arange(n) + 0.5
-    polar = np.arccos(1.0 - 2.0 * i / n)
-    azim = math.pi * (1.0 + math.sqrt(5.0)) * i
-    return np.column_stack([np.cos(azim) * np.sin(polar), np.sin(azim) * np.sin(polar), np.cos(polar)])
-
-
-# ============================================================================================
-# Per-particle supremum S = sup lambda_max([p]x^T I^-1 [p]x) over the body
-# ============================================================================================
-@dataclass(frozen=True)
-class ArmSupremum:
-    """Bounds on ``S`` for one shape: ``lower <= S <= upper`` [1/kg].
-
-    ``point`` is a surface point (local frame) where ``lower`` is attained, ``normal`` an outward
-    unit normal there (in the normal cone at a vertex: ``support(normal) == point``), and
-    ``method`` says how the bounds were obtained (``"vertices"``, ``"isotropic"`` or
-    ``"support cutting planes"``).
-    """
-
-    upper: float
-    lower: float
-    point: tuple[float, float, float]
-    normal: tuple[float, float, float]
-    method: str
-    halfspaces: int = 0
-
-    @property
-    def relative_gap(self) -> float:
-        return self.upper / self.lower - 1.0
-
-
-def _shape_key(shape) -> tuple:
-    verts = getattr(shape, "vertices", None)
-    extra = tuple(float(getattr(shape, name)) for name in ("eps1", "eps2") if hasattr(shape, name))
-    return (
-        getattr(shape, "kind", type(shape).__name__),
-        tuple(float(x) for x in shape.inertia),
-        tuple(float(x) for x in shape.half_lengths),
-        float(shape.max_arm),
-        extra,
-        None if verts is None else np.asarray(verts, float).tobytes(),
-    )
-
-
-_CACHE: dict[tuple, ArmSupremum] = {}
-_CACHE_SIZE = 512
-
-
-def arm_term_supremum(shape) -> ArmSupremum:
-    """Bounds on ``sup over the body of lambda_max([p]x^T I^-1 [p]x)`` (cached per shape geometry)."""
-    key = _shape_key(shape)
-    hit = _CACHE.get(key)
-    if hit is None:
-        hit = _arm_term_supremum(shape)
-        if len(_CACHE) >= _CACHE_SIZE:
-            _CACHE.pop(next(iter(_CACHE)))
-        _CACHE[key] = hit
-    return hit
-
-
-def _arm_term_supremum(shape) -> ArmSupremum:
-    inertia = np.array(shape.inertia, dtype=float)
-    verts = getattr(shape, "vertices", None)
-    if verts is not None:
-        V = np.asarray(verts, dtype=float)
-        lam = arm_lambda(V, inertia)
-        i = int(np.argmax(lam))
-        return ArmSupremum(float(lam[i]), float(lam[i]), tuple(V[i]), _vertex_normal(shape, V[i]), "vertices")
-    w = 1.0 / inertia
-    arm = float(shape.max_arm)
-    crude = arm * arm * float(np.max(w))  # lambda_max(T(p)) <= |p|^2 max(1/I)
-    if float(np.max(w)) == float(np.min(w)):
-        d, p = _farthest_support_point(shape)
-        return ArmSupremum(crude, min(crude, float(arm_lambda(p[None, :], inertia)[0])), tuple(p), tuple(d), "isotropic")
-    return _cutting_planes(shape, inertia, crude)
-
-
-def _vertex_normal(shape, vertex: np.ndarray) -> tuple[float, float, float]:
-    """A unit direction whose support point is ``vertex`` (in its normal cone): the vertex's own
-    direction when that works, else the sampled vertex normal (mean of the adjacent face normals)."""
-    d = vertex / np.linalg.norm(vertex)
-    if np.allclose(shape.support(d), vertex, rtol=0, atol=1e-12 * np.linalg.norm(vertex)):
-        return tuple(d)
-    pts, nrm = shape.surface_points(1)  # the vertices come first, with their mean face normals
-    return tuple(nrm[int(np.argmin(np.linalg.norm(pts - vertex, axis=1)))])
-
-
-def _farthest_support_point(shape) -> tuple[np.ndarray, np.ndarray]:
-    """Direction and support point of largest norm (a surface point at distance ~ ``max_arm``):
-    dense directions, then a few rounds of local random refinement."""
-    rng = np.random.default_rng(0)
-    d = fibonacci_sphere(2000)
-    r = np.linalg.norm(shape.support(d), axis=1)
-    best = d[int(np.argmax(r))]
-    best_r = float(np.max(r))
-    sigma = 0.05
-    for _ in range(60):
-        trial = best + sigma * rng.normal(size=(32, 3))
-        trial /= np.linalg.norm(trial, axis=1, keepdims=True)
-        rt = np.linalg.norm(shape.support(trial), axis=1)
-        k = int(np.argmax(rt))
-        if rt[k] > best_r:
-            best, best_r, sigma = trial[k], float(rt[k]), sigma * 1.5
-        else:
-            sigma *= 0.6
-    return best, np.asarray(shape.support(best), float)
-
-
-def _support_planes(shape, normals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    pts = np.asarray(shape.support(normals), dtype=float)
-    h = np.einsum("ij,ij->i", normals, pts)
-    return pts, h + _SUPPORT_SLACK * np.linalg.norm(pts, axis=1)
-
-
-def _cut_directions(shape, outside: np.ndarray, start: np.ndarray) -> np.ndarray:
-    """Directions ``n`` with (ideally) ``n.v > h(n)`` for points ``v`` outside the body: gradient ascent
-    of the violation ``n.v - h(n)`` (concave in ``n``; its supergradient is ``v - support(n)``) on
-    the sphere from each row of ``start``, keeping only improving steps."""
-    scale = np.linalg.norm(outside, axis=1, keepdims=True)
-    n = start / np.linalg.norm(start, axis=1, keepdims=True)
-
-    def violation(nn):
-        return np.einsum("ij,ij->i", nn, outside) - np.einsum("ij,ij->i", nn, shape.support(nn))
-
-    g = violation(n)
-    step = np.full(n.shape[0], 0.5)
-    for _ in range(20):
-        trial = n + step[:, None] * (outside - shape.support(n)) / scale
-        trial /= np.linalg.norm(trial, axis=1, keepdims=True)
-        gt = violation(trial)
-        better = gt > g
-        n = np.where(better[:, None], trial, n)
-        g = np.where(better, gt, g)
-        step = np.where(better, step * 1.5, step * 0.3)
-    return n, g
-
-
-def _cutting_planes(shape, inertia: np.ndarray, crude: float) -> ArmSupremum:
-    normals = np.vstack([fibonacci_sphere(240), np.eye(3), -np.eye(3)])
-    pts, h = _support_planes(shape, normals)
-    lam = arm_lambda(pts, inertia)
-    best = int(np.argmax(lam))
-    lower, point, normal = float(lam[best]), pts[best], normals[best]
-    upper = crude
-    for _ in range(SUP_MAX_ITERATIONS):
-        from scipy.spatial import HalfspaceIntersection, QhullError  # lazy: keeps start-up short
-
-        try:
-            hs = HalfspaceIntersection(np.column_stack([normals, -h]), np.zeros(3))
-        except QhullError:  # pragma: no cover - degenerate input; keep the bound found so far
-            break
-        corners = hs.intersections
-        fc = arm_lambda(corners, inertia)
-        upper = min(upper, float(np.max(fc)))
-        if upper <= lower * (1.0 + SUP_RTOL) or normals.shape[0] >= SUP_MAX_HALFSPACES:
-            break
-        bad_idx = np.flatnonzero(fc > lower * (1.0 + SUP_RTOL))
-        room = SUP_MAX_HALFSPACES - normals.shape[0]
-        if bad_idx.size > room:
-            bad_idx = bad_idx[np.argsort(-fc[bad_idx])[:room]]
-        bad = corners[bad_idx]
-        # two starts per corner: the mean normal of the half-spaces meeting there (refines the
-        # sampled normals where the polytope is too coarse) and the corner's own direction
-        mean_normal = np.array([normals[list(hs.dual_facets[i])].sum(axis=0) for i in bad_idx])
-        n_a, g_a = _cut_directions(shape, bad, mean_normal)
-        n_b, g_b = _cut_directions(shape, bad, bad)
-        n_new = np.where((g_a >= g_b)[:, None], n_a, n_b)
-        p_new, h_new = _support_planes(shape, n_new)
-        keep = np.einsum("ij,ij->i", n_new, bad) > h_new
-        if not np.any(keep):
-            break
-        normals = np.vstack([normals, n_new[keep]])
-        h = np.concatenate([h, h_new[keep]])
-        lam_new = arm_lambda(p_new, inertia)
-        j = int(np.argmax(lam_new))
-        if lam_new[j] > lower:
-            lower, point, normal = float(lam_new[j]), p_new[j], n_new[j]
-    return ArmSupremum(upper, lower, tuple(point), tuple(normal), "support cutting planes", normals.shape[0])
 
 
 # ============================================================================================

@@ -67,7 +67,7 @@ def _a_bound(density: float, axes: tuple[float, float, float]) -> float:
 def pair_coefficients(density: float, axes: tuple[float, float, float] = PAPER_AXES) -> tuple[float, float]:
     """``(A_max of Eq. (26), verified a_bound)`` [1/kg] for two identical ellipsoids of ``density``.
 
-    ``A_max`` is evaluated at ``density``.  ``a_bound`` (a cutting-plane computation) is evaluated
+    ``A_max`` is evaluated at ``density``.  ``a_bound`` is evaluated
     once at ``REFERENCE_DENSITY`` and scaled by ``REFERENCE_DENSITY / density``: mass and inertia are
     both proportional to the density, so every term of the coefficient matrix scales as 1/rho
     exactly (checked against direct evaluations in tests/test_figures_sections.py).

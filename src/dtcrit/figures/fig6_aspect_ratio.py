@@ -105,7 +105,7 @@ def ratio_at(e1: float, e2: float, *, verified: bool = False) -> float:
 class AspectRatioData:
     """Figure 6 on the grid ``e1 x e2`` (arrays indexed ``[i_e1, i_e2]``); steps in seconds.
 
-    The verified translation step needs ``a_bound`` (a cutting-plane computation per geometry), so
+    The verified translation step needs ``a_bound`` for every geometry, so
     it is evaluated on the sub-grid ``e_verified`` (every ``VERIFIED_STRIDE``-th grid value).
     """
 

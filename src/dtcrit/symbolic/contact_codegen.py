@@ -8,7 +8,10 @@ and 5), never typed in here:
 * ``rotation_matrix``: Eq (7) (global -> local, the paper's ``M_L = R M_G``);
 * ``arm_term``: the rotational part one particle adds to the coefficient matrix of the contact
   force, in its local frame, from the general kinematics (Eqs 3-19 with the partner removed);
-* ``gyroscopic_coefficients``: torque-free Euler equations (Eqs 11-12 with ``M_L = 0``).
+* ``gyroscopic_coefficients``: torque-free Euler equations (Eqs 11-12 with ``M_L = 0``);
+* ``ellipsoid_arm_supremum``: the supremum over an ellipsoid of the largest eigenvalue of
+  ``arm_term``, ``max_{i != j} d_i^2 / I_j`` (:func:`ellipsoid_tip_values`; proof in
+  ``derivations/records/sec2_3_kinematics.md``).
 """
 from __future__ import annotations
 
@@ -24,6 +27,24 @@ m1, m2, Ixx1, Ixx2, a1, a2 = sp.symbols("m1 m2 Ixx1 Ixx2 a1 a2", positive=True)
 Ixx, Iyy, Izz = sp.symbols("Ixx Iyy Izz", positive=True)
 rx, ry, rz = sp.symbols("rx ry rz", real=True)
 qw, qx, qy, qz = sp.symbols("qw qx qy qz", real=True)
+da, db, dc = sp.symbols("da db dc", positive=True)
+
+
+def ellipsoid_tip_values(d=(da, db, dc), inertia=(Ixx, Iyy, Izz)) -> list[sp.Expr]:
+    """Eigenvalues of ``arm_term`` at the six tips ``+-d_i e_i`` of an ellipsoid with semi-axes
+    ``d`` along the principal axes: ``d_i^2 / I_j`` for ``j != i`` (taken from the generated
+    kinematics, not typed in).  Their maximum is the supremum over the whole ellipsoid (the
+    proof is an inequality, written out in ``derivations/records/sec2_3_kinematics.md``)."""
+    I = kin.inertia_tensor(*inertia)
+    values = []
+    for i, di in enumerate(d):
+        tip = [0, 0, 0]
+        tip[i] = di
+        T = kin.arm_term(tip, I)
+        for lam, mult in T.eigenvals().items():
+            if lam != 0:
+                values.extend([sp.factor(lam)] * mult)
+    return values
 
 
 def kernels() -> list[Kernel]:
@@ -72,6 +93,14 @@ def kernels() -> list[Kernel]:
             expr=kin.gyroscopic_coefficients(Ixx, Iyy, Izz),
             doc="Torque-free Euler equations (Eqs 11-12, M_L = 0): wdot_x = c_x w_y w_z, wdot_y = c_y w_z w_x, wdot_z = c_z w_x w_y.",
             returns="(c_x, c_y, c_z) [-]",
+            cse=False,
+        ),
+        Kernel(
+            name="ellipsoid_arm_supremum",
+            args=[(da, "semi-axis along local x [m]"), (db, "along local y [m]"), (dc, "along local z [m]"), *inertia],
+            expr=sp.Max(*ellipsoid_tip_values()),
+            doc="Supremum over an ellipsoid (semi-axes along the principal axes) of lambda_max([r]x^T I^-1 [r]x): max_{i != j} d_i^2/I_j.",
+            returns="S [1/kg]",
             cse=False,
         ),
     ]

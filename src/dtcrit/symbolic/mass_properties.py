@@ -47,10 +47,9 @@ _theta, _phi = sp.symbols("theta phi", real=True)
 _alpha, _beta = sp.symbols("alpha beta", positive=True)
 
 
-class scipy_gamma(sp.Function):
-    """Gamma function printed as ``gamma(...)`` (``scipy.special.gamma``, vectorised).
-
-    The NumPy printer would emit ``math.gamma``, which accepts scalars only.
+class elementwise_gamma(sp.Function):
+    """Gamma function printed as ``gamma(...)``: the generated module's own element-wise wrapper of
+    ``math.gamma`` (the NumPy printer would emit ``math.gamma``, which accepts scalars only).
     """
 
     def _numpycode(self, printer):  # noqa: D401 - SymPy printer hook
@@ -237,8 +236,8 @@ def tetrahedron_moments() -> dict[str, sp.Expr]:
 # --------------------------------------------------------------------------------------------
 # Emission
 # --------------------------------------------------------------------------------------------
-def _scipy_gamma(expr: sp.Expr) -> sp.Expr:
-    return expr.replace(sp.gamma, scipy_gamma)
+def _elementwise_gamma(expr: sp.Expr) -> sp.Expr:
+    return expr.replace(sp.gamma, elementwise_gamma)
 
 
 def kernels() -> list[Kernel]:
@@ -267,11 +266,11 @@ def kernels() -> list[Kernel]:
         Kernel("box_inertia_per_mass", axes, inertia_per_mass(box),
                "Principal moments of a uniform box (half-lengths) divided by its mass, I_xx/m = (b^2 + c^2)/3.",
                returns=inertia_doc),
-        Kernel("superquadric_volume", sq_args, _scipy_gamma(sq["volume"]),
+        Kernel("superquadric_volume", sq_args, _elementwise_gamma(sq["volume"]),
                "Volume of the superquadric (|x/a|^(2/eps2) + |y/b|^(2/eps2))^(eps2/eps1) + |z/c|^(2/eps1) <= 1\n"
                "    (Barr/Jaklic convention), a product of two Beta functions written with Gamma functions.",
                returns="volume [m^3]"),
-        Kernel("superquadric_inertia_per_mass", sq_args, tuple(_scipy_gamma(e) for e in inertia_per_mass(sq)),
+        Kernel("superquadric_inertia_per_mass", sq_args, tuple(_elementwise_gamma(e) for e in inertia_per_mass(sq)),
                "Principal moments of a uniform superquadric divided by its mass (Gamma-function ratios whose\n"
                "    arguments lie in [1/2, 6] for 0 < eps <= 2: no poles, no overflow).",
                returns=inertia_doc),
@@ -290,10 +289,14 @@ def generated_files() -> dict[str, str]:
         "Derived in dtcrit.symbolic.mass_properties; used by dtcrit.shapes."
     )
     preamble = (
-        "def gamma(x):\n"
-        "    \"\"\"scipy.special.gamma, imported on first use (keeps ``dtcrit step`` start-up short).\"\"\"\n"
-        "    from scipy.special import gamma as _gamma\n"
+        "import math\n"
         "\n"
-        "    return _gamma(x)"
+        "\n"
+        "def gamma(x):\n"
+        "    \"\"\"Gamma function element-wise through ``math.gamma`` (scalars or arrays; no SciPy import,\n"
+        "    which keeps ``dtcrit step`` start-up short).\"\"\"\n"
+        "    if np.ndim(x) == 0:\n"
+        "        return math.gamma(float(x))\n"
+        "    return np.vectorize(math.gamma, otypes=[float])(x)"
     )
     return {TARGET: python_module(PRODUCER, summary, kernels(), preamble=preamble)}
