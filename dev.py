@@ -5,13 +5,18 @@
     python3 dev.py test       the same set-up, then the whole test suite
     python3 dev.py generate   regenerate the committed generated code and derivation records
 
-Every task creates the virtual environment ``.venv`` beside this file when it is missing and
-(re)installs the package whenever ``pyproject.toml`` changed since the last install.
+Every task creates the virtual environment ``.venv`` beside this file when it is missing,
+(re)installs the package whenever ``pyproject.toml`` changed since the last install, and
+byte-compiles ``src`` (cheap when up to date), so that with ``PYTHONDONTWRITEBYTECODE=1`` dtcrit
+is not recompiled at every start.  ``test`` also installs ``gfortran`` with ``apt-get`` when it is
+missing and we are root, so the emitted Fortran is compiled and tested (never fatal: without it
+those tests skip; ``DTCRIT_NO_APT=1`` opts out).
 """
 from __future__ import annotations
 
 import hashlib
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -47,6 +52,32 @@ def ensure_venv() -> None:
     STAMP.write_text(digest)
 
 
+def compile_sources() -> None:
+    """Write the bytecode of ``src`` (compileall skips modules whose .pyc is up to date)."""
+    if run(PY, "-m", "compileall", "-q", "src") != 0:
+        print("byte-compiling src failed (not fatal: Python compiles on import)", flush=True)
+
+
+def ensure_gfortran() -> None:
+    """Install gfortran with apt-get when it is missing (root only; never fatal; DTCRIT_NO_APT=1 opts out)."""
+    if shutil.which("gfortran") or os.environ.get("DTCRIT_NO_APT") == "1":
+        return
+    apt = shutil.which("apt-get")
+    if apt is None or not hasattr(os, "geteuid") or os.geteuid() != 0:
+        print("gfortran is missing and cannot be installed here (needs apt-get as root): "
+              "the Fortran codegen tests will skip", flush=True)
+        return
+    print("gfortran is missing: installing it with apt-get so the emitted Fortran is compiled and tested "
+          "(DTCRIT_NO_APT=1 opts out)", flush=True)
+    env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
+    install = (apt, "install", "-y", "-q", "--no-install-recommends", "gfortran")
+    if run(*install, env=env) == 0:
+        return
+    if run(apt, "update", "-q", env=env) == 0 and run(*install, env=env) == 0:
+        return
+    print("installing gfortran failed (not fatal): the Fortran codegen tests will skip", flush=True)
+
+
 def child_env() -> dict:
     env = dict(os.environ)
     env.setdefault("MPLBACKEND", "Agg")
@@ -59,6 +90,7 @@ def demo() -> int:
 
 
 def test() -> int:
+    ensure_gfortran()
     env = child_env()
     env.setdefault("HYPOTHESIS_PROFILE", "ci")
     # two pytest workers on two cores: BLAS's own threads would only compete with them
@@ -80,4 +112,5 @@ if __name__ == "__main__":
     if len(sys.argv) < 2 or sys.argv[1] not in TASKS:
         sys.exit("usage: python3 dev.py {%s} [args]" % "|".join(TASKS))
     ensure_venv()
+    compile_sources()
     sys.exit(TASKS[sys.argv[1]]())

@@ -25,7 +25,7 @@ from dtcrit.scene import load_scene
 from dtcrit.shapes import Box, Ellipsoid, Sphere
 from dtcrit.timestep import critical_step
 
-from test_codegen_support import c_function, kernel_for, numpy_function, ulps
+from test_codegen_support import GFORTRAN, c_function, fortran_function, kernel_for, numpy_function, ulps
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = {p.stem: p for p in (ROOT / "examples").glob("*.toml")}
@@ -88,6 +88,9 @@ def test_undamped_scheme_without_a_stable_step_is_refused():
     with pytest.raises(InputError) as exc:  # paper-eq40 with an undamped shear direction: dt = 0 always
         build_kernel(KernelStructure("paper-eq40", True, ("general",), True, False, False))
     assert "undamped in the shear direction" in exc.value.reason
+    with pytest.raises(InputError) as exc:  # B = 0 for spheres: no rotation bound to emit
+        KernelStructure("velocity-verlet", False, ("sphere", "sphere"), True, True, True)
+    assert exc.value.key == "rotation"
 
 
 @settings(max_examples=40)
@@ -153,10 +156,12 @@ def test_arm_based_A_bounds_the_coefficient_matrix(shapes):
 def test_emitted_step_at_the_scene_values_against_dtcrit_step(scene):
     """The emitted function at the scene's masses, moments, largest arms, stiffnesses and damping
     never exceeds the verified step of ``dtcrit step`` (A at the largest arm >= a_bound) and equals
-    it for spheres, where both are 7/(2m) per particle."""
+    it for spheres, where both are 7/(2m) per particle.  The scene's C and Fortran (when gfortran
+    is present) give the NumPy's value within 1 ulp."""
     s = load_scene(EXAMPLE[scene])
     kernel = build_kernel(structure_of_scene(s))
     f = numpy_function(kernel)
+    compiled = [c_function(kernel)] + ([fortran_function(kernel)] if GFORTRAN else [])
     result = critical_step(s)
     for pair in result.pairs:
         c = pair.contact
@@ -166,7 +171,10 @@ def test_emitted_step_at_the_scene_values_against_dtcrit_step(scene):
             sh = part.shape
             values.update({f"m{tag}": sh.mass, f"I_xx{tag}": sh.inertia[0], f"I_yy{tag}": sh.inertia[1],
                            f"I_zz{tag}": sh.inertia[2], f"r{tag}": sh.max_arm})
-        got = f(*[values[a.name] for a in kernel.arguments])
+        args = [values[a.name] for a in kernel.arguments]
+        got = f(*args)
+        for g in compiled:
+            assert ulps(g(*args), got) <= 1, (scene, pair.label, g(*args), got)
         expected = min(pair.dt_translation, pair.dt_rotation or math.inf)
         assert got <= expected * (1 + 1e-13), (scene, pair.label, got, expected)
         if all(p.kind == "sphere" for p in sides):

@@ -1,5 +1,10 @@
 """Support for the codegen tests: compile emitted C (system ``cc``) and Fortran (``gfortran`` when
-present) into shared libraries called through ctypes, import emitted NumPy, measure ulps."""
+present; ``python3 dev.py test`` installs it) into shared libraries called through ctypes, import
+emitted NumPy, measure ulps.
+
+Both compilers run in their strictest standard mode with every warning an error.  For gfortran,
+``-Wextra`` less ``-Wcompare-reals``: the cubic helper's exact comparisons with zero are deliberate
+guards (the C helper has the same ones)."""
 import ctypes
 import functools
 import hashlib
@@ -16,7 +21,11 @@ from dtcrit.codegen import build_kernel, render
 
 CC = shutil.which("cc") or shutil.which("gcc")
 GFORTRAN = shutil.which("gfortran")
-FORTRAN_SKIP = "gfortran is not installed on this machine: the emitted Fortran cannot be compiled here (not installed on purpose)"
+FORTRAN_SKIP = ("gfortran is not on PATH, so the emitted Fortran cannot be compiled here (python3 dev.py test installs it "
+                "with apt-get when run as root, unless DTCRIT_NO_APT=1)")
+C_FLAGS = ("-std=c99", "-pedantic", "-Wall", "-Wextra", "-Werror")
+FORTRAN_FLAGS = ("-std=f2008", "-pedantic", "-fimplicit-none", "-Wall", "-Wextra", "-Wno-compare-reals",
+                 "-Wconversion-extra", "-Werror")
 _BUILD = Path(tempfile.mkdtemp(prefix="dtcrit-codegen-tests-"))
 
 
@@ -29,12 +38,15 @@ def ulps(got: float, ref) -> float:
 
 
 def _build(source: str, suffix: str, command) -> Path:
-    digest = hashlib.sha256(source.encode()).hexdigest()[:16]
+    """Compile once per (source, command); a failure fails the test with the compiler's messages."""
+    digest = hashlib.sha256((source + repr(command(Path("s"), Path("o")))).encode()).hexdigest()[:16]
     src = _BUILD / f"k_{digest}{suffix}"
     lib = _BUILD / f"k_{digest}.so"
     if not lib.exists():
         src.write_text(source)
-        subprocess.run(command(src, lib), check=True, capture_output=True, cwd=_BUILD)
+        p = subprocess.run(command(src, lib), capture_output=True, text=True, cwd=_BUILD)
+        if p.returncode != 0:
+            pytest.fail(f"{' '.join(command(src, lib))} failed:\n{p.stdout}{p.stderr}")
     return lib
 
 
@@ -50,16 +62,21 @@ def c_function(kernel, name="dtcrit_dt_crit"):
     if CC is None:
         pytest.fail("no system C compiler (cc) found")
     source = render(kernel, "c", name)
-    lib = _build(source, ".c", lambda s, o: [CC, "-std=c99", "-O2", "-Wall", "-Werror", "-shared", "-fPIC", "-o", str(o), str(s), "-lm"])
+    lib = _build(source, ".c", lambda s, o: [CC, *C_FLAGS, "-O2", "-shared", "-fPIC", "-o", str(o), str(s), "-lm"])
     return _bind(lib, name, len(kernel.arguments))
 
 
-@functools.lru_cache(maxsize=None)
-def fortran_function(kernel, name="dtcrit_dt_crit"):
+def fortran_library(source: str, extra_flags: tuple[str, ...] = ()) -> Path:
+    """Emitted Fortran compiled with ``FORTRAN_FLAGS`` (and ``extra_flags``); skips without gfortran."""
     if GFORTRAN is None:
         pytest.skip(FORTRAN_SKIP)
-    source = render(kernel, "fortran", name)
-    lib = _build(source, ".f90", lambda s, o: [GFORTRAN, "-std=f2008", "-O2", "-Wall", "-shared", "-fPIC", "-o", str(o), str(s)])
+    return _build(source, ".f90", lambda s, o: [GFORTRAN, *FORTRAN_FLAGS, "-O2", *extra_flags, "-shared", "-fPIC",
+                                                "-o", str(o), str(s)])
+
+
+@functools.lru_cache(maxsize=None)
+def fortran_function(kernel, name="dtcrit_dt_crit", extra_flags: tuple[str, ...] = ()):
+    lib = fortran_library(render(kernel, "fortran", name), extra_flags)
     return _bind(lib, name, len(kernel.arguments))
 
 
@@ -84,3 +101,11 @@ def kernel_for(structure):
 def test_c_compiler_is_available():
     """The C checks are mandatory: the system compiler must exist."""
     assert CC is not None
+
+
+def test_fortran_compiler_is_available():
+    """Said once, with its reason, when the Fortran checks cannot run."""
+    if GFORTRAN is None:
+        pytest.skip(FORTRAN_SKIP)
+    version = subprocess.run([GFORTRAN, "--version"], capture_output=True, text=True, check=True).stdout
+    assert "Fortran" in version

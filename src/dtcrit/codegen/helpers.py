@@ -144,35 +144,35 @@ FORTRAN_HELPER = """\
     real(c_double), intent(in) :: a2, a1, a0
     logical, intent(in) :: largest
     real(c_double) :: t
-    real(c_double), parameter :: pi = 3.14159265358979323846d0
+    real(c_double), parameter :: pi = 3.141592653589793_c_double
     real(c_double) :: shift, p, q, r, arg, phi, s3, u, one, g, dg, big
     real(c_double) :: s, c, pr, pe, sm, bb, se, sh, sl, th, tl
     real(c_double) :: cand(3), coef(3)
     integer :: n, j, k
-    shift = a2 / 3.0d0
+    shift = a2 / 3.0_c_double
     p = a1 - a2 * shift
-    q = (2.0d0 * shift * shift - a1) * shift + a0
+    q = (2.0_c_double * shift * shift - a1) * shift + a0
     n = 0
-    if (p < 0.0d0 .and. q * q / 4.0d0 + p * p * p / 27.0d0 <= 0.0d0) then
-      r = 2.0d0 * sqrt(-p / 3.0d0)
-      arg = 0.0d0
-      if (r > 0.0d0) arg = 4.0d0 * q / (r * r * r)
-      arg = max(-1.0d0, min(1.0d0, arg))
-      phi = acos(-arg) / 3.0d0
+    if (p < 0.0_c_double .and. q * q / 4.0_c_double + p * p * p / 27.0_c_double <= 0.0_c_double) then
+      r = 2.0_c_double * sqrt(-p / 3.0_c_double)
+      arg = 0.0_c_double
+      if (r > 0.0_c_double) arg = 4.0_c_double * q / (r * r * r)
+      arg = max(-1.0_c_double, min(1.0_c_double, arg))
+      phi = acos(-arg) / 3.0_c_double
       do j = 0, 2
         n = n + 1
-        cand(n) = r * cos(phi - 2.0d0 * pi * j / 3.0d0) - shift
+        cand(n) = r * cos(phi - 2.0_c_double * pi * real(j, c_double) / 3.0_c_double) - shift
       end do
     else
-      s3 = sqrt(abs(p) / 3.0d0)
-      if (p > 0.0d0) then
-        one = -2.0d0 * s3 * sinh(asinh(1.5d0 * q / (p * s3)) / 3.0d0)
-      else if (p < 0.0d0) then
-        u = max(1.0d0, 1.5d0 * abs(q) / (-p * s3))
-        one = -2.0d0 * sign(1.0d0, q) * s3 * cosh(acosh(u) / 3.0d0)
-        if (q == 0.0d0) one = 0.0d0
+      s3 = sqrt(abs(p) / 3.0_c_double)
+      if (p > 0.0_c_double) then
+        one = -2.0_c_double * s3 * sinh(asinh(1.5_c_double * q / (p * s3)) / 3.0_c_double)
+      else if (p < 0.0_c_double) then
+        u = max(1.0_c_double, 1.5_c_double * abs(q) / (-p * s3))
+        one = -2.0_c_double * sign(1.0_c_double, q) * s3 * cosh(acosh(u) / 3.0_c_double)
+        if (q == 0.0_c_double) one = 0.0_c_double
       else
-        one = -sign(abs(q)**(1.0d0 / 3.0d0), q)
+        one = -sign(abs(q)**(1.0_c_double / 3.0_c_double), q)
       end if
       n = 1
       cand(1) = one - shift
@@ -184,29 +184,29 @@ FORTRAN_HELPER = """\
       t = big
     end if
     do j = 1, n
-      if (cand(j) > 0.0d0) then
+      if (cand(j) > 0.0_c_double) then
         if (largest .and. cand(j) > t) t = cand(j)
         if (.not. largest .and. cand(j) < t) t = cand(j)
       end if
     end do
     do k = 1, 3
       g = ((t + a2) * t + a1) * t + a0
-      dg = (3.0d0 * t + 2.0d0 * a2) * t + a1
-      if (ieee_is_finite(t) .and. dg /= 0.0d0) t = t - g / dg
+      dg = (3.0_c_double * t + 2.0_c_double * a2) * t + a1
+      if (ieee_is_finite(t) .and. dg /= 0.0_c_double) t = t - g / dg
     end do
     ! two more Newton steps with the residual from compensated Horner (Dekker's error-free
     ! product with Veltkamp splitting, error-free sums)
     do k = 1, 2
       if (.not. ieee_is_finite(t)) exit
       coef = [a2, a1, a0]
-      s = 1.0d0
-      c = 0.0d0
+      s = 1.0_c_double
+      c = 0.0_c_double
       do j = 1, 3
         pr = s * t
-        sh = 134217729.0d0 * s
+        sh = 134217729.0_c_double * s
         sh = sh - (sh - s)
         sl = s - sh
-        th = 134217729.0d0 * t
+        th = 134217729.0_c_double * t
         th = th - (th - t)
         tl = t - th
         pe = ((sh * th - pr) + sh * tl + sl * th) + sl * tl
@@ -216,9 +216,9 @@ FORTRAN_HELPER = """\
         s = sm
         c = c * t + (pe + se)
       end do
-      dg = (3.0d0 * t + 2.0d0 * a2) * t + a1
-      if (dg /= 0.0d0) t = t - (s + c) / dg
+      dg = (3.0_c_double * t + 2.0_c_double * a2) * t + a1
+      if (dg /= 0.0_c_double) t = t - (s + c) / dg
     end do
-    if (.not. ieee_is_finite(t)) t = 0.0d0
+    if (.not. ieee_is_finite(t)) t = 0.0_c_double
   end function {name}
 """

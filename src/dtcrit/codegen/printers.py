@@ -70,17 +70,42 @@ class CPrinter(C99CodePrinter):
 
 
 class FortranPrinter(FCodePrinter):
-    """Fortran 2008 free form (``hypot`` intrinsic, ``merge`` for inline branches)."""
+    """Fortran 2008 free form (``hypot`` intrinsic, ``merge`` for inline branches).
+
+    Every real literal carries the kind ``c_double`` of the variables (``0.5_c_double``), not
+    SymPy's ``d0``: a ``d0`` literal is DOUBLE PRECISION, which compilers can widen on their own
+    (gfortran's ``-fdefault-real-8`` makes it quad precision), and then ``merge``, ``max`` and
+    ``sign`` refuse the mixed kinds, or the arithmetic silently leaves IEEE double.
+    """
+
+    KIND = "c_double"
 
     def __init__(self, helper_name: str):
         super().__init__({"standard": 2008, "source_format": "free"})
         self.helper_name = helper_name
 
+    def _real(self, integer: int) -> str:
+        return f"{integer}.0_{self.KIND}"
+
+    def _print_Float(self, expr):
+        text = super()._print_Float(expr)  # 1.5d0, 1.5d-3: the d exponent becomes e and a kind
+        mantissa, _, exponent = text.partition("d")
+        return f"{mantissa}{'e' + exponent if exponent not in ('', '0') else ''}_{self.KIND}"
+
+    def _print_Rational(self, expr):
+        return f"{self._real(expr.p)}/{self._real(expr.q)}"
+
     def _print_Pow(self, expr):
         roots = _hypot_args(expr)
         if roots is not None:
             text = f"hypot({self._print(roots[0])}, {self._print(roots[1])})"
-            return text if expr.exp == sp.S.Half else f"(1.0d0/{text})"
+            return text if expr.exp == sp.S.Half else f"({self._real(1)}/{text})"
+        base, exp = expr.args
+        prec = sp.printing.precedence.precedence(expr)
+        if exp == -1:
+            return f"{self._real(1)}/{self.parenthesize(base, prec)}"
+        if exp == sp.S.Half and base.is_Integer:
+            return f"sqrt({self._real(base)})"
         return super()._print_Pow(expr)
 
     def _print_cubic_positive_root(self, expr):

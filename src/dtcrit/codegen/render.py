@@ -6,6 +6,7 @@ timestamp or version, so the same scene always gives byte-identical output.
 """
 from __future__ import annotations
 
+import keyword
 import re
 import textwrap
 
@@ -25,6 +26,29 @@ def check_name(name: str) -> str:
     if not isinstance(name, str) or not _IDENT.match(name) or name.lower() in {"dt", "a", "b", "pi", "np", "int", "double"}:
         raise InputError("name", f"must be an identifier valid in C, Fortran and Python (letter first, then letters, "
                          f"digits or _; at most 48 characters) (got {name!r})")
+    return name
+
+
+# names the emitted code uses besides the kernel's own: library functions of the printers and
+# helpers (C <math.h>, Fortran intrinsics, NumPy), the Fortran helper, keywords of the three languages
+_USED_NAMES = frozenset("""
+    sqrt hypot fmin fmax fabs cbrt acos cos sinh asinh cosh acosh fma isfinite min max abs merge sign real
+    ieee_is_finite ieee_value ieee_positive_inf ieee_arithmetic iso_c_binding c_double cubic_positive_root
+    auto break case char const continue default do else enum extern float for goto if inline long register
+    restrict return short signed sizeof static struct switch typedef union unsigned void volatile while
+""".split()) | frozenset(w.lower() for w in keyword.kwlist)
+FORTRAN_HELPER_NAME = "cubic_positive_root"
+"""The Fortran helper is a private module procedure, so it needs no prefix (and ``name`` plus a
+suffix could exceed Fortran's 63-character limit on names)."""
+
+
+def check_name_for(kernel: ContactKernel, name: str) -> str:
+    """``name`` is not one the emitted code already uses: the kernel's arguments and intermediate
+    values, the functions it calls, a keyword.  Compared without case, as Fortran does."""
+    taken = {a.name.lower() for a in kernel.arguments} | {str(s).lower() for s, _ in kernel.statements()}
+    if name.lower() in taken or name.lower() in _USED_NAMES:
+        raise InputError("name", f"{name!r} is already a name in the emitted code (an argument, an intermediate "
+                         "value, a function it calls or a keyword; compared without case as in Fortran); choose another")
     return name
 
 
@@ -86,7 +110,7 @@ def render_c(kernel: ContactKernel, name: str, header: list[str]) -> str:
 
 
 def render_fortran(kernel: ContactKernel, name: str, header: list[str]) -> str:
-    helper = f"{name}_cubic_positive_root"
+    helper = FORTRAN_HELPER_NAME
     printer = FortranPrinter(helper)
     stmts = _statements(kernel)
     module = f"{name}_module"
@@ -152,7 +176,7 @@ def render(kernel: ContactKernel, lang: str, name: str = DEFAULT_NAME, scene_lab
     """Source text of ``kernel`` in ``lang`` (one of ``LANGUAGES``)."""
     if lang not in RENDERERS:
         raise InputError("lang", f"unknown language {lang!r}; choose one of {', '.join(LANGUAGES)}")
-    name = check_name(name)
+    name = check_name_for(kernel, check_name(name))
     command = command or f"dtcrit codegen SCENE --lang {lang}"
     return RENDERERS[lang](kernel, name, header_lines(kernel, lang, scene_label, command))
 
@@ -166,4 +190,4 @@ def count_c_operations(source: str) -> int:
     return ops + calls
 
 
-__all__ = ["LANGUAGES", "DEFAULT_NAME", "render", "check_name", "count_c_operations"]
+__all__ = ["LANGUAGES", "DEFAULT_NAME", "render", "check_name", "check_name_for", "count_c_operations"]

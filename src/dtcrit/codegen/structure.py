@@ -34,6 +34,8 @@ class KernelStructure:
         check_integrator(self.integrator)
         if len(self.sides) != (1 if self.identical else 2) or any(s not in SIDE_KINDS for s in self.sides):
             raise InputError("sides", f"need {'one side' if self.identical else 'two sides'} from {SIDE_KINDS} (got {self.sides})")
+        if self.rotation and "general" not in self.sides:  # B = 0 for spheres: no rotation bound to emit
+            raise InputError("rotation", "the rotation-dominant bound needs a non-spherical side (B_max = 0 for a sphere)")
 
     @property
     def damped(self) -> bool:
