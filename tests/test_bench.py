@@ -172,12 +172,25 @@ def test_json_summary_has_the_documented_keys(result):
     assert isinstance(doc["speedup_vs_eig"], float) and isinstance(doc["kernel_vs_floor"], float)
 
 
+def test_startup_figures_cover_every_example_and_no_heavy_import(result):
+    """The start-up section reports a figure per example scene (never asserted: machines are shared)
+    and, structurally, that `dtcrit step` loads none of SymPy, scipy.spatial/sparse/special/linalg/optimize."""
+    startup = result["startup"]
+    assert {r["scene"] for r in startup["scenes"]} >= {"paper_ellipsoids.toml", "superquadric.toml",
+                                                       "polyhedron_cube.toml", "glass_spheres_hertz.toml"}
+    for r in startup["scenes"]:
+        assert r["heavy_modules"] == [], r
+        assert 0 < r["best_seconds"] <= r["median_seconds"] and r["best_over_numpy_import"] > 0
+    assert json_summary(result)["startup"] == startup
+
+
 def test_report_files(result, tmp_path):
     paths = write_report(result, tmp_path)
     names = {p.name for p in paths}
     assert {"bench.md", "routes.csv", "suite.csv", "paper_forms.csv", "simulation.csv", "work_precision.png"} <= names
     md = (tmp_path / "bench.md").read_text()
-    for text in ("## Routes", "speedup_vs_eig", "kernel_vs_floor", "## Machine", "numpy:", "mpmath:", "sympy:"):
+    for text in ("## Routes", "speedup_vs_eig", "kernel_vs_floor", "## Start-up of `dtcrit step`", "paper_ellipsoids.toml",
+                 "## Machine", "numpy:", "mpmath:", "sympy:"):
         assert text in md
     with (tmp_path / "routes.csv").open() as fh:
         rows = list(csv.DictReader(fh))

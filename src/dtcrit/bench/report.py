@@ -19,6 +19,8 @@ import csv
 import math
 from pathlib import Path
 
+from dtcrit.bench.startup import markdown as startup_markdown
+
 ULP_FLOOR = 0.1  # errors below this are drawn at this height on the log axis
 ULP_CEIL = 1e17  # relative error ~1 or worse (all digits lost) is drawn at this height
 
@@ -59,6 +61,7 @@ def json_summary(result: dict) -> dict:
         "ratios": result["ratios"],
         "simulation": [{k: s[k] for k in ("case", "integrator", "outcome", "growth_below", "growth_above", "n_steps", "note")}
                        for s in result["simulation"]],
+        "startup": result.get("startup"),
         "config": result["config"],
         "machine": result["machine"],
     })
@@ -206,7 +209,10 @@ def markdown(result: dict) -> str:
     lines += ["", "## The paper's forms on the suite", "", *_paper_table(result), "",
               "## Stability by simulation (section 3)", "",
               "Outcome counts: " + ", ".join(f"{k}: {v}" for k, v in sorted(counts.items())), "",
-              *_simulation_table(result), "", "## Machine", ""]
+              *_simulation_table(result), "", "## Start-up of `dtcrit step`", "",
+              *(startup_markdown(result["startup"]) if result.get("startup") else
+                ["Not measured: the example scenes (`examples/`) are not beside this installation."]),
+              "", "## Machine", ""]
     for k, v in result["machine"].items():
         lines.append(f"- {k}: {v}")
     lines.append(f"- wall time of this run: {result['wall_seconds']:.1f} s")

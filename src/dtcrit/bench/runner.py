@@ -12,7 +12,10 @@ stability check by simulation (issue 5).
   ``digits_lost`` with how many, ``refused`` = InputError with its reason, ``failed``) and ``ulp``;
 * ``paper_forms``: the printed forms on the suite (float64 vs the same form at 50 digits);
 * ``simulation``: section 3 rows (``dtcrit.bench.simulation_check``);
-* ``speedup_vs_eig`` and ``kernel_vs_floor`` (section 4), with their per-integrator values.
+* ``speedup_vs_eig`` and ``kernel_vs_floor`` (section 4), with their per-integrator values;
+* ``startup``: wall time of ``dtcrit step`` on each example scene, fresh interpreter, against a
+  bare ``import numpy`` (``dtcrit.bench.startup``), or ``None`` without the source tree's
+  ``examples/``.
 
 Errors are measured against ``dtcrit.bench.reference`` (>= 50 digits, exact float inputs) on a
 reference sample of the batch; the reference step is never timed.  Times are best-of-``repeats``
@@ -54,6 +57,7 @@ class BenchConfig:
     mp_integrators: tuple[str, ...] | None  # integrators for the mpmath routes (None: all)
     sim_budget: int  # most steps of one simulation run
     repeats: int
+    startup_repeats: int = 5  # fresh-interpreter runs of `dtcrit step` per example scene
     integrators: tuple[str, ...] = NAMES
     seed: int = 20200501
 
@@ -62,11 +66,11 @@ QUICK = BenchConfig(
     quick=True, n_batch=20_000, n_eig=200, n_ref=120, n_mp=1,
     mp_suite_cases=("steel-1mm", "critical-exact", "zeta-1e6", "kA-overflow"),
     mp_integrators=("velocity-verlet", "forward-euler"),
-    sim_budget=8_192, repeats=3,
+    sim_budget=8_192, repeats=3, startup_repeats=3,
 )
 FULL_RUN = BenchConfig(
     quick=False, n_batch=1_000_000, n_eig=20_000, n_ref=2_000, n_mp=4,
-    mp_suite_cases=None, mp_integrators=None, sim_budget=400_000, repeats=5,
+    mp_suite_cases=None, mp_integrators=None, sim_budget=400_000, repeats=5, startup_repeats=10,
 )
 
 
@@ -390,6 +394,12 @@ def run_bench(config: BenchConfig = QUICK, route_names: tuple[str, ...] | None =
     t = time.perf_counter()
     sim = check(SUITE, config.integrators, tau_ref, zeta_ref, config.sim_budget)
     stages["simulation"] = time.perf_counter() - t
+    from dtcrit.bench import startup as startup_bench
+
+    t = time.perf_counter()
+    scenes = startup_bench.example_scenes()
+    startup = startup_bench.measure(scenes, config.startup_repeats) if scenes else None
+    stages["startup"] = time.perf_counter() - t
     return {
         "config": asdict(config),
         "machine": machine_info(),
@@ -397,6 +407,7 @@ def run_bench(config: BenchConfig = QUICK, route_names: tuple[str, ...] | None =
         "suite": suite,
         "paper_forms": paper,
         "simulation": [asdict(r) for r in sim],
+        "startup": startup,
         "speedup_vs_eig": ratios["speedup_vs_eig"],
         "kernel_vs_floor": ratios["kernel_vs_floor"],
         "ratios": ratios,
