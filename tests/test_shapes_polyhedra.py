@@ -192,6 +192,92 @@ def test_flat_set_refused():
         ConvexPolyhedron(CUBE * [1.0, 1.0, 1e-14], mass=1.0)
 
 
+@pytest.mark.parametrize(
+    "points,message",
+    [
+        (np.outer(np.arange(-3.0, 4.0), [1.0, 2.0, 3.0]), "need at least 4 non-coplanar points"),
+        (np.r_[OCTAHEDRON[[0, 1, 3, 4]], OCTAHEDRON[[0, 1, 3, 4]] * 0.5], "need at least 4 non-coplanar points"),
+        (np.repeat([[1.0, 2.0, 3.0]], 5, axis=0), "all points coincide"),
+    ],
+)
+def test_degenerate_sets_refused_with_their_messages(points, message):
+    with pytest.raises(InputError, match=message) as info:
+        ConvexPolyhedron(points, mass=1.0)
+    assert info.value.key == "vertices"
+
+
+def test_thin_but_solid_box_accepted():
+    p = ConvexPolyhedron(CUBE * [1.0, 0.5, 1e-9], density=1.0)
+    assert p.volume == pytest.approx(4e-9, rel=1e-9)
+    assert p.half_lengths == pytest.approx((1.0, 0.5, 1e-9), rel=1e-9)
+
+
+# ----------------------------------------------------------------------------- faces against Qhull
+def qhull_faces(vertices):
+    """Faces of the hull by scipy's Qhull: corner sets of neighbouring facets in one plane, and normals."""
+    hull = ConvexHull(vertices)
+    eq = hull.equations
+    parent = list(range(len(eq)))
+
+    def root(i):
+        while parent[i] != i:
+            i = parent[i]
+        return i
+
+    for f, nbrs in enumerate(hull.neighbors):
+        for g in nbrs:
+            if np.max(np.abs(eq[f] - eq[g])) < 1e-9 * max(1.0, np.abs(eq[:, 3]).max()):
+                parent[root(f)] = root(g)
+    groups = {}
+    for f, simplex in enumerate(hull.simplices):
+        groups.setdefault(root(f), [set(), eq[f, :3]])[0].update(simplex.tolist())
+    return {frozenset(corners): normal for corners, normal in groups.values()}, hull.area
+
+
+def sym_sphere_points(seed, n):
+    h = np.random.default_rng(seed).normal(size=(n, 3))
+    h /= np.linalg.norm(h, axis=1)[:, None]
+    return np.r_[h, -h] * [3.0, 2.0, 1.0]
+
+
+@pytest.mark.parametrize(
+    "make",
+    [
+        lambda: Box(3.0, 2.0, 0.5, mass=1.0),
+        lambda: Box(1.0, 1.0, 1.0, mass=1.0),
+        lambda: ConvexPolyhedron(CUBE @ rotation(5).T, mass=1.0),
+        lambda: ConvexPolyhedron(OCTAHEDRON @ rotation(6).T * [1.0, 2.0, 3.0], mass=1.0),
+        lambda: ConvexPolyhedron(zonotope(np.random.default_rng(4).normal(size=(6, 3))), mass=1.0),
+        lambda: ConvexPolyhedron(sym_sphere_points(11, 40), mass=1.0),
+        lambda: ConvexPolyhedron(np.r_[CUBE, OCTAHEDRON, [[1.0, 1.0, 0.0]], CUBE[:3]] @ rotation(2).T, mass=1.0),
+    ],
+)
+def test_surface_faces_are_qhulls_merged_facets(make):
+    """Faces, normals, edges, area and vertex normals of the surface against Qhull's facets."""
+    shape = quiet(make)
+    surf = shape._surface
+    ref, ref_area = qhull_faces(shape.vertices)
+    mine = {frozenset(face.tolist()): normal for face, normal in zip(surf.faces, surf.face_normals)}
+    assert set(mine) == set(ref)
+    for corners, normal in mine.items():
+        assert np.allclose(normal, ref[corners], atol=1e-12)
+    assert surf.area == pytest.approx(ref_area, rel=1e-12)
+    # each face is a convex polygon counter-clockwise about its outward normal
+    for face, normal in zip(surf.faces, surf.face_normals):
+        pts = shape.vertices[face]
+        turns = np.cross(np.roll(pts, -1, axis=0) - pts, np.roll(pts, -2, axis=0) - np.roll(pts, -1, axis=0))
+        assert np.all(turns @ normal > 0)
+    # edges: the sides of the faces, each shared by two faces
+    sides = [frozenset((int(a), int(b))) for face in surf.faces for a, b in zip(face, np.roll(face, -1))]
+    assert {frozenset(e.tolist()) for e in surf.edges} == set(sides)
+    assert all(sides.count(e) == 2 for e in set(sides))
+    # vertex normal: mean of the normals of the faces at the vertex
+    for v in range(len(shape.vertices)):
+        around = [n for face, n in zip(surf.faces, surf.face_normals) if v in face.tolist()]
+        mean = np.sum(around, axis=0)
+        assert np.allclose(surf.vertex_normals[v], mean / np.linalg.norm(mean), atol=1e-12)
+
+
 # ----------------------------------------------------------------------------- assumption 3
 def test_double_pyramid_breaks_assumption_3_and_is_flagged():
     """Double pyramid: apexes (+-L, 0, 0), rectangle (0, +-W, +-H); L = 1.2, W = 1, H = 0.9.

@@ -32,7 +32,6 @@ import itertools
 import numpy as np
 
 from .arm_supremum import SUPPORT_SLACK, ArmSupremum, arm_lambda
-from .shapes import _superquadric_normals, _superquadric_radial_projection
 
 START_SPLITS = 4
 """Each cube face starts as START_SPLITS x START_SPLITS squares."""
@@ -105,10 +104,10 @@ def _chunk_bounds(normals: np.ndarray, offsets: np.ndarray, inertia, scale: floa
 
 
 def octant_cone_supremum(shape, inertia, crude: float, rtol: float) -> ArmSupremum:
-    """Bounds on ``S`` for a superquadric (module docstring); ``crude = max_arm^2 max(1/I)`` caps the bound."""
+    """Bounds on ``S`` for a superquadric-family ``shape`` (it provides ``support``,
+    ``radial_surface_points``, ``outward_normals``, ``half_lengths`` and ``max_arm``; module
+    docstring); ``crude = max_arm^2 max(1/I)`` caps the bound."""
     inertia = np.asarray(inertia, dtype=float)
-    axes = np.array([shape.a, shape.b, shape.c], dtype=float)
-    e1, e2 = float(shape.eps1), float(shape.eps2)
     scale = float(shape.max_arm)
     grid = np.arange(START_SPLITS) / START_SPLITS
     u0, v0 = (g.ravel() for g in np.meshgrid(grid, grid, indexing="ij"))
@@ -121,8 +120,8 @@ def octant_cone_supremum(shape, inertia, crude: float, rtol: float) -> ArmSuprem
     bounds = np.array([np.inf])
     for _ in range(MAX_LEVELS):
         D = _corner_directions(face, u0, u0 + width, v0, v0 + width)
-        P = _superquadric_radial_projection(D.reshape(-1, 3), axes, e1, e2)
-        Nrm = _superquadric_normals(P, axes, e1, e2)
+        P = shape.radial_surface_points(D.reshape(-1, 3))
+        Nrm = shape.outward_normals(P)
         lam = arm_lambda(P, inertia)
         j = int(np.argmax(lam))
         if lam[j] > lower:

@@ -8,8 +8,9 @@ those inputs for
 * :class:`Sphere`, :class:`Ellipsoid`, :class:`Superquadric` (convex range) and :class:`Box`
   (half-lengths): closed forms emitted by ``dtcrit.symbolic.mass_properties`` into
   ``dtcrit._generated.mass_properties``;
-* :class:`ConvexPolyhedron`: convex hull of a centrally symmetric vertex set, exact moments by
-  tetrahedral decomposition (generated tetrahedron kernel), rotated into its principal frame.
+* :class:`ConvexPolyhedron`: convex hull of a centrally symmetric vertex set (:mod:`dtcrit.hull`),
+  exact moments by tetrahedral decomposition (generated tetrahedron kernel), rotated into its
+  principal frame.
 
 Every shape is immutable and exposes ``kind``, ``mass``, ``volume``, ``density``, ``inertia``
 (principal moments ``(I_xx, I_yy, I_zz)`` about the centre, local frame), ``half_lengths``
@@ -29,7 +30,8 @@ accepted for ``SUPERQUADRIC_EPS_MIN <= eps1, eps2 <= 2`` (2 is the convex limit;
 body is within 0.6 % of a box, use :class:`Box`).  The sphere and the ellipsoid share the
 superquadric surface routines with ``eps1 = eps2 = 1``.
 
-No SymPy here: only NumPy, SciPy and the generated kernels.
+No SymPy and no SciPy here: only NumPy, the generated kernels and :mod:`dtcrit.hull` (importing
+``scipy.spatial`` would cost more start-up time than ``dtcrit step`` needs for a whole scene).
 """
 from __future__ import annotations
 
@@ -42,6 +44,7 @@ import numpy as np
 
 from ._generated import mass_properties as _mp
 from .errors import InputError
+from .hull import HULL_RTOL, HullError, connected_components, convex_hull_2d, convex_hull_3d, nearest_neighbours
 
 __all__ = [
     "AssumptionWarning",
@@ -512,9 +515,7 @@ def _superquadric_surface_points(n: int, axes: np.ndarray, e1: float, e2: float)
             h = math.sqrt(lo * hi) if 0 < lo and hi < math.inf else h * math.sqrt(chosen.size / target)
         chosen, pts, h = best
         chosen = pts[chosen]
-        from scipy.spatial import cKDTree
-
-        near_tip = cKDTree(tips).query(chosen)[0] < 0.5 * h
+        near_tip = nearest_neighbours(chosen, tips)[0] < 0.5 * h
         points = np.concatenate([tips, chosen[~near_tip]])
     else:
         points = tips
@@ -561,6 +562,18 @@ class _SuperquadricFamily(_Shape):
         d = _direction(direction)
         out = _superquadric_support(self._axes_arr, self._e1, self._e2, np.atleast_2d(d))
         return out[0] if d.ndim == 1 else out
+
+    def radial_surface_points(self, directions: np.ndarray) -> np.ndarray:
+        """Where the rays from the centre along the (non-zero) rows of ``directions`` leave the body
+        (:func:`_superquadric_radial_projection`); shape (N, 3), local frame."""
+        d = np.atleast_2d(np.asarray(directions, dtype=float))
+        return _superquadric_radial_projection(d, self._axes_arr, self._e1, self._e2)
+
+    def outward_normals(self, points: np.ndarray) -> np.ndarray:
+        """Outward unit normals (normalised gradient of the inside-outside function) at the surface
+        ``points`` (rows, local frame; :func:`_superquadric_normals`)."""
+        p = np.atleast_2d(np.asarray(points, dtype=float))
+        return _superquadric_normals(p, self._axes_arr, self._e1, self._e2)
 
 
 class Sphere(_SuperquadricFamily):
@@ -654,55 +667,59 @@ class Superquadric(_SuperquadricFamily):
 class _PolyhedralSurface:
     """Faces (merged coplanar hull facets), edges and vertex normals of a convex polytope.
 
-    Every point of ``vertices`` must be a corner of the hull.
+    Every point of ``vertices`` must be a corner of the hull.  ``faces`` (corner indices, counter-
+    clockwise seen from outside) and their outward unit ``normals`` may be given (a hull already
+    taken); otherwise :func:`dtcrit.hull.convex_hull_3d` finds them.  Neighbouring faces whose unit
+    normals and offsets differ by less than ``_PLANE_RTOL`` (offsets relative to the largest
+    vertex distance) are merged into one face.
     """
 
-    def __init__(self, vertices: np.ndarray):
+    def __init__(self, vertices: np.ndarray, faces: tuple[np.ndarray, ...] | None = None,
+                 normals: np.ndarray | None = None):
         self.vertices = vertices
         scale = float(np.max(np.linalg.norm(vertices, axis=1)))
-        from scipy.spatial import ConvexHull
-
-        hull = ConvexHull(vertices)
-        eq, tri = hull.equations, hull.simplices.copy()
-        # orient every triangle counter-clockwise about its outward normal
-        cross = np.cross(vertices[tri[:, 1]] - vertices[tri[:, 0]], vertices[tri[:, 2]] - vertices[tri[:, 0]])
-        flip = np.einsum("ij,ij->i", cross, eq[:, :3]) < 0
-        tri[flip] = tri[flip][:, [0, 2, 1]]
-        self.area = float(0.5 * np.sum(np.linalg.norm(cross, axis=1)))
-        # merge neighbouring triangles of one plane: connected components of the "same plane" graph
-        f = np.repeat(np.arange(eq.shape[0]), 3)
-        g = hull.neighbors.ravel()
-        same = (np.max(np.abs(eq[f, :3] - eq[g, :3]), axis=1) < _PLANE_RTOL) & (np.abs(eq[f, 3] - eq[g, 3]) < _PLANE_RTOL * scale)
-        from scipy.sparse import coo_matrix
-        from scipy.sparse.csgraph import connected_components
-
-        graph = coo_matrix((np.ones(int(same.sum())), (f[same], g[same])), shape=(eq.shape[0],) * 2)
-        _, comp = connected_components(graph, directed=False)
-        _, first, label = np.unique(comp, return_index=True, return_inverse=True)
-        rank = np.empty(first.size, dtype=int)
-        rank[np.argsort(first, kind="stable")] = np.arange(first.size)  # faces numbered by first facet
-        label = rank[label]
-        nface = first.size
+        if faces is None:
+            hull = convex_hull_3d(vertices)
+            faces, normals = hull.faces, hull.equations[:, :3]
+        lens = np.array([len(poly) for poly in faces])
+        owner0 = np.repeat(np.arange(len(faces)), lens)
+        flat = np.concatenate(faces)
+        offsets = -np.bincount(owner0, weights=np.einsum("ij,ij->i", vertices[flat], normals[owner0])) / lens
+        nxt = flat[_ring_successor(lens)]
+        newell = np.zeros((len(faces), 3))  # twice the vector area of each face
+        np.add.at(newell, owner0, np.cross(vertices[flat], vertices[nxt]))
+        self.area = float(0.5 * np.sum(np.linalg.norm(newell, axis=1)))
+        # merge neighbouring faces of one plane: connected components of the "same plane" graph
+        across = {(a, b): f for a, b, f in zip(flat.tolist(), nxt.tolist(), owner0.tolist())}
+        pairs = [(f, across[(b, a)]) for (a, b), f in across.items() if (b, a) in across]
+        pairs = np.array(pairs, dtype=int).reshape(-1, 2)
+        f, g = pairs[:, 0], pairs[:, 1]
+        same = (np.max(np.abs(normals[f] - normals[g]), axis=1) < _PLANE_RTOL) & (np.abs(offsets[f] - offsets[g]) < _PLANE_RTOL * scale)
+        comp = connected_components(len(faces), f[same], g[same])  # label: the first face of each
+        is_first = comp == np.arange(len(faces))
+        label = (np.cumsum(is_first) - 1)[comp]  # merged faces numbered by their first face
+        nface = int(np.count_nonzero(is_first))
         self.face_normals = np.empty((nface, 3))
-        self.face_normals[label] = eq[:, :3]
+        self.face_normals[label] = normals
         self.face_normals = _unit_rows(self.face_normals)
-        sizes = np.bincount(label, minlength=nface)
-        self.faces: list[np.ndarray] = [None] * nface  # type: ignore[list-item]
-        single = sizes[label] == 1
-        for fi, t in zip(label[single], tri[single]):
-            self.faces[fi] = t
-        for fi in np.flatnonzero(sizes > 1):
-            idx = np.unique(tri[label == fi].ravel())
-            pts = vertices[idx]
-            centre = pts.mean(axis=0)
-            u, v = _plane_basis(self.face_normals[fi])
-            ang = np.arctan2((pts - centre) @ v, (pts - centre) @ u)
-            self.faces[fi] = idx[np.argsort(ang, kind="stable")]
-        starts = np.concatenate([poly for poly in self.faces])
-        ends = np.concatenate([np.roll(poly, -1) for poly in self.faces])
-        owner = np.repeat(np.arange(nface), [len(poly) for poly in self.faces])
+        # corners of each face counter-clockwise: by angle about their mean in the basis of
+        # _plane_basis(normal), from -pi (ties in ascending vertex order)
+        pairs, _ = _distinct_pairs(np.column_stack([label[owner0], flat]))
+        face_of, idx = pairs[:, 0], pairs[:, 1]
+        count = np.bincount(face_of, minlength=nface)
+        centre = np.zeros((nface, 3))
+        np.add.at(centre, face_of, vertices[idx])
+        rel = vertices[idx] - (centre / count[:, None])[face_of]
+        u, v = _plane_basis_rows(self.face_normals)
+        ang = np.arctan2(np.einsum("ij,ij->i", rel, v[face_of]), np.einsum("ij,ij->i", rel, u[face_of]))
+        order = np.lexsort((ang, face_of))
+        self.faces: list[np.ndarray] = np.split(idx[order], np.cumsum(count)[:-1])
+        sizes = np.array([len(poly) for poly in self.faces])
+        starts = np.concatenate(self.faces)
+        ends = starts[_ring_successor(sizes)]
+        owner = np.repeat(np.arange(nface), sizes)
         keys = np.sort(np.column_stack([starts, ends]), axis=1)
-        self.edges, inverse = np.unique(keys, axis=0, return_inverse=True)
+        self.edges, inverse = _distinct_pairs(keys)
         esum = np.zeros((self.edges.shape[0], 3))
         np.add.at(esum, inverse.ravel(), self.face_normals[owner])
         self.edge_normals = _unit_rows(esum)
@@ -774,6 +791,38 @@ class _PolyhedralSurface:
         scale = np.linalg.norm(d, axis=1, keepdims=True) * float(np.max(np.linalg.norm(self.vertices, axis=1)))
         ties = proj >= best - 1e-12 * scale
         return (ties @ self.vertices) / np.sum(ties, axis=1, keepdims=True)
+
+
+def _distinct(a: np.ndarray) -> np.ndarray:
+    """Sorted distinct values (``np.unique`` without its import of ``numpy.ma``, ~30 ms)."""
+    s = np.sort(a)
+    return s[np.concatenate([[True], s[1:] != s[:-1]])] if s.size else s
+
+
+def _distinct_pairs(keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Distinct rows of a non-negative ``(K, 2)`` int array, lexicographic, and each row's position."""
+    code = keys[:, 0] * (int(keys.max()) + 1) + keys[:, 1]
+    order = np.argsort(code, kind="stable")
+    new = np.concatenate([[True], code[order][1:] != code[order][:-1]])
+    inverse = np.empty(code.size, dtype=int)
+    inverse[order] = np.cumsum(new) - 1
+    return keys[order[new]], inverse
+
+
+def _ring_successor(sizes: np.ndarray) -> np.ndarray:
+    """For rings of ``sizes`` laid end to end, the position of each entry's successor in its ring."""
+    nxt = np.arange(1, int(np.sum(sizes)) + 1)
+    ends = np.cumsum(sizes)
+    nxt[ends - 1] = ends - sizes
+    return nxt
+
+
+def _plane_basis_rows(normals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_plane_basis` of each row of ``normals``."""
+    helper = np.eye(3)[np.argmin(np.abs(normals), axis=1)]
+    u = np.cross(normals, helper)
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    return u, np.cross(normals, u)
 
 
 def _plane_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -894,13 +943,14 @@ class Box(_PolyhedralShape):
 # ============================================================================================
 # Convex, centrally symmetric polyhedron
 # ============================================================================================
-def _tetra_decomposition(points: np.ndarray, hull) -> tuple[float, np.ndarray, np.ndarray]:
+def _tetra_decomposition(points: np.ndarray, simplices: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
     """Volume, centroid and second-moment tensor ``int r r^T dV`` about the origin (exact).
 
-    The hull is the union of the tetrahedra (origin, facet triangle) when the origin is inside;
-    each contributes the generated ``tetrahedron_moments`` taken with the sign of its orientation.
+    The hull is the union of the tetrahedra (origin, facet triangle ``simplices``) when the origin
+    is inside; each contributes the generated ``tetrahedron_moments`` taken with the sign of its
+    orientation.
     """
-    tri = points[hull.simplices]  # (F, 3, 3): facet, vertex, coordinate
+    tri = points[simplices]  # (F, 3, 3): facet, vertex, coordinate
     args = [tri[:, v, k] for v in range(3) for k in range(3)]
     vol, mx, my, mz, sxx, syy, szz, sxy, sxz, syz = (np.asarray(x, float) for x in _mp.tetrahedron_moments(*args))
     sign = np.sign(vol)
@@ -915,17 +965,14 @@ def _tetra_decomposition(points: np.ndarray, hull) -> tuple[float, np.ndarray, n
 
 def _min_area_rectangle(points2: np.ndarray) -> tuple[float, float]:
     """Angle and area of the smallest bounding rectangle of 2-D points (one side on a hull edge)."""
-    from scipy.spatial import ConvexHull, QhullError
-
     try:
-        hull = ConvexHull(points2)
-        ring = points2[hull.vertices]
-    except QhullError:
+        ring = points2[convex_hull_2d(points2)]
+    except HullError:
         return 0.0, 0.0
     edges = np.roll(ring, -1, axis=0) - ring
     angles = np.arctan2(edges[:, 1], edges[:, 0]) % (np.pi / 2)
     best_angle, best_area = 0.0, math.inf
-    for ang in np.unique(np.round(angles, 14)):
+    for ang in _distinct(np.round(angles, 14)):
         c, s = math.cos(ang), math.sin(ang)
         pu = points2 @ np.array([c, s])
         pv = points2 @ np.array([-s, c])
@@ -1027,12 +1074,10 @@ def _plane_basis_within(points: np.ndarray, e1: np.ndarray, e2: np.ndarray, *, a
     degree; within the first family that has feasible members, the least bounding area wins.
     ``None`` if no candidate is feasible.
     """
-    from scipy.spatial import ConvexHull, QhullError  # lazy: keeps start-up short
-
     p2 = np.column_stack([points @ e1, points @ e2])
     try:
-        ring = p2[ConvexHull(p2).vertices]
-    except QhullError:
+        ring = p2[convex_hull_2d(p2)]
+    except HullError:
         ring = p2
     edges = np.roll(ring, -1, axis=0) - ring
     families = (
@@ -1059,13 +1104,10 @@ def _plane_basis_within(points: np.ndarray, e1: np.ndarray, e2: np.ndarray, *, a
 
 def _mirror_symmetric(points: np.ndarray, rtol: float) -> bool:
     """Whether reflection in each coordinate plane maps every point within ``rtol`` of a point."""
-    from scipy.spatial import cKDTree  # lazy: keeps start-up short
-
-    tree = cKDTree(points)
     for k in range(3):
         mirrored = points.copy()
         mirrored[:, k] = -mirrored[:, k]
-        if np.max(tree.query(mirrored)[0]) > rtol:
+        if np.max(nearest_neighbours(mirrored, points)[0]) > rtol:
             return False
     return True
 
@@ -1091,8 +1133,10 @@ class ConvexPolyhedron(_PolyhedralShape):
 
     Construction:
 
-    1. The hull of the points is taken with ``scipy.spatial.ConvexHull`` (after shifting to the
-       vertex mean and scaling by the largest distance, so the checks are scale-free).
+    1. The hull of the points is taken with :func:`dtcrit.hull.convex_hull_3d` (after shifting to
+       the vertex mean and scaling by the largest distance, so the checks are scale-free; points
+       within ``min(rtol, 1e-10)`` (not below 1e-13, rounding) of a face plane lie on it, points
+       that close to each other are one).
        Refused (``InputError`` key ``"vertices"``): fewer than 4 non-coplanar points; a point
        strictly inside the hull (farther than ``rtol`` inside every face: the set is not convex);
        a hull that is not centrally symmetric about its centroid (some ``-v`` farther than
@@ -1115,8 +1159,6 @@ class ConvexPolyhedron(_PolyhedralShape):
 
     def __init__(self, vertices: Any, *, density: float | None = None, mass: float | None = None,
                  rtol: float = SYMMETRY_RTOL):
-        from scipy.spatial import ConvexHull, QhullError, cKDTree  # lazy: keeps start-up short
-
         rtol = _positive("rtol", rtol)
         try:
             pts = np.array(vertices, dtype=float)
@@ -1134,8 +1176,8 @@ class ConvexPolyhedron(_PolyhedralShape):
             raise InputError("vertices", "all points coincide")
         q = (pts - mean) / scale
         try:
-            hull = ConvexHull(q)
-        except QhullError:
+            hull = convex_hull_3d(q, rtol=max(min(rtol, HULL_RTOL), 1e-13))
+        except HullError:
             raise InputError("vertices", "need at least 4 non-coplanar points (the points are coplanar or degenerate)") from None
         if hull.volume < 1e-12:
             raise InputError("vertices", f"the hull is (nearly) flat: volume {hull.volume:.3g} of the unit-scaled set")
@@ -1151,12 +1193,13 @@ class ConvexPolyhedron(_PolyhedralShape):
                 f"({depth[i] * scale:.3g} inside the nearest face)",
             )
         self._dropped = int(np.count_nonzero(~corner))
-        hv = q[np.sort(hull.vertices)]
+        hv = q[hull.vertices]  # ascending input order
+        position = np.full(q.shape[0], -1)
+        position[hull.vertices] = np.arange(hull.vertices.size)  # input index -> row of hv
         ref = hv.mean(axis=0)
-        hull_ref = ConvexHull(hv - ref)
-        volume, centroid, second0 = _tetra_decomposition(hv - ref, hull_ref)
+        volume, centroid, second0 = _tetra_decomposition(hv - ref, position[hull.simplices])
         rel = hv - ref - centroid
-        mirror_gap, _ = cKDTree(rel).query(-rel)
+        mirror_gap, _ = nearest_neighbours(-rel, rel)
         worst = int(np.argmax(mirror_gap))
         if mirror_gap[worst] > rtol:
             raise InputError(
@@ -1167,7 +1210,7 @@ class ConvexPolyhedron(_PolyhedralShape):
             )
         second = second0 - volume * np.outer(centroid, centroid)  # parallel-axis shift to the centroid
         second = 0.5 * (second + second.T)
-        surface0 = _PolyhedralSurface(rel)
+        surface0 = _PolyhedralSurface(rel, tuple(position[f] for f in hull.faces), hull.equations[:, :3])
         frame = _principal_axes(rel, second, surface0.face_normals, rtol)
         local = rel @ frame.T
         # moments per unit volume in the principal frame (unit-scaled), then physical units
