@@ -337,3 +337,29 @@ def test_box_and_periodic_self_contact():
     assert c.coordination(1)[0] == 6
     w = _omega2_all(p, apply_law(c, LinearLaw(1.0, 1.0)))
     assert w.max() == pytest.approx(20.0, rel=1e-12)  # co-rotation, (10/3) CN k/m
+
+
+def test_degenerate_top_eigenspace_is_named_as_such():
+    """FCC with k_s/k_n = 1/4: omega_max^2 = 10 k/m six times over, spanned by translational and
+    rotational modes alike, so the label must not depend on which member the solver returns."""
+    from dtcrit.packing import lattice
+    from dtcrit.packing.eigen import mode_character
+
+    p = lattice("fcc", 2, mass=1.0)
+    rep = analyse(p, LinearLaw(1.0, 0.25))
+    assert rep.omega_max**2 == pytest.approx(10.0, rel=1e-12)
+    assert rep.mode == "degenerate: translational and rotational"
+    # independent route: NumPy's full eigen-solve of the same matrix, any rotation of the basis
+    from dtcrit.packing import apply_law, scale_symmetric, stiffness_matrix
+    from dtcrit.packing.report import find_contacts, mass_diagonal
+
+    c = apply_law(find_contacts(p), LinearLaw(1.0, 0.25))
+    a = scale_symmetric(stiffness_matrix(p, c), mass_diagonal(p)).toarray()
+    w, V = np.linalg.eigh(a)
+    space = V[:, w > w[-1] * (1 - 1e-9)]
+    fractions = [rotational_fraction(space[:, j]) for j in range(space.shape[1])]
+    assert space.shape[1] == 6 and min(fractions) < 0.5 < max(fractions)
+    Q, _ = np.linalg.qr(np.random.default_rng(3).normal(size=(6, 6)))
+    assert mode_character(space[:, 0], space @ Q) == "degenerate: translational and rotational"
+    # a non-degenerate top mode keeps its single-vector label
+    assert analyse(p, LinearLaw(1.0, 1.0)).mode == "rotational"

@@ -33,13 +33,16 @@ METHODS = ("auto", "dense", "eigsh", "lobpcg")
 class TopMode:
     """Largest eigenpair of ``A``: ``value = omega_max^2`` [1/s^2], unit vector ``vector`` (in the
     mass-scaled coordinates ``v = M^(1/2) phi``), the solver used, its matrix-vector products and
-    the residual norm ``|A v - value v|``."""
+    the residual norm ``|A v - value v|``.  ``space`` (dense solver only) is an orthonormal basis of
+    the whole top eigenspace (eigenvalues within ``DEGENERATE_RTOL`` of the top one), ``None`` if
+    not computed: in a degenerate eigenspace ``vector`` is an arbitrary member."""
 
     value: float
     vector: np.ndarray
     method: str
     matvecs: int
     residual: float
+    space: np.ndarray | None = None
 
     @property
     def omega(self) -> float:
@@ -57,6 +60,10 @@ def _residual(a, v, theta) -> float:
     return float(np.linalg.norm(a @ v - theta * v))
 
 
+DEGENERATE_RTOL = 1e-9
+"""Eigenvalues within this relative distance of the largest belong to the top eigenspace."""
+TOP_SPACE_MAX = 24
+"""Most eigenpairs the dense solver computes to find the top eigenspace."""
 DEFAULT_TOL = 1e-7  # ARPACK residual tolerance; the Ritz value itself is then good to ~1e-9 (measured)
 
 
@@ -81,9 +88,10 @@ def largest_mode(a, method: str = "auto", *, tol: float = DEFAULT_TOL, maxiter: 
         return TopMode(0.0, v, method, 0, 0.0)
     if method == "dense":
         dense = a.toarray() if sps.issparse(a) else np.asarray(a)
-        w, vecs = sla.eigh(dense, subset_by_index=[n - 1, n - 1])
+        w, vecs = sla.eigh(dense, subset_by_index=[max(0, n - TOP_SPACE_MAX), n - 1])
         v = vecs[:, -1]
-        return TopMode(float(w[-1]), v, "dense", 0, _residual(dense, v, w[-1]))
+        top = w >= w[-1] - DEGENERATE_RTOL * max(abs(float(w[-1])), np.finfo(float).tiny)
+        return TopMode(float(w[-1]), v, "dense", 0, _residual(dense, v, w[-1]), vecs[:, top])
     start = _start_vector(n)
     if hint is not None and np.linalg.norm(hint) > 0:
         start = start / np.linalg.norm(start) + np.asarray(hint, float) / np.linalg.norm(hint)
@@ -117,6 +125,18 @@ def rotational_fraction(vector: np.ndarray) -> float:
     return float(v2[:, 3:].sum() / total) if total > 0 else 0.0
 
 
-def mode_character(vector: np.ndarray) -> str:
-    """``"rotational"`` when most of the mode's kinetic energy is rotational, else ``"translational"``."""
+def mode_character(vector: np.ndarray, space: np.ndarray | None = None) -> str:
+    """``"rotational"`` when most of the mode's kinetic energy is rotational, else ``"translational"``.
+
+    With ``space`` (orthonormal columns spanning a degenerate top eigenspace) the answer is about the
+    eigenspace, not the arbitrary member ``vector``: the rotational energy share over unit members
+    ranges over the eigenvalues of ``B^T P_rot B``; when that range straddles 1/2 the eigenspace holds
+    both kinds of mode and the answer is ``"degenerate: translational and rotational"``.
+    """
+    if space is not None and space.shape[1] > 1:
+        rot = space.reshape(-1, 6, space.shape[1])[:, 3:, :].reshape(-1, space.shape[1])
+        share = np.linalg.eigvalsh(rot.T @ rot)
+        if share[0] < 0.5 < share[-1]:
+            return "degenerate: translational and rotational"
+        return "rotational" if share[0] >= 0.5 else "translational"
     return "rotational" if rotational_fraction(vector) > 0.5 else "translational"

@@ -126,7 +126,7 @@ def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, int
         label=packing.label, law=law_text, n_particles=packing.n, dofs=packing.dofs, n_contacts=contacts.count,
         cn_mean=float(cn.mean()), cn_max=int(cn.max(initial=0)), m_min=m_min, k_max=k_max, omega_max=omega,
         dt_crit=dt, alpha=alpha, integrator=integrator, damping_ratio=float(damping_ratio), dt_integrator=dt_int,
-        integrator_formula=formula, mode=mode_character(top.vector), rotational_fraction=rotational_fraction(top.vector),
+        integrator_formula=formula, mode=mode_character(top.vector, top.space), rotational_fraction=rotational_fraction(top.vector),
         solver=top.method, matvecs=top.matvecs,
         relative_residual=top.residual / top.value if top.value > 0 else 0.0, estimates=estimates,
     )
