@@ -8,6 +8,7 @@ reported point, and the inequality behind the ellipsoid proof checked on random 
 import math
 import subprocess
 import sys
+import warnings
 
 import numpy as np
 import pytest
@@ -16,7 +17,7 @@ from hypothesis import strategies as st
 
 from dtcrit import arm_supremum as asup
 from dtcrit.arm_supremum_cones import octant_cone_supremum
-from dtcrit.shapes import Ellipsoid, Superquadric
+from dtcrit.shapes import AssumptionWarning, Ellipsoid, Superquadric
 
 SLACK = 1e-12
 
@@ -94,7 +95,9 @@ exponent = st.floats(0.01, 2.0)
 @given(st.floats(0.05, 1), st.floats(0.05, 1), exponent, exponent, st.floats(-3, 3))
 def test_cones_agree_with_cutting_planes(fb, fc, e1, e2, log_a):
     a = 10.0**log_a
-    s = Superquadric(a, a * fb, a * fb * fc, e1, e2, density=1000.0)
+    with warnings.catch_warnings():  # some draws break the paper's inertia ordering: not what is tested here
+        warnings.simplefilter("ignore", AssumptionWarning)
+        s = Superquadric(a, a * fb, a * fb * fc, e1, e2, density=1000.0)
     crude = s.max_arm**2 / min(s.inertia)
     cones = octant_cone_supremum(s, s.inertia, crude, asup.SUP_RTOL)
     planes = asup.cutting_plane_supremum(s, s.inertia, crude)
@@ -139,7 +142,7 @@ def test_unit_exponents_take_the_ellipsoid_route():
 def test_smooth_routes_do_not_import_qhull():
     code = (
         "import sys\n"
-        "from dtcrit.shapes import Ellipsoid, Superquadric\n"
+        "from dtcrit.shapes import AssumptionWarning, Ellipsoid, Superquadric\n"
         "from dtcrit.arm_supremum import arm_term_supremum\n"
         "arm_term_supremum(Ellipsoid(3.0, 2.0, 1.0, density=1000.0))\n"
         "arm_term_supremum(Superquadric(3.0, 2.0, 1.0, 0.3, 0.5, density=1000.0))\n"
