@@ -827,10 +827,8 @@ def _plane_basis_rows(normals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def _plane_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Two unit vectors spanning the plane normal to ``normal`` (deterministic)."""
-    helper = np.eye(3)[int(np.argmin(np.abs(normal)))]
-    u = np.cross(normal, helper)
-    u /= np.linalg.norm(u)
-    return u, np.cross(normal, u)
+    u, v = _plane_basis_rows(np.asarray(normal, dtype=float)[None, :])
+    return u[0], v[0]
 
 
 def _face_grid(poly: np.ndarray, normal: np.ndarray, h: float) -> np.ndarray:
