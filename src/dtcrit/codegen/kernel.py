@@ -31,7 +31,7 @@ import sympy as sp
 
 from dtcrit.errors import InputError
 from dtcrit.symbolic.closed_forms import closed_pieces, eps, formula_text, gamma, omega
-from dtcrit.symbolic.emit import _square_root_of_term, derivation_hash
+from dtcrit.symbolic.emit import derivation_hash, square_root_of_term
 from dtcrit.symbolic.integrators import zeta as zeta_sym
 
 from .structure import KernelStructure
@@ -59,10 +59,10 @@ def _with_hypot(expr: sp.Expr) -> sp.Expr:
     def is_hypot(e):
         if not (e.is_Pow and e.exp in (sp.S.Half, -sp.S.Half) and e.base.is_Add and len(e.base.args) == 2):
             return False
-        return all(_square_root_of_term(t) is not None for t in e.base.args)
+        return all(square_root_of_term(t) is not None for t in e.base.args)
 
     def make(e):
-        h = hypot(*(_square_root_of_term(t) for t in e.base.args))
+        h = hypot(*(square_root_of_term(t) for t in e.base.args))
         return h if e.exp == sp.S.Half else 1 / h
 
     return expr.replace(is_hypot, make)

@@ -10,21 +10,27 @@ import sympy as sp
 from sympy.printing.c import C99CodePrinter
 from sympy.printing.fortran import FCodePrinter
 
-from dtcrit.symbolic.emit import _Printer as _NumPyBase
-from dtcrit.symbolic.emit import _square_root_of_term
+from dtcrit.symbolic.emit import NumPyHypotPrinter as _NumPyBase
+from dtcrit.symbolic.emit import hypot_arguments as _hypot_args
 
 
-def _hypot_args(expr: sp.Pow):
-    """(x, y) when ``expr`` is sqrt(x^2 + y^2) or 1/sqrt(x^2 + y^2) with x, y free of radicals."""
-    base, exp = expr.args
-    if exp in (sp.S.Half, -sp.S.Half) and base.is_Add and len(base.args) == 2:
-        roots = [_square_root_of_term(t) for t in base.args]
-        if all(r is not None for r in roots):
-            return roots
-    return None
+class _CompiledCalls:
+    """Calls shared by the compiled languages: the ``hypot`` function and the cubic-root helper
+    ``helper_name`` (its last argument a logical, spelled ``LOGICAL[False]`` / ``LOGICAL[True]``)."""
+
+    LOGICAL = ("0", "1")
+    helper_name = ""
+
+    def _print_cubic_positive_root(self, expr):
+        a2, a1, a0, largest = expr.args
+        flag = self.LOGICAL[1 if largest else 0]
+        return f"{self.helper_name}({self._print(a2)}, {self._print(a1)}, {self._print(a0)}, {flag})"
+
+    def _print_hypot(self, expr):
+        return f"hypot({self._print(expr.args[0])}, {self._print(expr.args[1])})"
 
 
-class CPrinter(C99CodePrinter):
+class CPrinter(_CompiledCalls, C99CodePrinter):
     """C99 with ``hypot``, ``x*x`` for squares and the cubic helper ``<prefix>_cubic_positive_root``."""
 
     def __init__(self, helper_name: str):
@@ -61,15 +67,9 @@ class CPrinter(C99CodePrinter):
             text = f"(({self._print(c)}) ? ({self._print(e)}) : ({text}))"
         return text
 
-    def _print_cubic_positive_root(self, expr):
-        a2, a1, a0, largest = expr.args
-        return f"{self.helper_name}({self._print(a2)}, {self._print(a1)}, {self._print(a0)}, {1 if largest else 0})"
-
-    def _print_hypot(self, expr):
-        return f"hypot({self._print(expr.args[0])}, {self._print(expr.args[1])})"
 
 
-class FortranPrinter(FCodePrinter):
+class FortranPrinter(_CompiledCalls, FCodePrinter):
     """Fortran 2008 free form (``hypot`` intrinsic, ``merge`` for inline branches).
 
     Every real literal carries the kind ``c_double`` of the variables (``0.5_c_double``), not
@@ -79,6 +79,7 @@ class FortranPrinter(FCodePrinter):
     """
 
     KIND = "c_double"
+    LOGICAL = (".false.", ".true.")
 
     def __init__(self, helper_name: str):
         super().__init__({"standard": 2008, "source_format": "free"})
@@ -108,13 +109,6 @@ class FortranPrinter(FCodePrinter):
             return f"sqrt({self._real(base)})"
         return super()._print_Pow(expr)
 
-    def _print_cubic_positive_root(self, expr):
-        a2, a1, a0, largest = expr.args
-        flag = ".true." if largest else ".false."
-        return f"{self.helper_name}({self._print(a2)}, {self._print(a1)}, {self._print(a0)}, {flag})"
-
-    def _print_hypot(self, expr):
-        return f"hypot({self._print(expr.args[0])}, {self._print(expr.args[1])})"
 
 
 class NumPyPrinter(_NumPyBase):

@@ -30,7 +30,7 @@ class Kernel:
     as_arrays: bool = False  # convert the arguments to float arrays and silence IEEE warnings
 
 
-def _square_root_of_term(term: sp.Expr) -> sp.Expr | None:
+def square_root_of_term(term: sp.Expr) -> sp.Expr | None:
     """``r`` with ``r**2 == term`` and no radical in ``r``, or None."""
     if term.could_extract_minus_sign():
         return None
@@ -40,7 +40,18 @@ def _square_root_of_term(term: sp.Expr) -> sp.Expr | None:
     return r
 
 
-class _Printer(NumPyPrinter):
+def hypot_arguments(expr: sp.Pow):
+    """(x, y) when ``expr`` is sqrt(x^2 + y^2) or 1/sqrt(x^2 + y^2) with x, y free of radicals, else None:
+    such a root is printed as ``hypot(x, y)`` (no overflow of the squares, no cancellation)."""
+    base, exp = expr.args
+    if exp in (sp.S.Half, -sp.S.Half) and base.is_Add and len(base.args) == 2:
+        roots = [square_root_of_term(t) for t in base.args]
+        if all(r is not None for r in roots):
+            return roots
+    return None
+
+
+class NumPyHypotPrinter(NumPyPrinter):
     """NumPy printer: ``np.`` prefix, ``hypot`` for the root of a sum of two squares (no overflow)."""
 
     def __init__(self, settings=None):
@@ -54,18 +65,16 @@ class _Printer(NumPyPrinter):
         return text.replace("numpy.", "np.")
 
     def _print_Pow(self, expr, rational=False):
-        base, exp = expr.args
-        if exp in (sp.S.Half, -sp.S.Half) and base.is_Add and len(base.args) == 2:
-            roots = [_square_root_of_term(t) for t in base.args]
-            if all(r is not None for r in roots):
-                text = f"np.hypot({self._print(roots[0])}, {self._print(roots[1])})"
-                return text if exp == sp.S.Half else f"1/{text}"
+        roots = hypot_arguments(expr)
+        if roots is not None:
+            text = f"np.hypot({self._print(roots[0])}, {self._print(roots[1])})"
+            return text if expr.exp == sp.S.Half else f"1/{text}"
         return super()._print_Pow(expr, rational=rational)
 
 
 def expr_code(expr: sp.Expr) -> str:
     """NumPy source text for one expression."""
-    return _Printer({"fully_qualified_modules": True, "inline": True}).doprint(expr)
+    return NumPyHypotPrinter({"fully_qualified_modules": True, "inline": True}).doprint(expr)
 
 
 def derivation_hash(exprs: Sequence[sp.Basic]) -> str:
