@@ -14,6 +14,17 @@ from dtcrit.symbolic.emit import NumPyHypotPrinter as _NumPyBase
 from dtcrit.symbolic.emit import hypot_arguments as _hypot_args
 
 
+def nested_branches(printer, expr: sp.Piecewise, template: str) -> str:
+    """A Piecewise with a default branch as nested inline choices, ``template`` with the fields
+    ``cond``, ``then`` and ``other`` (C ternary, ``np.where``)."""
+    if expr.args[-1].cond != sp.true:
+        raise ValueError("Piecewise without a default branch")
+    text = printer._print(expr.args[-1].expr)
+    for e, c in reversed(expr.args[:-1]):
+        text = template.format(cond=printer._print(c), then=printer._print(e), other=text)
+    return text
+
+
 class _CompiledCalls:
     """Calls shared by the compiled languages: the ``hypot`` function and the cubic-root helper
     ``helper_name`` (its last argument a logical, spelled ``LOGICAL[False]`` / ``LOGICAL[True]``)."""
@@ -60,13 +71,7 @@ class CPrinter(_CompiledCalls, C99CodePrinter):
         return super()._print_Pow(expr)
 
     def _print_Piecewise(self, expr):
-        if expr.args[-1].cond != sp.true:
-            raise ValueError("Piecewise without a default branch")
-        text = self._print(expr.args[-1].expr)
-        for e, c in reversed(expr.args[:-1]):
-            text = f"(({self._print(c)}) ? ({self._print(e)}) : ({text}))"
-        return text
-
+        return nested_branches(self, expr, "(({cond}) ? ({then}) : ({other}))")
 
 
 class FortranPrinter(_CompiledCalls, FCodePrinter):
@@ -110,7 +115,6 @@ class FortranPrinter(_CompiledCalls, FCodePrinter):
         return super()._print_Pow(expr)
 
 
-
 class NumPyPrinter(_NumPyBase):
     """NumPy (vectorised): ``np.hypot``, elementwise ``np.minimum``/``np.maximum``, ``np.where``."""
 
@@ -138,12 +142,7 @@ class NumPyPrinter(_NumPyBase):
         return self._nested("np.maximum", expr.args)
 
     def _print_Piecewise(self, expr):
-        if expr.args[-1].cond != sp.true:
-            raise ValueError("Piecewise without a default branch")
-        text = self._print(expr.args[-1].expr)
-        for e, c in reversed(expr.args[:-1]):
-            text = f"np.where({self._print(c)}, {self._print(e)}, {text})"
-        return text
+        return nested_branches(self, expr, "np.where({cond}, {then}, {other})")
 
     def _print_cubic_positive_root(self, expr):
         a2, a1, a0, largest = expr.args
