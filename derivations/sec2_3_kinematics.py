@@ -4,8 +4,8 @@ The contact kinematics is rebuilt from first principles by ``dtcrit.symbolic.kin
 (quaternion rotation, Euler's equations, frame changes, contact-point accelerations); the three
 tip-to-tip configurations of Figure 2 are *reconstructed* by scoring every axis-aligned candidate
 against the printed entries, and the claim of Eq. (26) is tested on the full coefficient matrix
-for admissible contacts of the paper's shape classes (``dtcrit.contact``,
-``dtcrit.contact_search``).
+for admissible contacts of the paper's shape classes (``dtcrit.bodies.contact``,
+``dtcrit.bodies.contact_search``).
 """
 from __future__ import annotations
 
@@ -17,7 +17,7 @@ import sympy as sp
 import dtcrit
 from dtcrit import arm_supremum as asup
 from dtcrit import contact_search as cs
-from dtcrit.shapes import Box, ConvexPolyhedron, Ellipsoid, Sphere, Superquadric
+from dtcrit.bodies import Box, ConvexPolyhedron, Ellipsoid, Sphere, Superquadric
 from dtcrit.symbolic import contact_codegen as cc
 from dtcrit.symbolic import kinematics as kin
 
@@ -390,7 +390,7 @@ def _ellipsoid_closed_form() -> list[str]:
         *rows,
         "",
         "**Superquadrics.**  No closed form (box-like ones reach their largest values near the corners).  `a_bound` uses "
-        "a branch and bound over cones of directions in the first octant (`dtcrit.arm_supremum_cones`: reflection "
+        "a branch and bound over cones of directions in the first octant (`dtcrit.bodies.arm_cones`: reflection "
         "symmetry, supporting half-spaces at the corner points, vertex enumeration of small polytopes), NumPy only; "
         "the tests check it against the cutting planes and dense surface samples.",
         "",
@@ -496,7 +496,7 @@ def section_api(verdicts) -> list[str]:
         "Generated from this derivation into `dtcrit/_generated/contact.py`: `a_max` (Eq. 26 as printed), `b_max` "
         "(Eq. 54), `rotation_matrix` (Eq. 7), `arm_term` (one particle's $[r]_\\times^T I^{-1}[r]_\\times$ from the "
         "general kinematics), `gyroscopic_coefficients` (Eqs. 11-12 with $M_L = 0$).  Run-time functions "
-        "(`dtcrit.contact`): `a_max(p1, p2=None)`, `a_bound(p1, p2=None)`, `b_max(p)`, `b_bound(p)`, "
+        "(`dtcrit.bodies.contact`): `a_max(p1, p2=None)`, `a_bound(p1, p2=None)`, `b_max(p)`, `b_bound(p)`, "
         "`coefficient_matrix(p1, p2, r1, r2, R1=None, R2=None)` (global frame; $R$ as quaternion or matrix in the "
         "paper's convention).",
         "",
@@ -529,8 +529,8 @@ def build() -> str:
         "# Sections 2-3: contact kinematics and the inverse-inertia coefficient $A$",
         "",
         "Source: Peng, Burns & Hanley 2020 (seed 000), Sections 2-3, 4.3 and Appendix A.  Built by "
-        "`derivations/sec2_3_kinematics.py` with `dtcrit.symbolic.kinematics`, `dtcrit.contact` and "
-        "`dtcrit.contact_search`; regenerate with `python3 dev.py generate`.",
+        "`derivations/sec2_3_kinematics.py` with `dtcrit.symbolic.kinematics`, `dtcrit.bodies.contact` and "
+        "`dtcrit.bodies.contact_search`; regenerate with `python3 dev.py generate`.",
         "",
         *section_convention(),
         *section_general(),

@@ -3,7 +3,7 @@
 Every printed equation is transcribed from seed 000 (each repair of extraction damage listed) and
 compared with what the library derives: SymPy identities where the statement is algebraic, and for
 statements about stability the spectral radius of the amplification matrix built *numerically* from
-each integrator's update rule (``dtcrit.schemes`` applied to unit state vectors in mpmath, eigen-
+each integrator's update rule (``dtcrit.integrators.schemes`` applied to unit state vectors in mpmath, eigen-
 values by ``mpmath.eig`` at 50 digits) -- no characteristic polynomial or closed form on that side.
 
 Library used: ``dtcrit.symbolic.integrators`` (amplification matrices, characteristic polynomials),
@@ -18,10 +18,10 @@ from functools import lru_cache
 import mpmath as mp
 import sympy as sp
 
-from dtcrit.amplification import matrix_mp
+from dtcrit.integrators.amplification import matrix_mp
 from dtcrit import contact
-from dtcrit.schemes import NAMES
-from dtcrit.shapes import Sphere
+from dtcrit.integrators.schemes import NAMES
+from dtcrit.bodies import Sphere
 from dtcrit.symbolic import paper_section4 as p4
 from dtcrit.symbolic import roots as R
 from dtcrit.symbolic.boundary import boundary_factors, tau_crit_mp
@@ -135,9 +135,9 @@ def header() -> list[str]:
         "$\\tau$ with every eigenvalue of its amplification matrix in the closed unit disc "
         "(`dtcrit.symbolic.boundary`, Jury conditions).  'Spectral radius' $\\rho$ below is always "
         "`mpmath.eig` (50 digits) of the matrix built numerically from the integrator's update rule "
-        "(`dtcrit.schemes` applied to unit state vectors), an independent route.",
+        "(`dtcrit.integrators.schemes` applied to unit state vectors), an independent route.",
         "",
-        "Integrators (`dtcrit.schemes`): `paper-eq40` (Eq. (40) as printed: the acceleration row uses the previous "
+        "Integrators (`dtcrit.integrators.schemes`): `paper-eq40` (Eq. (40) as printed: the acceleration row uses the previous "
         "state), `forward-euler` ((38)-(39) with $a_n=f(x_n,v_n)$), `symplectic-euler`, `leapfrog` (damping from "
         "$v_{n-1/2}$), `leapfrog-centred` (damping from $(v_{n-1/2}+v_{n+1/2})/2$), `velocity-verlet` (damping "
         "from $v_{n+1/2}$), `velocity-verlet-predicted` (damping from $v_n+\\Delta t\\,a_n$).",
@@ -213,7 +213,7 @@ def section_belytschko() -> list[str]:
         "`leapfrog-centred`, `velocity-verlet`, `velocity-verlet-predicted` (Section 5); 0 for `forward-euler`, "
         "`paper-eq40` | **reproduced** as the *undamped* bound of the central-difference family (the paper quotes "
         "it for a linear system with Rayleigh damping; with viscous contact damping it is not the bound, below) |",
-        "| (29) | $F_j=-k_jx_{cj}-c_j\\dot x_{cj}$ | none | `dtcrit.schemes.LinearForce` | definition |",
+        "| (29) | $F_j=-k_jx_{cj}-c_j\\dot x_{cj}$ | none | `dtcrit.integrators.schemes.LinearForce` | definition |",
         "| (30) | $\\ddot x_{cj}+c_jA\\dot x_{cj}+k_jA x_{cj}=0$ | subscript $i$ printed for $j$ (the equation is labelled $j=1,2,3$) | "
         "$\\ddot x=-Kx-C\\dot x$, $K=kA$, $C=cA$ | definition |",
         f"| (31) | $s^2+c_jAs+k_jA=0$ | none | $x=e^{{st}}$ in (30) (SymPy) | {_verdict(eq31_ok)} |",
@@ -472,8 +472,8 @@ def section_spheres() -> list[str]:
         f"* Two identical spheres touching at arm $r$: the contact coefficient matrix "
         f"$A=(1/m_1+1/m_2)I-[r_1]_\\times I_1^{{-1}}[r_1]_\\times-[r_2]_\\times I_2^{{-1}}[r_2]_\\times$ with $I=\\frac25mr^2$ "
         f"has eigenvalues ${', '.join(sp.latex(e) for e in eig)}$ (normal, tangential); the largest is "
-        f"${sp.latex(A_sphere)}$ (`dtcrit.shapes.Sphere`, $r=0.5$, $\\rho=1000$: $2/m+2r^2/I={_n(A_num * sph.mass, 6)}/m$; "
-        f"`dtcrit.contact.a_max` (Eq. (26)) and `a_bound` for that sphere: {_n(A_contact[0], 6)}/m and {_n(A_contact[1], 6)}/m).  "
+        f"${sp.latex(A_sphere)}$ (`dtcrit.bodies.Sphere`, $r=0.5$, $\\rho=1000$: $2/m+2r^2/I={_n(A_num * sph.mass, 6)}/m$; "
+        f"`dtcrit.bodies.contact.a_max` (Eq. (26)) and `a_bound` for that sphere: {_n(A_contact[0], 6)}/m and {_n(A_contact[1], 6)}/m).  "
         f"With it (48) gives (49): {_verdict(eq49_ok)}; the exact undamped bound of `velocity-verlet` gives "
         f"$\\alpha=\\tau^*(0)/\\sqrt7={_n(alpha_vv, 12)}=2/\\sqrt7$.",
         "* The normal direction alone has $A=2/m$ and $\\alpha=\\sqrt2$ (Burns et al.'s value quoted after (49)); "

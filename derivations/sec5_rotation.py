@@ -4,7 +4,7 @@ The relative angular acceleration of the three Figure 2 configurations comes fro
 kinematics (``dtcrit.symbolic.kinematics``; configurations reconstructed in
 ``sec2_3_kinematics.md``); the inequality (53), the constant (54) and the step (55)-(57) are
 checked symbolically and against direct evaluations of Euler's equations; the tight constants
-are those of ``dtcrit.contact.b_bound``.
+are those of ``dtcrit.bodies.contact.b_bound``.
 """
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ import sympy as sp
 
 import dtcrit
 from dtcrit import contact
-from dtcrit.shapes import Box, Ellipsoid, Superquadric
+from dtcrit.bodies import Box, Ellipsoid, Superquadric
 from dtcrit.symbolic import kinematics as kin
 
 RECORD = "sec5_rotation.md"
@@ -171,7 +171,7 @@ def section_general_orientation() -> list[str]:
         "$|\\dot\\omega_L| \\le B_{\\max}|\\omega|^2/\\sqrt3$; and choosing $\\omega$ at 45 degrees in the plane of the axes "
         "that carry $B_{\\max}$ gives $B_{\\max}|\\omega|^2/2$.  The tight constant "
         "$G = \\max_{|\\omega|=1}|I^{-1}(\\omega\\times I\\omega)|$ therefore satisfies $B_{\\max}/2 \\le G \\le "
-        "B_{\\max}/\\sqrt3$; `dtcrit.contact.b_bound` evaluates it in closed form (maximum of a quadratic form in $x$ "
+        "B_{\\max}/\\sqrt3$; `dtcrit.bodies.contact.b_bound` evaluates it in closed form (maximum of a quadratic form in $x$ "
         "over the simplex: edge midpoints or the interior stationary point).  For every orientation "
         "$|\\dot\\omega_{c,k}| \\le (G_1+G_2)\\,\\omega_{\\max}^2$, attained by aligning both particles' maximal "
         "accelerations with axis $k$.",
@@ -244,7 +244,7 @@ def build() -> str:
         "# Section 5: the rotation-dominant time step",
         "",
         "Source: Peng, Burns & Hanley 2020 (seed 000), Section 5.  Built by `derivations/sec5_rotation.py` with "
-        "`dtcrit.symbolic.kinematics` and `dtcrit.contact`; regenerate with `python3 dev.py generate`.",
+        "`dtcrit.symbolic.kinematics` and `dtcrit.bodies.contact`; regenerate with `python3 dev.py generate`.",
         "",
         *section_eqs50_52(),
         *section_eq53(),

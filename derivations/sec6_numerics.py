@@ -1,11 +1,11 @@
 """Record: Peng, Burns & Hanley 2020, Section 6 (Figures 3-6), reproduced from the library and checked.
 
-The figure data come from ``dtcrit.figures`` (which calls ``dtcrit.stability``, ``dtcrit.contact``,
-``dtcrit.shapes`` and the generated kernels).  Checks made here, independently of that code:
+The figure data come from ``dtcrit.figures`` (which calls ``dtcrit.integrators.stability``, ``dtcrit.bodies.contact``,
+``dtcrit.bodies`` and the generated kernels).  Checks made here, independently of that code:
 
 * the printed Eqs. (58)-(60) against Eqs. (34), (36), (46) with A = 7/m, by SymPy;
 * stability statements by the spectral radius of the amplification matrix built from each
-  integrator's update rule (``dtcrit.schemes`` on unit vectors, ``mpmath.eig`` at 50 digits);
+  integrator's update rule (``dtcrit.integrators.schemes`` on unit vectors, ``mpmath.eig`` at 50 digits);
 * ellipsoid inertia in the Fig. 6 spot checks by 1-D slice quadrature (mpmath).
 
 Images: ``dtcrit figures --out derivations/records/figures`` (not compared by the drift test).
@@ -18,7 +18,7 @@ import mpmath as mp
 import numpy as np
 import sympy as sp
 
-from dtcrit.amplification import spectral_radius_mp
+from dtcrit.integrators.amplification import spectral_radius_mp
 from dtcrit.figures.ellipsoid_pair import N_VALUES, describe_trend, pair_steps
 from dtcrit.figures.fig3_damping import fig3_data
 from dtcrit.figures.fig6_aspect_ratio import CLAIM_RATIO, ellipsoid_axes, fig6_data, four_orders_region, ratio_at
@@ -66,11 +66,11 @@ def header() -> list[str]:
         "`tests/test_figures_sections.py`, `tests/test_figures_cli.py`.",
         "",
         "Notation as in `sec4_stability.md`: $\\omega=\\sqrt{kA}$, $\\zeta=cA/(2\\omega)$, $\\tau=\\omega\\Delta t$.  "
-        "'Verified bound' is the exact critical step of an integrator (`dtcrit.stability.critical_dt`); "
+        "'Verified bound' is the exact critical step of an integrator (`dtcrit.integrators.stability.critical_dt`); "
         "'$\\rho$' is the spectral radius of the amplification matrix built numerically from the update rule "
-        "(`dtcrit.schemes`, `mpmath.eig`, 50 digits).  $A_{max}$ is Eq. (26) as printed; $a_{bound}$ is the "
+        "(`dtcrit.integrators.schemes`, `mpmath.eig`, 50 digits).  $A_{max}$ is Eq. (26) as printed; $a_{bound}$ is the "
         "verified bound on the largest eigenvalue of the full 3x3 contact coefficient matrix over all admissible "
-        "contacts (`dtcrit.contact.a_bound`, see `appendix_a.md`).",
+        "contacts (`dtcrit.bodies.contact.a_bound`, see `appendix_a.md`).",
         "",
     ]
 

@@ -1,8 +1,8 @@
 """Record: Peng, Burns & Hanley 2020, Appendix A (and the claims of Section 3 it supports), reproduced.
 
 Library: ``dtcrit.figures.appendix_a`` (admissible-contact search, the paper's two scenarios, the
-paper's orthogonal configuration), ``dtcrit.contact`` (coefficient matrix, Eq. (26), ``a_bound``),
-``dtcrit.shapes``.  Independent checks made here: the coefficient matrix of the orthogonal
+paper's orthogonal configuration), ``dtcrit.bodies.contact`` (coefficient matrix, Eq. (26), ``a_bound``),
+``dtcrit.bodies``.  Independent checks made here: the coefficient matrix of the orthogonal
 configurations from the chain of Eqs. (1)-(19) evaluated in exact arithmetic (SymPy, unit density,
 principal moments of the ellipsoid by SymPy integration), and the maximisers' relative
 accelerations re-evaluated from that chain in floating point.

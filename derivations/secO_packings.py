@@ -99,7 +99,7 @@ def _localisation_row(seed: int, cn: float) -> str:
 def _ellipsoid_section(w) -> None:
     """Peng et al.'s ellipsoids (a, b, c = 3, 2, 1 m, 1000 kg/m^3, kn = ks = 1e10 N/m) as packings."""
     from dtcrit.packing.model import Box
-    from dtcrit.shapes import Ellipsoid
+    from dtcrit.bodies import Ellipsoid
 
     e = Ellipsoid(3.0, 2.0, 1.0, density=1000.0)
     k = 1.0e10
@@ -186,7 +186,7 @@ def build() -> str:
       "sliding compliance $1/m_1 + 1/m_2 + R_1^2/I_1 + R_2^2/I_2$ is Eq. (26) for spheres.  The sliding mode "
       "carries 5/7 of its kinetic energy in rotation.  Tests: `test_packing_assembly.py` (hypothesis over "
       "radii, densities and stiffnesses across decades; mpmath at 50 digits for Eq. (49); the damped bound equals "
-      "`dtcrit.stability.critical_dt(integrator, k, c, 7/m)` for every integrator).")
+      "`dtcrit.integrators.stability.critical_dt(integrator, k, c, 7/m)` for every integrator).")
     w("")
 
     # 3. lattices
@@ -334,7 +334,7 @@ def build() -> str:
     w("")
     w("## 6. Damped and integrator-specific bounds")
     w("")
-    w("The highest mode is handed to `dtcrit.stability.critical_dt(integrator, k = \\omega_{max}^2, c = 2\\zeta"
+    w("The highest mode is handed to `dtcrit.integrators.stability.critical_dt(integrator, k = \\omega_{max}^2, c = 2\\zeta"
       "\\omega_{max}, A = 1)`.  This is exact when the damping matrix is diagonalised by the undamped modes "
       "(classical damping, e.g. contact dashpots proportional to the springs, $C = \\beta K$, giving "
       "$\\zeta = \\beta\\omega_{max}/2$ in the top mode) and an approximation for non-proportional dashpots.  For "

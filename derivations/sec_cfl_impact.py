@@ -15,8 +15,8 @@ import sympy as sp
 from scipy.integrate import solve_ivp
 
 from dtcrit import impact as imp
-from dtcrit.schemes import NAMES
-from dtcrit.stability import critical_dt
+from dtcrit.integrators.schemes import NAMES
+from dtcrit.integrators.stability import critical_dt
 from dtcrit.symbolic import impact as si
 from dtcrit.symbolic.closed_forms import closed_pieces
 from dtcrit.symbolic.integrators import zeta as zeta_nn

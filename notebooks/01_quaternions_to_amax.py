@@ -68,7 +68,7 @@ assert sph["residual"] == sp.zeros(3, 3)
 assert sp.simplify(sph["lambda_max"] - sph["a_max_eq26"]) == 0
 
 import dtcrit
-from dtcrit.shapes import Sphere
+from dtcrit.bodies import Sphere
 s = Sphere(0.01, density=2500.0)
 alpha = dtcrit.critical_dt("velocity-verlet", 1e5, 0.0, dtcrit.a_bound(s)).dt * np.sqrt(1e5 / s.mass)
 print(f"alpha = dt*sqrt(k/m) = {alpha:.15f}   2/sqrt(7) = {2/np.sqrt(7):.15f}")

@@ -30,7 +30,7 @@ import matplotlib.pyplot as plt
 import sympy as sp
 
 import dtcrit
-from dtcrit.amplification import spectral_radius
+from dtcrit.integrators.amplification import spectral_radius
 from dtcrit.symbolic.integrators import amplification_matrix, characteristic_polynomial
 from dtcrit.symbolic.jury import jury_conditions
 

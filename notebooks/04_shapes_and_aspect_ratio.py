@@ -27,7 +27,7 @@ import numpy as np
 import matplotlib.pyplot as plt
 
 import dtcrit
-from dtcrit.shapes import Box, Ellipsoid, Sphere, Superquadric
+from dtcrit.bodies import Box, Ellipsoid, Sphere, Superquadric
 
 shapes = {
     "sphere r=1": Sphere(1.0, density=1000.0),

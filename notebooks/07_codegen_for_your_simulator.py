@@ -28,7 +28,7 @@ import numpy as np
 import matplotlib.pyplot as plt
 
 from dtcrit.codegen import emit_for_scene
-from dtcrit.scene import parse_scene
+from dtcrit.scenes.scene import parse_scene
 
 SCENE = """
 title = "two steel spheres, damped linear contact"

@@ -1,6 +1,6 @@
 """Test-side direct route: the amplification matrix of an integrator built *numerically*.
 
-The integrator's update rule (dtcrit.schemes) is applied to each unit state vector with plain
+The integrator's update rule (dtcrit.integrators.schemes) is applied to each unit state vector with plain
 numbers (floats or mpmath), in scaled units omega = 1 (K = 1, C = 2 zeta, step tau).  No SymPy,
 no characteristic polynomial, no closed form: the spectral radius of this matrix is the direct
 check of every bound.
@@ -8,7 +8,7 @@ check of every bound.
 import mpmath as mp
 import numpy as np
 
-from dtcrit.schemes import INTEGRATORS, LinearForce
+from dtcrit.integrators.schemes import INTEGRATORS, LinearForce
 
 
 def matrix_float(name, tau, zeta):

@@ -16,8 +16,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from dtcrit import arm_supremum as asup
-from dtcrit.arm_supremum_cones import octant_cone_supremum
-from dtcrit.shapes import AssumptionWarning, Ellipsoid, Superquadric
+from dtcrit.bodies.arm_cones import octant_cone_supremum
+from dtcrit.bodies import AssumptionWarning, Ellipsoid, Superquadric
 
 SLACK = 1e-12
 
@@ -142,8 +142,8 @@ def test_unit_exponents_take_the_ellipsoid_route():
 def test_smooth_routes_do_not_import_qhull():
     code = (
         "import sys\n"
-        "from dtcrit.shapes import AssumptionWarning, Ellipsoid, Superquadric\n"
-        "from dtcrit.arm_supremum import arm_term_supremum\n"
+        "from dtcrit.bodies import AssumptionWarning, Ellipsoid, Superquadric\n"
+        "from dtcrit.bodies.arm_supremum import arm_term_supremum\n"
         "arm_term_supremum(Ellipsoid(3.0, 2.0, 1.0, density=1000.0))\n"
         "arm_term_supremum(Superquadric(3.0, 2.0, 1.0, 0.3, 0.5, density=1000.0))\n"
         "print(sorted(m for m in ('scipy.spatial', 'scipy.special', 'sympy') if m in sys.modules))\n"

@@ -1,7 +1,7 @@
 """The quick bench (``dtcrit bench --quick``) run once; its accuracy claims asserted, never its times.
 
 * dtcrit's own routes (``critical_dt_array``, the scalar ``critical_dt`` -- both through
-  ``dtcrit.precise`` -- and the fused kernel) are within 4 ulp of the 50-digit reference on the
+  ``dtcrit.integrators.precise`` -- and the fused kernel) are within 4 ulp of the 50-digit reference on the
   batch sample and on the whole extreme-case suite, or refuse the input;
 * the bare emitted C kernel (the generated expression alone) shows exactly the limits listed in
   ``C_KERNEL_LIMITS`` (a strict xfail turns red as soon as they disappear);
@@ -19,7 +19,7 @@ import pytest
 from dtcrit.bench.report import json_summary, write_report
 from dtcrit.bench.runner import QUICK, run_bench
 from dtcrit.bench.suite import SUITE
-from dtcrit.schemes import NAMES
+from dtcrit.integrators.schemes import NAMES
 
 OWN_ROUTES = ("closed-form-numpy", "closed-form-scalar")
 
@@ -84,7 +84,7 @@ def test_bare_c_kernel_within_4_ulp_or_refuses_apart_from_its_listed_limits(resu
             assert e["max_ulp"] <= 4.0, ("closed-form-c", name, e["max_ulp"])
 
 
-@pytest.mark.xfail(strict=True, reason="the bare emitted C kernel lacks dtcrit.precise's forms (see C_KERNEL_LIMITS)")
+@pytest.mark.xfail(strict=True, reason="the bare emitted C kernel lacks dtcrit.integrators.precise's forms (see C_KERNEL_LIMITS)")
 def test_c_kernel_limits_are_gone(result):
     still = [(e["case"], e["integrator"]) for e in _entries(result, "closed-form-c")
              if (e["case"], e["integrator"]) in C_KERNEL_LIMITS and e["outcome"] not in ("ok", "refused")]

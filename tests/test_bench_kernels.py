@@ -21,8 +21,8 @@ from dtcrit.bench.bisection import bisect_tau, bisect_tau_scalar
 from dtcrit.bench.fused import critical_dt_fused
 from dtcrit.bench.runner import classify
 from dtcrit.errors import InputError
-from dtcrit.schemes import NAMES
-from dtcrit.stability import critical_dt_array
+from dtcrit.integrators.schemes import NAMES
+from dtcrit.integrators.stability import critical_dt_array
 
 log_uniform = lambda lo, hi: st.floats(lo, hi).map(lambda e: 10.0**e)  # noqa: E731
 near_one = st.tuples(st.sampled_from([-1.0, 1.0]), st.floats(-16, -1)).map(lambda t: 1.0 + t[0] * 10.0 ** t[1])

@@ -32,8 +32,8 @@ def test_written_c_file_compiles_and_matches_dtcrit_step(tmp_path, capsys):
     f = ctypes.CDLL(str(lib)).contact_dt
     f.restype = ctypes.c_double
     f.argtypes = [ctypes.c_double] * 7
-    from dtcrit.scene import load_scene
-    from dtcrit.timestep import critical_step
+    from dtcrit.scenes.scene import load_scene
+    from dtcrit.scenes.timestep import critical_step
 
     s = load_scene(SCENE)
     sh, pc = s.particle(1).shape, s.pair_contact(1, 1)
@@ -63,7 +63,7 @@ def test_written_fortran_file_compiles_and_matches_the_c(scene, tmp_path, capsys
     c_lib = tmp_path / "dt.so"
     subprocess.run([CC, *C_FLAGS, "-O2", "-shared", "-fPIC", "-o", str(c_lib), str(tmp_path / "dt.c"), "-lm"], check=True)
     from dtcrit.codegen import build_kernel, structure_of_scene
-    from dtcrit.scene import load_scene
+    from dtcrit.scenes.scene import load_scene
 
     nargs = len(build_kernel(structure_of_scene(load_scene(path))).arguments)
     f_f, f_c = _bound(f_lib, name, nargs), _bound(c_lib, name, nargs)

@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 from dtcrit.codegen import KernelStructure, evaluate_mp, general_structure
 from dtcrit.codegen.kernel import direction_kernel
-from dtcrit.schemes import NAMES
+from dtcrit.integrators.schemes import NAMES
 from dtcrit.symbolic.closed_forms import dt_crit_mp, tau_crit_closed_mp
 
 from test_codegen_support import GFORTRAN, c_function, fortran_function, kernel_for, numpy_function, ulps

@@ -4,7 +4,7 @@
   CSE, and an independent count of operators and calls in the emitted C);
 * they give the same values as the general form fed with the specialised case's parameters;
 * the arm-based A of the kernel bounds the largest eigenvalue of the contact coefficient matrix
-  (dtcrit.contact.coefficient_matrix) for random arms and orientations, so the emitted step is safe
+  (dtcrit.bodies.contact.coefficient_matrix) for random arms and orientations, so the emitted step is safe
   for every contact with those arm lengths; at the scene's largest arms it is never larger than
   the step ``dtcrit step`` reports, and equal for spheres;
 * the output is deterministic and its header carries what produced it.
@@ -20,10 +20,10 @@ from hypothesis import strategies as st
 
 from dtcrit.codegen import (KernelStructure, build_kernel, count_c_operations, emit_for_scene, general_structure,
                             render, structure_of_scene)
-from dtcrit.contact import coefficient_matrix
-from dtcrit.scene import load_scene
-from dtcrit.shapes import Box, Ellipsoid, Sphere
-from dtcrit.timestep import critical_step
+from dtcrit.bodies.contact import coefficient_matrix
+from dtcrit.scenes.scene import load_scene
+from dtcrit.bodies import Box, Ellipsoid, Sphere
+from dtcrit.scenes.timestep import critical_step
 
 from test_codegen_support import GFORTRAN, c_function, fortran_function, kernel_for, numpy_function, ulps
 

@@ -16,7 +16,7 @@ from scipy.spatial.transform import Rotation
 import dtcrit
 from dtcrit import contact, contact_search as cs
 from dtcrit.errors import InputError
-from dtcrit.shapes import Box, ConvexPolyhedron, Ellipsoid, Sphere, Superquadric
+from dtcrit.bodies import Box, ConvexPolyhedron, Ellipsoid, Sphere, Superquadric
 
 decades = st.floats(min_value=-5.0, max_value=5.0)
 SLACK = 1e-12
@@ -267,6 +267,6 @@ def test_runtime_contact_modules_do_not_import_sympy():
     import subprocess
     import sys
 
-    code = ("import sys, dtcrit, dtcrit.contact, dtcrit.contact_search; from dtcrit.shapes import Box; "
+    code = ("import sys, dtcrit, dtcrit.bodies.contact, dtcrit.bodies.contact_search; from dtcrit.bodies import Box; "
             "dtcrit.a_bound(Box(1.0, 1.0, 1.0, density=1.0)); assert 'sympy' not in sys.modules, 'sympy imported'")
     subprocess.run([sys.executable, "-c", code], check=True)

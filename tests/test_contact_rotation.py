@@ -17,7 +17,7 @@ from scipy.spatial.transform import Rotation
 
 import dtcrit
 from dtcrit import contact
-from dtcrit.shapes import Box, Ellipsoid, Sphere
+from dtcrit.bodies import Box, Ellipsoid, Sphere
 from dtcrit.symbolic import kinematics as kin
 
 

@@ -7,7 +7,7 @@ Independent routes used here (none calls the code under test for its expected va
 * the paper's general formulas Eqs. (26), (34), (36), (46), (48), (54), (57) typed here from the
   seed text and evaluated in mpmath;
 * each integrator's stability from the spectral radius of its amplification matrix, built from the
-  update rule in ``dtcrit.schemes`` applied to unit vectors and solved by ``mpmath.eig`` at 50 digits
+  update rule in ``dtcrit.integrators.schemes`` applied to unit vectors and solved by ``mpmath.eig`` at 50 digits
   (``tests/_amplification.py``): rho <= 1 inside the step, rho > 1 just beyond it.
 """
 from __future__ import annotations
@@ -25,7 +25,7 @@ from dtcrit.figures.fig3_damping import fig3_data
 from dtcrit.figures.fig4_stiffness import fig4_data
 from dtcrit.figures.fig5_density import fig5_data
 from dtcrit.figures.fig6_aspect_ratio import CLAIM_RATIO, ellipsoid_axes, fig6_data, four_orders_region
-from dtcrit.schemes import NAMES
+from dtcrit.integrators.schemes import NAMES
 
 from _amplification import spectral_radius_mp
 
@@ -128,8 +128,8 @@ def test_pair_coefficient_eq26_against_quadrature():
 
 
 def test_pair_a_bound_density_scaling_matches_direct_evaluation():
-    from dtcrit.contact import a_bound
-    from dtcrit.shapes import Ellipsoid
+    from dtcrit.bodies.contact import a_bound
+    from dtcrit.bodies import Ellipsoid
 
     for rho in (500.0, 5000.0):
         body = Ellipsoid(3.0, 2.0, 1.0, density=rho)

@@ -1,4 +1,4 @@
-"""dtcrit.hull against an independent implementation: scipy.spatial (Qhull, cKDTree) and scipy.sparse.csgraph.
+"""dtcrit.bodies.hull against an independent implementation: scipy.spatial (Qhull, cKDTree) and scipy.sparse.csgraph.
 
 * 3-D hulls: corner sets (as coordinates, so duplicates compare equal), volumes and face planes
   (Qhull's triangle equations with coplanar ones merged) on random clouds, points on spheres,
@@ -24,7 +24,7 @@ from scipy.sparse.csgraph import connected_components as csgraph_components
 from scipy.spatial import ConvexHull, QhullError, cKDTree
 from scipy.spatial.transform import Rotation
 
-from dtcrit.hull import HULL_RTOL, HullError, connected_components, convex_hull_2d, convex_hull_3d, nearest_neighbours
+from dtcrit.bodies.hull import HULL_RTOL, HullError, connected_components, convex_hull_2d, convex_hull_3d, nearest_neighbours
 
 CUBE = np.array(list(itertools.product([-1.0, 1.0], repeat=3)))
 
@@ -352,7 +352,7 @@ def test_connected_components_against_csgraph(n, m, seed):
 def test_polyhedral_shapes_do_not_import_scipy_spatial_or_sparse():
     code = (
         "import itertools, sys\n"
-        "from dtcrit.shapes import Box, ConvexPolyhedron\n"
+        "from dtcrit.bodies import Box, ConvexPolyhedron\n"
         "cube = [list(c) for c in itertools.product([-0.05, 0.05], repeat=3)]\n"
         "p = ConvexPolyhedron(cube, density=2700.0)\n"
         "b = Box(3.0, 2.0, 1.0, density=1.0)\n"

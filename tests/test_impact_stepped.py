@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 
 from dtcrit import impact as imp
 from dtcrit.errors import InputError
-from dtcrit.schemes import NAMES
+from dtcrit.integrators.schemes import NAMES
 
 FAMILY = imp.CENTRAL_DIFFERENCE_FAMILY
 

@@ -121,7 +121,7 @@ def test_hertz_scalings():
 
 def test_runtime_never_imports_sympy():
     code = (
-        "import sys, dtcrit.impact, dtcrit.commands.impact, dtcrit.cli\n"
+        "import sys, dtcrit.impact, dtcrit.cli.impact, dtcrit.cli\n"
         "dtcrit.cli.build_parser()\n"
         "assert 'sympy' not in sys.modules, sorted(m for m in sys.modules if 'sympy' in m)[:5]\n"
     )

@@ -73,7 +73,7 @@ def test_two_sphere_packing_matches_stability_engine(integrator, c_over_critical
     """Dashpots proportional to the springs (c_n = c_s = c, k_n = k_s = k) give C = (c/k) K, so the
     top mode of the pair packing is the paper's contact ODE x'' = -k A x - c A x' with A = 7/m;
     the packing's damped bound is the stability engine's pair result."""
-    stability = pytest.importorskip("dtcrit.stability")
+    stability = pytest.importorskip("dtcrit.integrators.stability")
     m, k = 2.5, 3.0e4
     a_max = 7.0 / m
     c = c_over_critical * 2.0 * math.sqrt(k / a_max)
@@ -87,12 +87,12 @@ def test_two_sphere_packing_matches_stability_engine(integrator, c_over_critical
 
 
 def test_shapes_module_sphere_agrees():
-    shapes = pytest.importorskip("dtcrit.shapes")
+    shapes = pytest.importorskip("dtcrit.bodies")
     s = shapes.Sphere(0.3, density=2650.0)
     p = Packing.spheres([[0, 0, 0], [0.6, 0, 0]], 0.3, density=2650.0)
     assert p.masses[0] == pytest.approx(s.mass, rel=1e-14)
     assert p.inertia[0] == pytest.approx(np.array(s.inertia), rel=1e-14)
-    contact = pytest.importorskip("dtcrit.contact")
+    contact = pytest.importorskip("dtcrit.bodies.contact")
     c = find_sphere_contacts(p)
     assert peng_a_max(p, c)[0] == pytest.approx(contact.a_max(s, s), rel=1e-12)
 
@@ -158,7 +158,7 @@ def _touching(shape_i, rot_i, shape_j, rot_j, direction, overlap=1e-6):
 
 
 def test_stiffness_is_the_hessian_of_the_spring_energy_rotated_ellipsoids():
-    shapes = pytest.importorskip("dtcrit.shapes")
+    shapes = pytest.importorskip("dtcrit.bodies")
     rng = np.random.default_rng(3)
     e1 = shapes.Ellipsoid(3.0, 2.0, 1.0, density=1000.0)
     e2 = shapes.Ellipsoid(2.0, 1.5, 0.7, density=500.0)
@@ -232,7 +232,7 @@ def test_ellipsoid_pair_matches_rigid_body_compliance():
     """Two rotated bodies: the global eigenproblem's top value equals the contact's own frequency
     from rigid-body dynamics (relative acceleration of the contact points per unit force,
     a_rel = (1/m1 + 1/m2) F + sum J^-1 (r x F) x r), built here with cross products."""
-    shapes = pytest.importorskip("dtcrit.shapes")
+    shapes = pytest.importorskip("dtcrit.bodies")
     rng = np.random.default_rng(11)
     e1, e2 = shapes.Ellipsoid(3.0, 2.0, 1.0, density=1000.0), shapes.Superquadric(2.0, 1.5, 1.0, 0.6, 0.8, density=800.0)
     r1, r2 = _rot(rng), _rot(rng)
@@ -259,7 +259,7 @@ def test_ellipsoid_pair_matches_rigid_body_compliance():
 def test_convex_penetration_against_brute_force_directions():
     """Depth and normal from the optimiser against the minimum of the overlap over 200 000
     sampled directions (the sampled minimum can only be larger)."""
-    shapes = pytest.importorskip("dtcrit.shapes")
+    shapes = pytest.importorskip("dtcrit.bodies")
     rng = np.random.default_rng(5)
     e1, e2 = shapes.Ellipsoid(3.0, 2.0, 1.0, density=1.0), shapes.Superquadric(2.0, 1.5, 1.0, 0.7, 0.9, density=1.0)
     r1, r2 = _rot(rng), _rot(rng)
@@ -277,7 +277,7 @@ def test_convex_penetration_against_brute_force_directions():
 
 
 def test_convex_contact_of_spheres_matches_sphere_path():
-    shapes = pytest.importorskip("dtcrit.shapes")
+    shapes = pytest.importorskip("dtcrit.bodies")
     s1, s2 = shapes.Sphere(1.0, density=1.0), shapes.Sphere(0.5, density=1.0)
     x = [[0, 0, 0], [1.2, 0.5, -0.6]]
     x[1] = list(np.array(x[1]) / np.linalg.norm(x[1]) * 1.49)
@@ -290,7 +290,7 @@ def test_convex_contact_of_spheres_matches_sphere_path():
 
 
 def test_ellipsoid_tip_to_tip_contact_point():
-    shapes = pytest.importorskip("dtcrit.shapes")
+    shapes = pytest.importorskip("dtcrit.bodies")
     e = shapes.Ellipsoid(3.0, 2.0, 1.0, density=1000.0)
     c = find_convex_contacts(Packing.from_shapes([e, e], [[0, 0, 0], [5.99, 0, 0]]))
     assert c.count == 1

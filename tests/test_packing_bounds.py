@@ -73,7 +73,7 @@ def test_sparse_solvers_agree_with_dense_eigh(seed, cn, sizes):
 
 
 def test_damped_bound_uses_modal_damping():
-    stability = pytest.importorskip("dtcrit.stability")
+    stability = pytest.importorskip("dtcrit.integrators.stability")
     p = random_packing(30, cn=6, seed=4)
     rep = analyse(p, LinearLaw(1e5, 1e5), integrator="velocity-verlet", damping_ratio=0.2)
     w = rep.omega_max

@@ -34,7 +34,7 @@ def test_random_text_report(capsys):
 
 
 def test_damped_integrator_bound(capsys):
-    pytest.importorskip("dtcrit.stability")
+    pytest.importorskip("dtcrit.integrators.stability")
     out = _json(capsys, ["packing", "--lattice", "fcc", "--cells", "1", "--damping-ratio", "0.1"])
     assert out["dt_integrator"] < out["dt_crit"]
     assert out["dt_integrator"] == pytest.approx(out["dt_crit"] / (0.1 + math.sqrt(1.01)), rel=1e-9)

@@ -1,4 +1,4 @@
-"""dtcrit.precise evaluates the *derived* closed forms: symbolic identities, and ulps where it matters.
+"""dtcrit.integrators.precise evaluates the *derived* closed forms: symbolic identities, and ulps where it matters.
 
 The careful forms (forward Euler's error-free residual, the Eq. (40) cubic's identity) are checked
 against the closed forms produced by dtcrit.symbolic, and numerically against 50-digit references
@@ -10,7 +10,7 @@ import pytest
 import sympy as sp
 
 from dtcrit import precise
-from dtcrit.stability import critical_dt_array
+from dtcrit.integrators.stability import critical_dt_array
 from dtcrit.symbolic.closed_forms import closed_pieces, dt_crit_mp
 from dtcrit.symbolic.integrators import tau, zeta
 

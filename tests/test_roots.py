@@ -2,7 +2,7 @@
 eigen-solves of the matrix built numerically from each integrator's update rule.
 
 References: ``mpmath.eig`` at 50 digits and ``numpy.linalg.eigvals`` of the matrix obtained by
-applying ``dtcrit.schemes`` to the unit state vectors (``tests/_amplification.py``): no polynomial,
+applying ``dtcrit.integrators.schemes`` to the unit state vectors (``tests/_amplification.py``): no polynomial,
 no closed form on that side.  Error measure: ``|lambda - lambda_ref| / max(1, |lambda_ref|)`` for
 the best matching of the roots (normwise, the scale of the polynomial's coefficients).
 """
@@ -20,8 +20,8 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from dtcrit._generated import eigenvalues as gen
-from dtcrit.schemes import INTEGRATORS, NAMES
-from dtcrit.stability import critical_dt
+from dtcrit.integrators.schemes import INTEGRATORS, NAMES
+from dtcrit.integrators.stability import critical_dt
 from dtcrit.symbolic import roots as R
 from dtcrit.symbolic.integrators import tau, zeta
 

@@ -7,7 +7,7 @@ import pytest
 
 from dtcrit.cli import main
 from dtcrit.errors import InputError
-from dtcrit.scene import load_scene, parse_scene
+from dtcrit.scenes.scene import load_scene, parse_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = sorted((ROOT / "examples").glob("*.toml"))

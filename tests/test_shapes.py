@@ -1,4 +1,4 @@
-"""Mass properties of dtcrit.shapes against independent routes; bad input; paper assumption 3.
+"""Mass properties of dtcrit.bodies against independent routes; bad input; paper assumption 3.
 
 Independent references (none uses the closed forms or the slicing/Beta derivation):
 
@@ -24,7 +24,7 @@ import pytest
 from hypothesis import given, strategies as st
 
 from dtcrit.errors import InputError
-from dtcrit.shapes import (
+from dtcrit.bodies import (
     AssumptionWarning,
     Box,
     ConvexPolyhedron,
@@ -393,6 +393,6 @@ def test_shape_from_spec_builds_every_kind():
 
 
 def test_runtime_module_does_not_import_sympy():
-    code = "import sys, dtcrit.shapes; s = dtcrit.shapes.Superquadric(3, 2, 1, .5, .5, mass=1); s.surface_points(50); print('sympy' in sys.modules)"
+    code = "import sys, dtcrit.bodies; s = dtcrit.bodies.Superquadric(3, 2, 1, .5, .5, mass=1); s.surface_points(50); print('sympy' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"

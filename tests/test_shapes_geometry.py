@@ -1,4 +1,4 @@
-"""Surface geometry of dtcrit.shapes: max_arm, support points and surface_points.
+"""Surface geometry of dtcrit.bodies: max_arm, support points and surface_points.
 
 References, all independent of the code under test:
 
@@ -23,7 +23,7 @@ from hypothesis import given, strategies as st
 from scipy.optimize import minimize
 from scipy.spatial import ConvexHull, cKDTree
 
-from dtcrit.shapes import AssumptionWarning, Box, ConvexPolyhedron, Ellipsoid, Sphere, Superquadric
+from dtcrit.bodies import AssumptionWarning, Box, ConvexPolyhedron, Ellipsoid, Sphere, Superquadric
 
 
 def quiet(make):

@@ -21,7 +21,7 @@ from scipy.spatial import ConvexHull
 from scipy.spatial.transform import Rotation
 
 from dtcrit.errors import InputError
-from dtcrit.shapes import AssumptionWarning, Box, ConvexPolyhedron, Superquadric
+from dtcrit.bodies import AssumptionWarning, Box, ConvexPolyhedron, Superquadric
 
 CUBE = np.array(list(itertools.product([-1.0, 1.0], repeat=3)))
 OCTAHEDRON = np.r_[np.eye(3), -np.eye(3)]

@@ -10,9 +10,9 @@ from hypothesis import strategies as st
 
 import dtcrit
 from dtcrit.errors import InputError
-from dtcrit.schemes import NAMES
-from dtcrit.simulate import run
-from dtcrit.stability import critical_dt, critical_dt_array
+from dtcrit.integrators.schemes import NAMES
+from dtcrit.integrators.simulate import run
+from dtcrit.integrators.stability import critical_dt, critical_dt_array
 from dtcrit.symbolic.closed_forms import dt_crit_mp
 
 from _amplification import spectral_radius_mp, spectral_radius_np

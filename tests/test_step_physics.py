@@ -2,7 +2,7 @@
 
 * Direct eigen-solve of the time-stepped three-dimensional contact: the amplification matrix of the
   integrator applied to ``xdd = -W K x`` (W the 3x3 coefficient matrix of an admissible contact from
-  dtcrit.contact_search, K the contact stiffness) has spectral radius <= 1 at the reported step for
+  dtcrit.bodies.contact_search, K the contact stiffness) has spectral radius <= 1 at the reported step for
   every sampled contact, and > 1 just above it at the worst contact (the step is tight).
 * The paper's sphere result, Eq. (49): dt = (2/sqrt(7)) sqrt(m/k) for undamped identical spheres.
 * Rotation bound, Eq. (56); the minimum over pairs; the safety factor; the unsafe flags.
@@ -13,9 +13,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from dtcrit.contact_search import arm_term_supremum, mirror_contact, random_contacts
-from dtcrit.scene import load_scene, parse_scene
-from dtcrit.timestep import UNSAFE_RTOL, critical_step
+from dtcrit.bodies.arm_supremum import arm_term_supremum
+from dtcrit.bodies.contact_search import mirror_contact, random_contacts
+from dtcrit.scenes.scene import load_scene, parse_scene
+from dtcrit.scenes.timestep import UNSAFE_RTOL, critical_step
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"

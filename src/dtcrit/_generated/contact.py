@@ -2,7 +2,7 @@
 # Regenerate with: python3 dev.py generate
 # Derivation hash: aa7cfe5a3c76ec4c
 """Contact kinematics kernels (Peng et al. 2020, Eqs 7, 11-12, 17-19, 26, 54).
-Derived in dtcrit.symbolic.kinematics; used by dtcrit.contact.
+Derived in dtcrit.symbolic.kinematics; used by dtcrit.bodies.contact.
 """
 import numpy as np
 

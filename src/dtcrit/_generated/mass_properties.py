@@ -3,7 +3,7 @@
 # Derivation hash: f349344893015e38
 """Volumes and principal moments of inertia of particle shapes (sphere, ellipsoid, box,
 superquadric) and the moments of a tetrahedron for the exact decomposition of convex polyhedra.
-Derived in dtcrit.symbolic.mass_properties; used by dtcrit.shapes.
+Derived in dtcrit.symbolic.mass_properties; used by dtcrit.bodies.
 """
 import numpy as np
 

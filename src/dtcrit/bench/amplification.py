@@ -1,4 +1,4 @@
-"""Spectral radii for the bench's direct routes: re-exports ``dtcrit.amplification``.
+"""Spectral radii for the bench's direct routes: re-exports ``dtcrit.integrators.amplification``.
 
 ``spectral_radius_eigvals`` is the batched ``numpy.linalg.eigvals`` route (LAPACK geev);
 ``spectral_radius_mp`` the ``mpmath.eig`` route at the current working precision.
@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from dtcrit.amplification import matrices, matrix_mp, spectral_radius_mp
+from dtcrit.integrators.amplification import matrices, matrix_mp, spectral_radius_mp
 
 __all__ = ["matrices", "matrix_mp", "spectral_radius_eigvals", "spectral_radius_mp"]
 

@@ -5,7 +5,7 @@ needs the bare critical step of one integrator over arrays of (k, c, A).  This a
 from the *same* SymPy expression the NumPy kernels are generated from
 (``dtcrit.symbolic.stability_codegen.kernel_expr``, dt(omega, gamma)) and prints it with
 ``dtcrit.codegen.printers.CPrinter`` (``hypot``, ternaries for the pieces, the cubic helper).
-Around it, a loop does what ``dtcrit.stability.scaled_rates`` does in NumPy: split k, c, A into
+Around it, a loop does what ``dtcrit.integrators.stability.scaled_rates`` does in NumPy: split k, c, A into
 mantissa and exponent (``frexp``), form omega' = sqrt(mk mA [2]) and gamma' = mc mA/2 2^(ec+eA-s)
 and undo the power-of-two scale with ``ldexp`` -- exact, so any float inputs work.
 
@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from dtcrit.schemes import NAMES
+from dtcrit.integrators.schemes import NAMES
 
 HELPER = "dtcrit_cubic_positive_root"
 

@@ -34,8 +34,8 @@ import numpy as np
 
 from dtcrit._generated import critical_steps as _gen
 from dtcrit.errors import InputError
-from dtcrit.precise import _two_prod, _two_sum, forward_euler_exact, paper_eq40_identity, scaled_closed_form
-from dtcrit.stability import check_integrator, refuse_unrepresentable
+from dtcrit.integrators.precise import _two_prod, _two_sum, forward_euler_exact, paper_eq40_identity, scaled_closed_form
+from dtcrit.integrators.stability import check_integrator, refuse_unrepresentable
 
 CHUNK = 1 << 14
 _K_LO, _K_HI, _U_HI = 2.0**-1000, 2.0**1000, 2.0**500

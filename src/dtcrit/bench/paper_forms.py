@@ -6,7 +6,7 @@ loses digits in float64 -- cancellation (28 - 49 beta^2 at the pole of Eq. (58);
 sqrt(zeta^2 + 1) - zeta in the CFL note for heavy damping) or overflow (c^2 A^2 in Eq. (46)).
 Whether the form is the right *bound* is a different question, answered by the ratio to the
 verified critical step in the report.  dtcrit's own evaluations of Eq. (46) are included:
-``dtcrit._generated.critical_steps.paper_eq46`` and ``dtcrit.stability.paper_eq46`` (hypot form).
+``dtcrit._generated.critical_steps.paper_eq46`` and ``dtcrit.integrators.stability.paper_eq46`` (hypot form).
 """
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from dtcrit._generated import critical_steps as _gen
-from dtcrit.stability import paper_eq46 as _eq46_dtcrit
+from dtcrit.integrators.stability import paper_eq46 as _eq46_dtcrit
 
 
 def eq46_printed(k, c, A, m):
@@ -29,7 +29,7 @@ def eq46_generated(k, c, A, m):
 
 
 def eq46_dtcrit(k, c, A, m):
-    """``dtcrit.stability.paper_eq46``: 2 (gamma + hypot(gamma, omega)) / omega^2, scaled."""
+    """``dtcrit.integrators.stability.paper_eq46``: 2 (gamma + hypot(gamma, omega)) / omega^2, scaled."""
     return np.array([_eq46_dtcrit(*x) for x in zip(np.atleast_1d(k), np.atleast_1d(c), np.atleast_1d(A))])
 
 

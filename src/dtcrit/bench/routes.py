@@ -8,7 +8,7 @@ A route maps ``(integrator, k, c, A)`` (float arrays of equal shape; ``k`` [N/m]
 route                          family     what it computes
 =============================  =========  =================================================
 closed-form-numpy              dtcrit     generated closed form, vectorised
-                                          (``dtcrit.stability.critical_dt_array``)
+                                          (``dtcrit.integrators.stability.critical_dt_array``)
 closed-form-fused              dtcrit     the same closed forms, fused and in place
                                           (``dtcrit.bench.fused``)
 closed-form-c                  dtcrit     the closed forms emitted as C, compiled, via ctypes
@@ -26,7 +26,7 @@ mpmath-eig-15/30/50            mpmath     ``mpmath.eig`` at 15, 30, 50 digits + 
 
 The direct routes need no closed form: they search ``tau = omega dt`` for the largest step with
 spectral radius <= 1 (``dtcrit.bench.bisection``; NaN when even tau = 4 tests stable).  The float64 ones work in scaled units
-(``dtcrit.stability.scaled_rates``: exact power-of-two scaling, so ``k A`` is never formed);
+(``dtcrit.integrators.stability.scaled_rates``: exact power-of-two scaling, so ``k A`` is never formed);
 the mpmath ones take the exact float inputs and never overflow.
 """
 from __future__ import annotations
@@ -39,8 +39,8 @@ import numpy as np
 
 from dtcrit.bench.amplification import spectral_radius_eigvals, spectral_radius_mp
 from dtcrit.bench.bisection import bisect_tau, bisect_tau_mp
-from dtcrit.schemes import NAMES
-from dtcrit.stability import critical_dt, critical_dt_array, scaled_rates
+from dtcrit.integrators.schemes import NAMES
+from dtcrit.integrators.stability import critical_dt, critical_dt_array, scaled_rates
 
 EPS = float(np.finfo(float).eps)
 RHO_TOL_FLOAT = 4 * EPS  # "stable" is rho <= 1 + 4 eps in float64
@@ -70,7 +70,7 @@ def _arrays(k, c, A):
 # --- closed forms ------------------------------------------------------------------------------
 
 def closed_form_numpy(integrator, k, c, A):
-    """Generated closed form, vectorised: ``dtcrit.stability.critical_dt_array``."""
+    """Generated closed form, vectorised: ``dtcrit.integrators.stability.critical_dt_array``."""
     return np.asarray(critical_dt_array(integrator, *_arrays(k, c, A)), dtype=float)
 
 

@@ -40,7 +40,7 @@ from dtcrit.bench.routes import EIG_SAMPLE, FULL, MP_SAMPLE, ROUTES, floor_kerne
 from dtcrit.bench.suite import SUITE, random_batch
 from dtcrit.errors import InputError
 from dtcrit.progress import progress
-from dtcrit.schemes import NAMES
+from dtcrit.integrators.schemes import NAMES
 
 ULP_OK = 4.0
 FLOAT_DIGITS = 15.95  # log10(2^53)
@@ -252,7 +252,7 @@ def _batch_part(config: BenchConfig, batch, refs, routes) -> tuple[list[dict], d
 def _ratios(config: BenchConfig, batch, timing_raw) -> dict:
     """Section 4: generated closed form vs eigvals + bisection, and NumPy kernels vs the floor."""
     from dtcrit.bench.fused import FUSED, critical_dt_fused
-    from dtcrit.stability import critical_dt_array
+    from dtcrit.integrators.stability import critical_dt_array
 
     out = {"speedup_vs_eig_by_integrator": {}, "kernel_vs_floor_by_integrator": {}}
     k, c, A = batch.k, batch.c, batch.A

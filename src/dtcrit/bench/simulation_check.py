@@ -1,7 +1,7 @@
 """Stability by direct simulation on the extreme-case suite (issue 5, section 3).
 
 For every suite case and integrator the contact system is stepped with the integrator's own
-update rule (``dtcrit.simulate.run``, scaled units omega = 1, so inputs whose k A or c A would
+update rule (``dtcrit.integrators.simulate.run``, scaled units omega = 1, so inputs whose k A or c A would
 overflow are simulated as well) at 0.99 and 1.01 times the exact critical step ``tau*`` (the
 50-digit reference), and the outcome is recorded:
 
@@ -27,8 +27,8 @@ import mpmath as mp
 import numpy as np
 
 from dtcrit.bench.amplification import spectral_radius_mp
-from dtcrit.schemes import INTEGRATORS, LinearForce
-from dtcrit.simulate import run
+from dtcrit.integrators.schemes import INTEGRATORS, LinearForce
+from dtcrit.integrators.simulate import run
 
 BOUNDED = 2.0
 GROWING = 100.0

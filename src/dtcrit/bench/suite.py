@@ -47,7 +47,7 @@ class Case:
     @property
     def zeta_float(self) -> float:
         """Damping ratio in float64 via exact power-of-two scaling (inf when beyond the range)."""
-        from dtcrit.stability import scaled_rates
+        from dtcrit.integrators.stability import scaled_rates
 
         with np.errstate(all="ignore"):
             w, g, _ = scaled_rates(self.k, self.c, self.A)
@@ -68,7 +68,7 @@ def _sphere(name, group, description, m, k, zeta=None, beta=None, c=None) -> Cas
 
 def _prolate_pair(aspect: float, b: float = 1e-3, density: float = 2500.0, k: float = 1e6, zeta: float = 0.2) -> Case:
     """Two identical prolate ellipsoids (a = aspect b, b = c): A_max of Eq. (26)."""
-    from dtcrit.shapes import Ellipsoid
+    from dtcrit.bodies import Ellipsoid
 
     shape = Ellipsoid(aspect * b, b, b, density=density)
     A = _a_max_identical(shape)
@@ -79,9 +79,9 @@ def _prolate_pair(aspect: float, b: float = 1e-3, density: float = 2500.0, k: fl
 
 
 def _a_max_identical(shape) -> float:
-    """Peng et al. 2020, Eq. (26) for two identical particles (``dtcrit.contact.a_max`` when present)."""
+    """Peng et al. 2020, Eq. (26) for two identical particles (``dtcrit.bodies.contact.a_max`` when present)."""
     try:
-        from dtcrit.contact import a_max
+        from dtcrit.bodies.contact import a_max
     except ImportError:
         a = shape.half_lengths[0]
         I_xx = min(shape.inertia)

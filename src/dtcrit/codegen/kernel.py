@@ -34,7 +34,7 @@ from dtcrit.symbolic.closed_forms import closed_pieces, eps, formula_text, gamma
 from dtcrit.symbolic.emit import derivation_hash, square_root_of_term
 from dtcrit.symbolic.integrators import zeta as zeta_sym
 
-from .structure import KernelStructure
+from dtcrit.codegen.structure import KernelStructure
 
 
 class cubic_positive_root(sp.Function):

@@ -12,9 +12,9 @@ import textwrap
 
 from dtcrit.errors import InputError
 
-from .helpers import C_HELPER, FORTRAN_HELPER, NUMPY_HELPER, NUMPY_HELPER_NAME
-from .kernel import ContactKernel
-from .printers import CPrinter, FortranPrinter, NumPyPrinter
+from dtcrit.codegen.helpers import C_HELPER, FORTRAN_HELPER, NUMPY_HELPER, NUMPY_HELPER_NAME
+from dtcrit.codegen.kernel import ContactKernel
+from dtcrit.codegen.printers import CPrinter, FortranPrinter, NumPyPrinter
 
 LANGUAGES = ("c", "numpy", "fortran")
 DEFAULT_NAME = "dtcrit_dt_crit"

@@ -16,7 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from dtcrit.errors import InputError
-from dtcrit.stability import check_integrator
+from dtcrit.integrators.stability import check_integrator
 
 SIDE_KINDS = ("sphere", "general")
 
@@ -66,7 +66,7 @@ def general_structure(integrator: str) -> KernelStructure:
 
 
 def structure_of_scene(scene) -> KernelStructure:
-    """The structure a scene needs (``scene`` a :class:`dtcrit.scene.Scene`)."""
+    """The structure a scene needs (``scene`` a :class:`dtcrit.scenes.scene.Scene`)."""
     kinds = ["sphere" if p.kind == "sphere" else "general" for p in scene.particles]
     if scene.identical:
         sides = (kinds[0],)

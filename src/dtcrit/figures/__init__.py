@@ -47,11 +47,11 @@ def check_figure_names(names) -> tuple[str, ...]:
 
 def make_figures(out, *, fine: bool = False, only=None, show_progress: bool = True) -> FiguresRun:
     """Write the PNG + CSV of every figure in ``only`` (default: all) into ``out``; return files and summary."""
-    from . import summary as _summary
-    from .fig3_damping import write_fig3
-    from .fig4_stiffness import write_fig4
-    from .fig5_density import write_fig5
-    from .fig6_aspect_ratio import write_fig6
+    from dtcrit.figures import summary as _summary
+    from dtcrit.figures.fig3_damping import write_fig3
+    from dtcrit.figures.fig4_stiffness import write_fig4
+    from dtcrit.figures.fig5_density import write_fig5
+    from dtcrit.figures.fig6_aspect_ratio import write_fig6
 
     names = FIGURES if only is None else check_figure_names(only)
     out = Path(out)
@@ -66,8 +66,8 @@ def make_figures(out, *, fine: bool = False, only=None, show_progress: bool = Tr
         run.files += write_fig6(out, fine=fine, show_progress=show_progress)
     study = None
     if "appendix_a" in names:
-        from .appendix_a import appendix_a_study
-        from .appendix_a_plots import write_appendix_a
+        from dtcrit.figures.appendix_a import appendix_a_study
+        from dtcrit.figures.appendix_a_plots import write_appendix_a
 
         study = appendix_a_study(fine=fine, show_progress=show_progress)
         run.files += write_appendix_a(out, study)

@@ -14,7 +14,7 @@ from typing import Iterable, Sequence
 
 import numpy as np
 
-from dtcrit.stability import critical_dt_array
+from dtcrit.integrators.stability import critical_dt_array
 
 __all__ = ["pyplot", "write_csv", "save_figure", "fmt_number", "critical_steps"]
 
@@ -65,7 +65,7 @@ def save_figure(fig, path: Path) -> Path:
 
 
 def critical_steps(integrator: str, k, c, A) -> np.ndarray:
-    """``dtcrit.stability.critical_dt_array`` with its inputs broadcast first, so the result always
+    """``dtcrit.integrators.stability.critical_dt_array`` with its inputs broadcast first, so the result always
     has the broadcast shape (a kernel that ignores the damping would otherwise return fewer values)."""
     k, c, A = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (k, c, A)))
     return np.asarray(critical_dt_array(integrator, k, c, A), dtype=float)

@@ -3,7 +3,7 @@
 Setting (Appendix A): particle 1 at the origin, axis aligned; particle 2 identical; unit density;
 contact force ``F = (1, 1, 1)`` on particle 2 (``-F`` on particle 1); zero angular velocities, so
 Eq. (25) reduces to ``xdd_c = A F`` with ``A`` the 3x3 coefficient matrix of Eqs. (1)-(19)
-(``dtcrit.contact.coefficient_matrix``).
+(``dtcrit.bodies.contact.coefficient_matrix``).
 
 Admissible contacts.  A contact is fixed by the outward unit normal ``n`` of particle 1 at the
 contact point and the orientation ``Q2`` (body-to-global) of particle 2:
@@ -16,7 +16,7 @@ contact point and the orientation ``Q2`` (body-to-global) of particle 2:
 Every pair ``(n, Q2)`` gives a touching, non-overlapping pair of convex bodies, and every such
 contact arises this way.  The search samples ``n`` on a Fibonacci sphere and ``Q2`` on a
 super-Fibonacci set of SO(3), evaluates ``|A F|`` and the largest eigenvalue of ``A`` on the whole
-grid (batched through ``dtcrit.contact_search.Contacts``), and polishes the best few points by a
+grid (batched through ``dtcrit.bodies.contact_search.Contacts``), and polishes the best few points by a
 seeded evolution strategy in the five parameters (two angles of ``n``, the rotation vector of
 ``Q2``).  It is a numerical search: the grid maximum and the polished maximum are both reported.
 
@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import minimize  # penetration depth only
 
-from ._rotations import (
+from dtcrit.figures._rotations import (
     align_x_to,
     angles_from_unit,
     fibonacci_sphere,
@@ -81,7 +81,7 @@ GRIDS = {
 # ============================================================================================
 def paper_ellipsoid(density: float = 1.0):
     """The a = 3, b = 2, c = 1 m ellipsoid of Section 6 and Appendix A (unit density there)."""
-    from dtcrit.shapes import Ellipsoid
+    from dtcrit.bodies import Ellipsoid
 
     return Ellipsoid(3.0, 2.0, 1.0, density=density)
 
@@ -91,7 +91,7 @@ def comparison_shapes(density: float = 1.0) -> dict:
     same half-lengths 3, 2, 1 m (superquadric exponents eps1 = eps2 = 0.5, a rounded box)."""
     import warnings
 
-    from dtcrit.shapes import Box, Superquadric
+    from dtcrit.bodies import Box, Superquadric
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the shapes warn if assumption 3 fails; that is reported
@@ -106,9 +106,9 @@ def comparison_shapes(density: float = 1.0) -> dict:
 # Coefficient matrices
 # ============================================================================================
 def batch_coefficient_matrices(body1, body2, normals, p1, p2, Q2) -> np.ndarray:
-    """``A`` for many contacts at once, through ``dtcrit.contact_search.Contacts`` (particle 1 axis
+    """``A`` for many contacts at once, through ``dtcrit.bodies.contact_search.Contacts`` (particle 1 axis
     aligned: its local contact point ``p1`` is also its global arm)."""
-    from dtcrit.contact_search import Contacts
+    from dtcrit.bodies.contact_search import Contacts
 
     Q2 = np.asarray(Q2, dtype=float)
     Q1 = np.broadcast_to(np.eye(3), Q2.shape)
@@ -117,8 +117,8 @@ def batch_coefficient_matrices(body1, body2, normals, p1, p2, Q2) -> np.ndarray:
 
 
 def coefficient_matrix_single(body1, body2, r1, r2, Q2) -> np.ndarray:
-    """One contact's ``A`` through ``dtcrit.contact.coefficient_matrix`` (rotations global to local)."""
-    from dtcrit.contact import coefficient_matrix
+    """One contact's ``A`` through ``dtcrit.bodies.contact.coefficient_matrix`` (rotations global to local)."""
+    from dtcrit.bodies.contact import coefficient_matrix
 
     return np.asarray(coefficient_matrix(body1, body2, np.asarray(r1, float), np.asarray(r2, float),
                                          np.eye(3), np.asarray(Q2, float).T), dtype=float)
@@ -225,7 +225,7 @@ class PairSearch:
         return np.linalg.norm(A @ self.force, axis=-1), np.linalg.eigvalsh(A)[..., -1]
 
     def config(self, n, Q2, label: str = "", canonical: bool = True) -> ContactConfig:
-        """One contact evaluated with ``dtcrit.contact.coefficient_matrix``.
+        """One contact evaluated with ``dtcrit.bodies.contact.coefficient_matrix``.
 
         ``canonical``: report the contact in a unique form.  Both bodies are symmetric under the
         half-turns about their axes and under inversion, so ``(n, Q2)``, ``(-n, Q2)`` (both arms
@@ -405,7 +405,7 @@ class ScenarioSurface:
     xyz: np.ndarray  # (n, n, 3): contact points (Fig. A2) or centres of particle 2 (Fig. A4)
     accel: np.ndarray  # (n, n)
     lam: np.ndarray
-    best: ContactConfig  # grid maximum of |A F| (evaluated through dtcrit.contact)
+    best: ContactConfig  # grid maximum of |A F| (evaluated through dtcrit.bodies.contact)
     reference: ContactConfig | None  # the orthogonal member of the family, if any
 
 
@@ -474,7 +474,7 @@ def appendix_a_study(fine: bool = False, show_progress: bool = False, shapes: tu
     Returns a dict with the ContactConfig/ScenarioSurface objects (``objects``) and a JSON-ready
     ``summary``.
     """
-    from dtcrit.contact import a_bound, a_max
+    from dtcrit.bodies.contact import a_bound, a_max
 
     n_normals, n_orient, seeds, n_side = GRIDS["fine" if fine else "coarse"]
     bodies = comparison_shapes(1.0)

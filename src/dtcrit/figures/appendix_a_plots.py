@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._output import pyplot, save_figure, write_csv
+from dtcrit.figures._output import pyplot, save_figure, write_csv
 
 __all__ = ["write_appendix_a"]
 

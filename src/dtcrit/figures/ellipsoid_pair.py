@@ -7,8 +7,8 @@ Peng et al. 2020, Sections 6.2-6.3: ``k_n = k_s``, damping ``c_n = c_s = N sqrt(
 For every point this module evaluates
 
 * the printed Eq. (46) with Eq. (26)'s ``A_max`` (what the paper plots),
-* the verified critical step of each integrator (``dtcrit.stability.critical_dt_array``) with
-  Eq. (26)'s ``A_max`` and with the verified bound ``dtcrit.contact.a_bound`` on the largest
+* the verified critical step of each integrator (``dtcrit.integrators.stability.critical_dt_array``) with
+  Eq. (26)'s ``A_max`` and with the verified bound ``dtcrit.bodies.contact.a_bound`` on the largest
   eigenvalue of the contact coefficient matrix.  The physical damping ``c`` is the paper's (defined
   with ``A_max``) in both cases.
 """
@@ -20,10 +20,10 @@ from pathlib import Path
 
 import numpy as np
 
-from dtcrit.schemes import NAMES
-from dtcrit.stability import paper_eq46
+from dtcrit.integrators.schemes import NAMES
+from dtcrit.integrators.stability import paper_eq46
 
-from ._output import critical_steps, pyplot, save_figure, write_csv
+from dtcrit.figures._output import critical_steps, pyplot, save_figure, write_csv
 
 __all__ = [
     "PAPER_AXES",
@@ -51,14 +51,14 @@ REFERENCE_DENSITY = 1000.0
 
 
 def _body(density: float, axes: tuple[float, float, float]):
-    from dtcrit.shapes import Ellipsoid
+    from dtcrit.bodies import Ellipsoid
 
     return Ellipsoid(*axes, density=float(density))
 
 
 @lru_cache(maxsize=None)
 def _a_bound(density: float, axes: tuple[float, float, float]) -> float:
-    from dtcrit.contact import a_bound
+    from dtcrit.bodies.contact import a_bound
 
     body = _body(density, axes)
     return float(a_bound(body, body))
@@ -72,7 +72,7 @@ def pair_coefficients(density: float, axes: tuple[float, float, float] = PAPER_A
     both proportional to the density, so every term of the coefficient matrix scales as 1/rho
     exactly (checked against direct evaluations in tests/test_figures_sections.py).
     """
-    from dtcrit.contact import a_max
+    from dtcrit.bodies.contact import a_max
 
     axes = tuple(float(a) for a in axes)
     body = _body(density, axes)

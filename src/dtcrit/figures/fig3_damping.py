@@ -7,8 +7,8 @@ Peng et al. 2020, Section 6.1: for two identical spheres ``A_max = 7/m`` (Eq. (2
 * Eq. (59), Silbert et al.'s Eq. (36) rewritten: ``pi/sqrt(2 - beta^2/4)``,
 * Eq. (60), its Eq. (46) rewritten: ``beta + sqrt(beta^2 + 4/7)``.
 
-Beside them this module evaluates each integrator's verified bound (``dtcrit.stability``) for the
-same pair, with ``A`` from ``dtcrit.contact.a_bound`` (the verified largest eigenvalue of the
+Beside them this module evaluates each integrator's verified bound (``dtcrit.integrators.stability``) for the
+same pair, with ``A`` from ``dtcrit.bodies.contact.a_bound`` (the verified largest eigenvalue of the
 contact coefficient matrix, which for spheres equals Eq. (26)'s 7/m; if it did not, both would
 be drawn).  Curves that coincide to 1e-12 are merged into one label.
 """
@@ -21,8 +21,8 @@ from pathlib import Path
 import numpy as np
 
 from dtcrit._generated import critical_steps as _gen
-from dtcrit.schemes import NAMES
-from ._output import critical_steps, pyplot, save_figure, write_csv
+from dtcrit.integrators.schemes import NAMES
+from dtcrit.figures._output import critical_steps, pyplot, save_figure, write_csv
 
 __all__ = ["Fig3Data", "fig3_data", "plot_fig3", "write_fig3", "BETA_MAX"]
 
@@ -44,8 +44,8 @@ class Fig3Data:
 
 
 def _sphere_pair_coefficients(mass: float, radius: float) -> tuple[float, float]:
-    from dtcrit.contact import a_bound, a_max
-    from dtcrit.shapes import Sphere
+    from dtcrit.bodies.contact import a_bound, a_max
+    from dtcrit.bodies import Sphere
 
     sphere = Sphere(radius, mass=mass)
     return float(a_max(sphere, sphere)), float(a_bound(sphere, sphere))

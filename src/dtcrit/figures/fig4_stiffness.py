@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .ellipsoid_pair import PairSteps, pair_steps, plot_pair_steps, write_pair_csv
+from dtcrit.figures.ellipsoid_pair import PairSteps, pair_steps, plot_pair_steps, write_pair_csv
 
 __all__ = ["DENSITY", "STIFFNESS_RANGE", "fig4_data", "write_fig4"]
 

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .ellipsoid_pair import PairSteps, pair_steps, plot_pair_steps, write_pair_csv
+from dtcrit.figures.ellipsoid_pair import PairSteps, pair_steps, plot_pair_steps, write_pair_csv
 
 __all__ = ["STIFFNESS", "DENSITY_RANGE", "fig5_data", "write_fig5"]
 

@@ -7,9 +7,9 @@ m^3, density 1000 kg/m^3, ``k_n = k_s = 1e10`` N/m, no damping, ``omega_max = 1`
 
 * translation-dominant step, printed: Eq. (48), ``2/sqrt(k_n A_max)`` with Eq. (26)'s ``A_max``;
 * translation-dominant step, verified: the undamped critical step of the scene integrator
-  (velocity Verlet, ``omega dt = 2``) with the verified bound ``dtcrit.contact.a_bound``;
+  (velocity Verlet, ``omega dt = 2``) with the verified bound ``dtcrit.bodies.contact.a_bound``;
 * rotation-dominant step: Eq. (56) ``2/(omega_max (B_max1 + B_max2))``, which for identical
-  particles is Eq. (57) ``1/(omega_max B_max)`` with Eq. (54)'s ``B_max`` (``dtcrit.contact.b_max``).
+  particles is Eq. (57) ``1/(omega_max B_max)`` with Eq. (54)'s ``B_max`` (``dtcrit.bodies.contact.b_max``).
   A sphere (e1 = e2 = 1) has ``B_max = 0``: no rotation-dominant limit (``inf``).
 
 The paper states that the translation-dominant step is "more than four orders of magnitude
@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import brentq
 
-from ._output import critical_steps, pyplot, save_figure, write_csv
+from dtcrit.figures._output import critical_steps, pyplot, save_figure, write_csv
 
 __all__ = [
     "VOLUME",
@@ -71,7 +71,7 @@ def rotation_dominant_dt(b_max_1: float, b_max_2: float, omega_max: float = OMEG
 
 
 def _body(e1: float, e2: float):
-    from dtcrit.shapes import Ellipsoid
+    from dtcrit.bodies import Ellipsoid
 
     a, b, c = (float(v) for v in ellipsoid_axes(e1, e2))
     return Ellipsoid(a, b, c, density=DENSITY)
@@ -79,7 +79,7 @@ def _body(e1: float, e2: float):
 
 def _printed_point(e1: float, e2: float) -> tuple[float, float]:
     """``(A_max of Eq. (26), B_max of Eq. (54))`` for two identical ellipsoids at (e1, e2)."""
-    from dtcrit.contact import a_max, b_max
+    from dtcrit.bodies.contact import a_max, b_max
 
     body = _body(e1, e2)
     bm = float(b_max(body))
@@ -87,7 +87,7 @@ def _printed_point(e1: float, e2: float) -> tuple[float, float]:
 
 
 def _a_bound_point(e1: float, e2: float) -> float:
-    from dtcrit.contact import a_bound
+    from dtcrit.bodies.contact import a_bound
 
     body = _body(e1, e2)
     return float(a_bound(body, body))

@@ -42,7 +42,7 @@ def _clean(obj):
 
 
 def fig3_summary() -> dict:
-    from .fig3_damping import fig3_data
+    from dtcrit.figures.fig3_damping import fig3_data
 
     d = fig3_data(n=4)  # beta = 0, 1, 2, 3
     return {
@@ -56,7 +56,7 @@ def fig3_summary() -> dict:
 
 
 def pair_summary(data) -> dict:
-    from .ellipsoid_pair import SCENE_INTEGRATORS, describe_trend
+    from dtcrit.figures.ellipsoid_pair import SCENE_INTEGRATORS, describe_trend
 
     j = 0
     return {
@@ -74,7 +74,7 @@ def pair_summary(data) -> dict:
 
 
 def aspect_ratio_summary(fine: bool = False, region: bool = True) -> dict:
-    from .fig6_aspect_ratio import fig6_data, four_orders_region, ratio_at
+    from dtcrit.figures.fig6_aspect_ratio import fig6_data, four_orders_region, ratio_at
 
     d = fig6_data(161 if fine else 41)
     out = {}
@@ -111,18 +111,18 @@ def summary(names, fine: bool = False, appendix: dict | None = None) -> dict:
     if "fig3" in names:
         out["fig3"] = fig3_summary()
     if "fig4" in names:
-        from .fig4_stiffness import fig4_data
+        from dtcrit.figures.fig4_stiffness import fig4_data
 
         out["fig4"] = pair_summary(fig4_data(2))
     if "fig5" in names:
-        from .fig5_density import fig5_data
+        from dtcrit.figures.fig5_density import fig5_data
 
         out["fig5"] = pair_summary(fig5_data(2))
     if "fig6" in names:
         out["aspect_ratio"] = aspect_ratio_summary(fine)
     if "appendix_a" in names:
         if appendix is None:
-            from .appendix_a import appendix_a_study
+            from dtcrit.figures.appendix_a import appendix_a_study
 
             appendix = appendix_a_study(fine=fine)
         out["appendix_a"] = appendix["summary"]

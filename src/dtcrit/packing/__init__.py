@@ -11,17 +11,17 @@ al. 2020, a Rayleigh quotient).
 
 Modules: ``model`` (Packing, Box, Contacts, contact laws), ``contacts`` (detection), ``assembly``
 (sparse M and K), ``eigen`` (largest mode), ``estimates``, ``damping`` (integrator bound via
-``dtcrit.stability``), ``report``, ``lattices``, ``random_packing``, ``dump_io`` (LAMMPS/LIGGGHTS
+``dtcrit.integrators.stability``), ``report``, ``lattices``, ``random_packing``, ``dump_io`` (LAMMPS/LIGGGHTS
 dumps), ``study`` (alpha against CN_max), ``scaling`` (benchmark).
 """
-from .assembly import mass_matrix, scale_symmetric, stiffness_matrix
-from .contacts import find_contacts, find_convex_contacts, find_sphere_contacts
-from .dump_io import read_dump, write_dump
-from .eigen import largest_mode
-from .lattices import LATTICES, lattice
-from .model import Box, Contacts, HertzMindlinLaw, LinearLaw, Packing, apply_law
-from .random_packing import random_packing
-from .report import PackingReport, analyse, format_report
+from dtcrit.packing.assembly import mass_matrix, scale_symmetric, stiffness_matrix
+from dtcrit.packing.contacts import find_contacts, find_convex_contacts, find_sphere_contacts
+from dtcrit.packing.dump_io import read_dump, write_dump
+from dtcrit.packing.eigen import largest_mode
+from dtcrit.packing.lattices import LATTICES, lattice
+from dtcrit.packing.model import Box, Contacts, HertzMindlinLaw, LinearLaw, Packing, apply_law
+from dtcrit.packing.random_packing import random_packing
+from dtcrit.packing.report import PackingReport, analyse, format_report
 
 __all__ = [
     "Box", "Contacts", "HertzMindlinLaw", "LATTICES", "LinearLaw", "Packing", "PackingReport", "analyse",

@@ -24,8 +24,8 @@ import scipy.sparse as sps
 
 from dtcrit.errors import InputError
 
-from .model import Contacts, Packing
-from .progress_ticker import chunked
+from dtcrit.packing.model import Contacts, Packing
+from dtcrit.packing.progress_ticker import chunked
 
 
 def cross_matrix(a: np.ndarray) -> np.ndarray:

@@ -18,7 +18,7 @@ from scipy.spatial import cKDTree
 
 from dtcrit.errors import InputError
 
-from .model import Box, Contacts, Packing
+from dtcrit.packing.model import Box, Contacts, Packing
 
 
 def wrap_positions(positions: np.ndarray, box: Box | None) -> np.ndarray:

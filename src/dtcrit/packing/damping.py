@@ -1,7 +1,7 @@
-"""Damped / integrator-specific critical step of the highest mode, via ``dtcrit.stability``.
+"""Damped / integrator-specific critical step of the highest mode, via ``dtcrit.integrators.stability``.
 
 The packing's highest mode is treated as the 1-DOF system ``x'' = -omega^2 x - 2 zeta omega x'``
-(``k = omega_max^2``, ``c = 2 zeta omega_max``, ``A = 1`` in ``dtcrit.stability.critical_dt``).  That
+(``k = omega_max^2``, ``c = 2 zeta omega_max``, ``A = 1`` in ``dtcrit.integrators.stability.critical_dt``).  That
 is exact when the damping matrix is diagonalised by the undamped modes (classical or Rayleigh
 damping, e.g. contact dashpots proportional to the springs, ``C = beta K``, giving
 ``zeta = beta omega_max / 2`` in the top mode) and ``zeta`` is the top mode's damping ratio; with
@@ -26,14 +26,14 @@ def integrator_dt(omega: float, integrator: str = DEFAULT_INTEGRATOR, damping_ra
     if omega <= 0:
         return math.inf, "no vibrating mode"
     try:
-        from dtcrit import stability
+        from dtcrit.integrators import stability
     except ImportError:
         stability = None
     if stability is not None and hasattr(stability, "critical_dt"):
         result = stability.critical_dt(integrator, omega * omega, 2.0 * damping_ratio * omega, 1.0)
         return float(result.dt), str(getattr(result, "formula", "") or getattr(result, "reason", ""))
     if damping_ratio == 0 and integrator in _CENTRAL_DIFFERENCE_FAMILY:
-        return 2.0 / omega, "2/omega (undamped; dtcrit.stability not available)"
+        return 2.0 / omega, "2/omega (undamped; dtcrit.integrators.stability not available)"
     if damping_ratio == 0 and integrator == "forward-euler":
         return 0.0, "forward Euler is unstable for every step on an undamped oscillator"
-    raise InputError("integrator", f"{integrator!r} with damping needs dtcrit.stability, which is not available")
+    raise InputError("integrator", f"{integrator!r} with damping needs dtcrit.integrators.stability, which is not available")

@@ -29,7 +29,7 @@ import numpy as np
 
 from dtcrit.errors import InputError
 
-from .model import Box, Packing
+from dtcrit.packing.model import Box, Packing
 
 _POSITION_SETS = (("x", "y", "z"), ("xu", "yu", "zu"), ("xs", "ys", "zs"))
 

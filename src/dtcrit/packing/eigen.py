@@ -23,7 +23,7 @@ import scipy.sparse.linalg as spla
 
 from dtcrit.errors import InputError
 
-from .progress_ticker import LONG_WORK, Ticker
+from dtcrit.packing.progress_ticker import LONG_WORK, Ticker
 
 DENSE_LIMIT = 600  # DOFs up to which the dense solver is used by "auto"
 METHODS = ("auto", "dense", "eigsh", "lobpcg")

@@ -35,8 +35,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .assembly import contact_kinematics, contact_stiffness_tensor
-from .model import Contacts, Packing
+from dtcrit.packing.assembly import contact_kinematics, contact_stiffness_tensor
+from dtcrit.packing.model import Contacts, Packing
 
 
 @dataclass(frozen=True)

@@ -11,7 +11,7 @@ import numpy as np
 
 from dtcrit.errors import InputError
 
-from .model import Box, Packing
+from dtcrit.packing.model import Box, Packing
 
 # fractional basis positions in the repeated cell and the cell edges in units of R
 _BASIS = {

@@ -147,7 +147,7 @@ class Packing:
     @classmethod
     def from_shapes(cls, shapes, positions, orientations=None, *, box: Box | None = None,
                     label: str = "") -> "Packing":
-        """Convex, centrally symmetric bodies (``dtcrit.shapes`` objects: ``mass``, ``inertia``,
+        """Convex, centrally symmetric bodies (``dtcrit.bodies`` objects: ``mass``, ``inertia``,
         ``half_lengths``, ``max_arm``, ``support``) at ``positions`` with body-to-global rotation
         matrices ``orientations`` (identity when omitted)."""
         shapes = list(shapes)

@@ -30,8 +30,8 @@ import numpy as np
 
 from dtcrit.errors import InputError
 
-from .contacts import _candidate_pairs, wrap_positions
-from .model import Box, Packing
+from dtcrit.packing.contacts import _candidate_pairs, wrap_positions
+from dtcrit.packing.model import Box, Packing
 
 DISTRIBUTIONS = ("mono", "uniform", "lognormal")
 

@@ -12,12 +12,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import estimates as est
-from .assembly import mass_diagonal, scale_symmetric, stiffness_matrix
-from .contacts import find_contacts
-from .damping import DEFAULT_INTEGRATOR, integrator_dt
-from .eigen import DEFAULT_TOL, TopMode, largest_mode, mode_character, rotational_fraction
-from .model import Contacts, LinearLaw, Packing, apply_law
+from dtcrit.packing import estimates as est
+from dtcrit.packing.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
+from dtcrit.packing.contacts import find_contacts
+from dtcrit.packing.damping import DEFAULT_INTEGRATOR, integrator_dt
+from dtcrit.packing.eigen import DEFAULT_TOL, TopMode, largest_mode, mode_character, rotational_fraction
+from dtcrit.packing.model import Contacts, LinearLaw, Packing, apply_law
 
 
 @dataclass

@@ -28,8 +28,8 @@ DENSE_CHECK_DOFS = 6000
 
 
 def jittered_fcc(n_target: int, seed: int = 0):
-    from .lattices import lattice_positions
-    from .model import Packing
+    from dtcrit.packing.lattices import lattice_positions
+    from dtcrit.packing.model import Packing
 
     cells = max(1, round((n_target / 4.0) ** (1.0 / 3.0)))
     x, box = lattice_positions("fcc", cells, 1.0)
@@ -40,12 +40,12 @@ def jittered_fcc(n_target: int, seed: int = 0):
 
 def run_one(n: int, packing_kind: str = "fcc", method: str = "auto", dense_check: bool = True) -> dict:
     """Time every stage for one size in this process; returns a dict of figures."""
-    from .assembly import mass_diagonal, scale_symmetric, stiffness_matrix
-    from .contacts import find_sphere_contacts
-    from .eigen import largest_mode
-    from . import estimates as est
-    from .model import LinearLaw, apply_law
-    from .random_packing import random_packing
+    from dtcrit.packing.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
+    from dtcrit.packing.contacts import find_sphere_contacts
+    from dtcrit.packing.eigen import largest_mode
+    from dtcrit.packing import estimates as est
+    from dtcrit.packing.model import LinearLaw, apply_law
+    from dtcrit.packing.random_packing import random_packing
 
     out: dict = {"n_target": n, "packing": packing_kind}
     clock, cpu = time.perf_counter(), time.process_time()

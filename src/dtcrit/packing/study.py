@@ -15,10 +15,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .lattices import lattice
-from .model import LinearLaw
-from .random_packing import random_packing
-from .report import PackingReport, analyse
+from dtcrit.packing.lattices import lattice
+from dtcrit.packing.model import LinearLaw
+from dtcrit.packing.random_packing import random_packing
+from dtcrit.packing.report import PackingReport, analyse
 
 ESTIMATES = ("gershgorin", "block_diagonal", "diagonal", "two_particle_amax", "two_particle_exact", "rayleigh")
 RANDOM_CN = (3.0, 4.0, 5.0, 6.0, 8.0, 10.0)

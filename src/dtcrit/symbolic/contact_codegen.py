@@ -17,8 +17,8 @@ from __future__ import annotations
 
 import sympy as sp
 
-from . import kinematics as kin
-from .emit import Kernel, python_module
+from dtcrit.symbolic import kinematics as kin
+from dtcrit.symbolic.emit import Kernel, python_module
 
 PRODUCER = "dtcrit.symbolic.contact_codegen"
 TARGET = "contact.py"
@@ -109,6 +109,6 @@ def kernels() -> list[Kernel]:
 def generated_files() -> dict[str, str]:
     summary = (
         "Contact kinematics kernels (Peng et al. 2020, Eqs 7, 11-12, 17-19, 26, 54).\n"
-        "Derived in dtcrit.symbolic.kinematics; used by dtcrit.contact."
+        "Derived in dtcrit.symbolic.kinematics; used by dtcrit.bodies.contact."
     )
     return {TARGET: python_module(PRODUCER, summary, kernels(), preamble="import functools")}

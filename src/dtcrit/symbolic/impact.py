@@ -50,7 +50,7 @@ from functools import lru_cache
 
 import sympy as sp
 
-from dtcrit.schemes import INTEGRATORS, LinearForce
+from dtcrit.integrators.schemes import INTEGRATORS, LinearForce
 from dtcrit.symbolic.emit import Kernel, python_module
 from dtcrit.symbolic.integrators import tau
 

@@ -1,6 +1,6 @@
 """Amplification matrices and characteristic polynomials built from the integrators' update rules.
 
-Each scheme in ``dtcrit.schemes`` is applied to SymPy symbols.  Its update is linear in the state,
+Each scheme in ``dtcrit.integrators.schemes`` is applied to SymPy symbols.  Its update is linear in the state,
 so the Jacobian of one step with respect to the state is exactly the amplification matrix ``G``
 (Peng et al. 2020, Eq. (40) for the printed scheme).  Nothing here is typed in per integrator.
 
@@ -17,7 +17,7 @@ from functools import lru_cache
 
 import sympy as sp
 
-from dtcrit.schemes import INTEGRATORS, Integrator, LinearForce
+from dtcrit.integrators.schemes import INTEGRATORS, Integrator, LinearForce
 
 h, K, C = sp.symbols("h K C", positive=True)
 tau, zeta = sp.symbols("tau zeta", nonnegative=True)

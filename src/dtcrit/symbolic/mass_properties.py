@@ -32,7 +32,7 @@ from functools import lru_cache
 
 import sympy as sp
 
-from .emit import Kernel, python_module
+from dtcrit.symbolic.emit import Kernel, python_module
 
 PRODUCER = "dtcrit.symbolic.mass_properties"
 TARGET = "mass_properties.py"
@@ -286,7 +286,7 @@ def generated_files() -> dict[str, str]:
     summary = (
         "Volumes and principal moments of inertia of particle shapes (sphere, ellipsoid, box,\n"
         "superquadric) and the moments of a tetrahedron for the exact decomposition of convex polyhedra.\n"
-        "Derived in dtcrit.symbolic.mass_properties; used by dtcrit.shapes."
+        "Derived in dtcrit.symbolic.mass_properties; used by dtcrit.bodies."
     )
     preamble = (
         "import math\n"

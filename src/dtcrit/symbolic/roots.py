@@ -27,7 +27,7 @@ from functools import lru_cache
 
 import sympy as sp
 
-from dtcrit.schemes import INTEGRATORS
+from dtcrit.integrators.schemes import INTEGRATORS
 from dtcrit.symbolic.integrators import characteristic_polynomial, lam, tau, zeta
 
 # The paper's dimensional symbols (Eq. (40)): K_j = -k A < 0, C_j = -c A <= 0, dt > 0.

@@ -1,6 +1,6 @@
 """Producer of ``dtcrit/_generated/eigenvalues.py``: every eigenvalue of every amplification matrix.
 
-For each integrator of ``dtcrit.schemes`` the kernel ``eigenvalues_<name>(tau, zeta)`` returns the
+For each integrator of ``dtcrit.integrators.schemes`` the kernel ``eigenvalues_<name>(tau, zeta)`` returns the
 roots of its characteristic polynomial (``dtcrit.symbolic.roots``) as a complex array of shape
 ``(degree,) + broadcast shape``, in the numerically sound form:
 
@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from dtcrit.schemes import NAMES
+from dtcrit.integrators.schemes import NAMES
 from dtcrit.symbolic import roots as R
 from dtcrit.symbolic.emit import Kernel, python_module
 from dtcrit.symbolic.integrators import tau, zeta

@@ -1,6 +1,6 @@
 """Producer of ``dtcrit/_generated/critical_steps.py``: the exact critical step of every integrator.
 
-For each integrator of ``dtcrit.schemes`` the kernel ``dt_<name>(omega, gamma)`` evaluates the
+For each integrator of ``dtcrit.integrators.schemes`` the kernel ``dt_<name>(omega, gamma)`` evaluates the
 closed form of ``dtcrit.symbolic.closed_forms`` piece by piece, with ``omega = sqrt(k A)`` and
 ``gamma = c A / 2`` (both in 1/s).  The kernels are homogeneous of degree -1 in (omega, gamma), so
 the runtime may rescale both by a power of two (exactly) to stay clear of overflow and underflow.
@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from dtcrit.schemes import NAMES
+from dtcrit.integrators.schemes import NAMES
 from dtcrit.symbolic import paper_section4 as p4
 from dtcrit.symbolic.closed_forms import closed_pieces, eps, formula_text, gamma, omega
 from dtcrit.symbolic.emit import Kernel, python_module

@@ -29,7 +29,7 @@ def run(args) -> int:
     import sys
 
     from dtcrit.codegen.render import check_name
-    from dtcrit.scene import load_scene
+    from dtcrit.scenes.scene import load_scene
 
     name = check_name(args.name)
     args.source_label = args.scene

@@ -5,7 +5,7 @@ update rule is
 
 * applied to SymPy symbols by ``dtcrit.symbolic.integrators`` to build the amplification matrix
   (the rule is linear in the state, so its Jacobian *is* the amplification matrix), and
-* applied to floats / NumPy arrays / mpmath numbers by ``dtcrit.simulate`` to time-step the
+* applied to floats / NumPy arrays / mpmath numbers by ``dtcrit.integrators.simulate`` to time-step the
   contact system itself, an independent check of every bound.
 
 The contact law is Peng et al. 2020, Eq. (29)-(30): a contact coordinate ``x`` with inverse-inertia

@@ -31,7 +31,7 @@ import itertools
 
 import numpy as np
 
-from .arm_supremum import SUPPORT_SLACK, ArmSupremum, arm_lambda
+from dtcrit.bodies.arm_terms import SUPPORT_SLACK, ArmSupremum, arm_lambda
 
 START_SPLITS = 4
 """Each cube face starts as START_SPLITS x START_SPLITS squares."""

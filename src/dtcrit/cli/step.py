@@ -83,8 +83,8 @@ def format_text(result) -> str:
 
 
 def run(args) -> int:
-    from dtcrit.scene import load_scene
-    from dtcrit.timestep import critical_step
+    from dtcrit.scenes.scene import load_scene
+    from dtcrit.scenes.timestep import critical_step
 
     args.source_label = args.scene
     scene = load_scene(args.scene)

@@ -1,6 +1,6 @@
 """Amplification matrices evaluated numerically from the update rules (runtime; no SymPy).
 
-The update rule of ``dtcrit.schemes`` is applied to each unit state vector in scaled units
+The update rule of ``dtcrit.integrators.schemes`` is applied to each unit state vector in scaled units
 (omega = 1: ``K = 1``, ``C = 2 zeta``, step ``tau = omega dt``), so column ``j`` of ``G`` is the
 image of the ``j``-th unit vector.  The spectral radius depends on ``(tau, zeta)`` only.
 """
@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from dtcrit.schemes import INTEGRATORS, LinearForce
+from dtcrit.integrators.schemes import INTEGRATORS, LinearForce
 
 
 def matrices(integrator: str, tau, zeta) -> np.ndarray:

@@ -16,7 +16,7 @@ from pathlib import Path
 
 
 def add_parser(subparsers) -> None:
-    from dtcrit.schemes import NAMES
+    from dtcrit.integrators.schemes import NAMES
 
     p = subparsers.add_parser(
         "impact",
@@ -90,7 +90,7 @@ def _text(rep: dict) -> str:
 
 
 def run(args) -> int:
-    from dtcrit import impact as imp
+    import dtcrit.impact as imp
 
     omega_dt = args.omega_dt
     if omega_dt is not None:

@@ -1,6 +1,6 @@
 """The ``dtcrit`` command line: it only parses arguments, calls the API and prints.
 
-Each subcommand lives in ``dtcrit.commands.<name>`` and exposes ``add_parser(subparsers)`` and
+Each subcommand lives in ``dtcrit.cli.<name>`` and exposes ``add_parser(subparsers)`` and
 ``run(args) -> int``.  Bad input (``dtcrit.errors.InputError`` or ``ValueError``) is reported as a
 single line on standard error with exit status 2, never a traceback.
 """
@@ -24,7 +24,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="dtcrit", description="Critical time steps for explicit DEM simulations.")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for name in COMMANDS:
-        importlib.import_module(f"dtcrit.commands.{name}").add_parser(sub)
+        importlib.import_module(f"dtcrit.cli.{name}").add_parser(sub)
     return parser
 
 

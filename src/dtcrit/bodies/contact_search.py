@@ -9,7 +9,7 @@ contact force in three tip-to-tip configurations and state (Eq 26) that
 where ``p_i`` is the contact point in particle ``i``'s local frame and ``Q_i`` its orientation
 (body -> global).  This module provides
 
-* :func:`arm_term_supremum` (from :mod:`dtcrit.arm_supremum`, re-exported): bounds on
+* :func:`arm_term_supremum` (from :mod:`dtcrit.bodies.arm_supremum`, re-exported): bounds on
   ``S = sup over the body of lambda_max([p]x^T I^-1 [p]x)``.
 * :func:`contact_frames` / :func:`random_contacts`: admissible contacts (the two outward normals
   opposite, particle 2 free to spin about the normal), for sampling.
@@ -28,15 +28,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._generated import contact as _k
-from .arm_supremum import (  # noqa: F401  (re-exported: the per-particle supremum lives there)
-    SUP_RTOL,
-    ArmSupremum,
-    arm_lambda,
-    arm_term_supremum,
-    arm_terms_local,
-    largest_eigenvalue,
-)
+from dtcrit._generated import contact as _k
+from dtcrit.bodies.arm_terms import arm_terms_local, largest_eigenvalue
 
 
 # ============================================================================================

@@ -132,7 +132,7 @@ class Particle:
     number: int  # 1 or 2
     kind: str
     dimensions: dict  # the dimension entries as given (validated)
-    shape: Any  # a dtcrit.shapes object
+    shape: Any  # a dtcrit.bodies object
     youngs_modulus: float | None
     poisson_ratio: float | None
     name: str
@@ -383,7 +383,7 @@ def _required(prefix: str, table: dict, key: str, what: str) -> Any:
 # ----------------------------------------------------------------------------------------------
 # Particles
 # ----------------------------------------------------------------------------------------------
-# key names used by dtcrit.shapes -> scene key
+# key names used by dtcrit.bodies -> scene key
 _SHAPE_ARG_TO_KEY = {
     "sphere": {"radius": "radius"},
     "ellipsoid": {"a": "semi_axes", "b": "semi_axes", "c": "semi_axes"},
@@ -394,7 +394,7 @@ _SHAPE_ARG_TO_KEY = {
 
 
 def _build_shape(prefix: str, kind: str, dims: dict, density: float | None, mass: float | None):
-    from dtcrit import shapes  # NumPy/SciPy only
+    import dtcrit.bodies as shapes  # NumPy only at import
 
     if kind == "sphere":
         args = (dims["radius"],)
@@ -544,7 +544,7 @@ def _contact(table: Any, particles: list[Particle], out_warnings: list) -> tuple
 # ----------------------------------------------------------------------------------------------
 def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
     """Validate a parsed TOML document (a dict) and build the :class:`Scene`."""
-    from dtcrit.stability import check_integrator
+    from dtcrit.integrators.stability import check_integrator
 
     if not isinstance(doc, dict):
         raise InputError("scene", "must be a TOML table")

@@ -12,7 +12,7 @@ from pathlib import Path
 
 from dtcrit.errors import InputError
 
-NOTEBOOK_DIR = Path(__file__).resolve().parents[2] / "notebooks"
+NOTEBOOK_DIR = Path(__file__).resolve().parents[3] / "notebooks"
 
 
 def sources(directory: Path | None = None) -> list[Path]:

@@ -4,7 +4,7 @@
 (amplification matrix of the update rule, Jury conditions; Peng et al. 2020, Section 4.2) through
 the generated kernels in ``dtcrit._generated.critical_steps``.
 
-Numerics (``dtcrit.precise``): the kernels are homogeneous of degree -1 in ``omega = sqrt(k A)``
+Numerics (``dtcrit.integrators.precise``): the kernels are homogeneous of degree -1 in ``omega = sqrt(k A)``
 and ``gamma = c A/2``; inputs are split into mantissa and exponent and both rates rescaled by the
 same power of two (exact), so any float64 inputs work; forward Euler near critical damping and
 the Eq. (40) cubic use error-free residuals and an identity of the cubic.  A step that lies beyond
@@ -18,10 +18,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from dtcrit import precise
+from dtcrit.integrators import precise
 from dtcrit._generated import critical_steps as _gen
 from dtcrit.errors import InputError
-from dtcrit.schemes import INTEGRATORS, NAMES
+from dtcrit.integrators.schemes import INTEGRATORS, NAMES
 
 __all__ = ["CriticalStep", "critical_dt", "critical_dt_array", "paper_eq46", "scaled_rates", "INTEGRATORS"]
 

@@ -13,7 +13,7 @@ special configurations, Eqs 22-25).  The functions here:
   for boxes, polyhedra or box-like superquadrics (see ``derivations/records/sec2_3_kinematics.md``).
 * :func:`a_bound` -- an upper bound on ``lambda_max(A)`` valid for every admissible contact of the
   two shapes: ``1/m1 + 1/m2 + S1 + S2`` with ``S_i`` the supremum over the body of
-  ``lambda_max([p]x^T I_i^-1 [p]x)`` (:func:`dtcrit.contact_search.arm_term_supremum`).  It is
+  ``lambda_max([p]x^T I_i^-1 [p]x)`` (:func:`dtcrit.bodies.arm_supremum.arm_term_supremum`).  It is
   attained for identical particles and, whenever the top eigenvectors can be aligned, for others.
 * :func:`b_max` -- Eq (54); :func:`b_bound` -- the tight constant of the gyroscopic term.
 * :func:`coefficient_matrix` -- ``A`` for given arms and orientations.
@@ -26,9 +26,10 @@ import math
 
 import numpy as np
 
-from ._generated import contact as _k
-from .contact_search import arm_term_supremum, arm_terms_local
-from .errors import InputError
+from dtcrit._generated import contact as _k
+from dtcrit.bodies.arm_supremum import arm_term_supremum
+from dtcrit.bodies.arm_terms import arm_terms_local
+from dtcrit.errors import InputError
 
 __all__ = ["a_max", "a_bound", "b_max", "b_bound", "coefficient_matrix"]
 
@@ -110,7 +111,7 @@ def a_bound(p1, p2=None) -> float:
     exact for polyhedra (vertex maximum) and isotropic inertia, within ``SUP_RTOL`` (1e-7) of the
     best surface value for smooth bodies (outer support polytopes; the returned value is an upper
     bound in every case).  Holds because ``lambda_max`` is subadditive; equality for identical
-    particles (``dtcrit.contact_search.mirror_contact``).  ``p2=None``: identical particles.
+    particles (``dtcrit.bodies.contact_search.mirror_contact``).  ``p2=None``: identical particles.
     """
     p1 = _shape("p1", p1)
     p2 = p1 if p2 is None else _shape("p2", p2)

@@ -4,17 +4,17 @@ For every pair of particle types that can touch (``Scene.pair_numbers``):
 
 * translation (Peng et al. 2020, Sections 3-4): the contact ODE ``xddot = -k A x - c A xdot``
   (Eqs. (29)-(30)) per direction j = normal, shear with its own ``k_j`` and ``c_j``; ``A`` is
-  ``dtcrit.contact.a_bound`` (a verified bound on the largest eigenvalue of the contact's 3x3
+  ``dtcrit.bodies.contact.a_bound`` (a verified bound on the largest eigenvalue of the contact's 3x3
   coefficient matrix over all admissible contacts; the paper's printed Eq. (26) ``A_max`` is
   reported beside it).  ``dt_j = critical_dt(integrator, k_j, c_j, A)`` is the exact boundary of
   the integrator's amplification matrix; the pair's translation step is min over j.  (Every
   integrator's step is non-increasing in ``A``, so the bound on ``A`` gives a safe step for all
   contacts; with ``k_n >= k_s`` and equal damping the normal direction governs, as Eq. (48) takes.)
 * rotation (Section 5, only when ``omega_max`` is given): ``dt = 2 / (omega_max (B_i + B_j))``,
-  Eq. (56), with ``B`` of Eq. (54) (``dtcrit.contact.b_max``); over all pairs this is Eq. (57).
+  Eq. (56), with ``B`` of Eq. (54) (``dtcrit.bodies.contact.b_max``); over all pairs this is Eq. (57).
 
 ``dt_crit`` is the smallest of all of these; ``dt_recommended = safety * dt_crit``.  The
-estimates DEM codes use (``dtcrit.estimators``) are computed beside it and flagged ``unsafe`` when
+estimates DEM codes use (``dtcrit.scenes.estimators``) are computed beside it and flagged ``unsafe`` when
 they exceed ``dt_crit``.  :meth:`StepResult.to_json` gives the stable, documented JSON form
 (``README.md, section Scene files``).  No SymPy is imported here or below.
 """
@@ -23,9 +23,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from dtcrit import estimators as est
-from dtcrit.scene import PairContact, Scene
-from dtcrit.stability import critical_dt, paper_eq46
+from dtcrit.scenes import estimators as est
+from dtcrit.scenes.scene import PairContact, Scene
+from dtcrit.integrators.stability import critical_dt, paper_eq46
 
 __all__ = ["DirectionStep", "PairStep", "StepResult", "critical_step", "JSON_SCHEMA"]
 
@@ -207,7 +207,7 @@ def _direction(integrator: str, name: str, k: float, c: float, A: float) -> Dire
 
 
 def _pair_step(scene: Scene, i: int, j: int, b_max: dict) -> PairStep:
-    from dtcrit import contact
+    from dtcrit.bodies import contact
 
     pc = scene.pair_contact(i, j)
     p1, p2 = scene.particle(i).shape, scene.particle(j).shape
@@ -227,7 +227,7 @@ def _pair_step(scene: Scene, i: int, j: int, b_max: dict) -> PairStep:
 
 def critical_step(scene: Scene) -> StepResult:
     """Verified critical time step of ``scene`` (see the module docstring)."""
-    from dtcrit import contact
+    from dtcrit.bodies import contact
 
     b_max = {p.number: float(contact.b_max(p.shape)) for p in scene.particles}
     pairs = tuple(_pair_step(scene, i, j, b_max) for i, j in scene.pair_numbers())

@@ -3,7 +3,7 @@
 The linear contact system ``xddot = -K x - C v`` (Peng et al. 2020, Eq. (30)) is stepped in scaled
 units (``omega = 1``, so ``K = 1``, ``C = 2 zeta`` and the step is ``tau = omega dt``); the scaling
 keeps stiff and extreme inputs (k A up to float64's limits) representable.  The update rule is the
-one in ``dtcrit.schemes`` -- the same description the symbolic layer differentiates -- but here
+one in ``dtcrit.integrators.schemes`` -- the same description the symbolic layer differentiates -- but here
 it is simply iterated, with no matrix, polynomial or closed form involved.
 """
 from __future__ import annotations
@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from dtcrit.schemes import INTEGRATORS, LinearForce
+from dtcrit.integrators.schemes import INTEGRATORS, LinearForce
 
 
 @dataclass(frozen=True)

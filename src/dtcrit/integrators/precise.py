@@ -2,7 +2,7 @@
 
 The generated kernels ``dtcrit._generated.critical_steps.dt_<name>(omega, gamma)`` are exact
 closed forms; evaluating them well for *every* float64 input needs three more things, collected
-here and used by ``dtcrit.stability``:
+here and used by ``dtcrit.integrators.stability``:
 
 * a power-of-two scale taken from the **larger** of omega = sqrt(k A) and gamma = c A / 2 (the
   kernels are homogeneous of degree -1, so ``dt = 2^-s dt(omega 2^-s, gamma 2^-s)`` exactly), so that

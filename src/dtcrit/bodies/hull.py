@@ -1,6 +1,6 @@
 """Convex hulls in 2-D and 3-D, nearest neighbours and connected components, with NumPy only.
 
-:mod:`dtcrit.shapes` needs these for boxes and polyhedra.  ``scipy.spatial`` (Qhull, cKDTree) and
+:mod:`dtcrit.bodies` needs these for boxes and polyhedra.  ``scipy.spatial`` (Qhull, cKDTree) and
 ``scipy.sparse.csgraph`` would do, but importing them costs about 0.4 s, more than everything else
 ``dtcrit step`` does for a polyhedron scene.  The point sets here are small (corners of a particle),
 so plain algorithms are enough:

@@ -1,0 +1,31 @@
+"""Particle bodies: shapes and their mass properties, arm suprema, contact search and the contact
+coefficient matrix of Peng, Burns & Hanley (2020), Sections 2-3 and 5.
+
+Shapes (one module per family): :mod:`~dtcrit.bodies.smooth` (sphere, ellipsoid, superquadric),
+:mod:`~dtcrit.bodies.polyhedra` (box, convex polyhedron); every shape is immutable and exposes
+``kind``, ``mass``, ``volume``, ``density``, ``inertia`` (principal moments ``(I_xx, I_yy, I_zz)``
+about the centre, local frame), ``half_lengths``, ``max_arm``, ``equivalent_radius``, ``vertices``,
+``surface_points(n)``, ``support(direction)``, ``satisfies_paper_assumptions`` and
+``assumption_issues``.  NumPy only at import; ``scipy.spatial`` (Qhull) is imported on first use
+by polyhedra (:mod:`~dtcrit.bodies.hull`).
+"""
+from dtcrit.bodies.checks import ORDER_RTOL, SUPERQUADRIC_EPS_MAX, SUPERQUADRIC_EPS_MIN, SYMMETRY_RTOL, AssumptionWarning
+from dtcrit.bodies.polyhedra import Box, ConvexPolyhedron
+from dtcrit.bodies.smooth import Ellipsoid, Sphere, Superquadric
+from dtcrit.bodies.spec import shape_from_spec
+from dtcrit.bodies.superquadric_surface import superquadric_max_arm
+
+__all__ = [
+    "AssumptionWarning",
+    "Sphere",
+    "Ellipsoid",
+    "Superquadric",
+    "Box",
+    "ConvexPolyhedron",
+    "shape_from_spec",
+    "superquadric_max_arm",
+    "SUPERQUADRIC_EPS_MIN",
+    "SUPERQUADRIC_EPS_MAX",
+    "SYMMETRY_RTOL",
+    "ORDER_RTOL",
+]

@@ -1,1 +1,0 @@
-"""One module per ``dtcrit`` subcommand: ``add_parser(subparsers)`` and ``run(args) -> int``."""

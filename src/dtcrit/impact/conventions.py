@@ -1,0 +1,107 @@
+"""Constants, conventions and argument checks of the 1-D impact study (CFL note, seed 004; Feng 2005).
+
+Units: time ``1/omega`` (``omega = sqrt(k/m)``), overlap ``v0/omega``, speed ``v0``; ``K = 1``, ``C = 2 zeta``,
+step ``tau = omega dt``.
+"""
+from __future__ import annotations
+import math
+import numpy as np
+from dtcrit._generated import impact as _gen
+from dtcrit.errors import InputError
+
+
+STANDARD_ZETAS: tuple[float, ...] = (0.0, 0.05, 0.2)
+SWEEP_TOP = 2.2
+SWEEP_STEP = 0.005
+DEFAULT_PHASES = 128
+DEFAULT_ENERGY_THRESHOLD = 0.01
+RATIO_RTOL = 1e-9  # relative margin for "ratio > reference" (above rounding of the simulation)
+MIN_OMEGA_DT = 1e-4  # below this the step count per impact (> 3e4) makes sweeps impractical
+MAX_OMEGA_DT = 1e3
+MAX_PHASES = 4096
+UNIT_STEPS_FROM = 0.25  # the report checks the isolated steps tau_N >= this (N <= 12)
+MAX_CUTOFF = 400.0  # longest simulated contact, units 1/omega
+DIVERGED = 1e150  # |state| beyond this: the run has blown up (reported as an infinite ratio)
+
+CENTRAL_DIFFERENCE_FAMILY: tuple[str, ...] = tuple(_gen.CENTRAL_DIFFERENCE_FAMILY)
+
+CONVENTION = (
+    "geometric: contact while the overlap d >= 0 (the CFL note's equation); the spring-dashpot "
+    "force may be tensile near the end; the time-stepped simulation uses this convention"
+)
+FORCE_CONVENTION = (
+    "force-based: contact force k d + c d' acts only while compressive; released at its first zero"
+)
+UNITS = "time in 1/omega (omega = sqrt(k/m)), overlap in v0/omega, speeds as ratios to v0"
+
+
+# ---------------------------------------------------------------------------------------------
+# input checks
+# ---------------------------------------------------------------------------------------------
+
+def _number(key: str, value) -> float:
+    try:
+        out = float(value)
+    except (TypeError, ValueError):
+        raise InputError(key, f"must be a number (got {value!r})") from None
+    if not math.isfinite(out):
+        raise InputError(key, f"must be finite (got {out})")
+    return out
+
+
+def check_zeta(zeta) -> float:
+    z = _number("zeta", zeta)
+    if z < 0:
+        raise InputError("zeta", f"damping ratio must be >= 0 (got {z})")
+    return z
+
+
+def check_omega_dt(value, key: str = "omega_dt") -> float:
+    t = _number(key, value)
+    if not MIN_OMEGA_DT <= t <= MAX_OMEGA_DT:
+        raise InputError(key, f"must lie in [{MIN_OMEGA_DT:g}, {MAX_OMEGA_DT:g}] (got {t:g})")
+    return t
+
+
+def check_energy_threshold(value) -> float:
+    thr = _number("energy_threshold", value)
+    if not 0 < thr < 1:
+        raise InputError("energy_threshold", f"must lie in (0, 1) (got {thr:g})")
+    return thr
+
+
+def check_phases(n) -> int:
+    try:
+        k = int(n)
+    except (TypeError, ValueError):
+        raise InputError("phases", f"must be an integer (got {n!r})") from None
+    if k != n or not 1 <= k <= MAX_PHASES:
+        raise InputError("phases", f"must be an integer in [1, {MAX_PHASES}] (got {n!r})")
+    return k
+
+
+# ---------------------------------------------------------------------------------------------
+# exact impact
+# ---------------------------------------------------------------------------------------------
+
+def _regime(zeta: float) -> str:
+    if zeta == 0:
+        return "undamped"
+    return "underdamped" if zeta < 1 else ("critically damped" if zeta == 1 else "overdamped")
+
+
+def _scalar(kernel, *args) -> float:
+    with np.errstate(all="ignore"):
+        return float(kernel(*args))
+
+
+# ---------------------------------------------------------------------------------------------
+# report
+# ---------------------------------------------------------------------------------------------
+
+def _json_number(value):
+    if isinstance(value, (float, np.floating)):
+        return float(value) if math.isfinite(value) else None
+    if isinstance(value, np.integer):
+        return int(value)
+    return value

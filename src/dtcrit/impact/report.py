@@ -1,0 +1,132 @@
+"""The impact report of ``dtcrit impact``: per damping ratio, the sweep against the exact impact and the
+linear bound, the undamped closed forms, and its JSON form.
+"""
+from __future__ import annotations
+import numpy as np
+from dtcrit.integrators.stability import check_integrator
+from dtcrit.impact.conventions import CENTRAL_DIFFERENCE_FAMILY, CONVENTION, DEFAULT_ENERGY_THRESHOLD, DEFAULT_PHASES, RATIO_RTOL, STANDARD_ZETAS, SWEEP_STEP, UNITS, UNIT_STEPS_FROM, _json_number, check_energy_threshold, check_omega_dt, check_phases, check_zeta
+from dtcrit.impact.exact import exact_impact
+from dtcrit.impact.stepped import ImpactRun, STATUS_EXITED, central_difference_bounds, simulate_impacts, undamped_exit_ratios, unit_ratio_steps
+from dtcrit.impact.sweep import PhaseStats, energy_created_ranges, linear_bound, sweep, sweep_grid
+from dtcrit.impact.hertz import hertz_study
+
+
+def _zeta_summary(name: str, zeta: float, grid, stats: list[PhaseStats]) -> dict:
+    ex = exact_impact(zeta)
+    mx = [s.max for s in stats]
+    tau_star = linear_bound(name, zeta)
+    below = [s.max for s in stats if s.omega_dt < tau_star]
+    return {
+        "zeta": zeta,
+        "exact_exit_ratio": ex.exit_ratio,
+        "critical_omega_dt": tau_star,
+        "energy_created": {
+            "above_exact": energy_created_ranges(grid, mx, ex.exit_ratio),
+            "above_one": energy_created_ranges(grid, mx, 1.0),
+        },
+        "largest_ratio_below_critical": _json_number(max(below)) if below else None,
+        "numerical": [s.as_dict() for s in stats],
+    }
+
+
+def impact_report(
+    integrator: str,
+    zeta=0.0,
+    omega_dt=None,
+    n_phases: int = DEFAULT_PHASES,
+    hertz: bool | None = None,
+    energy_threshold: float = DEFAULT_ENERGY_THRESHOLD,
+    step: float = SWEEP_STEP,
+    standard: bool | None = None,
+) -> dict:
+    """JSON-ready report for one integrator and damping ratio.
+
+    ``omega_dt=None`` sweeps ``sweep_grid(step)``; a number evaluates that step only.  ``hertz`` and
+    ``standard`` (summaries for zeta in ``STANDARD_ZETAS``) default to on for a sweep.
+    Keys starting with ``_`` carry arrays for the figures and are not part of the JSON.
+    """
+    name = check_integrator(integrator)
+    z = check_zeta(zeta)
+    n_ph = check_phases(n_phases)
+    is_sweep = omega_dt is None
+    grid = sweep_grid(step) if is_sweep else np.array([check_omega_dt(omega_dt)])
+    hertz = is_sweep if hertz is None else hertz
+    standard = is_sweep if standard is None else standard
+    if hertz:
+        check_energy_threshold(energy_threshold)
+    ex = exact_impact(z)
+    run, stats = sweep(name, z, grid, n_ph)
+    report: dict = {
+        "integrator": name,
+        "zeta": z,
+        "units": UNITS,
+        "convention": CONVENTION,
+        "critical_omega_dt": linear_bound(name, z),
+        "exact": ex.as_dict(),
+        "phases": n_ph,
+        "numerical": [s.as_dict() for s in stats],
+        "energy_created": {
+            "above_exact": energy_created_ranges(grid, [s.max for s in stats], ex.exit_ratio),
+            "above_one": energy_created_ranges(grid, [s.max for s in stats], 1.0),
+            "criterion": f"max over entry phases > reference * (1 + {RATIO_RTOL:g}); runs of grid points",
+        },
+        "_runs": {z: (grid, stats)},
+        "_run": run,
+    }
+    if z == 0:
+        closed = undamped_exit_ratios(name, grid, run.phases)
+        if closed is not None:
+            report["undamped_closed_form"] = _closed_form_section(name, grid, run, closed)
+    if standard:
+        summaries = []
+        for zs in sorted(set(STANDARD_ZETAS) | {z}):
+            if zs == z:
+                st = stats
+            else:
+                st = sweep(name, zs, grid, n_ph)[1]
+                report["_runs"][zs] = (grid, st)
+            summaries.append(_zeta_summary(name, zs, grid, st))
+        report["by_zeta"] = summaries
+    if hertz:
+        report["hertz"] = hertz_study(name, grid, n_ph, energy_threshold)
+    return report
+
+
+def _closed_form_section(name: str, grid, run: ImpactRun, closed: np.ndarray) -> dict:
+    ok = np.isfinite(closed) & (run.status == STATUS_EXITED)
+    with np.errstate(all="ignore"):
+        rel = np.abs(run.ratios - closed) / np.abs(closed)
+    section: dict = {
+        "max_relative_difference_from_simulation": float(np.max(rel[ok])) if ok.any() else None,
+        "compared_runs": int(ok.sum()),
+    }
+    if name in CENTRAL_DIFFERENCE_FAMILY:
+        section["formula"] = (
+            "v_e/v0 = sqrt((1 - tau^2 phi(1-phi)) / (1 - tau^2 psi(1-psi))), psi the exit phase; "
+            "bounds sqrt(1 - tau^2/4) <= v_e/v0 <= 1/sqrt(1 - tau^2/4); v_e = v0 for every phase at "
+            "tau_N = 2 sin(pi/(2N))"
+        )
+        steps = unit_ratio_steps(max(float(grid[0]), UNIT_STEPS_FROM), 2.0)
+        pts = []
+        if steps:
+            taus = [t for _, t in steps if t < 2.0]
+            if taus:
+                r = simulate_impacts(name, taus, run.phases, 0.0).ratios
+                for (N, t), row in zip([s for s in steps if s[1] < 2.0], r):
+                    pts.append({"N": N, "omega_dt": t, "max_abs_ratio_minus_one": float(np.max(np.abs(row - 1)))})
+        section["unit_ratio_steps"] = pts
+        lo, hi = central_difference_bounds(grid)
+        inside = np.all((run.ratios <= hi[:, None] * (1 + 1e-12)) & (run.ratios >= lo[:, None] * (1 - 1e-12)), axis=1)
+        section["bounds_hold_on_grid_below_2"] = bool(np.all(inside[grid < 2.0]))
+    else:
+        section["formula"] = "(x_n, v_n) = (1 + tau^2)^(n/2) R(n arctan tau)(phi tau, 1); v_e/v0 = |v_m|"
+    return section
+
+
+def to_json(report: dict) -> dict:
+    """The report without the private (array) entries, recursively."""
+    if isinstance(report, dict):
+        return {k: to_json(v) for k, v in report.items() if not str(k).startswith("_")}
+    if isinstance(report, list):
+        return [to_json(v) for v in report]
+    return _json_number(report)

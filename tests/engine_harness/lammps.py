@@ -1,0 +1,437 @@
+"""Run LAMMPS (the `lmp` binary, GRANULAR package) on one- and two-sphere contact cases.
+
+Two geometries:
+
+* ``PairCase`` -- two spheres in contact in a big non-periodic box, no gravity.  The contact
+  is kept closed by a preload of constant magnitude P acting along the *current* centre line
+  (two ``fix addforce`` commands driven by equal-style variables of the atoms' positions).
+  A preload of fixed direction would make the pair buckle (the pair rotates and the preload
+  grows a lateral component), whatever the step.
+* ``WallCase`` -- one sphere resting on a ``fix wall/gran ... zplane 0.0 NULL`` wall, pushed
+  onto it by a constant force -P along z.
+
+Both start from the static equilibrium overlap delta0 = P/kn (a linear Hooke spring), with
+tiny random velocities and spins (relative size ``eps``, about 1e-10 of the overlap scale) so
+every mode is excited while the motion stays linear and the contact stays closed.
+
+Classification (``run_case``/``bounded``): LAMMPS reports, every few steps, the largest net
+force |f_i| and |torque_i|/R_i over the atoms (both vanish at equilibrium, so they measure
+the deviation), the normal spring-force deviation kn*|delta - delta0| and the kinetic energy
+(translational + rotational).  The growth figure is the largest of those deviations divided by
+``eps*P`` (the size the initial kick produces) and the square root of the kinetic-energy ratio
+to its initial value.  Forces are judged as well as the energy because, at the boundary, the
+critical mode of velocity Verlet has zero full-step velocity, so kinetic energy alone
+under-reports growth.  A ``fix halt`` ends a run early once the growth figure passes
+``HALT_GROWTH`` (clearly unstable; also keeps the contact from opening).
+"""
+from __future__ import annotations
+
+import math
+import os
+import subprocess
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from . import engine_executable
+
+__all__ = [
+    "ContactLaw",
+    "Sphere",
+    "PairCase",
+    "WallCase",
+    "RunResult",
+    "GROWTH_LIMIT",
+    "HALT_GROWTH",
+    "build_inputs",
+    "run_case",
+    "bounded",
+    "bisect_threshold",
+    "LammpsError",
+]
+
+#: growth figure above which a run counts as growing (stable runs stay O(1..30))
+GROWTH_LIMIT = 1.0e3
+#: growth figure at which LAMMPS is told to stop the run (clearly unstable)
+HALT_GROWTH = 1.0e7
+
+_STYLES = ("gran/hooke", "gran/hooke/history")
+
+
+class LammpsError(RuntimeError):
+    """LAMMPS failed for a reason other than the dynamics (bad input, missing binary...)."""
+
+
+def _g(x: float) -> str:
+    """Round-trip exact decimal text of a float for the LAMMPS input."""
+    return repr(float(x))
+
+
+@dataclass(frozen=True)
+class ContactLaw:
+    """A LAMMPS `gran/hooke` or `gran/hooke/history` law (also used for `fix wall/gran`).
+
+    kt=None and gammat=None are written as NULL (LAMMPS then uses kt = 2/7 kn and
+    gammat = gamman/2).  dampflag=0 makes LAMMPS drop the tangential dashpot (gammat = 0).
+    xmu defaults to 1e4, the largest value LAMMPS accepts, so contacts never slide.
+    """
+
+    kn: float
+    kt: float | None = 0.0
+    gamman: float = 0.0
+    gammat: float | None = 0.0
+    dampflag: int = 0
+    xmu: float = 1.0e4
+    style: str = "gran/hooke/history"
+
+    def __post_init__(self):
+        if self.style not in _STYLES:
+            raise ValueError(f"style must be one of {_STYLES}, not {self.style!r}")
+        if self.dampflag not in (0, 1):
+            raise ValueError("dampflag must be 0 or 1")
+
+    @property
+    def args(self) -> str:
+        """The six coefficients `Kn Kt gamma_n gamma_t xmu dampflag`."""
+        kt = "NULL" if self.kt is None else _g(self.kt)
+        gt = "NULL" if self.gammat is None else _g(self.gammat)
+        return f"{_g(self.kn)} {kt} {_g(self.gamman)} {gt} {_g(self.xmu)} {self.dampflag}"
+
+    # effective values as LAMMPS resolves them (settings(): NULL defaults, dampflag)
+    @property
+    def kt_value(self) -> float:
+        if self.style == "gran/hooke":
+            return 0.0  # no tangential spring in gran/hooke
+        return self.kn * 2.0 / 7.0 if self.kt is None else float(self.kt)
+
+    @property
+    def gammat_value(self) -> float:
+        if self.dampflag == 0:
+            return 0.0
+        return 0.5 * self.gamman if self.gammat is None else float(self.gammat)
+
+
+@dataclass(frozen=True)
+class Sphere:
+    """A solid sphere; give its density or its mass (not both)."""
+
+    radius: float
+    density: float | None = None
+    mass: float | None = None
+
+    def __post_init__(self):
+        if (self.density is None) == (self.mass is None):
+            raise ValueError("give exactly one of density, mass")
+
+    @property
+    def volume(self) -> float:
+        return 4.0 / 3.0 * math.pi * self.radius**3
+
+    @property
+    def rho(self) -> float:
+        return self.density if self.density is not None else self.mass / self.volume
+
+    @property
+    def m(self) -> float:
+        return self.mass if self.mass is not None else self.density * self.volume
+
+    @property
+    def inertia(self) -> float:
+        return 0.4 * self.m * self.radius**2
+
+
+@dataclass(frozen=True)
+class PairCase:
+    """Two spheres in contact along `direction`, at the equilibrium overlap under preload.
+
+    overlap: static overlap delta0 as a fraction of the smaller radius; the preload is
+    P = kn * delta0.
+    """
+
+    law: ContactLaw
+    sphere1: Sphere
+    sphere2: Sphere
+    overlap: float = 0.01
+    direction: tuple[float, float, float] = (1.0, 0.0, 0.0)
+    label: str = ""
+
+    @property
+    def spheres(self) -> tuple[Sphere, ...]:
+        return (self.sphere1, self.sphere2)
+
+    @property
+    def delta0(self) -> float:
+        return self.overlap * min(self.sphere1.radius, self.sphere2.radius)
+
+
+@dataclass(frozen=True)
+class WallCase:
+    """One sphere on a fixed `fix wall/gran` zplane at z = 0, pushed on it by -P z."""
+
+    law: ContactLaw
+    sphere: Sphere
+    overlap: float = 0.01
+    label: str = ""
+
+    @property
+    def spheres(self) -> tuple[Sphere, ...]:
+        return (self.sphere,)
+
+    @property
+    def delta0(self) -> float:
+        return self.overlap * self.sphere.radius
+
+
+Case = PairCase | WallCase
+
+
+@dataclass
+class RunResult:
+    """Outcome of one LAMMPS run."""
+
+    dt: float
+    steps: int  # requested
+    steps_run: int  # last step reached (smaller when fix halt stopped the run)
+    halted: bool
+    growth: float  # max over the run of the growth figure (see module docstring)
+    force_growth: float
+    energy_growth: float
+    rate: float  # fitted growth factor per step of the deviation envelope (diagnostic)
+    series: dict[str, np.ndarray] = field(repr=False, default_factory=dict)
+    log: str = field(repr=False, default="")
+
+    @property
+    def bounded(self) -> bool:
+        return (not self.halted) and math.isfinite(self.growth) and self.growth < GROWTH_LIMIT
+
+
+# ----------------------------------------------------------------------------- inputs
+
+
+def _geometry(case: Case) -> tuple[list[np.ndarray], float]:
+    """Equilibrium centres and the preload P."""
+    law = case.law
+    d0 = case.delta0
+    P = law.kn * d0
+    if isinstance(case, PairCase):
+        n = np.asarray(case.direction, dtype=float)
+        n = n / np.linalg.norm(n)
+        r0 = case.sphere1.radius + case.sphere2.radius - d0
+        m1, m2 = case.sphere1.m, case.sphere2.m
+        # centre of mass at the origin
+        x1 = -n * r0 * m2 / (m1 + m2)
+        x2 = n * r0 * m1 / (m1 + m2)
+        return [x1, x2], P
+    z0 = case.sphere.radius - d0
+    return [np.array([0.0, 0.0, z0])], P
+
+
+def _kick(case: Case, eps: float, seed: int) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Random velocities and spins giving displacements of about eps*delta0."""
+    rng = np.random.default_rng(seed)
+    mmin = min(s.m for s in case.spheres)
+    vs = eps * case.delta0 * math.sqrt(case.law.kn / mmin)
+    out = []
+    for s in case.spheres:
+        v = rng.uniform(-1.0, 1.0, 3) * vs
+        w = rng.uniform(-1.0, 1.0, 3) * vs / s.radius
+        out.append((v, w))
+    return out
+
+
+def build_inputs(case: Case, dt: float, steps: int, *, eps: float = 1e-10, seed: int = 12345,
+                 thermo_every: int | None = None, halt_growth: float = HALT_GROWTH
+                 ) -> tuple[str, str]:
+    """(input script, data file) for running `case` `steps` steps at time step `dt`."""
+    centres, P = _geometry(case)
+    kicks = _kick(case, eps, seed)
+    law = case.law
+    spheres = case.spheres
+    natoms = len(spheres)
+    rmax = max(s.radius for s in spheres)
+    rmin = min(s.radius for s in spheres)
+    L = 20.0 * rmax
+    ref = eps * P
+    if thermo_every is None:
+        thermo_every = max(1, steps // 400)
+    halt_every = max(1, min(10, thermo_every))
+
+    data = ["LAMMPS data file (engine_harness)", "", f"{natoms} atoms", "1 atom types", ""]
+    data += [f"{_g(-L)} {_g(L)} xlo xhi", f"{_g(-L)} {_g(L)} ylo yhi", f"{_g(-L)} {_g(L)} zlo zhi", ""]
+    data += ["Atoms # sphere", ""]
+    for i, (s, x) in enumerate(zip(spheres, centres), start=1):
+        data.append(f"{i} 1 {_g(2.0 * s.radius)} {_g(s.rho)} {_g(x[0])} {_g(x[1])} {_g(x[2])}")
+    data += ["", "Velocities", ""]
+    for i, (v, w) in enumerate(kicks, start=1):
+        data.append(f"{i} " + " ".join(_g(c) for c in (*v, *w)))
+    data.append("")
+
+    lines = [
+        "# generated by tests/engine_harness/lammps.py",
+        "units si",
+        "dimension 3",
+        "atom_style sphere",
+        "atom_modify map array sort 0 0.0",
+        "boundary f f f",
+        "newton off",
+        "comm_modify vel yes",
+        "read_data case.data",
+        f"pair_style {law.style} {law.args}",
+        "pair_coeff * *",
+        f"neighbor {_g(0.2 * rmin)} bin",
+        "neigh_modify delay 0 every 1 check yes",
+        f"timestep {_g(dt)}",
+    ]
+    if isinstance(case, PairCase):
+        r0 = case.sphere1.radius + case.sphere2.radius - case.delta0
+        lines += [
+            "group a1 id 1",
+            "group a2 id 2",
+            "variable ex equal x[2]-x[1]",
+            "variable ey equal y[2]-y[1]",
+            "variable ez equal z[2]-z[1]",
+            "variable rr equal sqrt(v_ex*v_ex+v_ey*v_ey+v_ez*v_ez)",
+            # constant magnitude P along the current centre line, pushing the spheres together
+            f"variable p1x equal {_g(P)}*v_ex/v_rr",
+            f"variable p1y equal {_g(P)}*v_ey/v_rr",
+            f"variable p1z equal {_g(P)}*v_ez/v_rr",
+            "variable p2x equal -v_p1x",
+            "variable p2y equal -v_p1y",
+            "variable p2z equal -v_p1z",
+            "fix pre1 a1 addforce v_p1x v_p1y v_p1z",
+            "fix pre2 a2 addforce v_p2x v_p2y v_p2z",
+            f"variable ndev equal {_g(law.kn)}*abs(v_rr-{_g(r0)})",
+        ]
+    else:
+        z0 = centres[0][2]
+        lines += [
+            f"fix wall all wall/gran {law.style.split('/', 1)[1]} {law.args} zplane 0.0 NULL",
+            f"fix pre all addforce 0.0 0.0 {_g(-P)}",
+            f"variable ndev equal {_g(law.kn)}*abs(z[1]-{_g(z0)})",
+        ]
+    lines += [
+        "fix integ all nve/sphere",
+        "compute tq all property/atom tqx tqy tqz radius",
+        "variable fa atom sqrt(fx*fx+fy*fy+fz*fz)",
+        "variable ta atom sqrt(c_tq[1]*c_tq[1]+c_tq[2]*c_tq[2]+c_tq[3]*c_tq[3])/c_tq[4]",
+        "compute dev all reduce max v_fa v_ta",
+        "compute ket all ke",
+        "compute ker all erotate/sphere",
+        "variable etot equal c_ket+c_ker",
+        # max(a, b) = (a + b + |a - b|)/2 (no two-argument max in equal-style formulas)
+        "variable dm equal 0.5*(c_dev[1]+c_dev[2]+abs(c_dev[1]-c_dev[2]))",
+        f"variable grow equal 0.5*(v_dm+v_ndev+abs(v_dm-v_ndev))/{_g(ref)}",
+        f"fix stop all halt {halt_every} v_grow > {_g(halt_growth)} error soft message no",
+        "thermo_style custom step atoms v_etot c_dev[1] c_dev[2] v_ndev v_grow",
+        "thermo_modify format float %.17g norm no lost ignore flush no",
+        f"thermo {thermo_every}",
+        f"run {int(steps)}",
+    ]
+    return "\n".join(lines) + "\n", "\n".join(data)
+
+
+# ----------------------------------------------------------------------------- running
+
+_COLUMNS = ("step", "atoms", "etot", "fdev", "tdev", "ndev", "grow")
+
+
+def _parse_thermo(log: str) -> dict[str, np.ndarray]:
+    rows: list[list[float]] = []
+    inside = False
+    for line in log.splitlines():
+        s = line.split()
+        if not s:
+            continue
+        if s[0] == "Step":
+            inside = True
+            continue
+        if inside:
+            if s[0] == "Loop" or len(s) != len(_COLUMNS):
+                inside = False
+                continue
+            try:
+                rows.append([float(t) for t in s])
+            except ValueError:
+                inside = False
+    arr = np.array(rows, dtype=float).reshape(-1, len(_COLUMNS))
+    return {name: arr[:, k] for k, name in enumerate(_COLUMNS)}
+
+
+def _rate(step: np.ndarray, grow: np.ndarray) -> float:
+    """Growth factor per step fitted to the log of the running-max envelope (second half)."""
+    ok = np.isfinite(grow) & (grow > 0)
+    if ok.sum() < 4:
+        return float("nan")
+    st, g = step[ok], np.maximum.accumulate(grow[ok])
+    half = st >= st[0] + 0.5 * (st[-1] - st[0])
+    if half.sum() < 2 or st[half][-1] == st[half][0]:
+        return float("nan")
+    slope = np.polyfit(st[half], np.log(g[half]), 1)[0]
+    return float(math.exp(slope))
+
+
+def run_case(case: Case, dt: float, steps: int, *, eps: float = 1e-10, seed: int = 12345,
+             lmp: str | None = None, keep_dir: str | os.PathLike | None = None,
+             timeout: float = 120.0) -> RunResult:
+    """Run `case` for `steps` steps of size `dt` in LAMMPS and classify the outcome."""
+    exe = lmp or engine_executable("lammps")
+    if exe is None:
+        raise LammpsError("LAMMPS binary `lmp` not found (apt-get install lammps)")
+    script, data = build_inputs(case, dt, steps, eps=eps, seed=seed)
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    with tempfile.TemporaryDirectory(prefix="lmp_case_") as tmp:
+        work = Path(keep_dir) if keep_dir is not None else Path(tmp)
+        work.mkdir(parents=True, exist_ok=True)
+        (work / "in.case").write_text(script)
+        (work / "case.data").write_text(data)
+        proc = subprocess.run(
+            [exe, "-in", "in.case", "-log", "log.lammps", "-screen", "none", "-nocite"],
+            cwd=work, env=env, capture_output=True, text=True, timeout=timeout,
+        )
+        logfile = work / "log.lammps"
+        log = logfile.read_text() if logfile.exists() else ""
+    if proc.returncode != 0 or "ERROR" in log:
+        tail = "\n".join((log or proc.stdout + proc.stderr).splitlines()[-15:])
+        raise LammpsError(f"lmp failed (exit {proc.returncode}):\n{tail}")
+    ser = _parse_thermo(log)
+    if ser["step"].size == 0:
+        raise LammpsError("no thermo output parsed from the LAMMPS log")
+    natoms = len(case.spheres)
+    e0 = ser["etot"][0]
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        fg = float(np.max(ser["grow"])) if np.all(np.isfinite(ser["grow"])) else float("inf")
+        eg = float(np.sqrt(np.max(ser["etot"]) / e0)) if (e0 > 0 and np.all(np.isfinite(ser["etot"]))) else float("inf")
+    if np.any(ser["atoms"] < natoms):
+        fg = float("inf")
+    steps_run = int(ser["step"][-1])
+    halted = steps_run < steps
+    return RunResult(dt=dt, steps=steps, steps_run=steps_run, halted=halted,
+                     growth=max(fg, eg), force_growth=fg, energy_growth=eg,
+                     rate=_rate(ser["step"], ser["grow"]), series=ser, log=log)
+
+
+def bounded(case: Case, dt: float, steps: int, **kw) -> bool:
+    """True when LAMMPS stays bounded for `steps` steps at `dt` (see `run_case`)."""
+    return run_case(case, dt, steps, **kw).bounded
+
+
+def bisect_threshold(case: Case, lo: float, hi: float, rel_tol: float = 1e-3, *,
+                     steps: int = 2000, **kw) -> float:
+    """Stability threshold of `case` in LAMMPS by bisection of dt in [lo, hi].
+
+    Requires `lo` bounded and `hi` growing; returns the midpoint of the final bracket,
+    whose relative width is below `rel_tol`.
+    """
+    if not bounded(case, lo, steps, **kw):
+        raise ValueError(f"lower end dt={lo!r} is not bounded")
+    if bounded(case, hi, steps, **kw):
+        raise ValueError(f"upper end dt={hi!r} is not growing")
+    while hi / lo - 1.0 > rel_tol:
+        mid = math.sqrt(lo * hi)
+        if bounded(case, mid, steps, **kw):
+            lo = mid
+        else:
+            hi = mid
+    return math.sqrt(lo * hi)
