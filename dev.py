@@ -6,7 +6,8 @@
     python3 dev.py generate   regenerate the committed generated code and derivation records
 
 Every task creates the virtual environment ``.venv`` beside this file when it is missing,
-(re)installs the package whenever ``pyproject.toml`` changed since the last install, and
+(re)installs the package whenever ``pyproject.toml`` or ``constraints.txt`` (the pinned versions)
+changed since the last install, and
 byte-compiles ``src`` (cheap when up to date), so that with ``PYTHONDONTWRITEBYTECODE=1`` dtcrit
 is not recompiled at every start.  ``test`` also installs ``gfortran`` with ``apt-get`` when it is
 missing and we are root, so the emitted Fortran is compiled and tested (never fatal: without it
@@ -41,13 +42,13 @@ def ensure_venv() -> None:
     if not PY.exists():
         if run(sys.executable, "-m", "venv", VENV) != 0:
             sys.exit("could not create the virtual environment .venv")
-    digest = hashlib.sha256((ROOT / "pyproject.toml").read_bytes()).hexdigest()
+    digest = hashlib.sha256((ROOT / "pyproject.toml").read_bytes() + (ROOT / "constraints.txt").read_bytes()).hexdigest()
     if STAMP.exists() and STAMP.read_text() == digest:
         return
     quiet = ["-q"] if os.environ.get("CI") else []
     if run(PY, "-m", "pip", "install", *quiet, "--upgrade", "pip") != 0:
         sys.exit("pip upgrade failed")
-    if run(PY, "-m", "pip", "install", *quiet, "-e", ".[test]") != 0:
+    if run(PY, "-m", "pip", "install", *quiet, "-c", "constraints.txt", "-e", ".[test]") != 0:
         sys.exit("installing dtcrit and its test dependencies failed")
     STAMP.write_text(digest)
 

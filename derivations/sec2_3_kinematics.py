@@ -15,11 +15,14 @@ import numpy as np
 import sympy as sp
 
 import dtcrit
-from dtcrit import arm_supremum as asup
-from dtcrit import contact_search as cs
+from dtcrit.bodies import arm_supremum as asup
+from dtcrit.bodies import contact_search as cs
 from dtcrit.bodies import Box, ConvexPolyhedron, Ellipsoid, Sphere, Superquadric
 from dtcrit.symbolic import contact_codegen as cc
 from dtcrit.symbolic import kinematics as kin
+from dtcrit.symbolic import printed_entries as printed
+from dtcrit.symbolic import quaternions as quat
+from dtcrit.symbolic import tip_configurations as tips
 
 RECORD = "sec2_3_kinematics.md"
 
@@ -48,7 +51,7 @@ def _verdict(k) -> str:
 # 1. Convention
 # ============================================================================================
 def section_convention() -> list[str]:
-    checks = kin.check_rotation_convention()
+    checks = quat.check_rotation_convention()
     out = [
         "## 1. Rotation convention (Eqs. (5)-(8), (13)-(16))",
         "",
@@ -82,9 +85,9 @@ def section_general() -> list[str]:
     closed_diag = kin.check_arm_term_closed_form(r, kin.inertia_tensor(Ixx, Iyy, Izz))
     v = sp.Matrix(sp.symbols("v_x v_y v_z", real=True))
     W = sp.diag(*sp.symbols("W_x W_y W_z", positive=True))
-    T = kin.skew(r).T * W * kin.skew(r)
-    quad = sp.expand((v.T * T * v)[0] - (kin.cross(r, v).T * W * kin.cross(r, v))[0]) == 0
-    p1, p2 = kin.FIG2["A"].particles(w_is_local=False)
+    T = quat.skew(r).T * W * quat.skew(r)
+    quad = sp.expand((v.T * T * v)[0] - (quat.cross(r, v).T * W * quat.cross(r, v))[0]) == 0
+    p1, p2 = tips.FIG2["A"].particles(w_is_local=False)
     affine = kin.check_affine_in_force(p1, p2)
     return [
         "## 2. Eqs. (1)-(20): two arbitrary rigid particles",
@@ -115,19 +118,19 @@ def section_general() -> list[str]:
 # ============================================================================================
 # 3. Figure 2: reconstruction of the three configurations, Eqs. (22)-(24)
 # ============================================================================================
-def _printed_for(panel: str, e: kin.PrintedEntry, k: int | None) -> str:
+def _printed_for(panel: str, e: printed.PrintedEntry, k: int | None) -> str:
     if not e.legible:
         return f"illegible (`{e.raw[:60]}...`)" if len(e.raw) > 60 else f"illegible (`{e.raw}`)"
     text = e.readings[k if (k is not None and k >= 0) else 0]
-    expr = kin.parse_reading(text)
+    expr = printed.parse_reading(text)
     if panel == "C":
-        expr = expr.subs(kin.P2.half_lengths[0], kin.P2.half_lengths[1])
+        expr = expr.subs(tips.P2.half_lengths[0], tips.P2.half_lengths[1])
     return f"${_latex(expr)}$"
 
 
 def section_fig2() -> tuple[list[str], dict]:
-    cands = kin.candidate_configurations()
-    scores = kin.score_candidates()
+    cands = tips.candidate_configurations()
+    scores = printed.score_candidates()
     out = [
         "## 3. Figure 2 reconstructed: Eqs. (22)-(24) and the velocity terms",
         "",
@@ -145,7 +148,7 @@ def section_fig2() -> tuple[list[str], dict]:
         "",
     ]
     for eq in ("22", "23", "24", "50", "51", "52"):
-        fixes = [f"{e.entry}: {e.fixes}" for e in kin.printed_entries(eq) if e.fixes]
+        fixes = [f"{e.entry}: {e.fixes}" for e in printed.printed_entries(eq) if e.fixes]
         if fixes:
             out.append(f"* Eq. ({eq}): " + "; ".join(fixes) + ".")
     out += [
@@ -155,8 +158,8 @@ def section_fig2() -> tuple[list[str], dict]:
         "| panel (equations) | legible entries | $\\omega$ global, $a_2$ literal | global, $a_2$ = arm | local, literal | local, arm |",
         "| --- | --- | --- | --- | --- | --- |",
     ]
-    for panel, (eqa, eqw) in kin.PANELS.items():
-        legible = sum(e.legible for eq in (eqa, eqw) for e in kin.printed_entries(eq))
+    for panel, (eqa, eqw) in printed.PANELS.items():
+        legible = sum(e.legible for eq in (eqa, eqw) for e in printed.printed_entries(eq))
         cells = []
         for lw in (False, True):
             for al in (False, True):
@@ -164,18 +167,18 @@ def section_fig2() -> tuple[list[str], dict]:
         out.append(f"| {panel} ({eqa}, {eqw}) | {legible} | " + " | ".join(cells) + " |")
     chosen = {}
     out += [""]
-    for panel, (eqa, eqw) in kin.PANELS.items():
-        best = kin.best_candidates(panel)
+    for panel, (eqa, eqw) in printed.PANELS.items():
+        best = printed.best_candidates(panel)
         b = best[0]
         cand = cands[b.index]
-        lib = kin.FIG2[panel]
+        lib = tips.FIG2[panel]
         same = (cand.arm1 == lib.arm1 and cand.arm2 == lib.arm2 and sp.Matrix(cand.R2) == sp.Matrix(lib.R2))
         chosen[panel] = b
         q1, q2 = lib.quaternions()
         out += [
             f"### Figure 2({panel}): Eqs. ({eqa}) and ({eqw})",
             "",
-            f"Best score {b.total} of {sum(e.legible for eq in (eqa, eqw) for e in kin.printed_entries(eq))} legible entries, "
+            f"Best score {b.total} of {sum(e.legible for eq in (eqa, eqw) for e in printed.printed_entries(eq))} legible entries, "
             f"{len(best)} candidate(s) after the tie-breaks (literal $a_2$ first, then opposite normals); reading: "
             f"$\\omega$ {'local (body)' if b.w_is_local else 'global'} components, $a_2$ "
             f"{'= length of the arm of particle 2' if b.arm_length else 'literal'}.  "
@@ -189,15 +192,15 @@ def section_fig2() -> tuple[list[str], dict]:
             "| entry | printed (reading used) | derived ($\\omega$ local) | $\\omega$ local | $\\omega$ global (Eq. 16) |",
             "| --- | --- | --- | --- | --- |",
         ]
-        derived = kin.fig2_symbolic(panel, True)
-        derived_g = kin.fig2_symbolic(panel, False)
-        subs = {kin.P2.half_lengths[0]: kin.P2.half_lengths[lib.arm2[0]]} if b.arm_length else {}
+        derived = tips.fig2_symbolic(panel, True)
+        derived_g = tips.fig2_symbolic(panel, False)
+        subs = {tips.P2.half_lengths[0]: tips.P2.half_lengths[lib.arm2[0]]} if b.arm_length else {}
         notes = []
         for eq in (eqa, eqw):
-            for e in kin.printed_entries(eq):
-                d = kin.derived_entry(derived, e.entry)
-                k = kin.compare_entry(d, e, subs)
-                kg = kin.compare_entry(kin.derived_entry(derived_g, e.entry), e, subs)
+            for e in printed.printed_entries(eq):
+                d = printed.derived_entry(derived, e.entry)
+                k = printed.compare_entry(d, e, subs)
+                kg = printed.compare_entry(printed.derived_entry(derived_g, e.entry), e, subs)
                 pr = _printed_for(panel if b.arm_length else "", e, k if (k is not None and k >= 0) else kg)
                 which = ""
                 if k is not None and k >= 0 and len(e.readings) > 1:
@@ -205,8 +208,8 @@ def section_fig2() -> tuple[list[str], dict]:
                 out.append(f"| Eq. ({eq}) {e.entry} | {pr} | ${_latex(sp.factor(d))}$ | {_verdict(k)}{which} | {_verdict(kg)} |")
                 if k is not None and k < 0 and kg is not None and kg < 0:
                     diffs = []
-                    for label, dd in (("local", d), ("global", kin.derived_entry(derived_g, e.entry))):
-                        diff = sp.factor(sp.cancel(dd - kin.parse_reading(e.readings[0]).subs(subs)))
+                    for label, dd in (("local", d), ("global", printed.derived_entry(derived_g, e.entry))):
+                        diff = sp.factor(sp.cancel(dd - printed.parse_reading(e.readings[0]).subs(subs)))
                         diffs.append(f"{label}: ${_latex(diff)}$")
                     notes.append(f"* Eq. ({eq}) {e.entry}: derived minus printed (first reading) -- " + "; ".join(diffs) + ".")
         if notes:
@@ -219,8 +222,8 @@ def section_fig2() -> tuple[list[str], dict]:
 def _overlap_witness() -> list[str]:
     """Configuration (A) with the paper's ellipsoids a=3, b=2, c=1: a point inside both bodies."""
     a, b, c = 3, 2, 1
-    lib = kin.FIG2["A"]
-    subs = {kin.P1.half_lengths[0]: a, kin.P2.half_lengths[0]: a}
+    lib = tips.FIG2["A"]
+    subs = {tips.P1.half_lengths[0]: a, tips.P2.half_lengths[0]: a}
     xc = lib.arm_global(1).subs(subs)
     x2 = xc - lib.arm_global(2).subs(subs)
     q = sp.Matrix([sp.Rational(5, 2), 0, sp.Rational(1, 2)])
@@ -254,8 +257,8 @@ def section_eq26_configs() -> list[str]:
         "| configuration | $A_x \\le A_{\\max}$ | $A_y \\le A_{\\max}$ | $A_z \\le A_{\\max}$ |",
         "| --- | --- | --- | --- |",
     ]
-    for panel in kin.FIG2:
-        cert = kin.eq26_dominates(panel)
+    for panel in tips.FIG2:
+        cert = tips.eq26_dominates(panel)
         out.append(f"| {panel} | " + " | ".join("certified" if cert[k] else "**no certificate**" for k in ("A_x", "A_y", "A_z")) + " |")
     out += ["", "So the inequality of Eq. (26) is **reproduced** for the three configurations it was stated for (they "
             "are diagonal, so the diagonal entries are the eigenvalues).  Section 5 shows it does not extend to "
@@ -356,7 +359,7 @@ def _ellipsoid_closed_form() -> list[str]:
     for _ in range(6):
         d = np.sort(np.exp(rng.uniform(-1.5, 1.5, 3)))[::-1]
         e = Ellipsoid(*d, density=float(np.exp(rng.uniform(0, 8))))
-        closed = cs.arm_term_supremum(e).upper  # the generated kernel ellipsoid_arm_supremum
+        closed = asup.arm_term_supremum(e).upper  # the generated kernel ellipsoid_arm_supremum
         planes = asup.cutting_plane_supremum(e, e.inertia)  # independent: Qhull outer polytopes
         formula = 5 * d[0] ** 2 / (e.mass * (d[0] ** 2 + d[2] ** 2))
         ok = planes.lower <= closed * (1 + 1e-12) and closed <= planes.upper * (1 + 1e-12)
@@ -441,7 +444,7 @@ def section_full_matrix() -> list[str]:
         res = cs.search_supremum(s1, s2, seed=5, **SEARCH)
         sup = max(res.value, float(lam.max()))
         if s1 is s2:
-            arm = cs.arm_term_supremum(s1)
+            arm = asup.arm_term_supremum(s1)
             mirror = cs.mirror_contact(s1, np.array(arm.point), np.array(arm.normal)).largest_eigenvalues(s1, s1)[0]
             sup = max(sup, float(mirror))
         frac = float(np.mean(lam > amax * (1 + 1e-12)))
@@ -465,10 +468,10 @@ def section_full_matrix() -> list[str]:
     ]
     e = shapes["ellipsoid 3,2,1 (paper)"]
     best_fig2 = 0.0
-    for panel in kin.FIG2:
-        A = kin.fig2_symbolic(panel, True)["A"]
+    for panel in tips.FIG2:
+        A = tips.fig2_symbolic(panel, True)["A"]
         vals = {}
-        for j, ps in ((1, kin.P1), (2, kin.P2)):
+        for j, ps in ((1, tips.P1), (2, tips.P2)):
             vals.update({ps.m: e.mass, ps.Ixx: e.inertia[0], ps.Iyy: e.inertia[1], ps.Izz: e.inertia[2]})
             vals.update(dict(zip(ps.half_lengths, e.half_lengths)))
         best_fig2 = max(best_fig2, max(float(A[k, k].subs(vals)) for k in range(3)))

@@ -19,7 +19,7 @@ import mpmath as mp
 import sympy as sp
 
 from dtcrit.integrators.amplification import matrix_mp
-from dtcrit import contact
+from dtcrit.bodies import contact
 from dtcrit.integrators.schemes import NAMES
 from dtcrit.bodies import Sphere
 from dtcrit.symbolic import paper_section4 as p4

@@ -12,9 +12,11 @@ import numpy as np
 import sympy as sp
 
 import dtcrit
-from dtcrit import contact
+from dtcrit.bodies import contact
 from dtcrit.bodies import Box, Ellipsoid, Superquadric
 from dtcrit.symbolic import kinematics as kin
+from dtcrit.symbolic import printed_entries as printed
+from dtcrit.symbolic import tip_configurations as tips
 
 RECORD = "sec5_rotation.md"
 
@@ -47,13 +49,13 @@ def section_eqs50_52() -> list[str]:
         "| configuration | entry | derived, $\\omega$ local (body) components | $\\omega$ local | $\\omega$ global (Eq. 16) |",
         "| --- | --- | --- | --- | --- |",
     ]
-    for panel, (_, eqw) in kin.PANELS.items():
-        local = kin.fig2_symbolic(panel, True)
-        glob = kin.fig2_symbolic(panel, False)
-        for e in kin.printed_entries(eqw):
-            d = kin.derived_entry(local, e.entry)
-            k = kin.compare_entry(d, e)
-            kg = kin.compare_entry(kin.derived_entry(glob, e.entry), e)
+    for panel, (_, eqw) in printed.PANELS.items():
+        local = tips.fig2_symbolic(panel, True)
+        glob = tips.fig2_symbolic(panel, False)
+        for e in printed.printed_entries(eqw):
+            d = printed.derived_entry(local, e.entry)
+            k = printed.compare_entry(d, e)
+            kg = printed.compare_entry(printed.derived_entry(glob, e.entry), e)
             out.append(f"| {panel}, Eq. ({eqw}) | {e.entry} | ${_latex(sp.expand(d))}$ | {_verdict(k)} | {_verdict(kg)} |")
     out += [
         "",
@@ -69,7 +71,7 @@ def section_eqs50_52() -> list[str]:
 # ============================================================================================
 def _bilinear_terms(expr: sp.Expr) -> list[tuple[sp.Expr, sp.Expr]]:
     """``expr = sum coeff * w_j w_k``: the (coefficient, monomial) pairs."""
-    ws = list(kin.P1.w) + list(kin.P2.w)
+    ws = list(tips.P1.w) + list(tips.P2.w)
     poly = sp.Poly(sp.expand(sp.numer(sp.together(expr))), *ws)
     den = sp.denom(sp.together(expr))
     return [(sp.cancel(c / den), sp.Mul(*[w**p for w, p in zip(ws, mon)])) for mon, c in zip(poly.monoms(), poly.coeffs())]
@@ -78,12 +80,12 @@ def _bilinear_terms(expr: sp.Expr) -> list[tuple[sp.Expr, sp.Expr]]:
 def section_eq53() -> list[str]:
     wj, wk = sp.symbols("omega_j omega_k", real=True)
     amgm = sp.expand((wj**2 + wk**2) - 2 * wj * wk - (wj - wk) ** 2) == 0
-    c = kin.gyroscopic_coefficients(kin.P1.Ixx, kin.P1.Iyy, kin.P1.Izz)
-    bmax = kin.b_max_printed(kin.P1.Ixx, kin.P1.Iyy, kin.P1.Izz)
+    c = tips.gyroscopic_coefficients(tips.P1.Ixx, tips.P1.Iyy, tips.P1.Izz)
+    bmax = kin.b_max_printed(tips.P1.Ixx, tips.P1.Iyy, tips.P1.Izz)
     same = sp.simplify(sp.Max(*[sp.Abs(x) for x in c]) - bmax) == 0
     e = Ellipsoid(3.0, 2.0, 1.0, density=1000.0)
     vals = {}
-    for ps in (kin.P1, kin.P2):
+    for ps in (tips.P1, tips.P2):
         vals.update({ps.Ixx: e.inertia[0], ps.Iyy: e.inertia[1], ps.Izz: e.inertia[2]})
     B = dtcrit.b_max(e)
     out = [
@@ -109,12 +111,12 @@ def section_eq53() -> list[str]:
         "| --- | --- | --- | --- | --- | --- |",
     ]
     tight_everywhere = 0.0
-    for panel in kin.PANELS:
-        wdot = kin.fig2_symbolic(panel, True)["wdot_c"]
+    for panel in printed.PANELS:
+        wdot = tips.fig2_symbolic(panel, True)["wdot_c"]
         for i in range(3):
             terms = _bilinear_terms(wdot[i])
-            t1 = [t for t in terms if t[1].free_symbols <= set(kin.P1.w)]
-            t2 = [t for t in terms if t[1].free_symbols <= set(kin.P2.w)]
+            t1 = [t for t in terms if t[1].free_symbols <= set(tips.P1.w)]
+            t2 = [t for t in terms if t[1].free_symbols <= set(tips.P2.w)]
             k1 = sum(abs(float(cf.subs(vals))) for cf, _ in t1)
             k2 = sum(abs(float(cf.subs(vals))) for cf, _ in t2)
             tight_everywhere = max(tight_everywhere, (k1 + k2) / 2)
@@ -139,7 +141,7 @@ def section_general_orientation() -> list[str]:
     w = sp.Matrix(sp.symbols("u_x u_y u_z", real=True))
     Ixx, Iyy, Izz = sp.symbols("I_xx I_yy I_zz", positive=True)
     wdot = kin.euler_angular_acceleration(kin.inertia_tensor(Ixx, Iyy, Izz), sp.zeros(3, 1), w)
-    c = kin.gyroscopic_coefficients(Ixx, Iyy, Izz)
+    c = tips.gyroscopic_coefficients(Ixx, Iyy, Izz)
     norm_ok = sp.simplify(wdot.dot(wdot) - (c[0] ** 2 * w[1] ** 2 * w[2] ** 2 + c[1] ** 2 * w[2] ** 2 * w[0] ** 2
                                              + c[2] ** 2 * w[0] ** 2 * w[1] ** 2)) == 0
     shapes = {
@@ -194,7 +196,7 @@ def section_eq55_57() -> list[str]:
     J = wdot.jacobian(w).subs({w[0]: w0, w[1]: 0, w[2]: 0})
     lam = sp.Symbol("lambda")
     charpoly = sp.factor((J - lam * sp.eye(3)).det())
-    c = kin.gyroscopic_coefficients(Ixx, Iyy, Izz)
+    c = tips.gyroscopic_coefficients(Ixx, Iyy, Izz)
     Omega2 = sp.factor(-(c[1] * c[2]) * w0**2)
     Om = sp.Symbol("Omega", positive=True)
     amp2 = sp.expand((1 + sp.I * Om * dt) * (1 - sp.I * Om * dt))

@@ -14,10 +14,12 @@ import numpy as np
 import sympy as sp
 from scipy.integrate import solve_ivp
 
-from dtcrit import impact as imp
+import dtcrit.impact as imp
 from dtcrit.integrators.schemes import NAMES
 from dtcrit.integrators.stability import critical_dt
 from dtcrit.symbolic import impact as si
+from dtcrit.symbolic import impact_contact as sic
+from dtcrit.symbolic import impact_stepping as sis
 from dtcrit.symbolic.closed_forms import closed_pieces
 from dtcrit.symbolic.integrators import zeta as zeta_nn
 
@@ -116,13 +118,13 @@ def _integrate(zeta: float, kind: str):
 
 
 def section_exact() -> list[str]:
-    t_d, v_e = si.geometric_separation()
-    z = si.zeta
+    t_d, v_e = sic.geometric_separation()
+    z = sic.zeta
     note_td = sp.pi / sp.sqrt(1 - z**2)
     note_ve = sp.exp(-z * sp.pi / sp.sqrt(1 - z**2))
     td_ok = sp.simplify(t_d - note_td) == 0
     ve_ok = sp.simplify(-v_e - note_ve) == 0
-    rel = si.force_release()
+    rel = sic.force_release()
     lines = [
         "## 2. Contact duration and exit velocity",
         "",
@@ -141,7 +143,7 @@ def section_exact() -> list[str]:
     ]
     for regime in ("undamped", "underdamped", "critical", "overdamped"):
         sub = {"underdamped": "w=\\sqrt{1-\\zeta^2}", "overdamped": "\\mu=\\sqrt{\\zeta^2-1}"}.get(regime, "")
-        lines.append(f"* {regime}: $d(s)={_latex(si.contact_motion(regime))}$" + (f" with ${sub}$" if sub else ""))
+        lines.append(f"* {regime}: $d(s)={_latex(sic.contact_motion(regime))}$" + (f" with ${sub}$" if sub else ""))
     lines += [
         "",
         "**Geometric separation** (the note's equation; contact while $d\\ge0$, the dashpot force may turn "
@@ -162,7 +164,7 @@ def section_exact() -> list[str]:
         r"\frac{\operatorname{arccosh}\zeta}{\sqrt{\zeta^2-1}}\ (\zeta>1),\qquad \frac{v_e}{v_0}=e^{-2\zeta g(\zeta)}$$",
         "",
         "$g$ is one analytic function (both forms solve $(1-\\zeta^2)g'=\\zeta g-1$, regular at 1); near "
-        "$\\zeta=1$ the runtime uses its Taylor polynomial $" + _latex(si.g_series()) + "$ in $u=1-\\zeta$ "
+        "$\\zeta=1$ the runtime uses its Taylor polynomial $" + _latex(sic.g_series()) + "$ in $u=1-\\zeta$ "
         "(checked against SymPy's direct series).  The bodies always separate; after release they coast "
         "apart and the overlap closes after a further $2\\zeta/\\omega$.",
         "",
@@ -220,13 +222,13 @@ def section_stepped() -> list[str]:
         "`velocity-verlet-predicted` (undamped) the positions obey $x_{n+1}-2x_n+x_{n-1}=-\\tau^2x_n$ in contact "
         "from any state, the first contact step continues the free-flight history, and the exit speed is "
         "$(x_{m-1}-x_m)/\\tau$: the five schemes give identical impacts (residuals 0).  The recurrence "
-        "conserves $Q=" + _latex(si.central_difference_invariant()) + "$ ($v$ the half-step velocity).  With "
+        "conserves $Q=" + _latex(sis.central_difference_invariant()) + "$ ($v$ the half-step velocity).  With "
         "the exit phase $\\psi=-x_m/(x_{m-1}-x_m)\\in(0,1]$:",
         "",
-        "$$\\frac{v_e}{v_0}=" + _latex(si.central_difference_ratio_expr()) + ",\\qquad "
+        "$$\\frac{v_e}{v_0}=" + _latex(sis.central_difference_ratio_expr()) + ",\\qquad "
         "\\sqrt{1-\\tau^2/4}\\le\\frac{v_e}{v_0}\\le\\frac{1}{\\sqrt{1-\\tau^2/4}}$$",
         "",
-        "with $x_n=" + _latex(si.central_difference_position_expr()) + "$.  If $\\pi/\\theta=N$ "
+        "with $x_n=" + _latex(sis.central_difference_position_expr()) + "$.  If $\\pi/\\theta=N$ "
         "($\\cos\\theta=1-\\tau^2/2$), the exit mirrors the entry ($\\psi=\\phi$, SymPy) and $v_e=v_0$ for every "
         "phase: $\\tau_N=2\\sin(\\pi/(2N))$.  A contact beginning on a step ($\\phi=0$) never loses energy.",
         "",

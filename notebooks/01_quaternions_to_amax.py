@@ -27,16 +27,18 @@ import sympy as sp
 import matplotlib.pyplot as plt
 
 from dtcrit.symbolic import kinematics as K
+from dtcrit.symbolic import quaternions as quat
+from dtcrit.symbolic import tip_configurations as tips
 
 qw, qx, qy, qz = sp.symbols("q_w q_x q_y q_z", real=True)
-K.quaternion_rotation_matrix((qw, qx, qy, qz))
+quat.quaternion_rotation_matrix((qw, qx, qy, qz))
 
 # %% [markdown]
 # The paper uses $M_L = R\,M_G$ (Eq. 5): $R$ maps global components to body components.  The
 # convention checks (orthogonality, composition, inversion) all hold:
 
 # %%
-checks = K.check_rotation_convention()
+checks = quat.check_rotation_convention()
 checks
 
 # %%
@@ -48,7 +50,7 @@ assert all(checks.values())
 # axis points along $-z$.  The coefficient of $F$ in $\ddot x_c$ comes out of the general equations.
 
 # %%
-conf = K.FIG2["A"]
+conf = tips.FIG2["A"]
 p1, p2 = conf.particles()
 A = K.coefficient_matrix(p1, p2)
 A
@@ -86,11 +88,11 @@ def ellipsoid_mesh(center, R, axes, n=24):
     glob = np.einsum("ji,jkl->ikl", R, local)  # R maps global -> local, so R^T maps local -> global
     return [glob[i] + center[i] for i in range(3)]
 
-vals = {K.P1.half_lengths[i]: v for i, v in enumerate((3.0, 2.0, 1.0))}
-vals.update({K.P2.half_lengths[i]: v for i, v in enumerate((3.0, 2.0, 1.0))})
+vals = {tips.P1.half_lengths[i]: v for i, v in enumerate((3.0, 2.0, 1.0))}
+vals.update({tips.P2.half_lengths[i]: v for i, v in enumerate((3.0, 2.0, 1.0))})
 fig = plt.figure(figsize=(12, 4))
 for k, label in enumerate("ABC"):
-    c = K.FIG2[label]
+    c = tips.FIG2[label]
     r1 = np.array(c.arm_global(1).subs(vals), dtype=float).ravel()
     r2 = np.array(c.arm_global(2).subs(vals), dtype=float).ravel()
     xc = r1

@@ -15,7 +15,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from dtcrit import arm_supremum as asup
+from dtcrit.bodies import arm_supremum as asup
 from dtcrit.bodies.arm_cones import octant_cone_supremum
 from dtcrit.bodies import AssumptionWarning, Ellipsoid, Superquadric
 

@@ -16,9 +16,9 @@ from scipy.optimize import minimize
 from scipy.spatial.transform import Rotation
 
 import dtcrit
-from dtcrit import contact
+from dtcrit.bodies import contact
 from dtcrit.bodies import Box, Ellipsoid, Sphere
-from dtcrit.symbolic import kinematics as kin
+from dtcrit.symbolic import tip_configurations as tips
 
 
 def body(inertia):
@@ -133,7 +133,7 @@ def test_fig2_configurations_reach_half_of_eq53_and_no_more(label):
     """Direct evaluation in the Figure 2 orientations: max |wdot_c,k| = w_max^2 (|c1| + |c2|)/2 <= w_max^2 (B1+B2)/2."""
     e = Ellipsoid(3.0, 2.0, 1.0, density=1000.0)
     I = np.array(e.inertia)
-    cfg = kin.FIG2[label]
+    cfg = tips.FIG2[label]
     Q = [np.array(cfg.R1, dtype=float).T, np.array(cfg.R2, dtype=float).T]  # body -> global
     c = np.abs(np.array([(I[1] - I[2]) / I[0], (I[2] - I[0]) / I[1], (I[0] - I[1]) / I[2]]))
     B = dtcrit.b_max(e)

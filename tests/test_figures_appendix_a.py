@@ -21,7 +21,8 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from dtcrit.figures.appendix_a import appendix_a_study, paper_ellipsoid
+from dtcrit.figures.appendix_a import appendix_a_study
+from dtcrit.figures.appendix_a_search import paper_ellipsoid
 
 A_, B_, C_ = 3.0, 2.0, 1.0
 F = np.array([1.0, 1.0, 1.0])

@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from dtcrit import impact as imp
+import dtcrit.impact as imp
 from dtcrit.cli import main
 
 

@@ -14,7 +14,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
-from dtcrit import impact as imp
+import dtcrit.impact as imp
 from dtcrit._generated import impact as gen
 from dtcrit.errors import InputError
 

@@ -17,7 +17,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from dtcrit import impact as imp
+import dtcrit.impact as imp
 from dtcrit.errors import InputError
 from dtcrit.integrators.schemes import NAMES
 

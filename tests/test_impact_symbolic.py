@@ -6,30 +6,33 @@ import sys
 import sympy as sp
 
 from dtcrit.symbolic import impact as si
+from dtcrit.symbolic import integrators as sint
+from dtcrit.symbolic import impact_contact as sic
+from dtcrit.symbolic import impact_stepping as sis
 
 
 def test_contact_motions_solve_the_ode():
     for regime in ("undamped", "underdamped", "critical", "overdamped"):
-        assert si.residual(regime) == 0, regime
-        d = si.contact_motion(regime)
-        assert d.subs(si.s, 0) == 0
-        assert sp.simplify(d.diff(si.s).subs(si.s, 0)) == 1
+        assert sic.residual(regime) == 0, regime
+        d = sic.contact_motion(regime)
+        assert d.subs(sic.s, 0) == 0
+        assert sp.simplify(d.diff(sic.s).subs(sic.s, 0)) == 1
 
 
 def test_geometric_separation_is_the_cfl_note_formula():
     """t_d = pi/sqrt(1 - zeta^2), v_e = -v0 exp(-zeta pi/sqrt(1 - zeta^2)) (CFL note, as printed)."""
-    t_d, v_e = si.geometric_separation()
-    z = si.zeta
+    t_d, v_e = sic.geometric_separation()
+    z = sic.zeta
     assert sp.simplify(t_d - sp.pi / sp.sqrt(1 - z**2)) == 0
     assert sp.simplify(v_e + sp.exp(-z * sp.pi / sp.sqrt(1 - z**2))) == 0
     # d stays positive in between: d(t_d/2) > 0 at sample damping ratios
-    d = si.contact_motion("underdamped").subs(si.w, sp.sqrt(1 - z**2))
+    d = sic.contact_motion("underdamped").subs(sic.w, sp.sqrt(1 - z**2))
     for zz in (sp.Rational(1, 100), sp.Rational(1, 2), sp.Rational(99, 100)):
-        assert d.subs({z: zz, si.s: (t_d / 2).subs(z, zz)}).evalf() > 0
+        assert d.subs({z: zz, sic.s: (t_d / 2).subs(z, zz)}).evalf() > 0
 
 
 def test_no_geometric_separation_beyond_critical_damping():
-    out = si.no_geometric_separation()
+    out = sic.no_geometric_separation()
     for regime, (lim_d, lim_v, d) in out.items():
         assert lim_d == 0 and lim_v == 0, regime
     # overdamped d = (exp(-a s) - exp(-(a + c) s))/c > 0 for s > 0: numerically at sample points
@@ -37,59 +40,59 @@ def test_no_geometric_separation_beyond_critical_damping():
     d = out["overdamped"][2]
     for vals in ({a: sp.Rational(1, 10), c: 3}, {a: 2, c: sp.Rational(1, 1000)}):
         for s_val in (sp.Rational(1, 1000), 1, 50):
-            assert d.subs(vals).subs(si.s, s_val).evalf(30) > 0
+            assert d.subs(vals).subs(sic.s, s_val).evalf(30) > 0
 
 
 def test_force_release_zero_of_the_force_and_exit_speed():
     """P(s_f) = 0, d'(s_f) = -exp(-zeta s_f), d(s_f) = 2 zeta exp(-zeta s_f) in every regime."""
-    for regime, (s_f, v_f, d_f, p_f) in si.force_release().items():
-        z = {"undamped": 0, "critical": 1}.get(regime, si.zeta)
+    for regime, (s_f, v_f, d_f, p_f) in sic.force_release().items():
+        z = {"undamped": 0, "critical": 1}.get(regime, sic.zeta)
         assert p_f == 0, regime
         assert sp.simplify(v_f + sp.exp(-z * s_f)) == 0, regime
         assert sp.simplify(d_f - 2 * z * sp.exp(-z * s_f)) == 0, regime
     # first zero: P > 0 on (0, s_f) at sample damping ratios (numerically, 30 digits)
-    P = si.compressive_force("underdamped").subs(si.w, sp.sqrt(1 - si.zeta**2))
+    P = sic.compressive_force("underdamped").subs(sic.w, sp.sqrt(1 - sic.zeta**2))
     for zz in (sp.Rational(1, 20), sp.Rational(7, 10), sp.Rational(19, 20)):
-        s_f = (2 * sp.acos(si.zeta) / sp.sqrt(1 - si.zeta**2)).subs(si.zeta, zz)
+        s_f = (2 * sp.acos(sic.zeta) / sp.sqrt(1 - sic.zeta**2)).subs(sic.zeta, zz)
         for frac in (sp.Rational(1, 100), sp.Rational(1, 2), sp.Rational(99, 100)):
-            assert P.subs({si.zeta: zz, si.s: frac * s_f}).evalf(30) > 0
+            assert P.subs({sic.zeta: zz, sic.s: frac * s_f}).evalf(30) > 0
 
 
 def test_g_series_against_direct_expansion():
     """The ODE-recurrence Taylor polynomial equals SymPy's series of arccos(1-u)/sqrt(u(2-u))."""
-    u = si.u
-    direct = sp.series(sp.acos(1 - u) / sp.sqrt(u * (2 - u)), u, 0, si.SERIES_ORDER).removeO()
-    assert sp.expand(direct - si.g_series()) == 0
-    assert si.g_ode_residuals() == (0, 0)
+    u = sic.u
+    direct = sp.series(sp.acos(1 - u) / sp.sqrt(u * (2 - u)), u, 0, sic.SERIES_ORDER).removeO()
+    assert sp.expand(direct - sic.g_series()) == 0
+    assert sic.g_ode_residuals() == (0, 0)
 
 
 def test_central_difference_family_shares_the_stoermer_recurrence():
-    for name in si.CENTRAL_DIFFERENCE_FAMILY:
-        assert si.position_recurrence_residual(name) == 0, name
-        assert si.free_flight_entry_residual(name) == (0, 0), name
-        assert si.exit_velocity_residual(name) == 0, name
+    for name in sic.CENTRAL_DIFFERENCE_FAMILY:
+        assert sis.position_recurrence_residual(name) == 0, name
+        assert sis.free_flight_entry_residual(name) == (0, 0), name
+        assert sis.exit_velocity_residual(name) == 0, name
     for name in ("forward-euler", "paper-eq40"):
-        assert si.position_recurrence_residual(name) != 0, name
+        assert sis.position_recurrence_residual(name) != 0, name
 
 
 def test_invariant_and_ratio_formula():
-    x, v, tau = si.x, si.v, si.tau
-    Q = si.central_difference_invariant()
+    x, v, tau = sic.x, sic.v, sint.tau
+    Q = sis.central_difference_invariant()
     assert sp.expand(Q - (v**2 + x**2 - tau * x * v)) == 0
     # conserved by the position recurrence written independently: (x0, x1) -> (x1, (2 - tau^2) x1 - x0)
     x0, x1 = sp.symbols("x0 x1")
     q_of = lambda a, b: Q.subs({x: b, v: (b - a) / tau}, simultaneous=True)  # noqa: E731
     assert sp.simplify(q_of(x1, (2 - tau**2) * x1 - x0) - q_of(x0, x1)) == 0
-    r = si.central_difference_ratio_expr()
-    phi, psi = si.phi, si.psi
+    r = sis.central_difference_ratio_expr()
+    phi, psi = sic.phi, sic.psi
     assert sp.simplify(r.subs(psi, phi) - 1) == 0  # mirrored exit: no energy change
     assert sp.simplify(r.subs(psi, 1 - phi) - 1) == 0
-    assert si.unit_step_exit_phase_equals_entry() == 0
+    assert sis.unit_step_exit_phase_equals_entry() == 0
 
 
 def test_position_closed_form_reproduces_the_recurrence():
-    xn = si.central_difference_position_expr()
-    n, phi, tau = si.n, si.phi, si.tau
+    xn = sis.central_difference_position_expr()
+    n, phi, tau = sic.n, sic.phi, sint.tau
     vals = {phi: sp.Rational(2, 7), tau: sp.Rational(13, 10)}
     seq = [(phi - 1) * tau, phi * tau]
     for _ in range(6):
@@ -99,14 +102,14 @@ def test_position_closed_form_reproduces_the_recurrence():
 
 
 def test_forward_euler_is_a_scaled_rotation():
-    rho, alpha, M = si.forward_euler_map()
+    rho, alpha, M = sis.forward_euler_map()
     assert sp.simplify(M.det() - rho**2) == 0
-    xn, vn = si.forward_euler_motion_expr()
-    vals = {si.phi: sp.Rational(1, 3), si.tau: sp.Rational(7, 10)}
-    state = sp.Matrix([si.phi * si.tau, 1]).subs(vals)
+    xn, vn = sis.forward_euler_motion_expr()
+    vals = {sic.phi: sp.Rational(1, 3), sint.tau: sp.Rational(7, 10)}
+    state = sp.Matrix([sic.phi * sint.tau, 1]).subs(vals)
     for k in range(5):
-        assert abs(sp.N((xn.subs(si.n, k).subs(vals) - state[0]), 30)) < 1e-25
-        assert abs(sp.N((vn.subs(si.n, k).subs(vals) - state[1]), 30)) < 1e-25
+        assert abs(sp.N((xn.subs(sic.n, k).subs(vals) - state[0]), 30)) < 1e-25
+        assert abs(sp.N((vn.subs(sic.n, k).subs(vals) - state[1]), 30)) < 1e-25
         state = M.subs(vals) * state
 
 
@@ -114,7 +117,7 @@ def test_hertz_scalings():
     hz = si.hertz()
     assert hz["scaled_coefficient"] == sp.Rational(2, 3)
     assert sp.simplify(hz["scaled_speed"] ** 2 - sp.Rational(8, 15)) == 0
-    k_h, m, v0 = si.k_h, si.m, si.v0
+    k_h, m, v0 = sic.k_h, sic.m, sic.v0
     # energy balance m v0^2/2 = (2/5) k_h dmax^(5/2)
     assert sp.simplify(m * v0**2 / 2 - sp.Rational(2, 5) * k_h * hz["dmax"] ** sp.Rational(5, 2)) == 0
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from dtcrit import precise
+from dtcrit.integrators import precise
 from dtcrit.integrators.stability import critical_dt_array
 from dtcrit.symbolic.closed_forms import closed_pieces, dt_crit_mp
 from dtcrit.symbolic.integrators import tau, zeta

@@ -10,8 +10,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
-from dtcrit import estimators as est
-from dtcrit.scenes.scene import damping_ratio_from_restitution, hertz_max_overlap, parse_scene
+from dtcrit.scenes import estimators as est
+from dtcrit.scenes.scene import damping_ratio_from_restitution, parse_scene
+from dtcrit.scenes.model import hertz_max_overlap
 
 decades = lambda lo, hi: st.floats(lo, hi).map(lambda e: 10.0**e)  # noqa: E731
 

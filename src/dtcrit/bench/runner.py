@@ -39,7 +39,7 @@ from dtcrit.bench.paper_forms import PAPER_FORMS
 from dtcrit.bench.routes import EIG_SAMPLE, FULL, MP_SAMPLE, ROUTES, floor_kernel
 from dtcrit.bench.suite import SUITE, random_batch
 from dtcrit.errors import InputError
-from dtcrit.progress import progress
+from tqdm import tqdm
 from dtcrit.integrators.schemes import NAMES
 
 ULP_OK = 4.0
@@ -193,7 +193,7 @@ def _batch_part(config: BenchConfig, batch, refs, routes) -> tuple[list[dict], d
     jobs = [(r, n) for r in routes for n in config.integrators if r.applies_to(n)
             and not (r.family == "mpmath" and config.mp_integrators is not None and n not in config.mp_integrators)]
     rows: dict[str, dict] = {}
-    for route, name in progress(jobs, label="bench: routes"):
+    for route, name in tqdm(jobs, desc="bench: routes", disable=None):
         size = sizes[route.tier]
         sub = batch.take(slice(0, size))
         repeats = config.repeats if route.tier == FULL else 1
@@ -256,7 +256,7 @@ def _ratios(config: BenchConfig, batch, timing_raw) -> dict:
 
     out = {"speedup_vs_eig_by_integrator": {}, "kernel_vs_floor_by_integrator": {}}
     k, c, A = batch.k, batch.c, batch.A
-    for name in progress(config.integrators, label="bench: floor ratios"):
+    for name in tqdm(config.integrators, desc="bench: floor ratios", disable=None):
         floor = gen = fused = math.inf
         for _ in range(max(3, config.repeats)):  # interleaved, best of each
             t0 = time.perf_counter()
@@ -300,7 +300,7 @@ def _suite_part(config: BenchConfig, routes) -> tuple[list[dict], list[dict], di
     mp_cases = set(config.mp_suite_cases) if config.mp_suite_cases is not None else None
     mp_ints = set(config.mp_integrators) if config.mp_integrators is not None else None
     all_refs: list[dict] = []
-    for case in progress(SUITE, label="bench: suite references"):
+    for case in tqdm(SUITE, desc="bench: suite references", disable=None):
         zeta_ref[case.name] = ref.zeta_exact(case.k, case.c, case.A)
         refs = {}
         for name in config.integrators:
@@ -314,7 +314,7 @@ def _suite_part(config: BenchConfig, routes) -> tuple[list[dict], list[dict], di
     c_ = np.array([c.c for c in SUITE])
     A = np.array([c.A for c in SUITE])
     jobs = [(r, n) for r in routes for n in config.integrators if r.applies_to(n)]
-    for route, name in progress(jobs, label="bench: suite routes"):
+    for route, name in tqdm(jobs, desc="bench: suite routes", disable=None):
         chosen = [i for i, case in enumerate(SUITE)
                   if not (route.family == "mpmath" and ((mp_cases is not None and case.name not in mp_cases)
                                                          or (mp_ints is not None and name not in mp_ints)))]
@@ -377,7 +377,7 @@ def run_bench(config: BenchConfig = QUICK, route_names: tuple[str, ...] | None =
     batch = random_batch(config.n_batch, config.seed)
     n_ref = min(config.n_ref, len(batch))
     refs = {}
-    for name in progress(config.integrators, label="bench: references"):
+    for name in tqdm(config.integrators, desc="bench: references", disable=None):
         refs[name] = [ref.dt_reference(name, batch.k[i], batch.c[i], batch.A[i]) for i in range(n_ref)]
     stages["references"] = time.perf_counter() - started
     t = time.perf_counter()

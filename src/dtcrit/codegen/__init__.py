@@ -8,7 +8,8 @@ SymPy; the runtime (``dtcrit step``) never imports it.
 """
 from __future__ import annotations
 
-from dtcrit.codegen.kernel import Argument, ContactKernel, build_kernel, evaluate_mp
+from dtcrit.codegen.kernel import Argument, ContactKernel, build_kernel
+from dtcrit.codegen.kernel_mp import evaluate_mp
 from dtcrit.codegen.render import DEFAULT_NAME, LANGUAGES, count_c_operations, render
 from dtcrit.codegen.structure import KernelStructure, general_structure, structure_of_scene
 

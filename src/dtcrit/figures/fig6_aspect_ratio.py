@@ -173,9 +173,9 @@ def _fig6_grid(n: int, progress_label: str | None) -> AspectRatioData:
         idx = np.append(idx, e.size - 1)
     pts = [(a, b) for a in range(idx.size) for b in range(idx.size)]
     if progress_label:
-        from dtcrit.progress import progress
+        from tqdm import tqdm
 
-        pts = progress(pts, total=len(pts), label=progress_label)
+        pts = tqdm(pts, total=len(pts), desc=progress_label, disable=None)
     abnd = np.empty((idx.size, idx.size))
     for a, b in pts:
         abnd[a, b] = _a_bound_point(e[idx[a]], e[idx[b]])

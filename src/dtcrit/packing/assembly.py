@@ -25,7 +25,9 @@ import scipy.sparse as sps
 from dtcrit.errors import InputError
 
 from dtcrit.packing.model import Contacts, Packing
-from dtcrit.packing.progress_ticker import chunked
+from tqdm import tqdm
+
+LONG_WORK = 200_000  # contacts below which the assembly takes well under a second: no bar drawn
 
 
 def cross_matrix(a: np.ndarray) -> np.ndarray:
@@ -87,7 +89,8 @@ def stiffness_matrix(packing: Packing, contacts: Contacts, *, chunk: int = 1 << 
     nc = contacts.count
     diag = np.zeros((n, 6, 6))
     upper = np.empty((nc, 6, 6))
-    for start in chunked(nc, chunk, label=label):
+    starts = range(0, nc, chunk)
+    for start in tqdm(starts, desc=label, disable=None if nc >= LONG_WORK else True, leave=False):
         sl = slice(start, min(start + chunk, nc))
         bi, bj = contact_kinematics(packing, contacts, sl)
         kc = contact_stiffness_tensor(contacts.normal[sl], contacts.kn[sl], contacts.ks[sl])

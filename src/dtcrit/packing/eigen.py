@@ -22,9 +22,9 @@ import scipy.sparse as sps
 import scipy.sparse.linalg as spla
 
 from dtcrit.errors import InputError
+from tqdm import tqdm
 
-from dtcrit.packing.progress_ticker import LONG_WORK, Ticker
-
+LONG_WORK = 200_000  # DOFs below which the solve takes well under a second: no counter drawn
 DENSE_LIMIT = 600  # DOFs up to which the dense solver is used by "auto"
 METHODS = ("auto", "dense", "eigsh", "lobpcg")
 
@@ -95,14 +95,18 @@ def largest_mode(a, method: str = "auto", *, tol: float = DEFAULT_TOL, maxiter: 
     start = _start_vector(n)
     if hint is not None and np.linalg.norm(hint) > 0:
         start = start / np.linalg.norm(start) + np.asarray(hint, float) / np.linalg.norm(hint)
-    ticker = Ticker("eigen-solve", enabled=n >= LONG_WORK)
+    # tqdm draws only on a terminal (disable=None); the count is kept whether drawn or not
+    ticker = tqdm(desc="eigen-solve", unit=" matrix-vector products", disable=None if n >= LONG_WORK else True,
+                  leave=False)
+    count = 0
 
     def matvec(x):
-        ticker.tick()
+        nonlocal count
+        count += 1
+        ticker.update()
         return a @ x
 
-    op = spla.LinearOperator(a.shape, matvec=matvec, matmat=lambda x: (ticker.tick(), a @ x)[1],
-                             dtype=float)
+    op = spla.LinearOperator(a.shape, matvec=matvec, matmat=matvec, dtype=float)
     try:
         if method == "eigsh":
             w, vecs = spla.eigsh(op, k=1, which="LA", tol=tol, v0=start,
@@ -115,7 +119,7 @@ def largest_mode(a, method: str = "auto", *, tol: float = DEFAULT_TOL, maxiter: 
     finally:
         ticker.close()
     v = v / np.linalg.norm(v)
-    return TopMode(theta, v, method, ticker.count, _residual(a, v, theta))
+    return TopMode(theta, v, method, count, _residual(a, v, theta))
 
 
 def rotational_fraction(vector: np.ndarray) -> float:

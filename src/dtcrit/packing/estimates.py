@@ -203,7 +203,7 @@ def rayleigh(a, packing: Packing, contacts: Contacts, omega2_c: np.ndarray | Non
     trials: list[tuple[str, np.ndarray]] = [(f"co-rotation about {'xyz'[k]}", co_rotation(packing, k)) for k in range(3)]
     if contacts.count:
         w = single_contact_frequencies(packing, contacts) if omega2_c is None else omega2_c
-        top = np.argsort(w)[::-1][:n_contacts]
+        top = np.argsort(-w, kind="stable")[:n_contacts]  # stable: ties go to the lower contact index
         trials += [(f"mode of contact {int(c)} alone", contact_mode(packing, contacts, int(c))) for c in top]
     d = np.asarray(a.diagonal())
     k = int(np.argmax(d))

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from dtcrit.packing import estimates as est
+import dtcrit.packing.estimates as est
 from dtcrit.packing.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
 from dtcrit.packing.contacts import find_contacts
 from dtcrit.packing.damping import DEFAULT_INTEGRATOR, integrator_dt

@@ -1,1 +1,20 @@
+"""Scenes: the TOML description of a DEM simulation's contacts (``scene``, ``fields``, ``model``),
+the ``dtcrit step`` API (``timestep``) and the estimates other DEM codes use (``estimators``).
 
+Runtime only (NumPy; SciPy on first use for polyhedra): scenes import ``bodies`` and
+``integrators``, never ``symbolic``.
+"""
+from dtcrit.scenes.model import ContactLaw, PairContact, Particle, Scene, damping_ratio_from_restitution, hertz_max_overlap
+from dtcrit.scenes.scene import load_scene, parse_scene, scene_from_dict
+
+__all__ = [
+    "Scene",
+    "Particle",
+    "ContactLaw",
+    "PairContact",
+    "load_scene",
+    "parse_scene",
+    "scene_from_dict",
+    "damping_ratio_from_restitution",
+    "hertz_max_overlap",
+]

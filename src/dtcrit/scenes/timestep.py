@@ -24,7 +24,8 @@ import math
 from dataclasses import dataclass, field
 
 from dtcrit.scenes import estimators as est
-from dtcrit.scenes.scene import PairContact, Scene
+from dtcrit.scenes.model import PairContact
+from dtcrit.scenes.scene import Scene
 from dtcrit.integrators.stability import critical_dt, paper_eq46
 
 __all__ = ["DirectionStep", "PairStep", "StepResult", "critical_step", "JSON_SCHEMA"]

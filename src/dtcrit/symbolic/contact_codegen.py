@@ -18,6 +18,8 @@ from __future__ import annotations
 import sympy as sp
 
 from dtcrit.symbolic import kinematics as kin
+from dtcrit.symbolic import quaternions as quat
+from dtcrit.symbolic import tip_configurations as tips
 from dtcrit.symbolic.emit import Kernel, python_module
 
 PRODUCER = "dtcrit.symbolic.contact_codegen"
@@ -51,7 +53,7 @@ def kernels() -> list[Kernel]:
     inertia = [(Ixx, "principal moment about local x [kg m^2]"), (Iyy, "about local y [kg m^2]"),
                (Izz, "about local z [kg m^2]")]
     T = kin.arm_term((rx, ry, rz), kin.inertia_tensor(Ixx, Iyy, Izz))
-    R = kin.quaternion_rotation_matrix((qw, qx, qy, qz))
+    R = quat.quaternion_rotation_matrix((qw, qx, qy, qz))
     return [
         Kernel(
             name="a_max",
@@ -90,7 +92,7 @@ def kernels() -> list[Kernel]:
         Kernel(
             name="gyroscopic_coefficients",
             args=inertia,
-            expr=kin.gyroscopic_coefficients(Ixx, Iyy, Izz),
+            expr=tips.gyroscopic_coefficients(Ixx, Iyy, Izz),
             doc="Torque-free Euler equations (Eqs 11-12, M_L = 0): wdot_x = c_x w_y w_z, wdot_y = c_y w_z w_x, wdot_z = c_z w_x w_y.",
             returns="(c_x, c_y, c_z) [-]",
             cse=False,

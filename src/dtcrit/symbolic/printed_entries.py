@@ -1,0 +1,322 @@
+"""The entries of Peng et al. (2020), Eqs. (22)-(24) and (50)-(52), as printed, read and compared with
+the derived accelerations; the scoring of readings of ambiguous entries against the derivation.
+"""
+from __future__ import annotations
+from dataclasses import dataclass
+from functools import lru_cache
+import sympy as sp
+from dtcrit.symbolic.kinematics import RigidParticle, relative_accelerations, to_global
+from dtcrit.symbolic.tip_configurations import P1, P2, candidate_configurations
+
+
+# ----------------------------------------------------------------------------------------------
+# The printed Eqs (22)-(24) and (50)-(52), transcribed from the text-extracted seed
+# ----------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class PrintedEntry:
+    """One entry of a printed equation: the extracted text, the readings it admits (SymPy syntax in
+    the names of :func:`printed_symbols`; several when the extraction is ambiguous, none when it is
+    illegible) and the fixes applied."""
+
+    equation: str
+    entry: str
+    raw: str
+    readings: tuple[str, ...]
+    fixes: str = ""
+
+    @property
+    def legible(self) -> bool:
+        return bool(self.readings)
+
+
+def printed_symbols() -> dict[str, sp.Symbol]:
+    """Names used in the transcriptions: m1, Ixx1, Iyy1, Izz1, a1, b1, c1, wx1, wy1, wz1 (and ...2)."""
+    out = {}
+    for j, ps in ((1, P1), (2, P2)):
+        out.update({f"m{j}": ps.m, f"Ixx{j}": ps.Ixx, f"Iyy{j}": ps.Iyy, f"Izz{j}": ps.Izz})
+        out.update({f"{n}{j}": s for n, s in zip("abc", ps.half_lengths)})
+        out.update({f"w{c}{j}": s for c, s in zip("xyz", ps.w)})
+    return out
+
+
+def parse_reading(text: str) -> sp.Expr:
+    return sp.sympify(text, locals=printed_symbols())
+
+
+_MU = "1/m1 + 1/m2"
+_Z_OR_X1 = ("Izz1", "Ixx1")
+
+
+def _alts(template: str, **choices) -> tuple[str, ...]:
+    """All readings of ``template`` with each ``{name}`` replaced by each of its alternatives."""
+    out = [template]
+    for name, options in choices.items():
+        out = [t.replace("{" + name + "}", o) for t in out for o in options]
+    return tuple(out)
+
+
+PRINTED: tuple[PrintedEntry, ...] = (
+    # ---- Eq (22), Figure 2(A) ----
+    PrintedEntry("22", "A_x", r"\frac{a_{2}^{2}}{I_{yy2}} + \frac{1}{m_{1}} + \frac{1}{m_{2}}",
+                 (f"a2**2/Iyy2 + {_MU}",), "row printed without its two zero entries (layout)"),
+    PrintedEntry("22", "A_y", r"0 & \frac{a_{1}^{2}}{I_{zz1}} + \frac{a_{2}^{2}}{I_{zz2}} + \frac{1}{m_{1}} + \frac{1}{m_{2}}",
+                 (f"a1**2/Izz1 + a2**2/Izz2 + {_MU}",), "trailing zero missing (layout)"),
+    PrintedEntry("22", "A_z", r"0 & 0 & \frac{a_{1}^{2}}{I_{yy1}} + \frac{1}{m_{1}} + \frac{1}{m_{2}}",
+                 (f"a1**2/Iyy1 + {_MU}",)),
+    PrintedEntry("22", "Omega_x",
+                 r"a_{1}(\omega_{y1}^{2} + \omega_{z1}^{2}) + \frac{a_{2}\omega_{x2}\omega_{z2}(I_{zz2} - I_{xx2} - I_{yy2})}{I_{yy2}}",
+                 ("a1*(wy1**2 + wz1**2) + a2*wx2*wz2*(Izz2 - Ixx2 - Iyy2)/Iyy2",)),
+    PrintedEntry("22", "Omega_y",
+                 r"\frac{a_{1}\omega_{x1}\omega_{y1}(I_{yy1} - I_{zz1} - I_{xx1})}{I_{zz1}} + \frac{a_{2}\omega_{y2}\omega_{z2}(I_{yy2} - I_{zz2} - I_{xx2})}{I_{zy2}}",
+                 _alts("a1*wx1*wy1*(Iyy1 - Izz1 - Ixx1)/Izz1 + a2*wy2*wz2*(Iyy2 - Izz2 - Ixx2)/{d}", d=("Izz2", "Iyy2")),
+                 "I_{zy2} (a product of inertia, zero by assumption 2) read as I_zz2 or I_yy2"),
+    PrintedEntry("22", "Omega_z",
+                 r"\frac{a_{2}\omega_{x2}\omega_{x2}(I_{y2} - I_{xx2} - I_{xx2})}{I_{zz1}} + \frac{a_{2}\omega_{y2}\omega_{z2}(I_{yy2} - I_{zz2} - I_{xx2})}{I_{zy1}}",
+                 (), "illegible: particle-2 velocities over particle-1 moments, repeated subscripts, second term copies Omega_y"),
+    # ---- Eq (23), Figure 2(B) ----
+    PrintedEntry("23", "A_x", r"\frac{c_{1}^{2}}{I_{yy1}} + \frac{a_{2}^{2}}{I_{yy2}} + \frac{1}{m_{1}} + \frac{1}{m_{2}}",
+                 (f"c1**2/Iyy1 + a2**2/Iyy2 + {_MU}",)),
+    PrintedEntry("23", "A_y", r"\frac{c_{1}^{2}}{I_{zx1}} + \frac{a_{2}^{2}}{I_{zz2}} + \frac{1}{m_{1}} + \frac{1}{m_{2}}",
+                 _alts(f"c1**2/{{z}} + a2**2/Izz2 + {_MU}", z=("Ixx1", "Izz1")),
+                 "I_{zx1} (a product of inertia) read as I_xx1 or I_zz1"),
+    PrintedEntry("23", "A_z", r"\frac{1}{m_{1}} + \frac{1}{m_{2}}", (_MU,)),
+    PrintedEntry("23", "Omega_x",
+                 r"\frac{c_{1}\omega_{x1}\omega_{z1}(I_{xx1} - I_{yy1} - I_{zx1})}{I_{yy1}} + \frac{a_{2}\omega_{x2}\omega_{z2}(I_{zz2} - I_{xx2} - I_{yy2})}{I_{zy2}}",
+                 _alts("c1*wx1*wz1*(Ixx1 - Iyy1 - {z})/Iyy1 + a2*wx2*wz2*(Izz2 - Ixx2 - Iyy2)/{d}", z=_Z_OR_X1, d=("Izz2", "Iyy2")),
+                 "I_{zx1} read as I_zz1 or I_xx1; I_{zy2} read as I_zz2 or I_yy2"),
+    PrintedEntry("23", "Omega_y",
+                 r"\frac{c_{1}\omega_{y1}\omega_{z1}(I_{yy1} - I_{zx1})}{I_{xx1}} + \frac{a_{2}\omega_{y2}\omega_{z2}(I_{yy2} - I_{zz2} - I_{xx2})}{I_{zz2}}",
+                 _alts("c1*wy1*wz1*(Iyy1 - {z})/Ixx1 + a2*wy2*wz2*(Iyy2 - Izz2 - Ixx2)/Izz2", z=_Z_OR_X1),
+                 "I_{zx1} read as I_zz1 or I_xx1"),
+    PrintedEntry("23", "Omega_z", "(row missing from the extraction)", (), "illegible: the extracted vector has two rows"),
+    # ---- Eq (24), Figure 2(C) ----
+    PrintedEntry("24", "A_x", r"\frac{a_{2}^{2}}{I_{xx2}} + \frac{c_{1}^{2}}{I_{yy1}} + \frac{1}{m_{1}} + \frac{1}{m_{2}}",
+                 (f"a2**2/Ixx2 + c1**2/Iyy1 + {_MU}",)),
+    PrintedEntry("24", "A_y", r"\frac{c_{1}^{2}}{I_{xx1}} + \frac{a_{2}^{2}}{I_{z22}} + \frac{1}{m_{1}} + \frac{1}{m_{2}}",
+                 (f"c1**2/Ixx1 + a2**2/Izz2 + {_MU}",), "I_{z22} read as I_zz2 (digit 2 for the letter z)"),
+    PrintedEntry("24", "A_z",
+                 r"0 & 0 & \frac{c_{1}^{2}}{I_{xx1}} + \frac{a_{2}^{2}}{I_{x22}} + \frac{1}{m_{1}} + \frac{1}{m_{2}} & 0 \\ 0 & 0 & \frac{1}{m_{1}} + \frac{1}{m_{2}} & 0 \\ \dots",
+                 (_MU, f"c1**2/Ixx1 + a2**2/Ixx2 + {_MU}"),
+                 "the matrix is extracted with five rows; its last diagonal entry is read as 1/m1 + 1/m2 "
+                 "(or, from the third row, c1^2/I_xx1 + a2^2/I_xx2 + 1/m1 + 1/m2 with I_{x22} as I_xx2)"),
+    PrintedEntry("24", "Omega_x",
+                 r"\frac{c_{1}\omega_{x1}\omega_{z1}(I_{xx1} - I_{yy1} - I_{zx1})}{I_{xx1}} + \frac{a_{2}\omega_{x2}\omega_{z2}(I_{zz2} - I_{xx2} - I_{yy2})}{I_{xx2}}",
+                 _alts("c1*wx1*wz1*(Ixx1 - Iyy1 - {z})/Ixx1 + a2*wx2*wz2*(Izz2 - Ixx2 - Iyy2)/Ixx2", z=_Z_OR_X1),
+                 "I_{zx1} read as I_zz1 or I_xx1"),
+    PrintedEntry("24", "Omega_y",
+                 r"\frac{c_{1}\omega_{y1}\omega_{z1}(I_{yy1} - I_{zz1})}{I_{xx1}} + \frac{a_{2}\omega_{x2}\omega_{z2}(I_{zx2} - I_{yy2} - I_{zz2})}{I_{zz2}}",
+                 _alts("c1*wy1*wz1*(Iyy1 - Izz1)/Ixx1 + a2*wx2*wz2*({z} - Iyy2 - Izz2)/Izz2", z=("Izz2", "Ixx2")),
+                 "I_{zx2} read as I_zz2 or I_xx2"),
+    PrintedEntry("24", "Omega_z",
+                 r"\frac{c_{1}\omega_{y1}\omega_{z1}(I_{yy1} - I_{zz1} - I_{xx1})}{I_{xx1}} + \frac{a_{2}\omega_{x2}\omega_{z2}(I_{xz2} - I_{xx2} - I_{yy2})}{I_{zz2}}",
+                 _alts("c1*wy1*wz1*(Iyy1 - Izz1 - Ixx1)/Ixx1 + a2*wx2*wz2*({z} - Ixx2 - Iyy2)/Izz2", z=("Ixx2", "Izz2")),
+                 "I_{xz2} read as I_xx2 or I_zz2"),
+    # ---- Eq (50), Figure 2(A) ----
+    PrintedEntry("50", "wdot_x",
+                 r"-\frac{\omega_{yl}\omega_{z1}(I_{yy1} - I_{zz1})}{I_{xx1}} - \frac{\omega_{x2}\omega_{y2}(I_{xx2} - I_{yy2})}{I_{zz2}}",
+                 ("-wy1*wz1*(Iyy1 - Izz1)/Ixx1 - wx2*wy2*(Ixx2 - Iyy2)/Izz2",), r"\omega_{yl} read as omega_y1 (letter l for digit 1)"),
+    PrintedEntry("50", "wdot_y",
+                 r"\frac{\omega_{x1}\omega_{z1}(I_{xx1} - I_{zz1})}{I_{yy1}} + \frac{\omega_{x2}\omega_{z2}(I_{xx2} - I_{zz2})}{I_{yy2}}",
+                 ("wx1*wz1*(Ixx1 - Izz1)/Iyy1 + wx2*wz2*(Ixx2 - Izz2)/Iyy2",)),
+    PrintedEntry("50", "wdot_z",
+                 r"-\frac{\omega_{x1}\omega_{y1}(I_{xx1} - I_{yy1})}{I_{zz1}} - \frac{\omega_{y2}\omega_{z2}(I_{yy2} - I_{zz2})}{I_{xx2}}",
+                 ("-wx1*wy1*(Ixx1 - Iyy1)/Izz1 - wy2*wz2*(Iyy2 - Izz2)/Ixx2",)),
+    # ---- Eq (51), Figure 2(B): extracted twice; both renderings are readings ----
+    PrintedEntry("51", "wdot_x",
+                 r"(1) -\frac{\omega_{yl}\omega_{z1}(I_{yy1} - I_{zz1})}{I_{zz1}} - \frac{\omega_{x2}\omega_{y2}(I_{xx2} - I_{yy2})}{I_{zz2}};  "
+                 r"(2) -\frac{\omega_{yl}\omega_{z1}(l_{yy1} - l_{zz1})}{I_{zx1}} - \frac{\omega_{x2}\omega_{y2}(l_{xx2} - l_{yy2})}{I_{zz2}}",
+                 ("-wy1*wz1*(Iyy1 - Izz1)/Izz1 - wx2*wy2*(Ixx2 - Iyy2)/Izz2",
+                  *_alts("-wy1*wz1*(Iyy1 - Izz1)/{z} - wx2*wy2*(Ixx2 - Iyy2)/Izz2", z=_Z_OR_X1)),
+                 r"two renderings; \omega_{yl} as omega_y1, l as I, I_{zx1} read as I_zz1 or I_xx1"),
+    PrintedEntry("51", "wdot_y",
+                 r"(1) -\frac{\omega_{x1}\omega_{z1}(I_{xx1} - I_{zz1})}{I_{yy1}} + \frac{\omega_{x2}\omega_{x2}(I_{xx2} - I_{zz2})}{I_{xx2}};  "
+                 r"(2) \frac{\omega_{x1}\omega_{z1}(l_{xx1} - l_{zz1})}{I_{yy1}} + \frac{\omega_{x2}\omega_{z2}(l_{xx2} - l_{zz2})}{I_{yy2}}",
+                 ("-wx1*wz1*(Ixx1 - Izz1)/Iyy1 + wx2*wx2*(Ixx2 - Izz2)/Ixx2",
+                  "wx1*wz1*(Ixx1 - Izz1)/Iyy1 + wx2*wz2*(Ixx2 - Izz2)/Iyy2"),
+                 "two renderings; l as I"),
+    PrintedEntry("51", "wdot_z",
+                 r"(1) -\frac{\omega_{x1}\omega_{y1}(I_{xx1} - I_{yy1})}{I_{zz1}} - \frac{\omega_{y2}\omega_{z2}(I_{yy2} - I_{zz2})}{I_{xx2}};  "
+                 r"(2) -\frac{\omega_{xl}\omega_{y1}(l_{xx1} - l_{yy1})}{I_{zx1}} - \frac{\omega_{y2}\omega_{z2}(l_{yy2} - l_{zz2})}{I_{zz2}}",
+                 ("-wx1*wy1*(Ixx1 - Iyy1)/Izz1 - wy2*wz2*(Iyy2 - Izz2)/Ixx2",
+                  *_alts("-wx1*wy1*(Ixx1 - Iyy1)/{z} - wy2*wz2*(Iyy2 - Izz2)/Izz2", z=_Z_OR_X1)),
+                 r"two renderings; \omega_{xl} as omega_x1, l as I, I_{zx1} read as I_zz1 or I_xx1"),
+    # ---- Eq (52), Figure 2(C): extracted twice ----
+    PrintedEntry("52", "wdot_x",
+                 r"(1) -\frac{\omega_{yl}\omega_{z1}(I_{yy1} - I_{zz1})}{I_{zz1}} + \frac{\omega_{x2}\omega_{y2}(I_{xx2} - I_{yy2})}{I_{xx2}};  "
+                 r"(2) -\frac{\omega_{yl}\omega_{z1}(I_{yy1} - I_{zz1})}{I_{xx1}} + \frac{\omega_{x2}\omega_{y2}(I_{xx2} - I_{yy2})}{I_{zz2}}",
+                 ("-wy1*wz1*(Iyy1 - Izz1)/Izz1 + wx2*wy2*(Ixx2 - Iyy2)/Ixx2",
+                  "-wy1*wz1*(Iyy1 - Izz1)/Ixx1 + wx2*wy2*(Ixx2 - Iyy2)/Izz2"),
+                 r"two renderings; \omega_{yl} as omega_y1"),
+    PrintedEntry("52", "wdot_y",
+                 r"(1) -\frac{\omega_{x1}\omega_{y1}(I_{yy1} - I_{zz1})}{I_{yy1}} + \frac{\omega_{x2}\omega_{y2}(I_{yy2} - I_{zz2})}{I_{xx2}};  "
+                 r"(2) \frac{\omega_{x1}\omega_{z1}(I_{xx1} - I_{zz1})}{I_{yy1}} + \frac{\omega_{y2}\omega_{z2}(I_{yy2} - I_{zz2})}{I_{xx2}}",
+                 ("-wx1*wy1*(Iyy1 - Izz1)/Iyy1 + wx2*wy2*(Iyy2 - Izz2)/Ixx2",
+                  "wx1*wz1*(Ixx1 - Izz1)/Iyy1 + wy2*wz2*(Iyy2 - Izz2)/Ixx2"),
+                 "two renderings"),
+    PrintedEntry("52", "wdot_z",
+                 r"(1) -\frac{\omega_{x1}\omega_{y1}(I_{xx1} - I_{yy1})}{I_{xy1}} - \frac{\omega_{x2}\omega_{z2}(I_{yy2} - I_{zz2})}{I_{xy2}};  "
+                 r"(2) -\frac{\omega_{x1}\omega_{y1}(I_{xx1} - I_{yy1})}{I_{zz1}} - \frac{\omega_{x2}\omega_{z2}(I_{xx2} - I_{zz2})}{I_{yy2}}",
+                 (*_alts("-wx1*wy1*(Ixx1 - Iyy1)/{d1} - wx2*wz2*(Iyy2 - Izz2)/{d2}", d1=("Ixx1", "Iyy1"), d2=("Ixx2", "Iyy2")),
+                  "-wx1*wy1*(Ixx1 - Iyy1)/Izz1 - wx2*wz2*(Ixx2 - Izz2)/Iyy2"),
+                 "two renderings; in (1) the products of inertia I_{xy1}, I_{xy2} read as I_xx or I_yy"),
+)
+
+PANELS = {"A": ("22", "50"), "B": ("23", "51"), "C": ("24", "52")}
+ENTRY_INDEX = {"A_x": ("A", 0), "A_y": ("A", 1), "A_z": ("A", 2), "Omega_x": ("Omega", 0), "Omega_y": ("Omega", 1),
+               "Omega_z": ("Omega", 2), "wdot_x": ("wdot_c", 0), "wdot_y": ("wdot_c", 1), "wdot_z": ("wdot_c", 2)}
+
+
+def printed_entries(equation: str) -> list[PrintedEntry]:
+    return [e for e in PRINTED if e.equation == equation]
+
+
+def derived_entry(derived: dict[str, sp.Matrix], entry: str) -> sp.Expr:
+    part, i = ENTRY_INDEX[entry]
+    M = derived[part]
+    return M[i, i] if part == "A" else M[i]
+
+
+def compare_entry(derived: sp.Expr, e: PrintedEntry, substitutions: dict | None = None) -> int | None:
+    """Index of the first reading identical to ``derived`` (SymPy, exact), -1 if none, None if illegible."""
+    if not e.legible:
+        return None
+    for k, text in enumerate(e.readings):
+        printed = parse_reading(text).subs(substitutions or {})
+        if sp.simplify(sp.cancel(derived - printed)) == 0:
+            return k
+    return -1
+
+
+# ----------------------------------------------------------------------------------------------
+# Reconstruction of the Figure 2 configurations: every candidate against the printed entries
+# ----------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class CandidateScore:
+    """How many legible printed entries one candidate reproduces, per part, and the matches.
+
+    ``matches`` maps an entry name to the index of the reading it reproduces (-1: differs,
+    None: illegible).  ``w_is_local``: omega symbols read as local (body) components;
+    ``arm_length``: printed a2 read as the length of particle 2's arm (its half-length along the
+    arm) rather than literally as its largest half-length.
+    """
+
+    panel: str
+    index: int
+    w_is_local: bool
+    arm_length: bool
+    matches: dict
+
+    @property
+    def total(self) -> int:
+        return sum(1 for v in self.matches.values() if v is not None and v >= 0)
+
+    def part(self, prefix: str) -> int:
+        return sum(1 for k, v in self.matches.items() if k.startswith(prefix) and v is not None and v >= 0)
+
+
+@lru_cache(maxsize=None)
+def _general_pair_function(w_is_local: bool):
+    """NumPy function of (particle symbols..., R1 (9), R2 (9), local arm 1 (3), local arm 2 (3))
+    returning the 9 entries of A, the 3 of Omega and the 3 of wdot_c, from the general kinematics."""
+    import numpy as np  # noqa: F401  (lambdify target)
+
+    Rs = [sp.Matrix(3, 3, sp.symbols(f"R{j}_0:9")) for j in (1, 2)]
+    arms = [sp.Matrix(sp.symbols(f"s{j}_0:3")) for j in (1, 2)]
+    ps = [RigidParticle(s.m, s.I, R, to_global(R, arm), s.w, w_is_local) for s, R, arm in zip((P1, P2), Rs, arms)]
+    # xdd_c is affine in F: column k of A is xdd_c(F = e_k) - xdd_c(F = 0)
+    xdd0, wdot0 = relative_accelerations(ps[0], ps[1], (0, 0, 0))
+    cols = [relative_accelerations(ps[0], ps[1], tuple(sp.eye(3)[:, k]))[0] - xdd0 for k in range(3)]
+    exprs = list(sp.Matrix.hstack(*cols)) + list(xdd0) + list(wdot0)
+    names = sorted(printed_symbols().items())
+    args = [s for _, s in names] + list(Rs[0]) + list(Rs[1]) + list(arms[0]) + list(arms[1])
+    return [n for n, _ in names], sp.lambdify(args, exprs, modules="numpy")
+
+
+@lru_cache(maxsize=None)
+def score_candidates(points: int = 2, seed: int = 20200) -> tuple[CandidateScore, ...]:
+    """Score every candidate of :func:`candidate_configurations` against every panel's printed
+    entries, for both readings of the omega symbols and both readings of printed ``a2``.
+
+    The general kinematics is evaluated in floating point at ``points`` random parameter sets
+    (all values in [0.5, 3]); an entry matches a reading when they agree to 1e-10 relative at
+    all points.  Candidates chosen this way are re-checked exactly with SymPy in the records.
+    """
+    import numpy as np
+
+    cands = candidate_configurations()
+    N = len(cands)
+    rng = np.random.default_rng(seed)
+    R1 = np.array([[float(x) for x in c.R1] for c in cands]).T
+    R2 = np.array([[float(x) for x in c.R2] for c in cands]).T
+    length_name = {0: "a2", 1: "b2", 2: "c2"}
+    out = []
+    values = {}
+    for lw in (False, True):
+        names, fn = _general_pair_function(lw)
+        for k in range(points):
+            pt = {n: float(v) for n, v in zip(names, rng.uniform(0.5, 3.0, len(names)))}
+            s1, s2 = np.zeros((3, N)), np.zeros((3, N))
+            for n, c in enumerate(cands):
+                s1[c.arm1[0], n] = c.arm1[1] * pt["abc"[c.arm1[0]] + "1"]
+                s2[c.arm2[0], n] = c.arm2[1] * pt["abc"[c.arm2[0]] + "2"]
+            res = fn(*([np.full(N, pt[n]) for n in names] + list(R1) + list(R2) + list(s1) + list(s2)))
+            values[(lw, k)] = (pt, [np.broadcast_to(np.asarray(r, float), (N,)) for r in res])
+    position = {"A": lambda i: 4 * i, "Omega": lambda i: 9 + i, "wdot_c": lambda i: 12 + i}
+    symbols = printed_symbols()
+    order = sorted(symbols, key=lambda n: str(symbols[n]))
+    arm2_length = np.array([length_name[c.arm2[0]] for c in cands])
+    printed_values: dict[tuple, np.ndarray] = {}
+    printed_functions: dict[str, object] = {}
+
+    def printed(text: str, lw: bool, k: int, arm_len: bool) -> np.ndarray:
+        key = (text, lw, k, arm_len)
+        if key not in printed_values:
+            if text not in printed_functions:
+                printed_functions[text] = sp.lambdify([symbols[n] for n in order], parse_reading(text), modules="numpy")
+            fn = printed_functions[text]
+            pt = values[(lw, k)][0]
+            args = {n: np.full(N, pt[n]) for n in order}
+            if arm_len:
+                args["a2"] = np.array([pt[name] for name in arm2_length])
+            printed_values[key] = np.broadcast_to(np.asarray(fn(*[args[n] for n in order]), float), (N,))
+        return printed_values[key]
+
+    for panel, eqs in PANELS.items():
+        entries = [e for eq in eqs for e in printed_entries(eq)]
+        for lw in (False, True):
+            for arm_len in (False, True):
+                table = {}
+                for e in entries:
+                    if not e.legible:
+                        table[e.entry] = np.full(N, -2)
+                        continue
+                    part, i = ENTRY_INDEX[e.entry]
+                    got = np.full(N, -1)
+                    for r in reversed(range(len(e.readings))):
+                        ok = np.ones(N, dtype=bool)
+                        for k in range(points):
+                            res = values[(lw, k)][1]
+                            ok &= np.isclose(res[position[part](i)], printed(e.readings[r], lw, k, arm_len),
+                                             rtol=1e-10, atol=1e-12)
+                        got[ok] = r
+                    table[e.entry] = got
+                for n in range(N):
+                    matches = {k: (None if v[n] == -2 else int(v[n])) for k, v in table.items()}
+                    out.append(CandidateScore(panel, n, lw, arm_len, matches))
+    return tuple(out)
+
+
+def best_candidates(panel: str) -> list[CandidateScore]:
+    """The highest-scoring candidates of a panel (ties kept, in a fixed order): most reproduced
+    legible entries; ties broken by preferring the literal reading of a2, then admissible
+    contacts (opposite normals at the two tips)."""
+    cands = candidate_configurations()
+    scores = [s for s in score_candidates() if s.panel == panel]
+    top = max(s.total for s in scores)
+    best = [s for s in scores if s.total == top]
+    best = [s for s in best if not s.arm_length] or best
+    return [s for s in best if cands[s.index].normals_opposite()] or best

@@ -1,0 +1,133 @@
+"""The package's layers, read from its imports with ``ast`` (module-level and deferred ones alike).
+
+Data flows one way: the update rules (``integrators.schemes``) -> ``symbolic`` (SymPy) ->
+``_generated`` (emitted, committed) -> the runtime (``integrators``, ``bodies``, ``impact``,
+``packing``, ``scenes``) -> ``codegen`` -> ``bench``, ``figures``, ``notebooks`` -> ``cli``.
+A module may import its own layer and the ones before it; the runtime never imports SymPy; and
+no chain of imports leads back to where it started.
+"""
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+SRC = Path(__file__).resolve().parents[1] / "src"
+PACKAGE = SRC / "dtcrit"
+
+# (prefix, rank): the longest matching prefix decides a module's layer
+LAYERS = (
+    ("dtcrit", 0),  # the lazy public namespace: names modules in strings only
+    ("dtcrit.errors", 0),
+    ("dtcrit.integrators.schemes", 1),  # update rules: plain arithmetic, read by SymPy and the runtime
+    ("dtcrit.symbolic", 2),
+    ("dtcrit._generated", 3),
+    ("dtcrit.integrators", 4),
+    ("dtcrit.bodies", 5),
+    ("dtcrit.impact", 6),
+    ("dtcrit.packing", 6),
+    ("dtcrit.scenes", 7),
+    ("dtcrit.codegen", 8),
+    ("dtcrit.bench", 9),
+    ("dtcrit.figures", 9),
+    ("dtcrit.notebooks", 9),
+    ("dtcrit.cli", 10),
+    ("dtcrit.__main__", 10),
+)
+RUNTIME = (3, 4, 5, 6, 7)
+HEAVY_SYMBOLIC = ("sympy",)
+
+
+def _module_name(path: Path) -> str:
+    parts = list(path.relative_to(SRC).with_suffix("").parts)
+    if parts[-1] == "__init__":
+        parts.pop()
+    return ".".join(parts)
+
+
+def _rank(module: str) -> tuple[str, int]:
+    best = max((p for p, _ in LAYERS if module == p or module.startswith(p + ".")), key=len)
+    return best, dict(LAYERS)[best]
+
+
+def _imports(path: Path) -> list[tuple[int, str]]:
+    """(line, module) of every import in the file, resolved against the package layout."""
+    tree = ast.parse(path.read_text(), filename=str(path))
+    here = _module_name(path).split(".")
+    package = here if path.name == "__init__.py" else here[:-1]
+    out = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            out += [(node.lineno, alias.name) for alias in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package[: len(package) - node.level + 1]
+                module = ".".join(base + ([node.module] if node.module else []))
+            else:
+                module = node.module or ""
+            out.append((node.lineno, module))
+            for alias in node.names:  # ``from dtcrit.pkg import module``
+                candidate = f"{module}.{alias.name}"
+                if _exists(candidate):
+                    out.append((node.lineno, candidate))
+    return out
+
+
+def _exists(module: str) -> bool:
+    rel = Path(*module.split("."))
+    return (SRC / rel.with_suffix(".py")).exists() or (SRC / rel / "__init__.py").exists()
+
+
+FILES = sorted(PACKAGE.rglob("*.py"))
+GRAPH = {_module_name(f): [(line, m) for line, m in _imports(f) if m.split(".")[0] == "dtcrit" and _exists(m)] for f in FILES}
+
+
+def test_the_layout_is_walked():
+    assert len(FILES) > 50 and "dtcrit.bodies.hull" in GRAPH and "dtcrit.cli" in GRAPH
+
+
+@pytest.mark.parametrize("path", FILES, ids=lambda p: str(p.relative_to(SRC)))
+def test_imports_follow_the_layer_order(path):
+    module = _module_name(path)
+    layer, rank = _rank(module)
+    wrong = []
+    for line, target in GRAPH[module]:
+        if target == "dtcrit" and module != "dtcrit":
+            wrong.append(f"line {line}: imports the lazy namespace 'dtcrit' (import the defining module)")
+            continue
+        t_layer, t_rank = _rank(target)
+        if t_rank > rank or (t_rank == rank and t_layer != layer and rank not in (0, 10)):
+            wrong.append(f"line {line}: {target} ({t_layer}, layer {t_rank}) from layer {rank} ({layer})")
+    if rank in RUNTIME:
+        wrong += [f"line {line}: runtime imports {m}" for line, m in _imports(path) if m.split(".")[0] in HEAVY_SYMBOLIC]
+    assert not wrong, f"{module}: " + "; ".join(wrong)
+
+
+def test_no_import_cycles():
+    state: dict[str, int] = {}
+    cycles = []
+
+    def visit(node: str, trail: list[str]) -> None:
+        state[node] = 1
+        for _, target in GRAPH.get(node, ()):
+            if target not in GRAPH:
+                continue
+            if state.get(target) == 1:
+                cycles.append(" -> ".join(trail[trail.index(target):] + [target]) if target in trail else target)
+            elif state.get(target) is None:
+                visit(target, trail + [target])
+        state[node] = 2
+
+    for module in sorted(GRAPH):
+        if state.get(module) is None:
+            visit(module, [module])
+    # a package's __init__ importing its own submodules is not a cycle back to it
+    real = [c for c in cycles if not all(step.startswith(c.split(" -> ")[0]) for step in c.split(" -> "))]
+    assert not real, "import cycles: " + "; ".join(real)
+
+
+def test_no_hand_written_module_over_about_400_lines():
+    long = {str(f.relative_to(SRC)): n for f in FILES if "_generated" not in f.parts
+            for n in [len(f.read_text().splitlines())] if n > 430}
+    assert not long, f"modules over about 400 lines: {long}"
