@@ -9,9 +9,10 @@ Every task creates the virtual environment ``.venv`` beside this file when it is
 (re)installs the package whenever ``pyproject.toml`` or ``constraints.txt`` (the pinned versions)
 changed since the last install, and
 byte-compiles ``src`` (cheap when up to date), so that with ``PYTHONDONTWRITEBYTECODE=1`` dtcrit
-is not recompiled at every start.  ``test`` also installs ``gfortran`` with ``apt-get`` when it is
-missing and we are root, so the emitted Fortran is compiled and tested (never fatal: without it
-those tests skip; ``DTCRIT_NO_APT=1`` opts out).
+is not recompiled at every start.  ``test`` also installs ``gfortran`` and LAMMPS (``lmp``) with
+``apt-get`` when they are missing and we are root, so the emitted Fortran is compiled and the engine
+cases run (never fatal here: without them those tests skip, except under ``CI=true``, where the
+engine tests fail; ``DTCRIT_NO_APT=1`` opts out).
 """
 from __future__ import annotations
 
@@ -59,24 +60,33 @@ def compile_sources() -> None:
         print("byte-compiling src failed (not fatal: Python compiles on import)", flush=True)
 
 
-def ensure_gfortran() -> None:
-    """Install gfortran with apt-get when it is missing (root only; never fatal; DTCRIT_NO_APT=1 opts out)."""
-    if shutil.which("gfortran") or os.environ.get("DTCRIT_NO_APT") == "1":
+APT_TOOLS = {"gfortran": "gfortran", "lmp": "lammps"}
+"""Binaries the tests use -> the Debian package that provides them: gfortran compiles the emitted
+Fortran; lmp (LAMMPS, GRANULAR package) runs the engine cases that dtcrit's steps are checked on."""
+
+
+def ensure_apt_tools() -> None:
+    """Install the missing ``APT_TOOLS`` with apt-get (root only; DTCRIT_NO_APT=1 opts out).
+
+    Never fatal here: a test that needs a missing tool skips, saying how to install it, except in CI
+    (``CI=true``), where the engine tests fail instead.
+    """
+    missing = [pkg for tool, pkg in APT_TOOLS.items() if not shutil.which(tool)]
+    if not missing or os.environ.get("DTCRIT_NO_APT") == "1":
         return
     apt = shutil.which("apt-get")
     if apt is None or not hasattr(os, "geteuid") or os.geteuid() != 0:
-        print("gfortran is missing and cannot be installed here (needs apt-get as root): "
-              "the Fortran codegen tests will skip", flush=True)
+        print(f"missing {', '.join(missing)} and cannot install here (needs apt-get as root): "
+              "the tests that need them will skip", flush=True)
         return
-    print("gfortran is missing: installing it with apt-get so the emitted Fortran is compiled and tested "
-          "(DTCRIT_NO_APT=1 opts out)", flush=True)
+    print(f"installing {', '.join(missing)} with apt-get for the tests (DTCRIT_NO_APT=1 opts out)", flush=True)
     env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
-    install = (apt, "install", "-y", "-q", "--no-install-recommends", "gfortran")
+    install = (apt, "install", "-y", "-q", "--no-install-recommends", *missing)
     if run(*install, env=env) == 0:
         return
     if run(apt, "update", "-q", env=env) == 0 and run(*install, env=env) == 0:
         return
-    print("installing gfortran failed (not fatal): the Fortran codegen tests will skip", flush=True)
+    print(f"installing {', '.join(missing)} failed (not fatal): the tests that need them will skip", flush=True)
 
 
 def child_env() -> dict:
@@ -91,7 +101,7 @@ def demo() -> int:
 
 
 def test() -> int:
-    ensure_gfortran()
+    ensure_apt_tools()
     env = child_env()
     env.setdefault("HYPOTHESIS_PROFILE", "ci")
     # two pytest workers on two cores: BLAS's own threads would only compete with them

@@ -19,6 +19,8 @@ def scripts() -> list[Path]:
 
 
 def load(path: Path):
+    if str(path.parent) not in sys.path:  # the scripts share helper modules (derivations/_*.py)
+        sys.path.insert(0, str(path.parent))
     spec = importlib.util.spec_from_file_location(f"derivations_{path.stem}", path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)

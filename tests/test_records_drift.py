@@ -1,5 +1,6 @@
 """The committed derivation records are exactly what the derivation scripts produce now."""
 import importlib.util
+import sys
 from pathlib import Path
 
 import pytest
@@ -8,6 +9,8 @@ DERIVATIONS = Path(__file__).resolve().parents[1] / "derivations"
 
 
 def _load(path):
+    if str(path.parent) not in sys.path:  # the scripts share helper modules (derivations/_*.py)
+        sys.path.insert(0, str(path.parent))
     spec = importlib.util.spec_from_file_location(f"derivations_{path.stem}", path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)

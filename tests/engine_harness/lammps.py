@@ -11,8 +11,15 @@ Two geometries:
   onto it by a constant force -P along z.
 
 Both start from the static equilibrium overlap delta0 = P/kn (a linear Hooke spring), with
-tiny random velocities and spins (relative size ``eps``, about 1e-10 of the overlap scale) so
-every mode is excited while the motion stays linear and the contact stays closed.
+tiny random displacements, velocities and spins (displacements of about ``eps*delta0``) so
+every mode is excited while the motion stays linear and the contact stays closed.  The default
+eps = 1e-7 (not 1e-10): near the boundary of a strongly damped mode (zeta ~ 2) or of a pure
+tangential dashpot, the critical (period-2) mode receives only ~1e-3 of the kick, because
+LAMMPS starts from full-step velocities and that mode has nearly zero full-step velocity; at
+eps = 1e-10 this leaves it a few ulps of the positions, where rounding locks it into a
+period-2 orbit that does not grow, biasing a bisected threshold upward by ~0.5 %.  At 1e-7 the
+deviations stay ~1e-7 of the overlap (fully linear) and the bias is only the finite-run
+detection limit, about ln(10)/(kappa*N/2) with kappa = d(rho)/d(dt/dt_c) ~ 2.
 
 Classification (``run_case``/``bounded``): LAMMPS reports, every few steps, the largest net
 force |f_i| and |torque_i|/R_i over the atoms (both vanish at equilibrium, so they measure
@@ -21,8 +28,23 @@ the deviation), the normal spring-force deviation kn*|delta - delta0| and the ki
 ``eps*P`` (the size the initial kick produces) and the square root of the kinetic-energy ratio
 to its initial value.  Forces are judged as well as the energy because, at the boundary, the
 critical mode of velocity Verlet has zero full-step velocity, so kinetic energy alone
-under-reports growth.  A ``fix halt`` ends a run early once the growth figure passes
-``HALT_GROWTH`` (clearly unstable; also keeps the contact from opening).
+under-reports growth.  A run also counts as growing when the envelope of the last quarter
+exceeds ``WINDOW_LIMIT`` times that of the second quarter.  A ``fix halt`` ends a run early
+once the growth figure passes ``min(HALT_GROWTH, 0.01/eps)`` (clearly unstable, deviation
+still 1 % of the preload, so the contact never opens).
+
+LAMMPS conventions this relies on (29Sep2021 sources of the GRANULAR package; confirmed by
+the measured thresholds with Debian's lmp 20220106):
+  * fix nve/sphere: velocity Verlet, half kick of v and omega, drift, forces at x_{n+1}
+    with the half-step v and omega, half kick; I = 0.4 m R^2 (``inertia = 0.4``).
+  * gran/hooke(/history): normal kn*delta - meff*gamman*v_n, meff = mi mj/(mi + mj);
+    tangential -(kt*shear + meff*gammat*vtr) (gran/hooke: dashpot only); the shear history
+    is accumulated as vtr*dt with vtr from the half-step velocities and projected on the
+    tangent plane; slip velocity vt + n x (Ri wi + Rj wj) and torques -Ri n x fs: full
+    radius arm.  kt NULL -> 2/7 kn, gammat NULL -> gamman/2, dampflag 0 -> gammat = 0,
+    0 <= xmu <= 1e4.
+  * fix wall/gran (hooke, hooke/history, granular): meff = rmass[i] (the sphere's mass),
+    the same force expressions with the full radius R.
 """
 from __future__ import annotations
 
@@ -44,6 +66,7 @@ __all__ = [
     "WallCase",
     "RunResult",
     "GROWTH_LIMIT",
+    "WINDOW_LIMIT",
     "HALT_GROWTH",
     "build_inputs",
     "run_case",
@@ -52,12 +75,15 @@ __all__ = [
     "LammpsError",
 ]
 
-#: growth figure above which a run counts as growing (stable runs stay O(1..30))
+#: growth figure above which a run counts as growing (stable runs stay O(1..10))
 GROWTH_LIMIT = 1.0e3
+#: ratio of the deviation envelope in the last quarter of the run to the second quarter
+#: above which a run counts as growing (stable runs: <= ~1)
+WINDOW_LIMIT = 10.0
 #: growth figure at which LAMMPS is told to stop the run (clearly unstable)
 HALT_GROWTH = 1.0e7
 
-_STYLES = ("gran/hooke", "gran/hooke/history")
+_STYLES = ("gran/hooke", "gran/hooke/history", "granular")
 
 
 class LammpsError(RuntimeError):
@@ -76,6 +102,13 @@ class ContactLaw:
     kt=None and gammat=None are written as NULL (LAMMPS then uses kt = 2/7 kn and
     gammat = gamman/2).  dampflag=0 makes LAMMPS drop the tangential dashpot (gammat = 0).
     xmu defaults to 1e4, the largest value LAMMPS accepts, so contacts never slide.
+
+    style="granular" writes the equivalent `pair_style granular` law:
+    ``hooke kn gamman tangential linear_history kt gammat/gamman xmu damping mass_velocity``
+    (normal dashpot meff*gamman; tangential dashpot = (gammat/gamman)*meff*gamman, so a
+    tangential dashpot needs gamman > 0; kt must be given; dampflag is ignored).  NB
+    `pair_style granular` applies torques with the arm R_i - delta/2 while its slip velocity
+    uses R_i; `fix wall/gran granular` uses R for both (measured, and in the sources).
     """
 
     kn: float
@@ -91,10 +124,19 @@ class ContactLaw:
             raise ValueError(f"style must be one of {_STYLES}, not {self.style!r}")
         if self.dampflag not in (0, 1):
             raise ValueError("dampflag must be 0 or 1")
+        if self.style == "granular" and self.kt is None:
+            raise ValueError("granular: give kt explicitly (no NULL default)")
 
     @property
     def args(self) -> str:
-        """The six coefficients `Kn Kt gamma_n gamma_t xmu dampflag`."""
+        """Coefficients: `Kn Kt gamma_n gamma_t xmu dampflag`, or the granular model text."""
+        if self.style == "granular":
+            gt = self.gammat or 0.0
+            if gt > 0.0 and self.gamman <= 0.0:
+                raise ValueError("granular: a tangential dashpot needs gamman > 0")
+            xt = gt / self.gamman if self.gamman > 0.0 else 0.0
+            return (f"hooke {_g(self.kn)} {_g(self.gamman)} tangential linear_history "
+                    f"{_g(self.kt)} {_g(xt)} {_g(self.xmu)} damping mass_velocity")
         kt = "NULL" if self.kt is None else _g(self.kt)
         gt = "NULL" if self.gammat is None else _g(self.gammat)
         return f"{_g(self.kn)} {kt} {_g(self.gamman)} {gt} {_g(self.xmu)} {self.dampflag}"
@@ -108,6 +150,8 @@ class ContactLaw:
 
     @property
     def gammat_value(self) -> float:
+        if self.style == "granular":
+            return float(self.gammat or 0.0) if self.gamman > 0.0 else 0.0
         if self.dampflag == 0:
             return 0.0
         return 0.5 * self.gamman if self.gammat is None else float(self.gammat)
@@ -198,13 +242,15 @@ class RunResult:
     growth: float  # max over the run of the growth figure (see module docstring)
     force_growth: float
     energy_growth: float
+    window_growth: float  # envelope of the last quarter / envelope of the second quarter
     rate: float  # fitted growth factor per step of the deviation envelope (diagnostic)
     series: dict[str, np.ndarray] = field(repr=False, default_factory=dict)
     log: str = field(repr=False, default="")
 
     @property
     def bounded(self) -> bool:
-        return (not self.halted) and math.isfinite(self.growth) and self.growth < GROWTH_LIMIT
+        return (not self.halted and math.isfinite(self.growth) and self.growth < GROWTH_LIMIT
+                and self.window_growth < WINDOW_LIMIT)
 
 
 # ----------------------------------------------------------------------------- inputs
@@ -228,20 +274,32 @@ def _geometry(case: Case) -> tuple[list[np.ndarray], float]:
     return [np.array([0.0, 0.0, z0])], P
 
 
-def _kick(case: Case, eps: float, seed: int) -> list[tuple[np.ndarray, np.ndarray]]:
-    """Random velocities and spins giving displacements of about eps*delta0."""
+def _kick(case: Case, eps: float, seed: int) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """Random (displacement, velocity, spin) per sphere, displacements of about eps*delta0.
+
+    Displacements as well as velocities: LAMMPS starts from full-step velocities, and near
+    the boundary the first half kick all but cancels the critical mode's share of a velocity
+    kick (that mode has ~zero full-step velocity), leaving it only a few ulps of the
+    positions, where rounding can lock it into a period-2 orbit instead of letting it grow.
+    """
     rng = np.random.default_rng(seed)
     mmin = min(s.m for s in case.spheres)
-    vs = eps * case.delta0 * math.sqrt(case.law.kn / mmin)
+    a = eps * case.delta0
+    vs = a * math.sqrt(case.law.kn / mmin)
     out = []
     for s in case.spheres:
+        dx = rng.uniform(-1.0, 1.0, 3) * a
         v = rng.uniform(-1.0, 1.0, 3) * vs
         w = rng.uniform(-1.0, 1.0, 3) * vs / s.radius
-        out.append((v, w))
+        out.append((dx, v, w))
     return out
 
 
-def build_inputs(case: Case, dt: float, steps: int, *, eps: float = 1e-10, seed: int = 12345,
+def _wall_style(law: ContactLaw) -> str:
+    return "granular" if law.style == "granular" else law.style.split("/", 1)[1]
+
+
+def build_inputs(case: Case, dt: float, steps: int, *, eps: float = 1e-7, seed: int = 12345,
                  thermo_every: int | None = None, halt_growth: float = HALT_GROWTH
                  ) -> tuple[str, str]:
     """(input script, data file) for running `case` `steps` steps at time step `dt`."""
@@ -254,17 +312,21 @@ def build_inputs(case: Case, dt: float, steps: int, *, eps: float = 1e-10, seed:
     rmin = min(s.radius for s in spheres)
     L = 20.0 * rmax
     ref = eps * P
+    # stop well before the contact could open (deviation 1% of the preload)
+    halt_growth = min(halt_growth, 0.01 / eps)
     if thermo_every is None:
-        thermo_every = max(1, steps // 400)
+        # every step (up to 20000 samples): sparse sampling of a near-Nyquist mode aliases
+        thermo_every = max(1, steps // 20000)
     halt_every = max(1, min(10, thermo_every))
 
     data = ["LAMMPS data file (engine_harness)", "", f"{natoms} atoms", "1 atom types", ""]
     data += [f"{_g(-L)} {_g(L)} xlo xhi", f"{_g(-L)} {_g(L)} ylo yhi", f"{_g(-L)} {_g(L)} zlo zhi", ""]
     data += ["Atoms # sphere", ""]
-    for i, (s, x) in enumerate(zip(spheres, centres), start=1):
+    for i, (s, x, (dx, _, _)) in enumerate(zip(spheres, centres, kicks), start=1):
+        x = x + dx
         data.append(f"{i} 1 {_g(2.0 * s.radius)} {_g(s.rho)} {_g(x[0])} {_g(x[1])} {_g(x[2])}")
     data += ["", "Velocities", ""]
-    for i, (v, w) in enumerate(kicks, start=1):
+    for i, (_, v, w) in enumerate(kicks, start=1):
         data.append(f"{i} " + " ".join(_g(c) for c in (*v, *w)))
     data.append("")
 
@@ -278,8 +340,8 @@ def build_inputs(case: Case, dt: float, steps: int, *, eps: float = 1e-10, seed:
         "newton off",
         "comm_modify vel yes",
         "read_data case.data",
-        f"pair_style {law.style} {law.args}",
-        "pair_coeff * *",
+        *( ["pair_style granular", f"pair_coeff * * {law.args}"] if law.style == "granular"
+           else [f"pair_style {law.style} {law.args}", "pair_coeff * *"] ),
         f"neighbor {_g(0.2 * rmin)} bin",
         "neigh_modify delay 0 every 1 check yes",
         f"timestep {_g(dt)}",
@@ -307,7 +369,7 @@ def build_inputs(case: Case, dt: float, steps: int, *, eps: float = 1e-10, seed:
     else:
         z0 = centres[0][2]
         lines += [
-            f"fix wall all wall/gran {law.style.split('/', 1)[1]} {law.args} zplane 0.0 NULL",
+            f"fix wall all wall/gran {_wall_style(law)} {law.args} zplane 0.0 NULL",
             f"fix pre all addforce 0.0 0.0 {_g(-P)}",
             f"variable ndev equal {_g(law.kn)}*abs(z[1]-{_g(z0)})",
         ]
@@ -359,6 +421,24 @@ def _parse_thermo(log: str) -> dict[str, np.ndarray]:
     return {name: arr[:, k] for k, name in enumerate(_COLUMNS)}
 
 
+def _window_growth(step: np.ndarray, grow: np.ndarray, nsteps: int) -> float:
+    """max(grow) over steps in [3N/4, N] divided by max(grow) over [N/4, N/2].
+
+    Judges growth from the run's own envelope rather than from the initial kick: near the
+    boundary the kick puts only a small fraction of its size into the critical mode (the
+    first half kick nearly cancels that mode's full-step velocity), which would otherwise
+    bias the measured threshold upward.
+    """
+    if not np.all(np.isfinite(grow)):
+        return float("inf")
+    w1 = (step >= 0.25 * nsteps) & (step <= 0.5 * nsteps)
+    w2 = step >= 0.75 * nsteps
+    if not w1.any() or not w2.any():
+        return float("nan")  # run ended early (halted): classified by `halted`
+    a, b = float(np.max(grow[w1])), float(np.max(grow[w2]))
+    return b / a if a > 0 else (float("inf") if b > 0 else 1.0)
+
+
 def _rate(step: np.ndarray, grow: np.ndarray) -> float:
     """Growth factor per step fitted to the log of the running-max envelope (second half)."""
     ok = np.isfinite(grow) & (grow > 0)
@@ -372,7 +452,7 @@ def _rate(step: np.ndarray, grow: np.ndarray) -> float:
     return float(math.exp(slope))
 
 
-def run_case(case: Case, dt: float, steps: int, *, eps: float = 1e-10, seed: int = 12345,
+def run_case(case: Case, dt: float, steps: int, *, eps: float = 1e-7, seed: int = 12345,
              lmp: str | None = None, keep_dir: str | os.PathLike | None = None,
              timeout: float = 120.0) -> RunResult:
     """Run `case` for `steps` steps of size `dt` in LAMMPS and classify the outcome."""
@@ -407,8 +487,9 @@ def run_case(case: Case, dt: float, steps: int, *, eps: float = 1e-10, seed: int
         fg = float("inf")
     steps_run = int(ser["step"][-1])
     halted = steps_run < steps
+    wg = _window_growth(ser["step"], ser["grow"], steps) if not halted else float("inf")
     return RunResult(dt=dt, steps=steps, steps_run=steps_run, halted=halted,
-                     growth=max(fg, eg), force_growth=fg, energy_growth=eg,
+                     growth=max(fg, eg), force_growth=fg, energy_growth=eg, window_growth=wg,
                      rate=_rate(ser["step"], ser["grow"]), series=ser, log=log)
 
 

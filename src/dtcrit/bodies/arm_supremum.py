@@ -21,9 +21,19 @@ Every route returns a valid upper bound ``upper`` and an attained value ``lower`
 point, with an outward normal there, for :func:`dtcrit.bodies.contact_search.mirror_contact`).
 """
 from __future__ import annotations
+
 import numpy as np
+
 from dtcrit._generated import contact as _k
-from dtcrit.bodies.arm_terms import ArmSupremum, SUPPORT_SLACK, SUP_MAX_HALFSPACES, SUP_MAX_ITERATIONS, SUP_RTOL, arm_lambda, fibonacci_sphere
+from dtcrit.bodies.arm_terms import (
+    SUP_MAX_HALFSPACES,
+    SUP_MAX_ITERATIONS,
+    SUP_RTOL,
+    SUPPORT_SLACK,
+    ArmSupremum,
+    arm_lambda,
+    fibonacci_sphere,
+)
 
 
 def _shape_key(shape) -> tuple:

@@ -2,11 +2,13 @@
 eigenvalue, and the result type of every arm-supremum route (:class:`ArmSupremum`).
 """
 from __future__ import annotations
+
 import math
 from dataclasses import dataclass
-import numpy as np
-from dtcrit._generated import contact as _k
 
+import numpy as np
+
+from dtcrit._generated import contact as _k
 
 SUP_RTOL = 1e-7
 """Smooth bodies: refine until the upper bound is within this relative distance of the best surface value."""

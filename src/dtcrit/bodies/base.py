@@ -2,12 +2,15 @@
 largest arm, surface samples and the paper's assumption flags (fixed once in ``_finish``).
 """
 from __future__ import annotations
+
 import math
 import warnings
 from typing import Any
+
 import numpy as np
-from dtcrit.errors import InputError
+
 from dtcrit.bodies.checks import AssumptionWarning, _assumption_issues, _count, _fmt, _mass_and_density
+from dtcrit.errors import InputError
 
 
 class _Shape:

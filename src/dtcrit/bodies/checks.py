@@ -5,12 +5,14 @@ moments ``I_zz >= I_yy >= I_xx``, checked with the relative slack ``ORDER_RTOL``
 raise :class:`dtcrit.errors.InputError` naming the argument.
 """
 from __future__ import annotations
+
 import math
 import numbers
 from typing import Any
-import numpy as np
-from dtcrit.errors import InputError
 
+import numpy as np
+
+from dtcrit.errors import InputError
 
 SUPERQUADRIC_EPS_MIN = 0.01
 """Smallest accepted superquadric exponent: at eps = 0.01 the corner on the body diagonal lies at

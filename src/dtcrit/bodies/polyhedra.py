@@ -2,16 +2,19 @@
 symmetric particles with a principal local frame).
 """
 from __future__ import annotations
+
 import math
 from typing import Any
+
 import numpy as np
+
 from dtcrit._generated import mass_properties as _mp
-from dtcrit.errors import InputError
-from dtcrit.bodies.hull import HULL_RTOL, HullError, convex_hull_3d, nearest_neighbours
-from dtcrit.bodies.checks import SYMMETRY_RTOL, _axes, _direction, _fmt, _kernel, _positive, _readonly
 from dtcrit.bodies.base import _Shape
-from dtcrit.bodies.polyhedral_surface import _PolyhedralSurface
+from dtcrit.bodies.checks import SYMMETRY_RTOL, _axes, _direction, _fmt, _kernel, _positive, _readonly
+from dtcrit.bodies.hull import HULL_RTOL, HullError, convex_hull_3d, nearest_neighbours
 from dtcrit.bodies.polyhedral_frame import _principal_axes, _tetra_decomposition
+from dtcrit.bodies.polyhedral_surface import _PolyhedralSurface
+from dtcrit.errors import InputError
 
 
 class _PolyhedralShape(_Shape):

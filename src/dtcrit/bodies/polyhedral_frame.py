@@ -2,11 +2,14 @@
 choice of its principal frame with the paper's ordering (Peng et al. 2020, Section 3, assumption 3).
 """
 from __future__ import annotations
+
 import math
+
 import numpy as np
+
 from dtcrit._generated import mass_properties as _mp
+from dtcrit.bodies.checks import _DEGENERATE_RTOL, ORDER_RTOL
 from dtcrit.bodies.hull import HullError, convex_hull_2d, nearest_neighbours
-from dtcrit.bodies.checks import ORDER_RTOL, _DEGENERATE_RTOL
 from dtcrit.bodies.polyhedral_surface import _distinct, _plane_basis
 
 

@@ -2,11 +2,14 @@
 merged coplanar hull facets, surface samples at a common spacing, support points.
 """
 from __future__ import annotations
+
 import math
+
 import numpy as np
-from dtcrit.errors import InputError
-from dtcrit.bodies.hull import connected_components, convex_hull_3d
+
 from dtcrit.bodies.checks import _PLANE_RTOL, _readonly, _unit_rows
+from dtcrit.bodies.hull import connected_components, convex_hull_3d
+from dtcrit.errors import InputError
 
 
 class _PolyhedralSurface:

@@ -3,12 +3,21 @@
 ellipsoid are superquadrics with ``eps1 = eps2 = 1``.
 """
 from __future__ import annotations
+
 from typing import Any
+
 import numpy as np
+
 from dtcrit._generated import mass_properties as _mp
-from dtcrit.bodies.checks import _axes, _direction, _exponent, _fmt, _kernel, _positive
 from dtcrit.bodies.base import _Shape
-from dtcrit.bodies.superquadric_surface import _superquadric_normals, _superquadric_radial_projection, _superquadric_support, _superquadric_surface_points, superquadric_max_arm
+from dtcrit.bodies.checks import _axes, _direction, _exponent, _fmt, _kernel, _positive
+from dtcrit.bodies.superquadric_surface import (
+    _superquadric_normals,
+    _superquadric_radial_projection,
+    _superquadric_support,
+    _superquadric_surface_points,
+    superquadric_max_arm,
+)
 
 
 class _SuperquadricFamily(_Shape):

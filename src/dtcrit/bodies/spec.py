@@ -1,12 +1,13 @@
 """Build a shape from a kind name and keyword parameters (scene files).
 """
 from __future__ import annotations
-from typing import Any
-from dtcrit.errors import InputError
-from dtcrit.bodies.base import _Shape
-from dtcrit.bodies.smooth import Ellipsoid, Sphere, Superquadric
-from dtcrit.bodies.polyhedra import Box, ConvexPolyhedron
 
+from typing import Any
+
+from dtcrit.bodies.base import _Shape
+from dtcrit.bodies.polyhedra import Box, ConvexPolyhedron
+from dtcrit.bodies.smooth import Ellipsoid, Sphere, Superquadric
+from dtcrit.errors import InputError
 
 _KINDS = {
     "sphere": (Sphere, ("radius",)),

@@ -8,8 +8,11 @@ Support points (Hoelder's equality case), radial projection onto the surface, ou
 the largest centre-to-surface distance, and deterministic surface samples.
 """
 from __future__ import annotations
+
 import math
+
 import numpy as np
+
 from dtcrit.bodies.hull import nearest_neighbours
 
 

@@ -22,14 +22,17 @@ Arguments the chain does not use are dropped, so the emitted code takes exactly 
 parameters.  :func:`dtcrit.codegen.kernel_mp.evaluate_mp` evaluates the same chain in mpmath (the reference of the tests).
 """
 from __future__ import annotations
+
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
+
 import sympy as sp
+
+from dtcrit.codegen.structure import KernelStructure
 from dtcrit.errors import InputError
 from dtcrit.symbolic.closed_forms import closed_pieces, eps, formula_text, gamma, omega
 from dtcrit.symbolic.emit import derivation_hash, square_root_of_term
 from dtcrit.symbolic.integrators import zeta as zeta_sym
-from dtcrit.codegen.structure import KernelStructure
 
 
 class cubic_positive_root(sp.Function):

@@ -2,9 +2,12 @@
 checked against in ulps (tests/test_codegen_*.py).
 """
 from __future__ import annotations
+
 from functools import lru_cache
+
 import mpmath as mp
 import sympy as sp
+
 from dtcrit.codegen.kernel import ContactKernel
 
 

@@ -28,12 +28,31 @@ orientation (``pinned_tip=True``); it is reproduced as printed although, apart f
 axes, the bodies then interpenetrate (:func:`penetration_depth` measures by how much).
 """
 from __future__ import annotations
+
 import math
 from dataclasses import dataclass
+
 import numpy as np
 from scipy.optimize import minimize
-from dtcrit.figures._rotations import align_x_to, angles_from_unit, fibonacci_sphere, quaternion_matrix, rotation_about, unit_from_angles
-from dtcrit.figures.appendix_a_search import ContactConfig, FORCE, GRIDS, PAPER_BASE_QUATERNION, PairSearch, _config, coefficient_matrix_single, comparison_shapes
+
+from dtcrit.figures._rotations import (
+    align_x_to,
+    angles_from_unit,
+    fibonacci_sphere,
+    quaternion_matrix,
+    rotation_about,
+    unit_from_angles,
+)
+from dtcrit.figures.appendix_a_search import (
+    FORCE,
+    GRIDS,
+    PAPER_BASE_QUATERNION,
+    ContactConfig,
+    PairSearch,
+    _config,
+    coefficient_matrix_single,
+    comparison_shapes,
+)
 
 
 # ============================================================================================

@@ -3,11 +3,21 @@ batched contact coefficient matrices, contact configurations and the pair search
 contacts (surface points, normals and orientations).
 """
 from __future__ import annotations
+
 import math
 from dataclasses import dataclass, field
-import numpy as np
-from dtcrit.figures._rotations import angles_from_unit, fibonacci_sphere, matrix_quaternion, rotvec_matrices, rotvec_matrix, super_fibonacci_rotations, unit_from_angles
 
+import numpy as np
+
+from dtcrit.figures._rotations import (
+    angles_from_unit,
+    fibonacci_sphere,
+    matrix_quaternion,
+    rotvec_matrices,
+    rotvec_matrix,
+    super_fibonacci_rotations,
+    unit_from_angles,
+)
 
 FORCE = (1.0, 1.0, 1.0)
 """Appendix A's contact force on particle 2 [N]."""

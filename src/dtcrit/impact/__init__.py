@@ -39,13 +39,53 @@ step variable ``omega_t dt`` is directly comparable with the linearised bound.
 Modules: ``conventions`` (units, constants, checks), ``exact``, ``stepped``, ``sweep``, ``hertz``,
 ``report`` (``dtcrit impact``), ``plots``.
 """
-from dtcrit.impact.conventions import CENTRAL_DIFFERENCE_FAMILY, CONVENTION, DEFAULT_ENERGY_THRESHOLD, DEFAULT_PHASES, DIVERGED, FORCE_CONVENTION, MAX_CUTOFF, MAX_OMEGA_DT, MAX_PHASES, MIN_OMEGA_DT, RATIO_RTOL, STANDARD_ZETAS, SWEEP_STEP, SWEEP_TOP, UNITS, UNIT_STEPS_FROM, check_energy_threshold, check_omega_dt, check_phases, check_zeta
+from dtcrit.impact.conventions import (
+    CENTRAL_DIFFERENCE_FAMILY,
+    CONVENTION,
+    DEFAULT_ENERGY_THRESHOLD,
+    DEFAULT_PHASES,
+    DIVERGED,
+    FORCE_CONVENTION,
+    MAX_CUTOFF,
+    MAX_OMEGA_DT,
+    MAX_PHASES,
+    MIN_OMEGA_DT,
+    RATIO_RTOL,
+    STANDARD_ZETAS,
+    SWEEP_STEP,
+    SWEEP_TOP,
+    UNIT_STEPS_FROM,
+    UNITS,
+    check_energy_threshold,
+    check_omega_dt,
+    check_phases,
+    check_zeta,
+)
 from dtcrit.impact.exact import ExactImpact, HertzExact, exact_impact, hertz_dimensional, hertz_exact
-from dtcrit.impact.stepped import ImpactRun, STATUS_DIVERGED, STATUS_EXITED, STATUS_NOT_SEPARATED, SwitchedForce, central_difference_bounds, entry_phases, simulate_impacts, undamped_exit_ratios, unit_ratio_steps
-from dtcrit.impact.sweep import PhaseStats, energy_created_ranges, energy_errors, linear_bound, phase_stats, sweep, sweep_grid
 from dtcrit.impact.hertz import hertz_study
-from dtcrit.impact.report import impact_report, to_json
 from dtcrit.impact.plots import plot_hertz, plot_phase_curve, plot_sweep
+from dtcrit.impact.report import impact_report, to_json
+from dtcrit.impact.stepped import (
+    STATUS_DIVERGED,
+    STATUS_EXITED,
+    STATUS_NOT_SEPARATED,
+    ImpactRun,
+    SwitchedForce,
+    central_difference_bounds,
+    entry_phases,
+    simulate_impacts,
+    undamped_exit_ratios,
+    unit_ratio_steps,
+)
+from dtcrit.impact.sweep import (
+    PhaseStats,
+    energy_created_ranges,
+    energy_errors,
+    linear_bound,
+    phase_stats,
+    sweep,
+    sweep_grid,
+)
 
 __all__ = [
     "CENTRAL_DIFFERENCE_FAMILY",

@@ -4,11 +4,13 @@ Units: time ``1/omega`` (``omega = sqrt(k/m)``), overlap ``v0/omega``, speed ``v
 step ``tau = omega dt``.
 """
 from __future__ import annotations
+
 import math
+
 import numpy as np
+
 from dtcrit._generated import impact as _gen
 from dtcrit.errors import InputError
-
 
 STANDARD_ZETAS: tuple[float, ...] = (0.0, 0.05, 0.2)
 SWEEP_TOP = 2.2

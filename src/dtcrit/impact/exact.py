@@ -3,8 +3,10 @@ exit/entry speed for both separation conventions, and the exact Hertz impact, fr
 that ``dtcrit.symbolic.impact`` derives and emits into ``dtcrit._generated.impact``.
 """
 from __future__ import annotations
+
 import math
 from dataclasses import dataclass
+
 from dtcrit._generated import impact as _gen
 from dtcrit.errors import InputError
 from dtcrit.impact.conventions import CONVENTION, FORCE_CONVENTION, _json_number, _number, _regime, _scalar, check_zeta

@@ -3,12 +3,14 @@ the tangent frequency there (``u'' = -(2/3) u^(3/2)``, entry speed ``sqrt(8/15)`
 ``omega_t dt``, comparable with the linearised bound.
 """
 from __future__ import annotations
+
 import numpy as np
+
 from dtcrit._generated import impact as _gen
-from dtcrit.integrators.stability import check_integrator
 from dtcrit.impact.conventions import DEFAULT_ENERGY_THRESHOLD, DEFAULT_PHASES, _json_number, check_energy_threshold
 from dtcrit.impact.stepped import entry_phases, simulate_impacts
 from dtcrit.impact.sweep import energy_errors, linear_bound, phase_stats, sweep_grid
+from dtcrit.integrators.stability import check_integrator
 
 
 def hertz_study(

@@ -2,11 +2,12 @@
 study, and exit speed against entry phase.
 """
 from __future__ import annotations
+
 import numpy as np
+
 from dtcrit.impact.exact import exact_impact
 from dtcrit.impact.stepped import ImpactRun
 from dtcrit.impact.sweep import linear_bound
-
 
 # ---------------------------------------------------------------------------------------------
 # figures (matplotlib, Agg canvas: no global backend state)

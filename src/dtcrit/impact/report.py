@@ -2,13 +2,37 @@
 linear bound, the undamped closed forms, and its JSON form.
 """
 from __future__ import annotations
+
 import numpy as np
-from dtcrit.integrators.stability import check_integrator
-from dtcrit.impact.conventions import CENTRAL_DIFFERENCE_FAMILY, CONVENTION, DEFAULT_ENERGY_THRESHOLD, DEFAULT_PHASES, RATIO_RTOL, STANDARD_ZETAS, SWEEP_STEP, UNITS, UNIT_STEPS_FROM, _json_number, check_energy_threshold, check_omega_dt, check_phases, check_zeta
+
+from dtcrit.impact.conventions import (
+    CENTRAL_DIFFERENCE_FAMILY,
+    CONVENTION,
+    DEFAULT_ENERGY_THRESHOLD,
+    DEFAULT_PHASES,
+    RATIO_RTOL,
+    STANDARD_ZETAS,
+    SWEEP_STEP,
+    UNIT_STEPS_FROM,
+    UNITS,
+    _json_number,
+    check_energy_threshold,
+    check_omega_dt,
+    check_phases,
+    check_zeta,
+)
 from dtcrit.impact.exact import exact_impact
-from dtcrit.impact.stepped import ImpactRun, STATUS_EXITED, central_difference_bounds, simulate_impacts, undamped_exit_ratios, unit_ratio_steps
-from dtcrit.impact.sweep import PhaseStats, energy_created_ranges, linear_bound, sweep, sweep_grid
 from dtcrit.impact.hertz import hertz_study
+from dtcrit.impact.stepped import (
+    STATUS_EXITED,
+    ImpactRun,
+    central_difference_bounds,
+    simulate_impacts,
+    undamped_exit_ratios,
+    unit_ratio_steps,
+)
+from dtcrit.impact.sweep import PhaseStats, energy_created_ranges, linear_bound, sweep, sweep_grid
+from dtcrit.integrators.stability import check_integrator
 
 
 def _zeta_summary(name: str, zeta: float, grid, stats: list[PhaseStats]) -> dict:

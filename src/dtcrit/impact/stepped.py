@@ -7,15 +7,24 @@ phase ``phi`` in [0, 1) puts the first contact step at ``x_0 = phi tau``; exit i
 ``x < 0`` with a receding velocity.  Undamped central-difference closed forms beside it.
 """
 from __future__ import annotations
+
 import math
 from dataclasses import dataclass
+
 import numpy as np
+
 from dtcrit._generated import impact as _gen
 from dtcrit.errors import InputError
+from dtcrit.impact.conventions import (
+    CENTRAL_DIFFERENCE_FAMILY,
+    DIVERGED,
+    MAX_CUTOFF,
+    check_omega_dt,
+    check_phases,
+    check_zeta,
+)
 from dtcrit.integrators.schemes import INTEGRATORS
 from dtcrit.integrators.stability import check_integrator
-from dtcrit.impact.conventions import CENTRAL_DIFFERENCE_FAMILY, DIVERGED, MAX_CUTOFF, check_omega_dt, check_phases, check_zeta
-
 
 # ---------------------------------------------------------------------------------------------
 # time-stepped impact

@@ -2,13 +2,23 @@
 step, where energy is created, and the linear stability bound beside them.
 """
 from __future__ import annotations
+
 import math
 from dataclasses import asdict, dataclass
-import numpy as np
-from dtcrit.integrators.stability import critical_dt
-from dtcrit.impact.conventions import DEFAULT_PHASES, RATIO_RTOL, SWEEP_STEP, SWEEP_TOP, _json_number, check_omega_dt, check_zeta
-from dtcrit.impact.stepped import ImpactRun, STATUS_DIVERGED, STATUS_EXITED, entry_phases, simulate_impacts
 
+import numpy as np
+
+from dtcrit.impact.conventions import (
+    DEFAULT_PHASES,
+    RATIO_RTOL,
+    SWEEP_STEP,
+    SWEEP_TOP,
+    _json_number,
+    check_omega_dt,
+    check_zeta,
+)
+from dtcrit.impact.stepped import STATUS_DIVERGED, STATUS_EXITED, ImpactRun, entry_phases, simulate_impacts
+from dtcrit.integrators.stability import critical_dt
 
 # ---------------------------------------------------------------------------------------------
 # statistics over phases, sweeps

@@ -3,11 +3,13 @@ table (unknown keys name the nearest valid key).  Each problem is one :class:`dt
 whose key is the path of the value (``contact.kn``, ``particle[2].semi_axes``).
 """
 from __future__ import annotations
+
 import difflib
 import json
 import math
 import re
 from typing import Any
+
 from dtcrit.errors import InputError
 
 

@@ -2,11 +2,12 @@
 the keys a scene file may hold; restitution to damping ratio and the Hertz overlap of an impact.
 """
 from __future__ import annotations
+
 import math
 from dataclasses import dataclass, field
 from typing import Any
-from dtcrit.errors import InputError
 
+from dtcrit.errors import InputError
 
 # ----------------------------------------------------------------------------------------------
 # The vocabulary of a scene

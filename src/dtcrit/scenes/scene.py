@@ -23,16 +23,41 @@ viscous damping ``(k_n, k_s, c_n, c_s)`` (Peng et al. 2020, Eq. (29)):
   damping from ``restitution`` / ``damping_ratio`` as above with the tangent stiffnesses.
 """
 from __future__ import annotations
+
 import math
 import tomllib
 import warnings
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
-from dtcrit.errors import InputError
-from dtcrit.scenes.model import CONTACT_ALL, CONTACT_KEYS, CONTACT_MODELS, ContactLaw, DAMPING_KEYS, PAIRS_CHOICES, PARTICLE_ALL, PARTICLE_COMMON, Particle, SHAPE_KEYS, Scene, TOP_KEYS, damping_ratio_from_restitution
-from dtcrit.scenes.fields import _check_keys, _choice, _number, _required, _short, _string, _type_name, _vector, _vertices
 
+from dtcrit.errors import InputError
+from dtcrit.scenes.fields import (
+    _check_keys,
+    _choice,
+    _number,
+    _required,
+    _short,
+    _string,
+    _type_name,
+    _vector,
+    _vertices,
+)
+from dtcrit.scenes.model import (
+    CONTACT_ALL,
+    CONTACT_KEYS,
+    CONTACT_MODELS,
+    DAMPING_KEYS,
+    PAIRS_CHOICES,
+    PARTICLE_ALL,
+    PARTICLE_COMMON,
+    SHAPE_KEYS,
+    TOP_KEYS,
+    ContactLaw,
+    Particle,
+    Scene,
+    damping_ratio_from_restitution,
+)
 
 # ----------------------------------------------------------------------------------------------
 # Particles

@@ -45,13 +45,38 @@ maximum overlap and of the tangent frequency there.
 ``generated_files()`` emits ``dtcrit/_generated/impact.py``.
 """
 from __future__ import annotations
-from functools import lru_cache
-import sympy as sp
-from dtcrit.symbolic.emit import Kernel, python_module
-from dtcrit.symbolic.integrators import tau
-from dtcrit.symbolic.impact_contact import CENTRAL_DIFFERENCE_FAMILY, N, SERIES_RADIUS, force_release_time_expr, geometric_duration_expr, geometric_exit_ratio_expr, k_h, m, n, phi, psi, u, v0, x, zeta
-from dtcrit.symbolic.impact_stepping import central_difference_angle_expr, central_difference_position_expr, central_difference_ratio_expr, central_difference_unit_steps_expr, forward_euler_map, forward_euler_motion_expr
 
+from functools import lru_cache
+
+import sympy as sp
+
+from dtcrit.symbolic.emit import Kernel, python_module
+from dtcrit.symbolic.impact_contact import (
+    CENTRAL_DIFFERENCE_FAMILY,
+    SERIES_RADIUS,
+    N,
+    force_release_time_expr,
+    geometric_duration_expr,
+    geometric_exit_ratio_expr,
+    k_h,
+    m,
+    n,
+    phi,
+    psi,
+    u,
+    v0,
+    x,
+    zeta,
+)
+from dtcrit.symbolic.impact_stepping import (
+    central_difference_angle_expr,
+    central_difference_position_expr,
+    central_difference_ratio_expr,
+    central_difference_unit_steps_expr,
+    forward_euler_map,
+    forward_euler_motion_expr,
+)
+from dtcrit.symbolic.integrators import tau
 
 PRODUCER = "dtcrit.symbolic.impact"
 TARGET = "impact.py"

@@ -3,9 +3,10 @@ per damping regime, the two separation conventions (geometric, force release), n
 and the closed forms of contact duration and exit/entry speed.
 """
 from __future__ import annotations
-from functools import lru_cache
-import sympy as sp
 
+from functools import lru_cache
+
+import sympy as sp
 
 s = sp.Symbol("s", nonnegative=True)  # omega t
 zeta = sp.Symbol("zeta", positive=True)  # damping ratio (zeta = 0 is the "undamped" regime)

@@ -3,12 +3,14 @@ switched contact, the central-difference invariant and exit ratio, unit-ratio st
 Euler map.
 """
 from __future__ import annotations
-from functools import lru_cache
-import sympy as sp
-from dtcrit.integrators.schemes import INTEGRATORS, LinearForce
-from dtcrit.symbolic.integrators import tau
-from dtcrit.symbolic.impact_contact import N, n, phi, psi, v, x
 
+from functools import lru_cache
+
+import sympy as sp
+
+from dtcrit.integrators.schemes import INTEGRATORS, LinearForce
+from dtcrit.symbolic.impact_contact import N, n, phi, psi, v, x
+from dtcrit.symbolic.integrators import tau
 
 # ---------------------------------------------------------------------------------------------
 # 2. Time-stepped undamped impact: central-difference family and forward Euler

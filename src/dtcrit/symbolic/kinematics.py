@@ -25,10 +25,12 @@ Sign conventions of Figure 1: the force ``F`` and moment ``M`` act on particle 2
 ``wdot_c = wdot_G2 - wdot_G1`` (Eq 20).
 """
 from __future__ import annotations
-from dataclasses import dataclass, field
-import sympy as sp
-from dtcrit.symbolic.quaternions import cross, quaternion_rotation_matrix, skew
 
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from dtcrit.symbolic.quaternions import cross, quaternion_rotation_matrix, skew
 
 # ----------------------------------------------------------------------------------------------
 # Inertia, moments, Euler's equations, frame changes (Eqs 3-6, 9-16)

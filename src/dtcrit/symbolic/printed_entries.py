@@ -2,12 +2,14 @@
 the derived accelerations; the scoring of readings of ambiguous entries against the derivation.
 """
 from __future__ import annotations
+
 from dataclasses import dataclass
 from functools import lru_cache
+
 import sympy as sp
+
 from dtcrit.symbolic.kinematics import RigidParticle, relative_accelerations, to_global
 from dtcrit.symbolic.tip_configurations import P1, P2, candidate_configurations
-
 
 # ----------------------------------------------------------------------------------------------
 # The printed Eqs (22)-(24) and (50)-(52), transcribed from the text-extracted seed

@@ -3,9 +3,10 @@ body-to-world rotation matrix of a unit quaternion, products, conjugates, and th
 rotation convention.
 """
 from __future__ import annotations
-from itertools import permutations, product
-import sympy as sp
 
+from itertools import permutations, product
+
+import sympy as sp
 
 # ----------------------------------------------------------------------------------------------
 # Small vector helpers

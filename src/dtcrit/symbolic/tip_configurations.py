@@ -3,12 +3,23 @@ particles, the candidate configurations, Eq. (26)'s dominance certificates and t
 symbolic accelerations.
 """
 from __future__ import annotations
+
 from dataclasses import dataclass
 from functools import lru_cache
-import sympy as sp
-from dtcrit.symbolic.quaternions import axis_rotations, quaternion_from_matrix
-from dtcrit.symbolic.kinematics import RigidParticle, a_max_printed, coefficient_matrix, euler_angular_acceleration, inertia_tensor, relative_angular_acceleration, rotation_terms, to_global
 
+import sympy as sp
+
+from dtcrit.symbolic.kinematics import (
+    RigidParticle,
+    a_max_printed,
+    coefficient_matrix,
+    euler_angular_acceleration,
+    inertia_tensor,
+    relative_angular_acceleration,
+    rotation_terms,
+    to_global,
+)
+from dtcrit.symbolic.quaternions import axis_rotations, quaternion_from_matrix
 
 # ----------------------------------------------------------------------------------------------
 # Symbols for two particles and the Figure 2 configurations
