@@ -168,6 +168,60 @@ CASES = [
 PARAMS = [pytest.param(case, gov, id=cid) for cid, case, gov, _why in CASES]
 
 
+# ----------------------------------------------------------------------------- dtcrit's prediction
+
+
+def _scene_text(case) -> str:
+    """The dtcrit scene of a case: LAMMPS's coefficients as given (cn = meff gamman, cs = meff gammat)."""
+    kn, kt, gn, gt = _lammps_coefficients(case.law)
+    if isinstance(case, PairCase):
+        s1, s2 = case.sphere1, case.sphere2
+        m1, m2 = _mass(s1.radius, s1.density), _mass(s2.radius, s2.density)
+        meff = m1 * m2 / (m1 + m2)
+        same = s1 == s2
+        parts = [s1] if same else [s1, s2]
+        head = "" if same else 'pairs = "unlike"\n'
+        contact = f"kn = {kn!r}\nks = {kt!r}\ncn = {meff * gn!r}\ncs = {meff * gt!r}\n"
+        walls = ""
+    else:
+        parts, head = [case.sphere], ""
+        m = _mass(case.sphere.radius, case.sphere.density)
+        contact = "kn = 1.0\nks = 1.0\n"  # no particle-particle contact in the run; the wall pair is read below
+        walls = f"[[wall]]\nkn = {kn!r}\nks = {kt!r}\ncn = {m * gn!r}\ncs = {m * gt!r}\n"
+    spheres = "".join(f'[[particle]]\nshape = "sphere"\nradius = {s.radius!r}\ndensity = {s.density!r}\n' for s in parts)
+    return f'integrator = "velocity-verlet"\n{head}{spheres}[contact]\nmodel = "linear"\n{contact}{walls}'
+
+
+def dtcrit_step(case) -> float:
+    """``dtcrit step``'s isolated-contact step of the case (the wall contact's own for a wall case)."""
+    from dtcrit.scenes.scene import parse_scene
+    from dtcrit.scenes.timestep import critical_step
+
+    result = critical_step(parse_scene(_scene_text(case)))
+    if isinstance(case, PairCase):
+        return result.dt_isolated
+    return next(p for p in result.pairs if p.contact.wall is not None).dt_translation
+
+
+GRAN = [pytest.param(case, gov, id=cid) for cid, case, gov, _why in CASES if case.law.style != "granular"]
+
+
+@pytest.mark.parametrize("case, governing", GRAN)
+def test_dtcrit_step_equals_the_analytic_mode_step(case, governing):
+    """`dtcrit step` on the same contact (LAMMPS's own coefficients) gives the analytic step to 1e-9."""
+    assert dtcrit_step(case) == pytest.approx(min(analytic_modes(case).values()), rel=1e-9)
+
+
+@pytest.mark.parametrize("case, governing", GRAN)
+def test_lammps_bounded_below_and_grows_above_dtcrit(lmp, case, governing):
+    """LAMMPS itself, at 0.99x and 1.01x of the step `dtcrit step` prints for that contact."""
+    dt = dtcrit_step(case)
+    below = run_case(case, 0.99 * dt, STEPS, lmp=lmp)
+    above = run_case(case, 1.01 * dt, STEPS, lmp=lmp)
+    assert below.bounded, f"LAMMPS grows at 0.99x dtcrit's {dt:.6e}: growth={below.growth:.3g}"
+    assert not above.bounded and (above.rate > 1.0 or above.halted), f"LAMMPS bounded at 1.01x dtcrit's {dt:.6e}"
+
+
 @pytest.fixture(scope="module")
 def lmp() -> str:
     return require_engine("lammps")
@@ -184,7 +238,10 @@ def test_documented_governing_mode(case, governing):
         assert sorted(modes.values())[1] > 1.1 * dt
 
 
-@pytest.mark.parametrize("case, governing", PARAMS)
+GRANULAR = [pytest.param(case, gov, id=cid) for cid, case, gov, _why in CASES if case.law.style == "granular"]
+
+
+@pytest.mark.parametrize("case, governing", GRANULAR)
 def test_lammps_bounded_below_analytic_step(lmp, case, governing):
     dt = min(analytic_modes(case).values())
     res = run_case(case, 0.99 * dt, STEPS, lmp=lmp)
@@ -193,7 +250,7 @@ def test_lammps_bounded_below_analytic_step(lmp, case, governing):
         f"window={res.window_growth:.3g}, halted={res.halted} at step {res.steps_run}")
 
 
-@pytest.mark.parametrize("case, governing", PARAMS)
+@pytest.mark.parametrize("case, governing", GRANULAR)
 def test_lammps_grows_above_analytic_step(lmp, case, governing):
     dt = min(analytic_modes(case).values())
     res = run_case(case, 1.01 * dt, STEPS, lmp=lmp)

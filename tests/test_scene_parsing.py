@@ -7,6 +7,7 @@ import pytest
 
 from dtcrit.cli import main
 from dtcrit.errors import InputError
+from dtcrit.scenes.laws import resolve_pair
 from dtcrit.scenes.scene import load_scene, parse_scene
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -42,7 +43,7 @@ def test_paper_scene_values():
     # I_xx = m (b^2 + c^2)/5 etc., computed here from the definition's closed form for ellipsoids
     m = p.shape.mass
     assert p.shape.inertia == pytest.approx((m * 5 / 5, m * 10 / 5, m * 13 / 5), rel=1e-13)
-    pc = s.pair_contact(1, 1)
+    pc = resolve_pair(s, 1, 1)
     assert (pc.kn, pc.ks, pc.cn, pc.cs) == (1e10, 1e10, 0.0, 0.0)
     assert pc.m_star == pytest.approx(m / 2, rel=1e-15)
     assert s.omega_max == 1.0 and s.safety == 1.0 and s.identical
@@ -59,7 +60,7 @@ def test_two_tables_make_three_pairs_unless_unlike():
 
 def test_damping_from_restitution_matches_the_reference_formula():
     s = parse_scene(GOOD + "restitution = 0.5\n")
-    pc = s.pair_contact(1, 1)
+    pc = resolve_pair(s, 1, 1)
     zeta = -math.log(0.5) / math.sqrt(math.pi**2 + math.log(0.5) ** 2)
     assert pc.zeta == pytest.approx(zeta, rel=1e-15)
     assert pc.cn == pytest.approx(2 * zeta * math.sqrt(1e10 * pc.m_star), rel=1e-14)
@@ -113,8 +114,8 @@ BAD = [
     (GOOD.split("[contact]")[0], "contact", "missing"),
     ('integrator = "velocity-verlet"\n[contact]\nmodel = "linear"\nkn = 1.0\nks = 1.0\n', "particle", "missing"),
     (GOOD.replace("[[particle]]", "particle = 5\n[unused]"), "unused", "unknown key"),
-    ("particle = 3\n" + GOOD.split("[[particle]]")[0], "particle", "must be one or two"),
-    (GOOD + '[[particle]]\nshape = "sphere"\nradius = 1.0\nmass = 1.0\n' * 2, "particle", "one [[particle]] table"),
+    ("particle = 3\n" + GOOD.split("[[particle]]")[0], "particle", "must be one or more"),
+    ("particle = []\n" + GOOD.split("[[particle]]")[0], "particle", "must be one or more"),
     ("omega_max = 0\n" + GOOD, "omega_max", "positive"),
     ("omega_max = -1.0\n" + GOOD, "omega_max", "positive"),
     ("safety = 1.5\n" + GOOD, "safety", "at most 1"),

@@ -41,7 +41,8 @@ def test_console_script_and_module_give_the_same_output():
 
 
 JSON_KEYS = {"schema", "scene", "title", "integrator", "dt_crit", "safety", "dt_recommended", "governing", "bound",
-             "formula", "translation", "rotation", "estimators", "pairs", "particles", "contact", "warnings"}
+             "formula", "translation", "rotation", "estimators", "pairs", "particles", "contact", "warnings",
+             "holds_for", "dt_isolated", "dt_dense", "coordination_max", "dense", "dense_factors", "walls"}
 
 
 @pytest.mark.parametrize("scene", sorted(p.name for p in (ROOT / "examples").glob("*.toml")))
@@ -56,8 +57,14 @@ def test_json_is_complete_and_stable(scene, capsys):
     for key in ("rayleigh", "rayleigh_10", "rayleigh_20", "rayleigh_40", "hertz_time", "collision_time_50",
                 "diagonal_stiffness", "paper_eq46"):
         assert set(doc["estimators"][key]) >= {"dt", "unsafe"}
-    assert doc["governing"] in ("translation", "rotation")
-    assert doc["dt_crit"] == min(doc["translation"]["dt"], (doc["rotation"] or {}).get("dt") or float("inf"))
+    assert doc["governing"] in ("translation", "rotation", "dense")
+    isolated = min(doc["translation"]["dt"], (doc["rotation"] or {}).get("dt") or float("inf"))
+    assert doc["dt_isolated"] == isolated
+    if doc["coordination_max"] is None:
+        assert doc["dt_crit"] == isolated and doc["dt_dense"] is None and doc["holds_for"] == "an isolated contact"
+        assert set(doc["dense_factors"]) == {"4", "6", "12"}
+    else:
+        assert doc["dt_crit"] == min(doc["dt_dense"], (doc["rotation"] or {}).get("dt") or float("inf")) <= isolated
 
 
 def test_step_does_not_import_sympy():

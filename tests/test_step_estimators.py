@@ -11,8 +11,9 @@ from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
 from dtcrit.scenes import estimators as est
-from dtcrit.scenes.scene import damping_ratio_from_restitution, parse_scene
-from dtcrit.scenes.model import hertz_max_overlap
+from dtcrit.scenes.damping import damping_ratio_from_restitution
+from dtcrit.scenes.laws import hertz_max_overlap, resolve_pair
+from dtcrit.scenes.scene import parse_scene
 
 decades = lambda lo, hi: st.floats(lo, hi).map(lambda e: 10.0**e)  # noqa: E731
 
@@ -76,7 +77,7 @@ poisson_ratio = 0.22
 model = "hertz"
 velocity = 1.0
 """)
-    pc = s.pair_contact(1, 1)
+    pc = resolve_pair(s, 1, 1)
     E, nu = 6.3e10, 0.22
     assert pc.e_star == pytest.approx(E / (2 * (1 - nu**2)), rel=1e-14)
     G = E / (2 * (1 + nu))

@@ -15,6 +15,7 @@ import pytest
 
 from dtcrit.bodies.arm_supremum import arm_term_supremum
 from dtcrit.bodies.contact_search import mirror_contact, random_contacts
+from dtcrit.scenes.laws import resolve_pair
 from dtcrit.scenes.scene import load_scene, parse_scene
 from dtcrit.scenes.timestep import UNSAFE_RTOL, critical_step
 
@@ -67,7 +68,7 @@ def test_step_is_safe_for_sampled_contacts_and_tight_at_the_worst(scene):
     r = critical_step(s)
     assert r.governing == "translation"
     shape = s.particle(1).shape
-    pc = s.pair_contact(1, 1)
+    pc = resolve_pair(s, 1, 1)
     dt = r.dt_crit
     contacts = random_contacts(shape, shape, 300, seed=3)
     Ws = contacts.coefficient_matrices(shape, shape)

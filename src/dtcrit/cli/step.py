@@ -32,32 +32,56 @@ def _s(x) -> str:
     return "n/a" if x is None else f"{x:.6g}"
 
 
+def _contact_line(sc, convention: str | None) -> str:
+    c = sc.contact
+    damping = c.damping + ("" if c.damping in ("none", "coefficients") else f" (damping convention {convention})")
+    if c.model == "linear":
+        return f"  contact: linear, kn = {c.kn:g} N/m, ks = {c.ks:g} N/m, damping: {damping}"
+    if c.model == "yade":
+        return f"  contact: YADE linear law kn = 2 E1 R1 E2 R2/(E1 R1 + E2 R2), ks = {c.ks_ratio:g} kn, damping: {damping}"
+    return (f"  contact: hertz at impact speed {c.velocity:g} m/s (tangent stiffness at the largest overlap), "
+            f"damping: {damping}")
+
+
+def _pair_line(p) -> str:
+    c = p.contact
+    sizes = "" if c.radius_i is None else f" (R = {c.radius_i:g}" + ("" if c.radius_j is None else f", {c.radius_j:g}") + ")"
+    zeta = "" if c.zeta_n is None else f", zeta_n = {c.zeta_n:.4g}" + ("" if c.zeta_s is None else f", zeta_s = {c.zeta_s:.4g}")
+    shear = "free" if p.shear.dt == float("inf") else f"{p.shear.dt:.6g} s"
+    return (f"  {'wall' if c.wall else 'pair'} {p.label}{sizes}: {p.method}, A_n = {p.normal.A:.6g}, A_s = {p.shear.A:.6g} 1/kg, "
+            f"dt_normal = {p.normal.dt:.6g} s, dt_shear = {shear}{zeta}")
+
+
 def format_text(result) -> str:
     sc = result.scene
-    t = result.translation
-    g = t.governing_direction
     lines = [f"scene: {sc.source}" + (f" ({sc.title})" if sc.title else "")]
     for p in sc.particles:
         lines.append(f"  particle {p.number}: {p.describe()}")
-    c = sc.contact
-    if c.model == "linear":
-        lines.append(f"  contact: linear, kn = {c.kn:g} N/m, ks = {c.ks:g} N/m, damping: {c.damping}")
-    else:
-        lines.append(f"  contact: hertz at impact speed {c.velocity:g} m/s (tangent stiffness at the largest overlap), "
-                     f"damping: {c.damping}")
+    lines.append(_contact_line(sc, result.pairs[0].contact.convention))
+    for w in sc.walls:
+        lines.append(f"  wall {w.number} ({w.name}): kn = {w.kn:g} N/m, ks = {w.ks:g} N/m, damping: {w.damping}, "
+                     f"touched by particle {', '.join(map(str, w.particles))}")
     lines.append(f"  integrator: {sc.integrator}" + (f", omega_max = {sc.omega_max:g} rad/s" if sc.omega_max is not None else ""))
     lines.append("")
-    lines.append(f"critical time step  dt_crit = {result.dt_crit:.6g} s")
+    lines.append(f"critical time step  dt_crit = {result.dt_crit:.6g} s   (holds for {result.holds_for})")
     if sc.safety != 1.0:
         lines.append(f"with safety {sc.safety:g}:      dt = {result.dt_recommended:.6g} s")
     lines.append(f"governed by {result.bound}")
     lines.append(f"  formula: {result.formula}")
     lines.append("  (Peng et al. 2020, Eqs. (26), (29)-(30); the exact stability boundary of the integrator)")
-    lines.append(f"translation: A_max (Eq. (26) as printed) = {t.A_max:.6g} 1/kg, A_bound (verified) = {t.A_bound:.6g} 1/kg, "
-                 f"dt = {t.dt_translation:.6g} s (pair {t.label}, {g.direction})")
-    if len(result.pairs) > 1:
-        for p in result.pairs:
-            lines.append(f"  pair {p.label}: A_bound = {p.A_bound:.6g}, dt_normal = {p.normal.dt:.6g} s, dt_shear = {p.shear.dt:.6g} s")
+    t = result.translation
+    a_max = "n/a (wall)" if t.A_max is None else f"{t.A_max:.6g} 1/kg"
+    lines.append(f"translation: A_max (Eq. (26) as printed) = {a_max}, A_bound (verified) = {t.A_bound:.6g} 1/kg, "
+                 f"dt = {t.dt_translation:.6g} s ({t.label}, {t.governing_direction.direction} mode, {t.method})")
+    if result.dense is None:
+        factors = ", ".join(f"z = {z}: x {f:.3g}" if f is not None else f"z = {z}: n/a" for z, f in result.dense_factors.items())
+        lines.append(f"dense packings: this step is for an isolated contact; a packing with at most z contacts per "
+                     f"particle needs at most ({factors}); set coordination_max")
+    else:
+        lines.append(f"isolated contact: dt = {result.dt_isolated:.6g} s ({result.dt_crit / result.dt_isolated:.4g} x of it "
+                     "holds for the packing)")
+    for p in result.pairs:
+        lines.append(_pair_line(p))
     if sc.omega_max is None:
         lines.append("rotation: omega_max not given, the rotation-dominant bound (Eqs. (54), (56)) is not evaluated")
     elif result.rotation is None:
@@ -67,7 +91,7 @@ def format_text(result) -> str:
         lines.append(f"rotation: B_max = {max(result.B_max.values()):.6g}, dt = 2/(omega_max (B_i + B_j)) = {r.dt_rotation:.6g} s "
                      f"(pair {r.label}; Eqs. (54), (56))")
     lines.append("")
-    lines.append("estimates DEM codes use, against dt_crit (UNSAFE: larger than the verified step):")
+    lines.append(f"estimates DEM codes use, against dt_crit for {result.holds_for} (UNSAFE: larger than it):")
     width = max(len(e.estimate.key) for e in result.estimates)
     missing: dict[str, list[str]] = {}
     for e in result.estimates:
@@ -76,7 +100,7 @@ def format_text(result) -> str:
             continue
         ratio = e.estimate.dt / result.dt_crit if result.dt_crit > 0 else float("inf")
         flag = "UNSAFE" if e.unsafe else "ok"
-        lines.append(f"  {e.estimate.key:<{width}}  {e.estimate.dt:12.6g} s  {ratio:7.3g} x dt_crit  {flag:<6}  {e.estimate.label}")
+        lines.append(f"  {e.estimate.key:<{width}}  {e.estimate.dt:12.6g} s  {ratio:8.4g} x dt_crit  {flag:<6}  {e.estimate.label}")
     for note, keys in missing.items():
         lines.append(f"  not applicable: {', '.join(keys)} ({note})")
     return "\n".join(lines)

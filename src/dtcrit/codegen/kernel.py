@@ -308,7 +308,9 @@ def build_kernel(structure: KernelStructure) -> ContactKernel:
         side_syms = [syms]
         if kind == "sphere":
             A_expr = 7 / syms["m"]
-            equations.append("A = 7/m  (two identical spheres, Peng et al. 2020, Section 4.3, from Eq. (26))")
+            A_normal_expr = 2 / syms["m"]
+            equations.append("A_n = 2/m, A_s = 7/m  (two identical spheres, arm R: the normal and the sliding-rolling "
+                             "modes separate exactly; Peng et al. 2020, Section 4.3)")
         else:
             half = _pos("A_half")
             steps.append((half, _side_A_term(kind, syms)))
@@ -323,10 +325,20 @@ def build_kernel(structure: KernelStructure) -> ContactKernel:
             side_syms.append(syms)
             terms.append(_side_A_term(kind, syms))
         A_expr = terms[0] + terms[1]
-        parts = ["(7/2)/m%d" % n if k == "sphere" else "1/m%d + r%d^2/I_xx%d" % (n, n, n) for n, k in enumerate(structure.sides, 1)]
-        equations.append("A = " + " + ".join(parts) + "  (Peng et al. 2020, Eq. (26) with the contact arms)")
-    A = _pos("A")
+        if structure.sides == ("sphere", "sphere"):
+            A_normal_expr = 1 / side_syms[0]["m"] + 1 / side_syms[1]["m"]
+            equations.append("A_n = 1/m1 + 1/m2, A_s = (7/2)(1/m1 + 1/m2)  (two spheres, arm R: the normal and the "
+                             "sliding-rolling modes separate exactly)")
+        else:
+            parts = ["(7/2)/m%d" % n if k == "sphere" else "1/m%d + r%d^2/I_xx%d" % (n, n, n) for n, k in enumerate(structure.sides, 1)]
+            equations.append("A = " + " + ".join(parts) + "  (Peng et al. 2020, Eq. (26) with the contact arms)")
+    spheres = all(k == "sphere" for k in structure.sides)
+    A = _pos("A_s" if spheres else "A")
+    A_n = _pos("A_n") if spheres else A
+    if spheres:
+        steps.append((A_n, A_normal_expr))
     steps.append((A, A_expr))
+    A_dir = {"n": A_n, "s": A}
 
     # translation: per direction
     kn, ks, cn, cs = _pos("kn"), _pos("ks"), _pos("cn"), _pos("cs")
@@ -342,22 +354,23 @@ def build_kernel(structure: KernelStructure) -> ContactKernel:
     tau_text = formula_text(integrator)
     if not structure.damped or not depends_on_damping:
         w, kA = _pos("omega"), _pos("kA")
-        steps.append((kA, sp.Max(kn, ks) * A))
+        steps.append((kA, sp.Max(kn * A_n, ks * A) if spheres else sp.Max(kn, ks) * A))
         steps.append((w, sp.sqrt(kA)))
         dt_t = _pos("dt_translation")
         steps.append((dt_t, tau0 / w))
         dt_names.append(dt_t)
-        equations.append(f"dt_translation = {sp.sstr(tau0)}/omega, omega = sqrt(max(kn, ks) A)  "
+        largest = "max(kn A_n, ks A_s)" if spheres else "max(kn, ks) A"
+        equations.append(f"dt_translation = {sp.sstr(tau0)}/omega, omega = sqrt({largest})  "
                          f"(tau_crit = omega dt = {sp.sstr(tau0)} for this integrator{' at zeta = 0' if depends_on_damping else ', any damping'})")
     else:
         for j in ("n", "s"):
             w, kA = _pos(f"omega_{j}"), _pos(f"kA_{j}")
-            steps.append((kA, stiff[j] * A))  # one rounding, then one square root
+            steps.append((kA, stiff[j] * A_dir[j]))  # one rounding, then one square root
             steps.append((w, sp.sqrt(kA)))
             dt_j = _pos(f"dt_{j}")
             if damping[j] is not None:
                 g = _pos(f"gamma_{j}")
-                steps.append((g, damping[j] * A / 2))
+                steps.append((g, damping[j] * A_dir[j] / 2))
                 e = kernel
                 if e.has(ZETA) or e.has(EPS):
                     z = _pos(f"zeta_{j}")
@@ -371,7 +384,8 @@ def build_kernel(structure: KernelStructure) -> ContactKernel:
             else:
                 steps.append((dt_j, tau0 / w))
             dt_names.append(dt_j)
-        equations.append("dt_j = tau(zeta_j)/omega_j, omega_j = sqrt(k_j A), gamma_j = c_j A/2, zeta_j = gamma_j/omega_j, "
+        a_j = "A_j" if spheres else "A"
+        equations.append(f"dt_j = tau(zeta_j)/omega_j, omega_j = sqrt(k_j {a_j}), gamma_j = c_j {a_j}/2, zeta_j = gamma_j/omega_j, "
                          "j = n, s  (Peng et al. 2020, Eqs. (29)-(30))")
         equations.append(f"tau: {tau_text}")
         if kernel.has(cubic_positive_root):

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 from dtcrit.errors import InputError
 from dtcrit.integrators.stability import check_integrator
+from dtcrit.scenes.laws import resolve_pair
 
 SIDE_KINDS = ("sphere", "general")
 
@@ -48,7 +49,8 @@ class KernelStructure:
             out.append("identical particles: one set of particle arguments")
         spheres = [n for n, s in enumerate(self.sides) if s == "sphere"]
         if spheres and len(spheres) == len(self.sides):
-            out.append("spheres: A = 7/m" if self.identical else "spheres: A = (7/2) (1/m1 + 1/m2)")
+            out.append("spheres: exact modes A_n = 2/m, A_s = 7/m" if self.identical
+                       else "spheres: exact modes A_n = 1/m1 + 1/m2, A_s = (7/2) (1/m1 + 1/m2)")
         elif spheres:
             out.append(f"particle {spheres[0] + 1} is a sphere: its arm term is 5/(2 m{spheres[0] + 1})")
         if not self.damped:
@@ -66,17 +68,27 @@ def general_structure(integrator: str) -> KernelStructure:
 
 
 def structure_of_scene(scene) -> KernelStructure:
-    """The structure a scene needs (``scene`` a :class:`dtcrit.scenes.scene.Scene`)."""
+    """The structure a scene needs (``scene`` a :class:`dtcrit.scenes.model.Scene`).
+
+    One kernel covers every particle-particle contact of the scene: all spheres (any number of
+    types and sizes) give the exact sphere modes with two sides; otherwise at most two particle
+    types.  Wall contacts are not emitted (the kernel is for a contact between two particles).
+    """
     kinds = ["sphere" if p.kind == "sphere" else "general" for p in scene.particles]
     if scene.identical:
         sides = (kinds[0],)
+    elif all(k == "sphere" for k in kinds):
+        sides = ("sphere", "sphere")
+    elif len(kinds) > 2:
+        raise InputError("particle", f"codegen emits the contact of one or two particle types, or of spheres of any "
+                         f"number of types (this scene has {len(kinds)} types, not all spheres)")
     elif scene.pairs == "all" and kinds[0] != kinds[1]:
         # every pairing can occur: a sphere side cannot stand for the other type
         sides = ("general", "general")
     else:
         sides = tuple(kinds)
-    contacts = [scene.pair_contact(i, j) for i, j in scene.pair_numbers()]
+    contacts = [resolve_pair(scene, i, j) for i, j in scene.pair_numbers()]
     damped_n = any(c.cn > 0 for c in contacts)
     damped_s = any(c.cs > 0 for c in contacts)
     rotation = scene.omega_max is not None and any(s == "general" for s in sides)
-    return KernelStructure(scene.integrator, scene.identical, sides, damped_n, damped_s, rotation)
+    return KernelStructure(scene.integrator, len(sides) == 1, sides, damped_n, damped_s, rotation)

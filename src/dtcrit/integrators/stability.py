@@ -23,7 +23,7 @@ from dtcrit._generated import critical_steps as _gen
 from dtcrit.errors import InputError
 from dtcrit.integrators.schemes import INTEGRATORS, NAMES
 
-__all__ = ["CriticalStep", "critical_dt", "critical_dt_array", "paper_eq46", "scaled_rates", "INTEGRATORS"]
+__all__ = ["CriticalStep", "critical_dt", "critical_dt_array", "dashpot_dt", "mode_dt", "paper_eq46", "scaled_rates", "INTEGRATORS"]
 
 
 @dataclass(frozen=True)
@@ -163,6 +163,46 @@ def critical_dt(integrator: str, k, c, A) -> CriticalStep:
             f"(zeta = {zeta:.6g}); the spectral radius exceeds 1 for all dt > 0"
         )
     return CriticalStep(name, dt, reason, _gen.FORMULAS[name], omega, zeta, regime)
+
+
+def dashpot_dt(integrator: str, c, A) -> float:
+    """Exact critical step [s] of a mode with a dashpot and no spring, ``xddot = -c A xdot`` (e.g. the
+    tangential dashpot of LAMMPS ``gran/hooke``): the generated boundary at ``omega = 0``.
+
+    The kernels are homogeneous of degree -1 in ``(omega, gamma)`` with ``gamma = c A/2``, so their
+    value at ``omega = 0`` is the k -> 0 limit: ``2/(c A)`` for the central-difference family and
+    forward Euler, ``1/(c A)`` for ``velocity-verlet-predicted`` and ``paper-eq40``; ``inf`` (stable for
+    every step) for ``leapfrog-centred``.  Checked against the spectral radius of the update rule with
+    ``K = 0`` in ``tests/test_mode_steps.py``.
+    """
+    name = check_integrator(integrator)
+    c = _check_positive("c", c)
+    A = _check_positive("A", A)
+    with np.errstate(all="ignore"):
+        dt = float(np.asarray(_exact_steps(name, np.zeros(1), np.array([c]), np.array([A])))[0])
+    if dt == 0.0 or math.isnan(dt):
+        raise InputError("c", f"the dashpot step of '{name}' lies below the float64 range (c = {c:g}, A = {A:g})")
+    return dt
+
+
+def mode_dt(integrator: str, k, c, A) -> CriticalStep:
+    """Exact critical step of one contact mode ``xddot = -k A x - c A xdot`` with ``k >= 0``.
+
+    ``k > 0``: :func:`critical_dt`.  ``k = 0, c > 0``: :func:`dashpot_dt`.  ``k = c = 0``: the mode
+    is free (no force acts along it) and sets no limit: ``dt = inf``.
+    """
+    name = check_integrator(integrator)
+    k = _check_positive("k", k, allow_zero=True)
+    c = _check_positive("c", c, allow_zero=True)
+    if k > 0:
+        return critical_dt(name, k, c, A)
+    if c == 0:
+        return CriticalStep(name, math.inf, "no spring and no dashpot: a free mode sets no limit", _gen.FORMULAS[name],
+                            0.0, 0.0, "free")
+    dt = dashpot_dt(name, c, A)
+    reason = (f"dashpot without spring (c A = {c * A:.6g} 1/s): the '{name}' update is stable while dt <= {dt:.6g} s"
+              if math.isfinite(dt) else f"dashpot without spring: the '{name}' update is stable for every step")
+    return CriticalStep(name, dt, reason, _gen.FORMULAS[name], 0.0, math.inf, "dashpot only")
 
 
 def paper_eq46(k, c, A) -> float:

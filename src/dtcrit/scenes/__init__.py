@@ -4,7 +4,9 @@ the ``dtcrit step`` API (``timestep``) and the estimates other DEM codes use (``
 Runtime only (NumPy; SciPy on first use for polyhedra): scenes import ``bodies`` and
 ``integrators``, never ``symbolic``.
 """
-from dtcrit.scenes.model import ContactLaw, PairContact, Particle, Scene, damping_ratio_from_restitution, hertz_max_overlap
+from dtcrit.scenes.damping import damping_ratio_from_restitution
+from dtcrit.scenes.laws import hertz_max_overlap
+from dtcrit.scenes.model import ContactLaw, PairContact, Particle, Scene
 from dtcrit.scenes.scene import load_scene, parse_scene, scene_from_dict
 
 __all__ = [

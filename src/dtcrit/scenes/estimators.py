@@ -81,4 +81,5 @@ def diagonal_stiffness_step(mass: float, inertia: float, k_translation: float, k
     terms K_rot_ii [N m/rad]; for one contact K_ii is the contact stiffness and K_rot_ii is the
     stiffness times the squared lever arm.  ``inertia`` is the body's smallest principal moment.
     """
-    return math.sqrt(2.0) * math.sqrt(min(mass / k_translation, inertia / k_rotation))
+    rotation = inertia / k_rotation if k_rotation > 0 else math.inf  # no tangential spring: no rotational stiffness
+    return math.sqrt(2.0) * math.sqrt(min(mass / k_translation, rotation))

@@ -1,18 +1,14 @@
-"""What a scene describes, once parsed: particle types, the contact law, the pairs that can touch and
-the keys a scene file may hold; restitution to damping ratio and the Hertz overlap of an impact.
-"""
+"""What a scene describes, once parsed: particle types, the contact law, walls, the pairs that can touch
+and the keys a scene file may hold."""
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Any
-
-from dtcrit.errors import InputError
 
 # ----------------------------------------------------------------------------------------------
 # The vocabulary of a scene
 # ----------------------------------------------------------------------------------------------
-TOP_KEYS = ("integrator", "omega_max", "safety", "pairs", "title", "particle", "contact")
+TOP_KEYS = ("integrator", "omega_max", "safety", "pairs", "title", "coordination_max", "particle", "contact", "wall")
 PAIRS_CHOICES = ("all", "unlike")
 
 # shape -> the dimension keys it needs (TOML key, expected length or None for a scalar)
@@ -24,42 +20,20 @@ SHAPE_KEYS: dict[str, tuple[tuple[str, int | None], ...]] = {
     "polyhedron": (("vertices", -1),),
 }
 PARTICLE_COMMON = ("shape", "density", "mass", "youngs_modulus", "poisson_ratio", "name")
-PARTICLE_ALL = tuple(dict.fromkeys(PARTICLE_COMMON + tuple(k for v in SHAPE_KEYS.values() for k, _ in v)))
+SPHERE_SIZE_KEYS = ("radius", "radii", "fractions", "lognormal")
+PARTICLE_ALL = tuple(dict.fromkeys(PARTICLE_COMMON + SPHERE_SIZE_KEYS + tuple(k for v in SHAPE_KEYS.values() for k, _ in v)))
 
-CONTACT_MODELS = ("linear", "hertz")
+CONTACT_MODELS = ("linear", "yade", "hertz")
 DAMPING_KEYS = ("cn", "cs", "restitution", "damping_ratio")
 CONTACT_KEYS = {
-    "linear": ("model", "kn", "ks", "cn", "cs", "restitution", "damping_ratio", "youngs_modulus", "poisson_ratio"),
-    "hertz": ("model", "youngs_modulus", "poisson_ratio", "velocity", "restitution", "damping_ratio", "curvature_radius"),
+    "linear": ("model", "kn", "ks", "cn", "cs", "restitution", "damping_ratio", "damping_convention", "youngs_modulus",
+               "poisson_ratio"),
+    "yade": ("model", "youngs_modulus", "ks_ratio", "cn", "cs", "restitution", "damping_ratio", "damping_convention",
+             "poisson_ratio"),
+    "hertz": ("model", "youngs_modulus", "poisson_ratio", "velocity", "restitution", "damping_ratio", "damping_convention",
+              "curvature_radius"),
 }
-CONTACT_ALL = tuple(dict.fromkeys(CONTACT_KEYS["linear"] + CONTACT_KEYS["hertz"]))
-
-
-# ----------------------------------------------------------------------------------------------
-# Contact mechanics used to resolve a contact law (independently checked in tests/test_scene_*.py)
-# ----------------------------------------------------------------------------------------------
-def damping_ratio_from_restitution(e: float) -> float:
-    """Damping ratio of a linear spring-dashpot whose normal restitution coefficient is ``e``.
-
-    zeta = -ln e / sqrt(pi^2 + ln^2 e)  (exit/entry speed ratio exp(-zeta pi / sqrt(1 - zeta^2)) = e);
-    e = 1 gives 0, e -> 0 gives 1.
-    """
-    if e >= 1.0:
-        return 0.0
-    if e <= 0.0:
-        return 1.0
-    L = -math.log(e)
-    return L / math.hypot(math.pi, L)
-
-
-def hertz_max_overlap(m_star: float, e_star: float, r_star: float, velocity: float) -> float:
-    """Largest overlap of a Hertz impact at relative normal speed ``velocity`` [m].
-
-    Energy balance 1/2 m* v^2 = (8/15) E* sqrt(R*) delta^(5/2) for F = (4/3) E* sqrt(R*) delta^(3/2):
-    delta_max = (15 m* v^2 / (16 E* sqrt(R*)))^(2/5), evaluated in logarithms (no overflow).
-    """
-    log_d = 0.4 * (math.log(15.0 / 16.0) + math.log(m_star) + 2.0 * math.log(velocity) - math.log(e_star) - 0.5 * math.log(r_star))
-    return math.exp(log_d)
+CONTACT_ALL = tuple(dict.fromkeys(CONTACT_KEYS["linear"] + CONTACT_KEYS["yade"] + CONTACT_KEYS["hertz"]))
 
 
 @dataclass(frozen=True)
@@ -73,7 +47,14 @@ class PairContact:
     ks: float
     cn: float  # [N s/m]
     cs: float
-    zeta: float | None  # damping ratio used for cn, cs (None when given as coefficients)
+    zeta: float | None  # the damping ratio the user gave (None when given as coefficients)
+    radius_i: float | None = None  # sphere radii of this contact [m] (None for other shapes)
+    radius_j: float | None = None
+    zeta_n: float | None = None  # damping ratio per direction as the damping convention defines it
+    zeta_s: float | None = None  # (None: no tangential spring)
+    convention: str | None = None  # the damping convention (dtcrit.scenes.damping)
+    wall: str | None = None  # the wall's name for a particle-wall contact (then j == 0)
+    wall_number: int | None = None
     e_star: float | None = None  # Hertz: effective modulus [Pa]
     g_star: float | None = None  # Hertz: effective shear modulus [Pa]
     r_star: float | None = None  # Hertz: effective radius [m]
@@ -82,29 +63,48 @@ class PairContact:
 
     @property
     def label(self) -> str:
-        return f"{self.i}-{self.j}"
+        return f"{self.i}-wall{self.wall_number}" if self.wall is not None else f"{self.i}-{self.j}"
 
 
 @dataclass(frozen=True)
 class Particle:
     """One particle type of a scene: its shape object and (optional) elastic constants."""
 
-    number: int  # 1 or 2
+    number: int  # counted from 1
     kind: str
     dimensions: dict  # the dimension entries as given (validated)
-    shape: Any  # a dtcrit.bodies object
+    shape: Any  # a dtcrit.bodies object (for a size distribution: its smallest sphere)
     youngs_modulus: float | None
     poisson_ratio: float | None
     name: str
+    sizes: Any = None  # spheres: a dtcrit.scenes.sizes.SizeDistribution
+    shapes: tuple = ()  # spheres: one Sphere per radius of ``sizes``
 
     @property
     def mass(self) -> float:
         return self.shape.mass
 
+    @property
+    def radii(self) -> tuple[float, ...]:
+        """The sphere radii evaluated (ascending); empty for other shapes."""
+        return self.sizes.radii if self.sizes is not None else ()
+
+    def shape_at(self, radius: float | None):
+        """The body at ``radius`` (spheres of a size distribution), else the one shape."""
+        if radius is None or not self.shapes:
+            return self.shape
+        return self.shapes[self.radii.index(radius)]
+
+    def mass_at(self, radius: float | None) -> float:
+        return self.shape_at(radius).mass
+
     def describe(self) -> str:
         dims = ", ".join(f"{k} = {_fmt_dim(v)}" for k, v in self.dimensions.items() if k != "vertices")
         if "vertices" in self.dimensions:
             dims = f"{len(self.dimensions['vertices'])} vertices"
+        if self.sizes is not None and self.sizes.kind != "single":
+            masses = f"masses {self.shapes[0].mass:.6g}..{self.shapes[-1].mass:.6g} kg"
+            return f"{self.kind} ({self.sizes.describe()}), {masses}"
         return f"{self.kind} ({dims}), mass {self.shape.mass:.6g} kg"
 
 
@@ -118,7 +118,7 @@ def _fmt_dim(v) -> str:
 class ContactLaw:
     """The ``[contact]`` table after validation."""
 
-    model: str  # linear | hertz
+    model: str  # linear | yade | hertz
     kn: float | None = None
     ks: float | None = None
     cn: float | None = None  # given coefficients (linear only)
@@ -127,6 +127,8 @@ class ContactLaw:
     damping_ratio: float | None = None  # given, or derived from restitution
     velocity: float | None = None
     curvature_radius: float | None = None
+    damping_convention: str | None = None  # None: the model's default (dtcrit.scenes.damping)
+    ks_ratio: float | None = None  # yade: ks / kn
 
     @property
     def damping(self) -> str:
@@ -159,56 +161,24 @@ class Scene:
     pairs: str = "all"
     title: str | None = None
     warnings: tuple[tuple[str, str], ...] = field(default_factory=tuple)
+    walls: tuple = ()  # dtcrit.scenes.walls.Wall
+    coordination_max: int | None = None
 
     @property
     def identical(self) -> bool:
-        """One particle type (a single ``[[particle]]`` table)."""
-        return len(self.particles) == 1
+        """One particle type (a single ``[[particle]]`` table) of one size."""
+        return len(self.particles) == 1 and len(self.particles[0].radii) <= 1
 
     def pair_numbers(self) -> tuple[tuple[int, int], ...]:
-        """The pairs of particle types that can touch: (1, 1) for one type; (1, 1), (1, 2), (2, 2)
-        for two (``pairs = "all"``), or only (1, 2) (``pairs = "unlike"``)."""
-        if self.identical:
-            return ((1, 1),)
-        if self.pairs == "unlike":
-            return ((1, 2),)
-        return ((1, 1), (1, 2), (2, 2))
+        """The pairs of particle types that can touch: every ``(i, j)`` with ``i <= j``
+        (``pairs = "all"``), or only ``i < j`` (``pairs = "unlike"``)."""
+        n = len(self.particles)
+        if self.pairs == "unlike" and n > 1:
+            return tuple((i, j) for i in range(1, n + 1) for j in range(i + 1, n + 1))
+        return tuple((i, j) for i in range(1, n + 1) for j in range(i, n + 1))
 
     def particle(self, number: int) -> Particle:
         return self.particles[number - 1]
-
-    def pair_contact(self, i: int, j: int) -> PairContact:
-        """Resolve the contact law for particle types ``i`` and ``j`` (counted from 1)."""
-        p, q = self.particle(i), self.particle(j)
-        m_star = _harmonic(p.mass, q.mass)
-        law = self.contact
-        if law.model == "linear":
-            kn, ks = law.kn, law.ks
-            extra = {}
-        else:
-            e_star = 1.0 / ((1.0 - p.poisson_ratio**2) / p.youngs_modulus + (1.0 - q.poisson_ratio**2) / q.youngs_modulus)
-            g_p = p.youngs_modulus / (2.0 * (1.0 + p.poisson_ratio))
-            g_q = q.youngs_modulus / (2.0 * (1.0 + q.poisson_ratio))
-            g_star = 1.0 / ((2.0 - p.poisson_ratio) / g_p + (2.0 - q.poisson_ratio) / g_q)
-            if law.curvature_radius is not None:
-                r_star = law.curvature_radius
-            else:  # spheres (checked at parse time)
-                r_star = _harmonic(p.dimensions["radius"], q.dimensions["radius"])
-            delta = hertz_max_overlap(m_star, e_star, r_star, law.velocity)
-            root = math.sqrt(r_star * delta)
-            kn = 2.0 * e_star * root
-            ks = 8.0 * g_star * root
-            extra = dict(e_star=e_star, g_star=g_star, r_star=r_star, delta_max=delta, velocity=law.velocity)
-            for key, value in (("contact.youngs_modulus", kn), ("contact.youngs_modulus", ks)):
-                if not (math.isfinite(value) and value > 0.0):
-                    raise InputError(key, f"pair {i}-{j}: the Hertz tangent stiffness {value!r} is outside double precision")
-        if law.damping == "coefficients":
-            cn, cs, zeta = law.cn or 0.0, law.cs or 0.0, None
-        else:
-            zeta = law.damping_ratio or 0.0
-            cn = 2.0 * zeta * math.sqrt(kn) * math.sqrt(m_star)
-            cs = 2.0 * zeta * math.sqrt(ks) * math.sqrt(m_star)
-        return PairContact(i, j, m_star, kn, ks, cn, cs, zeta, **extra)
 
 
 def _harmonic(x: float, y: float) -> float:

@@ -32,6 +32,7 @@ from pathlib import Path
 from typing import Any
 
 from dtcrit.errors import InputError
+from dtcrit.scenes.damping import CONVENTIONS, convention_for, damping_ratio_from_restitution
 from dtcrit.scenes.fields import (
     _check_keys,
     _choice,
@@ -43,6 +44,7 @@ from dtcrit.scenes.fields import (
     _vector,
     _vertices,
 )
+from dtcrit.scenes.laws import resolve_pair
 from dtcrit.scenes.model import (
     CONTACT_ALL,
     CONTACT_KEYS,
@@ -52,12 +54,14 @@ from dtcrit.scenes.model import (
     PARTICLE_ALL,
     PARTICLE_COMMON,
     SHAPE_KEYS,
+    SPHERE_SIZE_KEYS,
     TOP_KEYS,
     ContactLaw,
     Particle,
     Scene,
-    damping_ratio_from_restitution,
 )
+from dtcrit.scenes.sizes import size_distribution
+from dtcrit.scenes.walls import parse_walls
 
 # ----------------------------------------------------------------------------------------------
 # Particles
@@ -76,7 +80,7 @@ def _build_shape(prefix: str, kind: str, dims: dict, density: float | None, mass
     import dtcrit.bodies as shapes  # NumPy only at import
 
     if kind == "sphere":
-        args = (dims["radius"],)
+        args = (next(iter(dims.values())),)
         cls = shapes.Sphere
     elif kind == "ellipsoid":
         args, cls = tuple(dims["semi_axes"]), shapes.Ellipsoid
@@ -114,8 +118,9 @@ def _particle(number: int, table: Any) -> Particle:
     if not isinstance(table, dict):
         raise InputError(f"particle[{number}]", f"must be a table (got {_type_name(table)}: {_short(table)})")
     kind = _choice(f"{prefix}shape", _required(prefix, table, "shape", f"one of {', '.join(SHAPE_KEYS)}"), tuple(SHAPE_KEYS), "shape")
-    needed = SHAPE_KEYS[kind]
-    allowed = tuple(dict.fromkeys(("shape",) + tuple(k for k, _ in needed) + PARTICLE_COMMON[1:]))
+    needed = () if kind == "sphere" else SHAPE_KEYS[kind]
+    sizes = SPHERE_SIZE_KEYS if kind == "sphere" else ()
+    allowed = tuple(dict.fromkeys(("shape",) + sizes + tuple(k for k, _ in needed) + PARTICLE_COMMON[1:]))
     _check_keys(prefix, table, allowed, PARTICLE_ALL, f"by a {kind}")
     dims: dict[str, Any] = {}
     for key, length in needed:
@@ -126,10 +131,13 @@ def _particle(number: int, table: Any) -> Particle:
             dims[key] = _vertices(prefix + key, value)
         else:
             dims[key] = _vector(prefix + key, value, length)
+    distribution = size_distribution(prefix, table) if kind == "sphere" else None
     if "density" in table and "mass" in table:
         raise InputError(f"{prefix}mass", "give density or mass, not both")
     if "density" not in table and "mass" not in table:
         raise InputError(f"{prefix}density", "missing: give density [kg/m^3] or mass [kg]")
+    if "mass" in table and distribution is not None and distribution.kind != "single":
+        raise InputError(f"{prefix}mass", "a size distribution needs the density (each size has its own mass)")
     density = _number(prefix + "density", table["density"]) if "density" in table else None
     mass = _number(prefix + "mass", table["mass"]) if "mass" in table else None
     youngs = _number(prefix + "youngs_modulus", table["youngs_modulus"]) if "youngs_modulus" in table else None
@@ -139,8 +147,13 @@ def _particle(number: int, table: Any) -> Particle:
         else None
     )
     name = _string(prefix + "name", table["name"]) if "name" in table else f"particle {number}"
-    shape = _build_shape(prefix, kind, dims, density, mass)
-    return Particle(number, kind, dims, shape, youngs, poisson, name)
+    if distribution is None:
+        shape = _build_shape(prefix, kind, dims, density, mass)
+        return Particle(number, kind, dims, shape, youngs, poisson, name)
+    key = "radius" if distribution.kind == "single" else ("radii" if distribution.kind == "discrete" else "lognormal")
+    shapes = tuple(_build_shape(prefix, kind, {key: r}, density, mass) for r in distribution.radii)
+    dims = {"radius": distribution.radii[0]} if distribution.kind == "single" else {key: list(distribution.radii)}
+    return Particle(number, kind, dims, shapes[0], youngs, poisson, name, distribution, shapes)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -190,15 +203,34 @@ def _contact(table: Any, particles: list[Particle], out_warnings: list) -> tuple
         values = _per_particle(prefix + "poisson_ratio", table["poisson_ratio"], n, lo=-1.0, hi=0.5, hi_open=True)
         particles = [replace(p, poisson_ratio=v) for p, v in zip(particles, values)]
 
+    convention = None
+    if "damping_convention" in table:
+        convention = _choice(prefix + "damping_convention", table["damping_convention"], tuple(CONVENTIONS), "damping convention")
+    convention_for(convention, model, prefix + "damping_convention")  # refuse a convention the model does not have
+
+    if model == "yade":
+        for p in particles:
+            if p.kind != "sphere":
+                raise InputError(prefix + "model", f"YADE's linear law is defined for spheres (particle[{p.number}] is a {p.kind})")
+            if p.youngs_modulus is None:
+                raise InputError(prefix + "youngs_modulus", f"missing: YADE's law kn = 2 E1 R1 E2 R2/(E1 R1 + E2 R2) needs "
+                                 f"the Young's modulus of every particle (particle[{p.number}] has none)")
+        ratio = _number(prefix + "ks_ratio", _required(prefix, table, "ks_ratio", "ks/kn (YADE's FrictMat.poisson)"), allow_zero=True)
+        law = ContactLaw("yade", cn=cn, cs=cs, restitution=restitution, damping_ratio=zeta, damping_convention=convention,
+                         ks_ratio=ratio)
+        return law, particles
+
     if model == "linear":
         kn = _number(prefix + "kn", _required(prefix, table, "kn", "normal contact stiffness kn [N/m]"))
-        ks = _number(prefix + "ks", _required(prefix, table, "ks", "shear contact stiffness ks [N/m]"))
+        ks = _number(prefix + "ks", _required(prefix, table, "ks", "shear contact stiffness ks [N/m] (0: frictionless)"),
+                     allow_zero=True)
         if ks > kn:
             out_warnings.append(
                 (prefix + "ks", f"warning: ks = {ks:g} exceeds kn = {kn:g} (physically k_n >= k_s; Peng et al. 2020, "
                  "Section 4.2); each direction is still checked with its own stiffness")
             )
-        law = ContactLaw("linear", kn=kn, ks=ks, cn=cn, cs=cs, restitution=restitution, damping_ratio=zeta)
+        law = ContactLaw("linear", kn=kn, ks=ks, cn=cn, cs=cs, restitution=restitution, damping_ratio=zeta,
+                         damping_convention=convention)
         return law, particles
 
     # hertz
@@ -214,7 +246,11 @@ def _contact(table: Any, particles: list[Particle], out_warnings: list) -> tuple
         raise InputError(prefix + "curvature_radius",
                          f"missing: Hertz contact of a {other.kind} needs the effective radius of curvature R* [m] "
                          "of its stiffest contact (it is only implied for spheres)")
-    law = ContactLaw("hertz", restitution=restitution, damping_ratio=zeta, velocity=velocity, curvature_radius=radius)
+    if cn is not None or cs is not None:
+        raise InputError(prefix + ("cn" if cn is not None else "cs"), "a Hertz contact takes restitution or damping_ratio "
+                         "(its dashpots scale with the overlap), not coefficients")
+    law = ContactLaw("hertz", restitution=restitution, damping_ratio=zeta, velocity=velocity, curvature_radius=radius,
+                     damping_convention=convention)
     return law, particles
 
 
@@ -234,26 +270,40 @@ def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
     pairs = _choice("pairs", doc["pairs"], PAIRS_CHOICES, "pairs setting") if "pairs" in doc else "all"
     title = _string("title", doc["title"]) if "title" in doc else None
 
-    tables = _required("", doc, "particle", "one or two [[particle]] tables")
+    coordination = None
+    if "coordination_max" in doc:
+        raw = doc["coordination_max"]
+        if isinstance(raw, bool) or not isinstance(raw, int) or raw < 1:
+            raise InputError("coordination_max", f"must be a positive whole number of contacts per particle (got {_short(raw)})")
+        coordination = raw
+
+    tables = _required("", doc, "particle", "one or more [[particle]] tables")
     if isinstance(tables, dict):
         tables = [tables]
-    if not isinstance(tables, list):
-        raise InputError("particle", f"must be one or two [[particle]] tables (got {_type_name(tables)}: {_short(tables)})")
-    if not 1 <= len(tables) <= 2:
-        raise InputError("particle", f"give one [[particle]] table (identical particles) or two (got {len(tables)})")
+    if not isinstance(tables, list) or not tables:
+        raise InputError("particle", f"must be one or more [[particle]] tables (got {_type_name(tables)}: {_short(tables)})")
     particles = [_particle(n + 1, t) for n, t in enumerate(tables)]
     if "pairs" in doc and len(particles) == 1 and pairs != "all":
-        raise InputError("pairs", "'unlike' needs two [[particle]] tables")
+        raise InputError("pairs", "'unlike' needs two or more [[particle]] tables")
+    walls = parse_walls(doc["wall"], len(particles)) if "wall" in doc else ()
 
     found: list[tuple[str, str]] = []
     law, particles = _contact(_required("", doc, "contact", "the [contact] table"), particles, found)
-    scene = Scene(source, integrator, tuple(particles), law, omega_max, safety, pairs, title, tuple(found))
-    for i, j in scene.pair_numbers():  # resolve every pair now so that bad numbers surface here
-        pc = scene.pair_contact(i, j)
+    if law.model == "hertz" and any(p.sizes is not None and p.sizes.kind == "lognormal" for p in particles):
+        found.append(("contact.model", "warning: Hertz stiffness over a lognormal size range is evaluated at "
+                      f"{len(next(p for p in particles if p.sizes is not None and p.sizes.kind == 'lognormal').radii)} "
+                      "log-spaced radii between the cut-offs (no monotonicity is proved for Hertz)"))
+    scene = Scene(source, integrator, tuple(particles), law, omega_max, safety, pairs, title, tuple(found), walls, coordination)
+    from dtcrit.scenes.laws import resolve_wall
+
+    checks = [(f"pair {i}-{j}", resolve_pair(scene, i, j)) for i, j in scene.pair_numbers()]
+    checks += [(f"wall[{w.number}]", resolve_wall(scene, w, i)) for w in walls for i in w.particles]
+    for where, pc in checks:  # resolve every contact now so that bad numbers surface here
         for name in ("kn", "ks", "cn", "cs"):
             value = getattr(pc, name)
             if not math.isfinite(value):
-                raise InputError(f"contact.{name}", f"pair {i}-{j}: {name} = {value!r} is outside double precision")
+                key = f"wall[{pc.wall_number}].{name}" if pc.wall is not None else f"contact.{name}"
+                raise InputError(key, f"{where}: {name} = {value!r} is outside double precision")
     return scene
 
 

@@ -1,0 +1,90 @@
+"""A rigorous critical step for *any* packing of a scene's particles with at most ``z`` contacts each
+(``coordination_max``): the two-particle step is an upper bound on a packing's step, unsafe in
+dense packings (Otsubo et al. 2017); this is a lower bound that holds for every arrangement.
+
+Proof (the full text is in ``derivations/records/dense_bound.md``).  With ``M`` the mass matrix
+(translations and rotations), the packing's ``K = sum_c K_c`` and ``C = sum_c C_c`` over contacts,
+each element positive semi-definite.
+
+1. *Block bound.*  A contact between particles i and j couples only their blocks, and for a
+   positive semi-definite ``[[P, Q], [Q^T, R]]`` we have ``<= 2 diag(P, R)``; a wall contact touches
+   one block only.  So ``M^-1/2 K M^-1/2 <= blockdiag_i(sum_(c at i) w_c D_ic)`` with ``w_c = 2``
+   (particle-particle) or ``1`` (wall), ``D_ic`` the contact's own block of particle i, and
+   ``lambda_max(D_ic) = lambda_max(K_c^1/2 A_ic K_c^1/2)`` with ``A_ic = 1/m_i + [p]x^T I_i^-1 [p]x``
+   the particle's part of the coefficient matrix.  For a sphere (arm R along n) that is
+   ``max(kn/m_i, ks (1/m_i + R_i^2/I_i))``; for another shape at most ``max(kn, ks)(1/m_i + S_i)``
+   (arm supremum ``S_i``).  With at most ``z`` contacts per particle,
+   ``lambda_K <= max_i z max_c w_c lambda_max(D_ic)``, and likewise ``lambda_C`` with ``cn, cs``.
+2. *Damping.*  For the integrators whose step polynomial is
+   ``M p_M(z) + h C p_C(z) + h^2 K p_K(z)`` with scalar ``p`` (symplectic Euler, leapfrog with
+   lagged or centred damping, velocity Verlet with half-step damping: ``DENSE_SCHEMES``), an
+   eigenvalue ``z`` with eigenvector ``u`` is a root of the one-mode polynomial with
+   ``(m, c, k) = (u*Mu, u*Cu, u*Ku)``.  Their one-mode stable set in ``(c/m, k/m)`` is closed
+   downwards (a smaller spring or dashpot stays stable), and ``(c/m, k/m)`` lies in
+   ``[0, lambda_C] x [0, lambda_K]``, so the one-mode step at ``(lambda_C, lambda_K)`` is stable for
+   the whole packing, damped or not, proportional or not.  Forward Euler, velocity Verlet with a
+   predicted velocity and the paper's Eq. (40) scheme have no such bound here (``dt_dense`` is
+   ``None``, with the reason).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from dtcrit.integrators.stability import mode_dt
+
+DENSE_SCHEMES = ("symplectic-euler", "leapfrog", "leapfrog-centred", "velocity-verlet")
+FACTOR_COORDINATIONS = (4, 6, 12)
+
+
+@dataclass(frozen=True)
+class DenseStep:
+    coordination: int
+    dt: float | None
+    lambda_k: float  # bound on lambda_max(M^-1/2 K M^-1/2) [1/s^2]
+    lambda_c: float  # bound on lambda_max(M^-1/2 C M^-1/2) [1/s]
+    particle: str  # where the bound is attained: "particle i (radius r) against j"
+    reason: str
+
+
+def _block(kind: str, shape, k_n: float, k_s: float) -> float:
+    """lambda_max(K_c^1/2 A_ic K_c^1/2) of one contact's block of a particle (step 1 above)."""
+    if kind == "sphere":
+        return max(k_n / shape.mass, k_s * (1.0 / shape.mass + shape.max_arm**2 / shape.inertia[0]))
+    from dtcrit.bodies.arm_supremum import arm_term_supremum
+
+    return max(k_n, k_s) * (1.0 / shape.mass + arm_term_supremum(shape).upper)
+
+
+def block_terms(scene, steps) -> list[tuple[float, float, str]]:
+    """``(w lambda_K, w lambda_C, where)`` of every contact a particle can have, from the pair steps."""
+    out = []
+    for s in steps:
+        pc = s.contact
+        sides = [(pc.i, pc.radius_i, pc.j, pc.radius_j)]
+        if pc.wall is None and (pc.i, pc.radius_i) != (pc.j, pc.radius_j):
+            sides.append((pc.j, pc.radius_j, pc.i, pc.radius_i))
+        for i, r, j, r_other in sides:
+            part = scene.particle(i)
+            shape = part.shape_at(r)
+            w = 1.0 if pc.wall is not None else 2.0
+            size = "" if r is None else f" (radius {r:g})"
+            other = pc.wall if pc.wall is not None else f"particle {j}" + ("" if r_other is None else f" (radius {r_other:g})")
+            out.append((w * _block(part.kind, shape, pc.kn, pc.ks), w * _block(part.kind, shape, pc.cn, pc.cs),
+                        f"particle {i}{size} against {other}"))
+    return out
+
+
+def dense_step(integrator: str, terms: list[tuple[float, float, str]], z: int) -> DenseStep:
+    """The step that holds for every packing with at most ``z`` contacts per particle."""
+    lam_k = z * max(t[0] for t in terms)
+    lam_c = z * max(t[1] for t in terms)
+    where = max(terms, key=lambda t: t[0])[2]
+    if integrator not in DENSE_SCHEMES:
+        return DenseStep(z, None, lam_k, lam_c, where,
+                         f"no packing bound for '{integrator}': its step polynomial is not M p(z) + h C q(z) + h^2 K r(z)")
+    r = mode_dt(integrator, lam_k, lam_c, 1.0)
+    dt = r.dt if math.isfinite(r.dt) else None
+    reason = (f"any packing with at most {z} contacts per particle: lambda_max(M^-1 K) <= {lam_k:.6g} 1/s^2, "
+              f"lambda_max(M^-1 C) <= {lam_c:.6g} 1/s (block bound, worst at {where})")
+    return DenseStep(z, dt, lam_k, lam_c, where, reason)

@@ -1,0 +1,97 @@
+"""Contact laws resolved per contact: a pair of particle types at given radii, or a particle and a wall,
+to linear(ised) stiffness ``(k_n, k_s)`` and dashpots ``(c_n, c_s)`` (Peng et al. 2020, Eq. (29)).
+
+* ``linear``: ``kn``, ``ks`` as given.
+* ``yade``: YADE's default linear law (Ip2_FrictMat_FrictMat_FrictPhys):
+  ``kn = 2 E1 R1 E2 R2 / (E1 R1 + E2 R2)`` (``2 E R1 R2/(R1 + R2)`` for one material) and
+  ``ks = ks_ratio * kn`` (YADE's ``FrictMat.poisson`` is this ratio, not Poisson's ratio).
+* ``hertz`` (Hertz normal, Mindlin no-slip tangential): the tangent stiffnesses at the largest
+  overlap of an impact at ``velocity``: ``k_n = 2 E* sqrt(R* delta_max)``,
+  ``k_s = 8 G* sqrt(R* delta_max)``, ``delta_max = (15 m* v^2 / (16 E* sqrt(R*)))^(2/5)``.
+
+Damping given as ``restitution`` or ``damping_ratio`` is mapped by the scene's damping convention
+(:mod:`dtcrit.scenes.damping`), with the reduced mass ``m* = m1 m2/(m1 + m2)`` between particles and
+the convention's wall mass against a wall.
+"""
+from __future__ import annotations
+
+import math
+
+from dtcrit.errors import InputError
+from dtcrit.scenes.damping import convention_for
+from dtcrit.scenes.model import PairContact, _harmonic
+
+
+def hertz_max_overlap(m_star: float, e_star: float, r_star: float, velocity: float) -> float:
+    """Largest overlap of a Hertz impact at relative normal speed ``velocity`` [m].
+
+    Energy balance 1/2 m* v^2 = (8/15) E* sqrt(R*) delta^(5/2) for F = (4/3) E* sqrt(R*) delta^(3/2):
+    delta_max = (15 m* v^2 / (16 E* sqrt(R*)))^(2/5), evaluated in logarithms (no overflow).
+    """
+    log_d = 0.4 * (math.log(15.0 / 16.0) + math.log(m_star) + 2.0 * math.log(velocity) - math.log(e_star) - 0.5 * math.log(r_star))
+    return math.exp(log_d)
+
+
+def _hertz(scene, p, q, m_star: float, r1: float | None, r2: float | None, label: str):
+    law = scene.contact
+    e_star = 1.0 / ((1.0 - p.poisson_ratio**2) / p.youngs_modulus + (1.0 - q.poisson_ratio**2) / q.youngs_modulus)
+    g_p = p.youngs_modulus / (2.0 * (1.0 + p.poisson_ratio))
+    g_q = q.youngs_modulus / (2.0 * (1.0 + q.poisson_ratio))
+    g_star = 1.0 / ((2.0 - p.poisson_ratio) / g_p + (2.0 - q.poisson_ratio) / g_q)
+    r_star = law.curvature_radius if law.curvature_radius is not None else _harmonic(r1, r2)
+    delta = hertz_max_overlap(m_star, e_star, r_star, law.velocity)
+    root = math.sqrt(r_star * delta)
+    kn, ks = 2.0 * e_star * root, 8.0 * g_star * root
+    for value in (kn, ks):
+        if not (math.isfinite(value) and value > 0.0):
+            raise InputError("contact.youngs_modulus", f"pair {label}: the Hertz tangent stiffness {value!r} is outside double precision")
+    return kn, ks, dict(e_star=e_star, g_star=g_star, r_star=r_star, delta_max=delta, velocity=law.velocity)
+
+
+def _dashpots(conv, damping: str, cn, cs, zeta, kn: float, ks: float, m_eff: float) -> tuple[float, float, float | None, float | None]:
+    """(c_n, c_s, zeta_n, zeta_s) with the zetas as the convention defines them."""
+    if damping in ("coefficients", "none"):
+        cn, cs = cn or 0.0, cs or 0.0
+    else:
+        cn, cs = conv.dashpots(zeta or 0.0, kn, ks, m_eff)
+    zn, zs = conv.ratios(cn, cs, kn, ks, m_eff)
+    return cn, cs, zn, zs
+
+
+def resolve_pair(scene, i: int, j: int, r1: float | None = None, r2: float | None = None) -> PairContact:
+    """The contact of particle types ``i`` and ``j`` (counted from 1) at radii ``r1``, ``r2`` (spheres;
+    default: each type's smallest radius)."""
+    p, q = scene.particle(i), scene.particle(j)
+    r1 = p.radii[0] if r1 is None and p.radii else r1
+    r2 = q.radii[0] if r2 is None and q.radii else r2
+    m1 = p.mass_at(r1)
+    m2 = q.mass_at(r2)
+    m_star = _harmonic(m1, m2)
+    law = scene.contact
+    label = f"{i}-{j}"
+    extra: dict = {}
+    if law.model == "linear":
+        kn, ks = law.kn, law.ks
+    elif law.model == "yade":
+        e1r1, e2r2 = p.youngs_modulus * r1, q.youngs_modulus * r2
+        kn = 2.0 * _harmonic(e1r1, e2r2)
+        ks = law.ks_ratio * kn
+    else:
+        kn, ks, extra = _hertz(scene, p, q, m_star, r1, r2, label)
+    conv = convention_for(law.damping_convention, law.model)
+    cn, cs, zn, zs = _dashpots(conv, law.damping, law.cn, law.cs, law.damping_ratio, kn, ks, m_star)
+    return PairContact(i, j, m_star, kn, ks, cn, cs, law.damping_ratio if law.damping not in ("coefficients", "none") else None,
+                       radius_i=r1, radius_j=r2, zeta_n=zn, zeta_s=zs, convention=conv.name, **extra)
+
+
+def resolve_wall(scene, wall, i: int, r: float | None = None) -> PairContact:
+    """The contact of particle type ``i`` (radius ``r`` for spheres) with a fixed ``wall``."""
+    p = scene.particle(i)
+    r = p.radii[0] if r is None and p.radii else r
+    m = p.mass_at(r)
+    conv = convention_for(scene.contact.damping_convention if scene.contact.model != "hertz" else "lammps",
+                          "linear", key="contact.damping_convention")
+    m_eff = conv.wall_mass * m
+    cn, cs, zn, zs = _dashpots(conv, wall.damping, wall.cn, wall.cs, wall.damping_ratio, wall.kn, wall.ks, m_eff)
+    return PairContact(i, 0, m_eff, wall.kn, wall.ks, cn, cs, wall.damping_ratio if wall.damping not in ("coefficients", "none") else None,
+                       radius_i=r, zeta_n=zn, zeta_s=zs, convention=conv.name, wall=wall.name, wall_number=wall.number)

@@ -1,0 +1,73 @@
+"""The estimates DEM codes use, computed for a scene beside its verified step (``dtcrit step``):
+Rayleigh time and its fractions, Hertz contact time, damped collision time / 50, the per-body
+diagonal-stiffness estimate of YADE/PFC and the paper's Eq. (46) (:mod:`dtcrit.scenes.estimators`).
+"""
+from __future__ import annotations
+
+from dtcrit.integrators.stability import paper_eq46
+from dtcrit.scenes import estimators as est
+
+
+def _min_or_none(values):
+    vals = [v for v in values if v is not None]
+    return min(vals) if vals else None
+
+
+def scene_estimates(scene, steps) -> list[est.Estimate]:
+    """The estimates DEM codes use, for this scene (smallest over particle types, sizes and pairs;
+    ``steps`` are the pair steps of :mod:`dtcrit.scenes.pair_modes`, wall contacts included)."""
+    pairs = [s for s in steps if s.contact.wall is None]
+    out = []
+    parts = scene.particles
+    elastic = all(p.youngs_modulus is not None and p.poisson_ratio is not None for p in parts)
+    if elastic:
+        t_r = min(est.rayleigh_time(p.shape.equivalent_radius, p.shape.density, p.youngs_modulus, p.poisson_ratio) for p in parts)
+        note = "R = equal-volume radius; smallest over particle types"
+        out.append(est.Estimate("rayleigh", "Rayleigh time T_R = pi R sqrt(rho/G)/(0.1631 nu + 0.8766)", t_r, note))
+        for f in est.RAYLEIGH_FRACTIONS:
+            out.append(est.Estimate(f"rayleigh_{round(f * 100)}", f"{round(f * 100)} % of T_R (EDEM: 20 % at coordination >= 4, up to 40 % below)", f * t_r, note))
+    else:
+        why = "needs youngs_modulus and poisson_ratio for every particle type"
+        out.append(est.Estimate("rayleigh", "Rayleigh time T_R = pi R sqrt(rho/G)/(0.1631 nu + 0.8766)", None, why))
+        for f in est.RAYLEIGH_FRACTIONS:
+            out.append(est.Estimate(f"rayleigh_{round(f * 100)}", f"{round(f * 100)} % of T_R (EDEM: 20 % at coordination >= 4, up to 40 % below)", None, why))
+
+    hertz = [p.contact for p in pairs if p.contact.delta_max is not None]
+    if hertz:
+        t_h = min(est.hertz_contact_time(c.m_star, c.r_star, c.e_star, c.velocity) for c in hertz)
+        out.append(est.Estimate("hertz_time", "Hertz contact time 2.87 (m*^2/(R* E*^2 v))^(1/5) (LIGGGHTS, EDEM)", t_h,
+                                "m* = m1 m2/(m1 + m2); impact speed v of the scene"))
+    else:
+        out.append(est.Estimate("hertz_time", "Hertz contact time 2.87 (m*^2/(R* E*^2 v))^(1/5) (LIGGGHTS, EDEM)", None,
+                                "needs a Hertz contact (youngs_modulus, poisson_ratio, velocity)"))
+
+    t_c = [est.damped_collision_time(p.contact.kn, p.contact.cn, p.contact.m_star) for p in pairs]
+    t_c50 = _min_or_none(t_c)
+    out.append(est.Estimate(
+        "collision_time_50",
+        "damped collision time / 50, t_c = pi/sqrt(kn/m* - (cn/(2 m*))^2), m* = m1 m2/(m1 + m2) (MercuryDPM, MFiX)",
+        None if t_c50 is None else t_c50 / est.COLLISION_TIME_DIVISOR,
+        "normal direction" if t_c50 is not None else "not underdamped: no collision time",
+    ))
+
+    diag = []
+    for p in steps:
+        k_t = max(p.contact.kn, p.contact.ks)
+        sides = [(p.contact.i, p.contact.radius_i)] + ([] if p.contact.wall else [(p.contact.j, p.contact.radius_j)])
+        for n, radius in sides:
+            part = scene.particle(n)
+            s = part.shape_at(radius)
+            k_rot = (p.contact.ks if part.kind == "sphere" else k_t) * s.max_arm**2
+            diag.append(est.diagonal_stiffness_step(s.mass, min(s.inertia), k_t, k_rot))
+    out.append(est.Estimate(
+        "diagonal_stiffness",
+        "per-body diagonal stiffness sqrt(2) sqrt(min(m/K_ii, I/K_rot_ii)) (YADE GlobalStiffnessTimeStepper, PFC; before their safety factor)",
+        min(diag),
+        "one contact per body: K_ii = max(kn, ks), K_rot_ii = k r_max^2 (ks for a sphere, whose normal force has no arm)",
+    ))
+
+    eq46 = min(min([paper_eq46(p.contact.kn, p.contact.cn, p.A_max)]
+                   + ([paper_eq46(p.contact.ks, p.contact.cs, p.A_max)] if p.contact.ks > 0 else [])) for p in pairs)
+    out.append(est.Estimate("paper_eq46", "Peng et al. 2020, Eq. (46) with Eq. (26) A_max (as printed)", eq46,
+                            "smallest over pairs and directions"))
+    return out

@@ -1,0 +1,151 @@
+"""The documented JSON form of a ``dtcrit step`` result (schema ``dtcrit-step/1``; README.md, section
+"JSON").  New keys may be added; existing keys keep their meaning."""
+from __future__ import annotations
+
+JSON_SCHEMA = "dtcrit-step/1"
+TRANSLATION_EQUATIONS = ("Peng et al. 2020, Eqs. (26), (29)-(30); exact integrator boundary (amplification matrix, "
+                         "Jury conditions)")
+ROTATION_EQUATIONS = "Peng et al. 2020, Eqs. (54), (56)-(57)"
+
+
+def _direction_json(d) -> dict:
+    return {"k": d.k, "c": d.c, "A": d.A, "zeta": d.zeta, "zeta_mode": d.zeta_mode, "regime": d.regime, "dt": d.dt}
+
+
+def pair_json(p) -> dict:
+    c = p.contact
+    out = {
+        "pair": p.label,
+        "wall": c.wall,
+        "radius_i": c.radius_i,
+        "radius_j": c.radius_j,
+        "m_star": c.m_star,
+        "kn": c.kn,
+        "ks": c.ks,
+        "cn": c.cn,
+        "cs": c.cs,
+        "zeta_normal": c.zeta_n,
+        "zeta_shear": c.zeta_s,
+        "method": p.method,
+        "A_max": p.A_max,
+        "A_bound": p.A_bound,
+        "A_normal": p.normal.A,
+        "A_shear": p.shear.A,
+        "dt_normal": p.normal.dt,
+        "dt_shear": _finite(p.shear.dt),
+        "dt_translation": p.dt_translation,
+        "normal": _direction_json(p.normal),
+        "shear": {**_direction_json(p.shear), "dt": _finite(p.shear.dt)},
+        "B_sum": p.B_sum,
+        "dt_rotation": p.dt_rotation,
+    }
+    if c.delta_max is not None:
+        out.update(e_star=c.e_star, g_star=c.g_star, r_star=c.r_star, delta_max=c.delta_max, velocity=c.velocity)
+    return out
+
+
+def _finite(x):
+    return x if x is None or x != float("inf") else None
+
+
+def _particle_json(p, b_max: float) -> dict:
+    s = p.shape
+    out = {
+        "number": p.number,
+        "name": p.name,
+        "shape": p.kind,
+        "mass": s.mass,
+        "density": s.density,
+        "inertia": list(s.inertia),
+        "half_lengths": list(s.half_lengths),
+        "max_arm": s.max_arm,
+        "equivalent_radius": s.equivalent_radius,
+        "B_max": b_max,
+    }
+    if p.sizes is not None and p.sizes.kind != "single":
+        out["size_distribution"] = {"kind": p.sizes.kind, "radii": list(p.sizes.radii),
+                                    "fractions": list(p.sizes.fractions) or None, "parameters": p.sizes.parameters}
+    return out
+
+
+def _contact_json(sc, convention: str | None) -> dict:
+    law = sc.contact
+    out = {"model": law.model, "damping": law.damping, "damping_ratio": law.damping_ratio, "restitution": law.restitution,
+           "damping_convention": convention}
+    if law.model == "linear":
+        out.update(kn=law.kn, ks=law.ks, cn=law.cn or 0.0, cs=law.cs or 0.0)
+    elif law.model == "yade":
+        out.update(ks_ratio=law.ks_ratio, cn=law.cn or 0.0, cs=law.cs or 0.0)
+    else:
+        out.update(velocity=law.velocity, curvature_radius=law.curvature_radius)
+    return out
+
+
+def _dense_json(d) -> dict | None:
+    if d is None:
+        return None
+    return {"coordination_max": d.coordination, "dt": d.dt, "lambda_k": d.lambda_k, "lambda_c": d.lambda_c,
+            "attained_at": d.particle, "reason": d.reason}
+
+
+def step_json(result) -> dict:
+    sc = result.scene
+    t = result.translation
+    g = t.governing_direction
+    rot = None
+    if sc.omega_max is not None:
+        r = result.rotation
+        rot = {
+            "omega_max": sc.omega_max,
+            "B_max": max(result.B_max.values()),
+            "B_sum": None if r is None else r.B_sum,
+            "pair": None if r is None else r.label,
+            "dt": None if r is None else r.dt_rotation,
+            "equations": ROTATION_EQUATIONS,
+        }
+    return {
+        "schema": JSON_SCHEMA,
+        "scene": sc.source,
+        "title": sc.title,
+        "integrator": sc.integrator,
+        "dt_crit": result.dt_crit,
+        "holds_for": result.holds_for,
+        "dt_isolated": result.dt_isolated,
+        "dt_dense": result.dt_dense,
+        "coordination_max": sc.coordination_max,
+        "dense": _dense_json(result.dense),
+        "dense_factors": {str(z): f for z, f in result.dense_factors.items()} or None,
+        "safety": sc.safety,
+        "dt_recommended": result.dt_recommended,
+        "governing": result.governing,
+        "bound": result.bound,
+        "formula": result.formula,
+        "translation": {
+            "A_max": t.A_max,
+            "A_bound": t.A_bound,
+            "A": g.A,
+            "method": t.method,
+            "dt": t.dt_translation,
+            "pair": t.label,
+            "direction": g.direction,
+            "k": g.k,
+            "c": g.c,
+            "zeta": g.zeta,
+            "zeta_mode": g.zeta_mode,
+            "regime": g.regime,
+            "reason": g.reason,
+            "equations": TRANSLATION_EQUATIONS,
+        },
+        "rotation": rot,
+        "estimators": {
+            e.estimate.key: {"dt": e.estimate.dt, "unsafe": e.unsafe, "label": e.estimate.label, "note": e.estimate.note}
+            for e in result.estimates
+        },
+        "pairs": [pair_json(p) for p in result.pairs],
+        "particles": [_particle_json(p, result.B_max[p.number]) for p in sc.particles],
+        "contact": _contact_json(sc, result.pairs[0].contact.convention),
+        "walls": [{"number": w.number, "name": w.name, "kn": w.kn, "ks": w.ks, "damping": w.damping,
+                   "damping_ratio": w.damping_ratio, "restitution": w.restitution, "particles": list(w.particles)}
+                  for w in sc.walls],
+        "warnings": [f"{k}: {m}" for k, m in sc.warnings],
+    }

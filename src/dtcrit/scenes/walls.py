@@ -1,0 +1,81 @@
+"""Fixed walls of a scene (``[[wall]]`` tables): planes that particles touch, such as LAMMPS
+``fix wall/gran`` or YADE's facets and boxes.
+
+A wall is rigid and immobile, so a particle of mass ``m`` against it has the normal mode
+``A = 1/m`` and, for a sphere, the tangential mode ``A = 1/m + R^2/I`` (the contact point's slip
+carries the spin with the full radius as arm, as LAMMPS ``fix wall/gran`` applies it).  Keys:
+``kn``, ``ks`` [N/m] (required), damping like ``[contact]`` (``cn``/``cs``, ``restitution`` or
+``damping_ratio``, mapped with the scene's damping convention and that convention's wall mass),
+``particles`` (the particle tables that touch it, counted from 1; default all) and ``name``.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from dtcrit.errors import InputError
+from dtcrit.scenes.damping import damping_ratio_from_restitution
+from dtcrit.scenes.fields import _check_keys, _number, _required, _short, _string, _type_name
+
+WALL_KEYS = ("name", "model", "kn", "ks", "cn", "cs", "restitution", "damping_ratio", "particles")
+
+
+@dataclass(frozen=True)
+class Wall:
+    number: int  # counted from 1
+    name: str
+    kn: float
+    ks: float
+    cn: float | None
+    cs: float | None
+    restitution: float | None
+    damping_ratio: float | None
+    particles: tuple[int, ...]  # particle numbers that touch it
+
+    @property
+    def damping(self) -> str:
+        if self.restitution is not None:
+            return "restitution"
+        if self.damping_ratio is not None:
+            return "damping_ratio"
+        return "coefficients" if (self.cn or 0.0) > 0 or (self.cs or 0.0) > 0 else "none"
+
+
+def parse_walls(value: Any, n_particles: int) -> tuple[Wall, ...]:
+    """Validate the ``[[wall]]`` tables."""
+    tables = [value] if isinstance(value, dict) else value
+    if not isinstance(tables, list):
+        raise InputError("wall", f"must be [[wall]] tables (got {_type_name(value)}: {_short(value)})")
+    return tuple(_wall(k + 1, t, n_particles) for k, t in enumerate(tables))
+
+
+def _wall(number: int, table: Any, n_particles: int) -> Wall:
+    prefix = f"wall[{number}]."
+    if not isinstance(table, dict):
+        raise InputError(f"wall[{number}]", f"must be a table (got {_type_name(table)}: {_short(table)})")
+    _check_keys(prefix, table, WALL_KEYS, WALL_KEYS, "in a wall")
+    if table.get("model", "linear") != "linear":
+        raise InputError(prefix + "model", f"walls are linear spring-dashpots (got {table['model']!r})")
+    kn = _number(prefix + "kn", _required(prefix, table, "kn", "the wall's normal stiffness kn [N/m]"))
+    ks = _number(prefix + "ks", _required(prefix, table, "ks", "the wall's tangential stiffness ks [N/m] (0: frictionless)"),
+                 allow_zero=True)
+    ways = {"cn/cs" if k in ("cn", "cs") else k for k in ("cn", "cs", "restitution", "damping_ratio") if k in table}
+    if len(ways) > 1:
+        raise InputError(prefix + sorted(ways)[-1].split("/")[0], f"conflicting damping specifications: {' and '.join(sorted(ways))}")
+    cn = _number(prefix + "cn", table["cn"], allow_zero=True) if "cn" in table else None
+    cs = _number(prefix + "cs", table["cs"], allow_zero=True) if "cs" in table else None
+    e = _number(prefix + "restitution", table["restitution"], hi=1.0) if "restitution" in table else None
+    zeta = _number(prefix + "damping_ratio", table["damping_ratio"], allow_zero=True) if "damping_ratio" in table else None
+    if e is not None:
+        zeta = damping_ratio_from_restitution(e)
+    touching = tuple(range(1, n_particles + 1))
+    if "particles" in table:
+        raw = table["particles"]
+        if not isinstance(raw, list) or not raw or any(isinstance(x, bool) or not isinstance(x, int) for x in raw):
+            raise InputError(prefix + "particles", f"must be an array of particle table numbers (got {_short(raw)})")
+        bad = [x for x in raw if not 1 <= x <= n_particles]
+        if bad:
+            raise InputError(prefix + "particles", f"no particle table {bad[0]} (the scene has {n_particles}, counted from 1)")
+        touching = tuple(sorted(set(raw)))
+    name = _string(prefix + "name", table["name"]) if "name" in table else f"wall {number}"
+    return Wall(number, name, kn, ks, cn, cs, e, zeta, touching)
