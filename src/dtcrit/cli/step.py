@@ -48,7 +48,7 @@ def _pair_line(p) -> str:
     sizes = "" if c.radius_i is None else f" (R = {c.radius_i:g}" + ("" if c.radius_j is None else f", {c.radius_j:g}") + ")"
     zeta = "" if c.zeta_n is None else f", zeta_n = {c.zeta_n:.4g}" + ("" if c.zeta_s is None else f", zeta_s = {c.zeta_s:.4g}")
     shear = "free" if p.shear.dt == float("inf") else f"{p.shear.dt:.6g} s"
-    return (f"  {'wall' if c.wall else 'pair'} {p.label}{sizes}: {p.method}, A_n = {p.normal.A:.6g}, A_s = {p.shear.A:.6g} 1/kg, "
+    return (f"  pair {p.label}{sizes}: {p.method}, A_n = {p.normal.A:.6g}, A_s = {p.shear.A:.6g} 1/kg, "
             f"dt_normal = {p.normal.dt:.6g} s, dt_shear = {shear}{zeta}")
 
 

@@ -15,16 +15,18 @@ each element positive semi-definite.
    ``max(kn/m_i, ks (1/m_i + R_i^2/I_i))``; for another shape at most ``max(kn, ks)(1/m_i + S_i)``
    (arm supremum ``S_i``).  With at most ``z`` contacts per particle,
    ``lambda_K <= max_i z max_c w_c lambda_max(D_ic)``, and likewise ``lambda_C`` with ``cn, cs``.
-2. *Damping.*  For the integrators whose step polynomial is
-   ``M p_M(z) + h C p_C(z) + h^2 K p_K(z)`` with scalar ``p`` (symplectic Euler, leapfrog with
-   lagged or centred damping, velocity Verlet with half-step damping: ``DENSE_SCHEMES``), an
-   eigenvalue ``z`` with eigenvector ``u`` is a root of the one-mode polynomial with
-   ``(m, c, k) = (u*Mu, u*Cu, u*Ku)``.  Their one-mode stable set in ``(c/m, k/m)`` is closed
-   downwards (a smaller spring or dashpot stays stable), and ``(c/m, k/m)`` lies in
-   ``[0, lambda_C] x [0, lambda_K]``, so the one-mode step at ``(lambda_C, lambda_K)`` is stable for
-   the whole packing, damped or not, proportional or not.  Forward Euler, velocity Verlet with a
-   predicted velocity and the paper's Eq. (40) scheme have no such bound here (``dt_dense`` is
-   ``None``, with the reason).
+2. *Damping.*  Each scheme evaluates the force once per step, at fixed scalar combinations of its
+   stored state, so eliminating the state from an eigenvector of the whole packing's update gives
+   ``P(z) u = 0`` with ``P(z) = M p(z) + h C q(z) + h^2 K r(z)``, ``p, q, r`` scalar polynomials (the
+   one-mode characteristic polynomial's coefficients).  Then ``u* P(z) u = m p + h c q + h^2 k r = 0``
+   with ``(m, c, k) = (u*Mu, u*Cu, u*Ku)``: every eigenvalue of the packing is an eigenvalue of one
+   mode with ``c/m <= lambda_C`` and ``k/m <= lambda_K``.  Where that mode's stable set in
+   ``(h c/m, h^2 k/m)`` is closed downwards (``DENSE_SCHEMES``: ``k~ + 2 c~ <= 4`` for symplectic
+   Euler, leapfrog and velocity Verlet, ``k~ + 4 c~ <= 4`` for velocity Verlet with a predicted
+   velocity, ``k~ <= 4`` for centred damping), the one-mode step at ``(lambda_C, lambda_K)`` is stable
+   for the whole packing, damped or not, proportional or not.  Forward Euler and the paper's Eq. (40)
+   scheme are unstable undamped (their stable sets are not closed downwards): ``dt_dense`` is
+   ``None`` for them, with the reason.
 """
 from __future__ import annotations
 
@@ -33,7 +35,7 @@ from dataclasses import dataclass
 
 from dtcrit.integrators.stability import mode_dt
 
-DENSE_SCHEMES = ("symplectic-euler", "leapfrog", "leapfrog-centred", "velocity-verlet")
+DENSE_SCHEMES = ("symplectic-euler", "leapfrog", "leapfrog-centred", "velocity-verlet", "velocity-verlet-predicted")
 FACTOR_COORDINATIONS = (4, 6, 12)
 
 
@@ -82,7 +84,8 @@ def dense_step(integrator: str, terms: list[tuple[float, float, str]], z: int) -
     where = max(terms, key=lambda t: t[0])[2]
     if integrator not in DENSE_SCHEMES:
         return DenseStep(z, None, lam_k, lam_c, where,
-                         f"no packing bound for '{integrator}': its step polynomial is not M p(z) + h C q(z) + h^2 K r(z)")
+                         f"no packing bound for '{integrator}': it is unstable undamped, so its one-mode stable set is not closed "
+                         "downwards")
     r = mode_dt(integrator, lam_k, lam_c, 1.0)
     dt = r.dt if math.isfinite(r.dt) else None
     reason = (f"any packing with at most {z} contacts per particle: lambda_max(M^-1 K) <= {lam_k:.6g} 1/s^2, "

@@ -1,0 +1,85 @@
+"""`coordination_max`: the dense step never exceeds the exact global step of a packing.
+
+References: the exact largest eigenvalue of the packing's 6-DOF M^-1 K (dtcrit.packing: sparse
+assembly, dense or Lanczos solve), an independent route from the per-particle block bound; and
+for damped, non-proportional packings the spectral radius of the whole packing's amplification
+matrix built from the integrator's update rule (tests/_multidof.py).  The ratios dense/exact are
+in derivations/records/dense_bound.md.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from _multidof import spectral_radius
+from dtcrit.packing import LinearLaw, analyse, apply_law, find_sphere_contacts, lattice, mass_matrix, random_packing, stiffness_matrix
+from dtcrit.scenes.dense import DENSE_SCHEMES
+from dtcrit.scenes.scene import parse_scene
+from dtcrit.scenes.timestep import critical_step
+
+KS_RATIOS = (0.0, 0.1, 2 / 7, 1.0, 2.0)
+
+
+def _scene_for(packing, kn, ks, z, integrator="velocity-verlet", damping=""):
+    radii = np.unique(np.round(packing.radii, 15))
+    density = float(packing.masses[0] / (4 / 3 * math.pi * packing.radii[0] ** 3))
+    if radii.size == 1:
+        sizes = f"radius = {float(radii[0])!r}\n"
+    else:
+        fr = np.full(radii.size, 1.0 / radii.size)
+        fr[-1] = 1.0 - fr[:-1].sum()
+        sizes = f"radii = {[float(r) for r in radii]!r}\nfractions = {[float(f) for f in fr]!r}\n"
+    return parse_scene(f'integrator = "{integrator}"\ncoordination_max = {z}\n[[particle]]\nshape = "sphere"\n{sizes}'
+                       f'density = {density!r}\n[contact]\nmodel = "linear"\nkn = {kn!r}\nks = {ks!r}\n{damping}')
+
+
+def _exact_dt(packing, kn, ks):
+    rep = analyse(packing, LinearLaw(kn, ks), integrator="velocity-verlet", with_estimates=False)
+    return rep.dt_crit, int(rep.cn_max)
+
+
+PACKINGS = {
+    "sc": lambda: lattice("sc", 2, radius=1.0, density=1.0),
+    "bcc": lambda: lattice("bcc", 2, radius=1.0, density=1.0),
+    "fcc": lambda: lattice("fcc", 2, radius=1.0, density=1.0),
+    "random-mono": lambda: random_packing(64, cn=5.0, sizes="mono", seed=3),
+    "random-uniform": lambda: random_packing(64, cn=5.0, sizes="uniform", spread=0.3, seed=4),
+}
+
+
+@pytest.mark.parametrize("name", sorted(PACKINGS))
+@pytest.mark.parametrize("ks_ratio", KS_RATIOS)
+def test_dense_step_is_below_the_exact_packing_step(name, ks_ratio):
+    packing = PACKINGS[name]()
+    kn = 1.0e4
+    exact, z = _exact_dt(packing, kn, ks_ratio * kn)
+    dense = critical_step(_scene_for(packing, kn, ks_ratio * kn, z)).dt_dense
+    assert dense <= exact * (1 + 1e-12), (name, ks_ratio, dense, exact)
+
+
+def test_dense_step_holds_for_damped_non_proportional_packings():
+    """8 spheres (48 DOF), dashpots not proportional to the springs: the whole packing's update-rule
+    matrix has spectral radius <= 1 at 0.999 x dt_dense, for every scheme the bound covers."""
+    packing = lattice("sc", 2, radius=1.0, density=1.0)
+    kn, ks, cn, cs = 1.0e4, 3.0e3, 40.0, 2.0
+    contacts = find_sphere_contacts(packing)
+    K = stiffness_matrix(packing, apply_law(contacts, LinearLaw(kn, ks))).toarray()
+    C = stiffness_matrix(packing, apply_law(contacts, LinearLaw(cn, cs))).toarray()  # dashpots: the same element
+    M = mass_matrix(packing).toarray()
+    z = 6
+    for name in DENSE_SCHEMES:
+        res = critical_step(_scene_for(packing, kn, ks, z, name, f"cn = {cn!r}\ncs = {cs!r}\n"))
+        assert spectral_radius(name, 0.999 * res.dt_dense, M, K, C) <= 1 + 1e-7, name
+
+
+def test_scene_output_without_and_with_coordination():
+    text = ('integrator = "velocity-verlet"\n[[particle]]\nshape = "sphere"\nradius = 0.001\ndensity = 2500.0\n'
+            '[contact]\nmodel = "linear"\nkn = 1e5\nks = 2e4\n')
+    iso = critical_step(parse_scene(text))
+    assert iso.dt_crit == iso.dt_isolated and iso.holds_for == "an isolated contact"
+    assert set(iso.dense_factors) == {4, 6, 12} and all(0 < f < 1 for f in iso.dense_factors.values())
+    dense = critical_step(parse_scene("coordination_max = 12\n" + text))
+    assert dense.dt_crit == dense.dt_dense == pytest.approx(iso.dt_isolated * iso.dense_factors[12], rel=1e-14)
+    assert dense.governing == "dense" and "at most 12 contacts" in dense.holds_for
