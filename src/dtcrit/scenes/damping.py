@@ -36,6 +36,8 @@ from dataclasses import dataclass
 
 from dtcrit.errors import InputError
 
+DAMPING_KEYS = ("cn", "cs", "restitution", "damping_ratio")
+
 HERTZ_FACTOR = 2.0 * math.sqrt(5.0 / 6.0) / 2.0  # c = 2 sqrt(5/6) zeta sqrt(S m*) = f * 2 zeta sqrt(S m*)
 
 
@@ -120,3 +122,32 @@ def damping_ratio_from_restitution(e: float) -> float:
         return 1.0
     L = -math.log(e)
     return L / math.hypot(math.pi, L)
+
+
+def damping_kind(restitution, damping_ratio, cn, cs) -> str:
+    """How damping was given: none | coefficients | restitution | damping_ratio."""
+    if restitution is not None:
+        return "restitution"
+    if damping_ratio is not None:
+        return "damping_ratio"
+    return "coefficients" if (cn or 0.0) > 0 or (cs or 0.0) > 0 else "none"
+
+
+def parse_damping(prefix: str, table: dict) -> tuple[float | None, float | None, float | None, float | None]:
+    """``(cn, cs, restitution, damping_ratio)`` of a table that gives damping one way only
+    (coefficients ``cn``/``cs``, ``restitution`` or ``damping_ratio``); a restitution coefficient
+    sets the damping ratio ``zeta(e)``."""
+    from dtcrit.scenes.fields import _number
+
+    given = [k for k in DAMPING_KEYS if k in table]
+    ways = {("cn" if k in ("cn", "cs") else k) for k in given}
+    if len(ways) > 1:
+        names = " and ".join(sorted({"cn/cs" if k in ("cn", "cs") else k for k in given}))
+        raise InputError(prefix + given[-1], f"conflicting damping specifications: {names}; give exactly one way")
+    cn = _number(prefix + "cn", table["cn"], allow_zero=True) if "cn" in table else None
+    cs = _number(prefix + "cs", table["cs"], allow_zero=True) if "cs" in table else None
+    restitution = _number(prefix + "restitution", table["restitution"], hi=1.0) if "restitution" in table else None
+    zeta = _number(prefix + "damping_ratio", table["damping_ratio"], allow_zero=True) if "damping_ratio" in table else None
+    if restitution is not None:
+        zeta = damping_ratio_from_restitution(restitution)
+    return cn, cs, restitution, zeta

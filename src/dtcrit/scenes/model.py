@@ -5,6 +5,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+from dtcrit.scenes.damping import damping_kind
+
 # ----------------------------------------------------------------------------------------------
 # The vocabulary of a scene
 # ----------------------------------------------------------------------------------------------
@@ -24,7 +26,6 @@ SPHERE_SIZE_KEYS = ("radius", "radii", "fractions", "lognormal")
 PARTICLE_ALL = tuple(dict.fromkeys(PARTICLE_COMMON + SPHERE_SIZE_KEYS + tuple(k for v in SHAPE_KEYS.values() for k, _ in v)))
 
 CONTACT_MODELS = ("linear", "yade", "hertz")
-DAMPING_KEYS = ("cn", "cs", "restitution", "damping_ratio")
 CONTACT_KEYS = {
     "linear": ("model", "kn", "ks", "cn", "cs", "restitution", "damping_ratio", "damping_convention", "youngs_modulus",
                "poisson_ratio"),
@@ -133,13 +134,7 @@ class ContactLaw:
     @property
     def damping(self) -> str:
         """How damping was given: none | coefficients | restitution | damping_ratio."""
-        if self.restitution is not None:
-            return "restitution"
-        if self.damping_ratio is not None:
-            return "damping_ratio"
-        if (self.cn or 0.0) > 0 or (self.cs or 0.0) > 0:
-            return "coefficients"
-        return "none"
+        return damping_kind(self.restitution, self.damping_ratio, self.cn, self.cs)
 
     @property
     def damped(self) -> bool:

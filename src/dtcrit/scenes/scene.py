@@ -32,7 +32,7 @@ from pathlib import Path
 from typing import Any
 
 from dtcrit.errors import InputError
-from dtcrit.scenes.damping import CONVENTIONS, convention_for, damping_ratio_from_restitution
+from dtcrit.scenes.damping import CONVENTIONS, convention_for, parse_damping
 from dtcrit.scenes.fields import (
     _check_keys,
     _choice,
@@ -49,7 +49,6 @@ from dtcrit.scenes.model import (
     CONTACT_ALL,
     CONTACT_KEYS,
     CONTACT_MODELS,
-    DAMPING_KEYS,
     PAIRS_CHOICES,
     PARTICLE_ALL,
     PARTICLE_COMMON,
@@ -176,18 +175,7 @@ def _contact(table: Any, particles: list[Particle], out_warnings: list) -> tuple
     model = _choice(prefix + "model", _required(prefix, table, "model", f"one of {', '.join(CONTACT_MODELS)}"), CONTACT_MODELS, "contact model")
     _check_keys(prefix, table, CONTACT_KEYS[model], CONTACT_ALL, f"by the {model} contact model")
 
-    # damping: coefficients, restitution or damping ratio (one way only)
-    given = [k for k in DAMPING_KEYS if k in table]
-    ways = {("cn" if k in ("cn", "cs") else k) for k in given}
-    if len(ways) > 1:
-        names = " and ".join(sorted({"cn/cs" if k in ("cn", "cs") else k for k in given}))
-        raise InputError(prefix + given[-1], f"conflicting damping specifications: {names}; give exactly one way")
-    cn = _number(prefix + "cn", table["cn"], allow_zero=True) if "cn" in table else None
-    cs = _number(prefix + "cs", table["cs"], allow_zero=True) if "cs" in table else None
-    restitution = _number(prefix + "restitution", table["restitution"], hi=1.0) if "restitution" in table else None
-    zeta = _number(prefix + "damping_ratio", table["damping_ratio"], allow_zero=True) if "damping_ratio" in table else None
-    if restitution is not None:
-        zeta = damping_ratio_from_restitution(restitution)
+    cn, cs, restitution, zeta = parse_damping(prefix, table)  # one way only
 
     # elastic constants: in [contact] (scalar or per particle) or in each [[particle]] table
     n = len(particles)

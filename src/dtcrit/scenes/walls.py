@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from dtcrit.errors import InputError
-from dtcrit.scenes.damping import damping_ratio_from_restitution
+from dtcrit.scenes.damping import damping_kind, parse_damping
 from dtcrit.scenes.fields import _check_keys, _number, _required, _short, _string, _type_name
 
 WALL_KEYS = ("name", "model", "kn", "ks", "cn", "cs", "restitution", "damping_ratio", "particles")
@@ -34,11 +34,7 @@ class Wall:
 
     @property
     def damping(self) -> str:
-        if self.restitution is not None:
-            return "restitution"
-        if self.damping_ratio is not None:
-            return "damping_ratio"
-        return "coefficients" if (self.cn or 0.0) > 0 or (self.cs or 0.0) > 0 else "none"
+        return damping_kind(self.restitution, self.damping_ratio, self.cn, self.cs)
 
 
 def parse_walls(value: Any, n_particles: int) -> tuple[Wall, ...]:
@@ -59,15 +55,7 @@ def _wall(number: int, table: Any, n_particles: int) -> Wall:
     kn = _number(prefix + "kn", _required(prefix, table, "kn", "the wall's normal stiffness kn [N/m]"))
     ks = _number(prefix + "ks", _required(prefix, table, "ks", "the wall's tangential stiffness ks [N/m] (0: frictionless)"),
                  allow_zero=True)
-    ways = {"cn/cs" if k in ("cn", "cs") else k for k in ("cn", "cs", "restitution", "damping_ratio") if k in table}
-    if len(ways) > 1:
-        raise InputError(prefix + sorted(ways)[-1].split("/")[0], f"conflicting damping specifications: {' and '.join(sorted(ways))}")
-    cn = _number(prefix + "cn", table["cn"], allow_zero=True) if "cn" in table else None
-    cs = _number(prefix + "cs", table["cs"], allow_zero=True) if "cs" in table else None
-    e = _number(prefix + "restitution", table["restitution"], hi=1.0) if "restitution" in table else None
-    zeta = _number(prefix + "damping_ratio", table["damping_ratio"], allow_zero=True) if "damping_ratio" in table else None
-    if e is not None:
-        zeta = damping_ratio_from_restitution(e)
+    cn, cs, e, zeta = parse_damping(prefix, table)
     touching = tuple(range(1, n_particles + 1))
     if "particles" in table:
         raw = table["particles"]
