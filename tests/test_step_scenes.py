@@ -129,3 +129,15 @@ def test_bad_input_is_one_line(tmp_path, capsys, text, key, reason):
     assert rc == 2 and out == ""
     assert len(err.splitlines()) == 1 and err.startswith(f"{path}:{key}: "), err
     assert reason in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("convention,wall_mass", [("lammps", 1.0), ("liggghts", 1.0), ("mercurydpm", 1.0), ("yade", 0.5),
+                                                  ("pfc", 1.0)])
+def test_wall_damping_uses_each_codes_wall_mass(convention, wall_mass):
+    """LAMMPS fix wall/gran and LIGGGHTS use the particle's mass; YADE's ViscElMat replaces the wall's zero
+    mass by the particle's, so its reduced mass is m/2."""
+    wall = f"[[wall]]\nkn = {KN!r}\nks = {KS!r}\ndamping_ratio = 0.3\n"
+    s = _scene(f'damping_ratio = 0.3\ndamping_convention = "{convention}"', walls=wall)
+    w = next(p for p in critical_step(s).pairs if p.contact.wall is not None)
+    assert w.contact.cn == pytest.approx(2 * 0.3 * math.sqrt(KN * wall_mass * M), rel=1e-14)
+    assert w.normal.A == pytest.approx(1 / M, rel=1e-15)

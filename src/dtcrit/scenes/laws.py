@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 
 from dtcrit.errors import InputError
-from dtcrit.scenes.damping import convention_for
+from dtcrit.scenes.damping import CONVENTIONS, DEFAULT_CONVENTION, convention_for
 from dtcrit.scenes.model import PairContact, _harmonic
 
 
@@ -84,13 +84,19 @@ def resolve_pair(scene, i: int, j: int, r1: float | None = None, r2: float | Non
                        radius_i=r1, radius_j=r2, zeta_n=zn, zeta_s=zs, convention=conv.name, **extra)
 
 
+def wall_convention(name: str | None, model: str):
+    """The convention of a (linear) wall contact: the scene's, or its model's default; EDEM, whose
+    law is Hertz-Mindlin only, maps to LIGGGHTS's linear (hooke) law."""
+    chosen = name or DEFAULT_CONVENTION[model]
+    return CONVENTIONS["liggghts" if chosen == "edem" else chosen]
+
+
 def resolve_wall(scene, wall, i: int, r: float | None = None) -> PairContact:
     """The contact of particle type ``i`` (radius ``r`` for spheres) with a fixed ``wall``."""
     p = scene.particle(i)
     r = p.radii[0] if r is None and p.radii else r
     m = p.mass_at(r)
-    conv = convention_for(scene.contact.damping_convention if scene.contact.model != "hertz" else "lammps",
-                          "linear", key="contact.damping_convention")
+    conv = wall_convention(scene.contact.damping_convention, scene.contact.model)
     m_eff = conv.wall_mass * m
     cn, cs, zn, zs = _dashpots(conv, wall.damping, wall.cn, wall.cs, wall.damping_ratio, wall.kn, wall.ks, m_eff)
     return PairContact(i, 0, m_eff, wall.kn, wall.ks, cn, cs, wall.damping_ratio if wall.damping not in ("coefficients", "none") else None,
