@@ -83,3 +83,9 @@ def test_scene_output_without_and_with_coordination():
     dense = critical_step(parse_scene("coordination_max = 12\n" + text))
     assert dense.dt_crit == dense.dt_dense == pytest.approx(iso.dt_isolated * iso.dense_factors[12], rel=1e-14)
     assert dense.governing == "dense" and "at most 12 contacts" in dense.holds_for
+    # the codes' estimates are rated against the isolated step (unsafe) and against the dense one (unsafe_dense)
+    for e in iso.estimates:
+        if e.estimate.dt is not None:
+            assert e.unsafe == (e.estimate.dt > iso.dt_isolated * (1 + 1e-9))
+            assert e.unsafe_dense == (e.estimate.dt > dense.dt_dense * (1 + 1e-9))
+    assert any(e.unsafe_dense and not e.unsafe for e in iso.estimates)  # safe for one contact, not for a packing

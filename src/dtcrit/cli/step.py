@@ -91,7 +91,10 @@ def format_text(result) -> str:
         lines.append(f"rotation: B_max = {max(result.B_max.values()):.6g}, dt = 2/(omega_max (B_i + B_j)) = {r.dt_rotation:.6g} s "
                      f"(pair {r.label}; Eqs. (54), (56))")
     lines.append("")
-    lines.append(f"estimates DEM codes use, against dt_crit for {result.holds_for} (UNSAFE: larger than it):")
+    z = sc.coordination_max or 12
+    lines.append(f"estimates DEM codes use, against dt_crit for {result.holds_for} (UNSAFE: larger than it; "
+                 f"dense: against dtcrit's proven step for any packing with at most {z} contacts per particle, "
+                 "a lower bound: 'above' means not covered by it):")
     width = max(len(e.estimate.key) for e in result.estimates)
     missing: dict[str, list[str]] = {}
     for e in result.estimates:
@@ -100,7 +103,9 @@ def format_text(result) -> str:
             continue
         ratio = e.estimate.dt / result.dt_crit if result.dt_crit > 0 else float("inf")
         flag = "UNSAFE" if e.unsafe else "ok"
-        lines.append(f"  {e.estimate.key:<{width}}  {e.estimate.dt:12.6g} s  {ratio:8.4g} x dt_crit  {flag:<6}  {e.estimate.label}")
+        dense = "n/a" if e.unsafe_dense is None else ("above" if e.unsafe_dense else "within")
+        lines.append(f"  {e.estimate.key:<{width}}  {e.estimate.dt:12.6g} s  {ratio:8.4g} x dt_crit  {flag:<6}  "
+                     f"dense {dense:<6}  {e.estimate.label}")
     for note, keys in missing.items():
         lines.append(f"  not applicable: {', '.join(keys)} ({note})")
     return "\n".join(lines)

@@ -138,7 +138,8 @@ def step_json(result) -> dict:
         },
         "rotation": rot,
         "estimators": {
-            e.estimate.key: {"dt": e.estimate.dt, "unsafe": e.unsafe, "label": e.estimate.label, "note": e.estimate.note}
+            e.estimate.key: {"dt": e.estimate.dt, "unsafe": e.unsafe, "unsafe_dense": e.unsafe_dense,
+                             "label": e.estimate.label, "note": e.estimate.note}
             for e in result.estimates
         },
         "pairs": [pair_json(p) for p in result.pairs],

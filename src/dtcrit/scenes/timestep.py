@@ -34,10 +34,20 @@ UNSAFE_RTOL = 1e-9
 (equal values, e.g. the paper's Eq. (46) for undamped spheres, are ties, not violations)."""
 
 
+RATING_COORDINATION = 12
+"""Without ``coordination_max`` the codes' estimates are also rated against the dense step at the
+kissing number of equal spheres: they are meant for packings, not for isolated contacts."""
+
+
+def _exceeds(value: float, step: float) -> bool:
+    return bool(value > step * (1.0 + UNSAFE_RTOL))
+
+
 @dataclass(frozen=True)
 class EstimateResult:
     estimate: est.Estimate
-    unsafe: bool | None  # None when the estimate does not apply
+    unsafe: bool | None  # against dt_crit; None when the estimate does not apply
+    unsafe_dense: bool | None = None  # against the dense step (coordination_max, or 12); None without one
 
 
 @dataclass(frozen=True)
@@ -134,6 +144,7 @@ def critical_step(scene: Scene) -> StepResult:
     dt_isolated = min(t.dt_translation, dt_rot)
     terms = block_terms(scene, steps)
     dense, factors = None, {}
+    rating = dense_step(scene.integrator, terms, scene.coordination_max or RATING_COORDINATION)
     if scene.coordination_max is not None:
         dense = dense_step(scene.integrator, terms, scene.coordination_max)
         if dense.dt is None:
@@ -157,8 +168,10 @@ def critical_step(scene: Scene) -> StepResult:
         bound = (f"translation-dominant, {'wall contact' if t.contact.wall else 'pair'} {t.label}, {g.direction} mode "
                  f"({t.method}): {what} with k = {g.k:.6g} N/m, c = {g.c:.6g} N s/m, A = {g.A:.6g} 1/kg "
                  f"({g.regime}{zeta}, mode zeta = {g.zeta_mode:.6g})")
+    dt_rating = None if rating.dt is None else min(rating.dt, dt_rot)
     estimates = tuple(
-        EstimateResult(e, None if e.dt is None else bool(e.dt > dt * (1.0 + UNSAFE_RTOL)))
+        EstimateResult(e, None if e.dt is None else _exceeds(e.dt, dt),
+                       None if e.dt is None or dt_rating is None else _exceeds(e.dt, dt_rating))
         for e in scene_estimates(scene, steps)
     )
     return StepResult(scene, pairs, dt, governing, bound, t, r, b_max, estimates, dt_isolated, dense, factors)
