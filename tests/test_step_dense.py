@@ -22,6 +22,12 @@ from dtcrit.scenes.timestep import critical_step
 KS_RATIOS = (0.0, 0.1, 2 / 7, 1.0, 2.0)
 
 
+def _overlap(packing) -> float:
+    """The packing's largest overlap as a fraction of R_i + R_j (hypothesis H4 of the sphere bound)."""
+    c = find_sphere_contacts(packing)
+    return float(np.max(c.overlap / (packing.radii[c.i] + packing.radii[c.j]))) if c.count else 0.0
+
+
 def _scene_for(packing, kn, ks, z, integrator="velocity-verlet", damping=""):
     radii = np.unique(np.round(packing.radii, 15))
     density = float(packing.masses[0] / (4 / 3 * math.pi * packing.radii[0] ** 3))
@@ -31,7 +37,8 @@ def _scene_for(packing, kn, ks, z, integrator="velocity-verlet", damping=""):
         fr = np.full(radii.size, 1.0 / radii.size)
         fr[-1] = 1.0 - fr[:-1].sum()
         sizes = f"radii = {[float(r) for r in radii]!r}\nfractions = {[float(f) for f in fr]!r}\n"
-    return parse_scene(f'integrator = "{integrator}"\ncoordination_max = {z}\n[[particle]]\nshape = "sphere"\n{sizes}'
+    top = f'integrator = "{integrator}"\ncoordination_max = {z}\noverlap_max = {_overlap(packing) * (1 + 1e-9) + 1e-15!r}\n'
+    return parse_scene(f'{top}[[particle]]\nshape = "sphere"\n{sizes}'
                        f'density = {density!r}\n[contact]\nmodel = "linear"\nkn = {kn!r}\nks = {ks!r}\n{damping}')
 
 
@@ -81,11 +88,37 @@ def test_scene_output_without_and_with_coordination():
     assert iso.dt_crit == iso.dt_isolated and iso.holds_for == "an isolated contact"
     assert set(iso.dense_factors) == {4, 6, 12} and all(0 < f < 1 for f in iso.dense_factors.values())
     dense = critical_step(parse_scene("coordination_max = 12\n" + text))
-    assert dense.dt_crit == dense.dt_dense == pytest.approx(iso.dt_isolated * iso.dense_factors[12], rel=1e-14)
+    block = iso.dt_isolated * iso.dense_factors[12]  # the factors come from the block bound
+    assert dense.dt_crit == dense.dt_dense and block <= dense.dt_dense < iso.dt_isolated
+    assert "sphere-packing bound" in dense.dense.reason  # spheres, no walls: the geometric bound is sharper
     assert dense.governing == "dense" and "at most 12 contacts" in dense.holds_for
     # the codes' estimates are rated against the isolated step (unsafe) and against the dense one (unsafe_dense)
     for e in iso.estimates:
         if e.estimate.dt is not None:
             assert e.unsafe == (e.estimate.dt > iso.dt_isolated * (1 + 1e-9))
-            assert e.unsafe_dense == (e.estimate.dt > dense.dt_dense * (1 + 1e-9))
+            assert e.unsafe_dense == (e.estimate.dt > block * (1 + 1e-9))
     assert any(e.unsafe_dense and not e.unsafe for e in iso.estimates)  # safe for one contact, not for a packing
+
+
+def _monolayer(n=3):
+    """A periodic hexagonal monolayer of unit spheres (z = 6), n x n rectangular cells of two spheres."""
+    from dtcrit.packing import Box, Packing
+
+    pos = [(2 * i + s, 2 * math.sqrt(3) * j + s * math.sqrt(3), 5.0) for i in range(n) for j in range(n) for s in (0, 1)]
+    box = Box(np.zeros(3), np.array([2 * n, 2 * math.sqrt(3) * n, 10.0]), (True, True, False))
+    return Packing.spheres(np.array(pos), np.ones(len(pos)), masses=np.ones(len(pos)), box=box)
+
+
+@pytest.mark.parametrize("z,build", [(6, _monolayer), (8, lambda: lattice("bcc", 2, mass=1.0)),
+                                     (12, lambda: lattice("fcc", 2, mass=1.0))])
+def test_sphere_bound_covers_the_worst_known_arrangements(z, build):
+    """Equal unit spheres, ks = kn = 1: the bound lies above the exact omega^2 of the hexagonal monolayer (z = 6),
+    BCC (z = 8) and FCC (z = 12) from the packing eigen-solve, and at z = 12 at most the proof's certified 48.91."""
+    from dtcrit.scenes.dense_spheres import dense_omega2_bound
+
+    rep = analyse(build(), LinearLaw(1.0, 1.0), integrator="velocity-verlet", with_estimates=False)
+    assert int(rep.cn_max) == z
+    bound = dense_omega2_bound(1.0, 1.0, [1.0], [1.0], None, z).omega2
+    assert rep.omega_max**2 <= bound
+    if z == 12:
+        assert bound <= 48.91 * (1 + 1e-3)

@@ -6,6 +6,13 @@ Proof (the full text is in ``derivations/records/dense_bound.md``).  With ``M`` 
 (translations and rotations), the packing's ``K = sum_c K_c`` and ``C = sum_c C_c`` over contacts,
 each element positive semi-definite.
 
+0. *Spheres.*  For sphere-only scenes without walls (at most ``SPHERE_BOUND_MAX_SPECIES`` sizes) the
+   sharper bound of :mod:`dtcrit.scenes.dense_spheres` (``derivations/proofs/dense_packing_bound.md``)
+   is used where it is smaller: it also uses that the contact normals of a sphere are at least the
+   law-of-cosines angle apart (60 degrees for equal spheres without overlap; ``overlap_max`` of the
+   scene, default 0.05 of ``R_i + R_j``, widens the cones) and how many such normals fit (Tammes).
+   It bounds the largest eigenvalue of any assembly of such contact elements, so it serves for the
+   springs (``lambda_K``) and for the dashpots (``lambda_C``) alike.
 1. *Block bound.*  A contact between particles i and j couples only their blocks, and for a
    positive semi-definite ``[[P, Q], [Q^T, R]]`` we have ``<= 2 diag(P, R)``; a wall contact touches
    one block only.  So ``M^-1/2 K M^-1/2 <= blockdiag_i(sum_(c at i) w_c D_ic)`` with ``w_c = 2``
@@ -35,6 +42,8 @@ from dataclasses import dataclass
 
 from dtcrit.integrators.stability import mode_dt
 
+SPHERE_BOUND_MAX_SPECIES = 6
+"""The sphere bound enumerates species (0.1-0.5 s each); wider size distributions use the block bound."""
 DENSE_SCHEMES = ("symplectic-euler", "leapfrog", "leapfrog-centred", "velocity-verlet", "velocity-verlet-predicted")
 FACTOR_COORDINATIONS = (4, 6, 12)
 
@@ -77,11 +86,36 @@ def block_terms(scene, steps) -> list[tuple[float, float, str]]:
     return out
 
 
-def dense_step(integrator: str, terms: list[tuple[float, float, str]], z: int) -> DenseStep:
-    """The step that holds for every packing with at most ``z`` contacts per particle."""
+def sphere_bound(scene, steps, z: int) -> tuple[float, float] | None:
+    """``(lambda_K, lambda_C)`` from the geometric sphere-packing bound (:mod:`dtcrit.scenes.dense_spheres`),
+    or None where it does not apply (other shapes, walls, more than ``SPHERE_BOUND_MAX_SPECIES`` sizes)."""
+    if scene.walls or any(p.kind != "sphere" for p in scene.particles):
+        return None
+    species = [(part.shape_at(r).mass, r, part.shape_at(r).inertia[0]) for part in scene.particles for r in part.radii]
+    if len(species) > SPHERE_BOUND_MAX_SPECIES:
+        return None
+    from dtcrit.scenes.dense_spheres import dense_omega2_bound
+
+    m, r, inertia = (list(v) for v in zip(*species))
+    bounds = []
+    for a, b in ((max(s.contact.kn for s in steps), max(s.contact.ks for s in steps)),
+                 (max(s.contact.cn for s in steps), max(s.contact.cs for s in steps))):
+        bounds.append(0.0 if a == 0 and b == 0 else
+                      dense_omega2_bound(a, b, m, r, inertia, z, overlap=scene.overlap_max).omega2)
+    return bounds[0], bounds[1]
+
+
+def dense_step(integrator: str, terms: list[tuple[float, float, str]], z: int,
+               spheres: tuple[float, float] | None = None) -> DenseStep:
+    """The step that holds for every packing with at most ``z`` contacts per particle: the block bound,
+    or the smaller geometric sphere bound ``spheres = (lambda_K, lambda_C)`` where it applies."""
     lam_k = z * max(t[0] for t in terms)
     lam_c = z * max(t[1] for t in terms)
     where = max(terms, key=lambda t: t[0])[2]
+    how = "block bound"
+    if spheres is not None and (spheres[0] < lam_k or spheres[1] < lam_c):
+        lam_k, lam_c = min(lam_k, spheres[0]), min(lam_c, spheres[1])
+        how = "sphere-packing bound (contact normals at least the law-of-cosines angle apart)"
     if integrator not in DENSE_SCHEMES:
         return DenseStep(z, None, lam_k, lam_c, where,
                          f"no packing bound for '{integrator}': it is unstable undamped, so its one-mode stable set is not closed "
@@ -89,5 +123,5 @@ def dense_step(integrator: str, terms: list[tuple[float, float, str]], z: int) -
     r = mode_dt(integrator, lam_k, lam_c, 1.0)
     dt = r.dt if math.isfinite(r.dt) else None
     reason = (f"any packing with at most {z} contacts per particle: lambda_max(M^-1 K) <= {lam_k:.6g} 1/s^2, "
-              f"lambda_max(M^-1 C) <= {lam_c:.6g} 1/s (block bound, worst at {where})")
+              f"lambda_max(M^-1 C) <= {lam_c:.6g} 1/s ({how}; block bound worst at {where})")
     return DenseStep(z, dt, lam_k, lam_c, where, reason)

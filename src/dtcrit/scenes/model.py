@@ -10,7 +10,8 @@ from dtcrit.scenes.damping import damping_kind
 # ----------------------------------------------------------------------------------------------
 # The vocabulary of a scene
 # ----------------------------------------------------------------------------------------------
-TOP_KEYS = ("integrator", "omega_max", "safety", "pairs", "title", "coordination_max", "particle", "contact", "wall")
+TOP_KEYS = ("integrator", "omega_max", "safety", "pairs", "title", "coordination_max", "overlap_max", "particle", "contact",
+            "wall")
 PAIRS_CHOICES = ("all", "unlike")
 
 # shape -> the dimension keys it needs (TOML key, expected length or None for a scalar)
@@ -158,6 +159,7 @@ class Scene:
     warnings: tuple[tuple[str, str], ...] = field(default_factory=tuple)
     walls: tuple = ()  # dtcrit.scenes.walls.Wall
     coordination_max: int | None = None
+    overlap_max: float = 0.05  # largest overlap in a packing, as a fraction of R_i + R_j (the dense sphere bound)
 
     @property
     def identical(self) -> bool:

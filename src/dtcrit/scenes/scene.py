@@ -265,6 +265,10 @@ def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
             raise InputError("coordination_max", f"must be a positive whole number of contacts per particle (got {_short(raw)})")
         coordination = raw
 
+    overlap = 0.05
+    if "overlap_max" in doc:
+        overlap = _number("overlap_max", doc["overlap_max"], allow_zero=True, hi=1.0, hi_open=True)
+
     tables = _required("", doc, "particle", "one or more [[particle]] tables")
     if isinstance(tables, dict):
         tables = [tables]
@@ -281,7 +285,8 @@ def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
         found.append(("contact.model", "warning: Hertz stiffness over a lognormal size range is evaluated at "
                       f"{len(next(p for p in particles if p.sizes is not None and p.sizes.kind == 'lognormal').radii)} "
                       "log-spaced radii between the cut-offs (no monotonicity is proved for Hertz)"))
-    scene = Scene(source, integrator, tuple(particles), law, omega_max, safety, pairs, title, tuple(found), walls, coordination)
+    scene = Scene(source, integrator, tuple(particles), law, omega_max, safety, pairs, title, tuple(found), walls, coordination,
+                  overlap)
     from dtcrit.scenes.laws import resolve_wall
 
     checks = [(f"pair {i}-{j}", resolve_pair(scene, i, j)) for i, j in scene.pair_numbers()]

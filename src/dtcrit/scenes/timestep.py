@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 from dtcrit.errors import InputError
 from dtcrit.scenes import estimators as est
-from dtcrit.scenes.dense import FACTOR_COORDINATIONS, DenseStep, block_terms, dense_step
+from dtcrit.scenes.dense import FACTOR_COORDINATIONS, DenseStep, block_terms, dense_step, sphere_bound
 from dtcrit.scenes.laws import resolve_pair, resolve_wall
 from dtcrit.scenes.model import Scene
 from dtcrit.scenes.pair_modes import DirectionStep, PairStep, pair_step
@@ -144,9 +144,11 @@ def critical_step(scene: Scene) -> StepResult:
     dt_isolated = min(t.dt_translation, dt_rot)
     terms = block_terms(scene, steps)
     dense, factors = None, {}
-    rating = dense_step(scene.integrator, terms, scene.coordination_max or RATING_COORDINATION)
+    rating = dense_step(scene.integrator, terms, RATING_COORDINATION)
     if scene.coordination_max is not None:
-        dense = dense_step(scene.integrator, terms, scene.coordination_max)
+        particle_steps = [s for s in steps if s.contact.wall is None]
+        spheres = sphere_bound(scene, particle_steps, scene.coordination_max)
+        dense = dense_step(scene.integrator, terms, scene.coordination_max, spheres)
         if dense.dt is None:
             raise InputError("coordination_max", dense.reason + "; remove coordination_max for the isolated-contact step")
     else:
@@ -168,6 +170,7 @@ def critical_step(scene: Scene) -> StepResult:
         bound = (f"translation-dominant, {'wall contact' if t.contact.wall else 'pair'} {t.label}, {g.direction} mode "
                  f"({t.method}): {what} with k = {g.k:.6g} N/m, c = {g.c:.6g} N s/m, A = {g.A:.6g} 1/kg "
                  f"({g.regime}{zeta}, mode zeta = {g.zeta_mode:.6g})")
+    rating = dense if dense is not None else rating
     dt_rating = None if rating.dt is None else min(rating.dt, dt_rot)
     estimates = tuple(
         EstimateResult(e, None if e.dt is None else _exceeds(e.dt, dt),

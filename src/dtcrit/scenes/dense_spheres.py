@@ -1,0 +1,382 @@
+"""Rigorous upper bound on omega_max^2 of ANY sphere packing with a given coordination cap.
+
+    omega_max^2 = lambda_max(M^-1/2 K M^-1/2)  <=  dense_omega2_bound(...)
+    dt_dense = 2 / sqrt(bound)  <=  dt_crit (central difference / leapfrog / velocity Verlet, undamped)
+
+Proof: ``derivations/proofs/dense_packing_bound.md`` (Theorem 1; Lemmas 1-9 and Remark 3 are cited below by
+number).  NumPy only.
+
+Model (the hypotheses H1-H4 of ``derivations/proofs/dense_packing_bound.md``): spheres with 6 DOFs each (mass m, a rotational
+inertia I, for a non-isotropic body its smallest principal moment), linear contact springs
+``k_n, k_s`` (each contact's springs at most these), optional rolling ``k_r`` and twisting ``k_tw``
+springs on the relative rotation, contact arms equal to the full radius (``a_i = R_i n``, the
+LAMMPS / YADE convention; ``arms="overlap-midpoint"`` covers dtcrit's ``R - delta/2``, Remark 3),
+every particle of species ``s`` with at most ``z[s]`` contacts,
+contacts with ``d_ij <= (1 + contact_tolerance)(R_i + R_j)`` and every two distinct sphere images
+with ``d >= (1 - overlap)(R_j + R_k)``.  Every particle must belong to one of the species given
+(any species may touch any other).
+
+The bound is ``min_p max_s Phi_s(p)`` where ``Phi_s`` is a rigorous upper bound (Lemmas 6-9) on
+``sup lambda_max(sum_e Q_e)`` over all arrangements of at most ``z_s`` contact normals of a
+particle of species ``s`` that are pairwise at least ``theta_s`` apart (Lemma 5), ``Q_e`` the
+6 x 6 end matrix of Lemma 3 with the splitting weights of exponent ``p`` (Lemma 2).
+"""
+from __future__ import annotations
+import math
+from dataclasses import dataclass, field
+import numpy as np
+from dtcrit.scenes.dense_cells import SAFETY, _SphereCells, _cells, _species_geometry, _trivial, _variants, end_matrix
+
+
+# ----------------------------------------------------------------------------- the kernel F_v (Lemmas 6-7)
+
+def _f_coefficients(v, pars, psi):
+    """For reduced test vectors ``v`` (nv, 3) -- ``x = v1 e1``, ``y = v2 e1 + v3 e2`` (Lemma 4) -- the
+    cap-inverted kernel ``F_v(m) = kappa + 2 g'.m + m^T H' m`` (Lemma 6) as (nv,) kappa, (nv, 3) g',
+    (nv, 3, 3) traceless H'."""
+    alpha, beta, gamma, gr, gw = pars[:5]
+    c = math.cos(psi)
+    lam1, lam2 = 0.5 * (1.0 + c), 0.5 * c * (1.0 + c)
+    v1, v2, v3 = v[:, 0], v[:, 1], v[:, 2]
+    nv = len(v)
+    x = np.zeros((nv, 3))
+    x[:, 0] = v1
+    y = np.zeros((nv, 3))
+    y[:, 0], y[:, 1] = v2, v3
+    c0 = beta * v1 * v1 + (gamma + gr) * (v2 * v2 + v3 * v3)
+    h = (alpha - beta) * x[:, :, None] * x[:, None, :] + (gw - gamma - gr) * y[:, :, None] * y[:, None, :]
+    g = np.zeros((nv, 3))
+    g[:, 2] = math.sqrt(beta * gamma) * v1 * v3  # g = -sqrt(beta gamma) (y x x), y x x = -v1 v3 e3
+    tr = np.trace(h, axis1=1, axis2=2) / 3.0
+    h0 = h - tr[:, None, None] * np.eye(3)
+    return c0 + tr, g / lam1, h0 / lam2
+
+
+def _coefficient_vector(kappa, gp, hp):
+    """Coefficients of F in the basis of ``_SphereCells.moments``."""
+    return np.stack([kappa, 2 * gp[:, 0], 2 * gp[:, 1], 2 * gp[:, 2], hp[:, 0, 0], hp[:, 1, 1], hp[:, 2, 2],
+                     2 * hp[:, 0, 1], 2 * hp[:, 0, 2], 2 * hp[:, 1, 2]], 1)
+
+
+def _cell_bounds(coef, gp, hp, cells: _SphereCells):
+    """Per cell: centre value, exact integral and rigorous upper / lower bounds of the quadratic
+    ``F = kappa + 2 g'.m + m^T H' m`` (Lemma 8: second-order Taylor with the radial/tangential split)."""
+    f_c = coef @ cells.basis_at_centre.T  # (nv, K) values at the centres
+    integral = coef @ cells.moments.T  # (nv, K) exact integrals over the cells
+    cen = cells.centre
+    grad = 2.0 * gp[:, None, :] + 2.0 * np.einsum("vij,kj->vki", hp, cen)  # R^3 gradient at the centres
+    rad = np.einsum("vki,ki->vk", grad, cen)
+    tang = np.sqrt(np.clip(np.einsum("vki,vki->vk", grad, grad) - rad * rad, 0.0, None))
+    ev = np.linalg.eigvalsh(hp)
+    r = cells.radius[None, :]
+    upper = f_c + tang * r + (0.5 * np.abs(rad) + np.maximum(ev[:, -1:], 0.0)) * r * r
+    lower = f_c - tang * r - (0.5 * np.abs(rad) + np.maximum(-ev[:, :1], 0.0)) * r * r
+    return f_c, integral, upper, lower
+
+
+def _bathtub_upper(v, pars, psi, z_eff, cells: _SphereCells):
+    """Rigorous upper bound on ``B(v) = (1/|C|) sup_{|S| <= z_eff |C|} int_S max_arm F_v`` (Lemmas 7-8) per row of v."""
+    cap = 2.0 * math.pi * (1.0 - math.cos(psi))
+    area_total = z_eff * cap
+    kernels = []
+    for q in _variants(pars):
+        kappa, gp, hp = _f_coefficients(v, q, psi)
+        kernels.append((kappa, gp, hp, _coefficient_vector(kappa, gp, hp)))
+    f_c, integral, upper, lower = _cell_bounds(kernels[0][3], kernels[0][1], kernels[0][2], cells)
+    if len(kernels) == 2:  # max(F0, F1): bounds of the max; integral via F1 + (F0 - F1)^+ and F0 + (F1 - F0)^+
+        k0, k1 = kernels
+        f_c1, int1, up1, lo1 = _cell_bounds(k1[3], k1[1], k1[2], cells)
+        _, _, up_d, _ = _cell_bounds(k0[3] - k1[3], k0[1] - k1[1], k0[2] - k1[2], cells)
+        _, _, up_e, _ = _cell_bounds(k1[3] - k0[3], k1[1] - k0[1], k1[2] - k0[2], cells)
+        a = cells.area[None, :]
+        integral = np.minimum(int1 + np.clip(up_d, 0.0, None) * a, integral + np.clip(up_e, 0.0, None) * a)
+        f_c, upper, lower = np.maximum(f_c, f_c1), np.maximum(upper, up1), np.maximum(lower, lo1)
+    a = cells.area[None, :]
+    # threshold guess: the level whose superlevel set (by centre values) has area area_total
+    order = np.argsort(-f_c, axis=1)
+    cum = np.cumsum(np.take_along_axis(np.broadcast_to(a, f_c.shape), order, 1), axis=1)
+    idx = np.minimum((cum < area_total).sum(axis=1), f_c.shape[1] - 1)
+    t0 = np.maximum(np.take_along_axis(f_c, order, 1)[np.arange(len(v)), idx], 0.0)
+    spread = np.maximum(np.abs(t0), 1e-300)
+    best = np.full(len(v), np.inf)
+    for rel in (-2e-2, -5e-3, -1e-3, 0.0, 1e-3, 5e-3, 2e-2):
+        t = np.maximum(t0 + rel * spread, 0.0)[:, None]  # any t >= 0 gives a valid bound (Lemma 7)
+        first = np.clip(upper - t, 0.0, None) * a
+        second = integral - t * a + np.clip(t - lower, 0.0, None) * a
+        total = t[:, 0] * area_total + np.minimum(first, second).sum(axis=1)
+        best = np.minimum(best, total)
+    scale = np.abs(integral).sum(axis=1) + np.abs(t0) * area_total
+    return (best + SAFETY * scale) / cap * (1.0 + SAFETY)
+
+
+def _kernel_min_eig(pars, psi) -> float:
+    """``min over arms of lambda_min`` of the 6 x 6 matrix of ``v -> F_v(m)`` (any m; Lemma 9's sigma)."""
+    return min(_kernel_min_eig_one(q, psi) for q in _variants(pars))
+
+
+def _kernel_min_eig_one(pars, psi) -> float:
+    c = math.cos(psi)
+    lam1, lam2 = 0.5 * (1.0 + c), 0.5 * c * (1.0 + c)
+    m = np.array([0.0, 0.0, 1.0])
+    # v^T Qhat v = F_v(m) = (cap inversion of f_v) at m; f_v(n) = v^T Q(n) v, so build it from the
+    # harmonic decomposition of Q(n) in n: Qhat(m) = Q0 + Q1(m)/lam1 + Q2(m)/lam2 with Q(n) = Q0 + Q1(n) + Q2(n).
+    # Average of Q over the sphere (degree 0), odd part (degree 1), remainder (degree 2):
+    e = np.eye(3)
+    q_plus = end_matrix(m, pars)
+    q_minus = end_matrix(-m, pars)
+    q1 = 0.5 * (q_plus - q_minus)  # the linear (odd) part at m
+    # sphere average of Q: exact from the six axis directions (Q is quadratic in n, a 3-design suffices)
+    q0 = sum(end_matrix(s * e[k], pars) for k in range(3) for s in (1.0, -1.0)) / 6.0
+    q2 = 0.5 * (q_plus + q_minus) - q0
+    qhat = q0 + q1 / lam1 + q2 / lam2
+    return float(np.linalg.eigvalsh(qhat)[0])
+
+
+# ----------------------------------------------------------------------------- branch and bound (Lemma 9)
+
+def _phi_bound(z_eff: int, psi: float, pars, rtol: float = 2e-3, n_theta: int = 96, max_evals: int = 20000):
+    """Rigorous upper bound on ``sup_{v in S^2} B(v)`` over the closed octant (Lemma 4) by Lemma 9.
+
+    Returns ``(upper, best_vertex_value, evaluations)``.
+    """
+    cells = _cells(n_theta)
+    sigma = z_eff * max(0.0, -_kernel_min_eig(pars, psi))
+    cache: dict[tuple, float] = {}
+
+    def key(p):
+        return tuple(np.round(p, 13))
+
+    def evaluate(points):
+        todo = [p for p in points if key(p) not in cache]
+        uniq = {}
+        for p in todo:
+            uniq.setdefault(key(p), p)
+        todo = list(uniq.values())
+        for s in range(0, len(todo), 48):
+            chunk = np.array(todo[s:s + 48])
+            vals = _bathtub_upper(chunk, pars, psi, z_eff, cells)
+            for p, b in zip(chunk, vals):
+                cache[key(p)] = float(b)
+        return [cache[key(p)] for p in points]
+
+    def normal(p):
+        return p / np.linalg.norm(p)
+
+    def tri_bound(tri, vals):
+        a, b, c = tri
+        nrm = np.cross(b - a, c - a)
+        nn = np.linalg.norm(nrm)
+        dist = abs(float(np.dot(nrm, a))) / nn if nn > 0 else 1.0
+        s2 = 1.0 / (dist * dist) * (1.0 + 1e-12)
+        return s2 * max(vals) + sigma * (s2 - 1.0)
+
+    # initial triangulation of the octant: 4-way subdivision, three levels
+    e = np.eye(3)
+    tris = [(e[0], e[1], e[2])]
+    for _ in range(3):
+        nxt = []
+        for a, b, c in tris:
+            ab, bc, ca = normal(a + b), normal(b + c), normal(c + a)
+            nxt += [(a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca)]
+        tris = nxt
+    live = []
+    for t in tris:
+        vals = evaluate(list(t))
+        live.append((tri_bound(t, vals), t))
+    pruned_max = 0.0
+    while True:
+        best_vertex = max(cache.values())
+        top = max(ub for ub, _ in live)
+        if top <= best_vertex * (1.0 + rtol) or len(cache) > max_evals:
+            break
+        keep, split = [], []
+        for ub, t in live:
+            if ub <= best_vertex * (1.0 + rtol):
+                pruned_max = max(pruned_max, ub)
+            elif ub >= top - 0.5 * (top - best_vertex * (1.0 + rtol)) or len(live) < 400:
+                split.append(t)
+            else:
+                keep.append((ub, t))
+        new = []
+        for a, b, c in split:
+            ab, bc, ca = normal(a + b), normal(b + c), normal(c + a)
+            new += [(a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca)]
+        evaluate([p for t in new for p in t])
+        live = keep + [(tri_bound(t, [cache[key(p)] for p in t]), t) for t in new]
+    upper = max(pruned_max, max(ub for ub, _ in live))
+    return upper, max(cache.values()), len(cache)
+
+
+# ----------------------------------------------------------------------------- species and weights (Lemma 2)
+
+@dataclass
+class DenseBound:
+    """Result: ``omega2`` [1/s^2] (rigorous upper bound on omega_max^2), ``dt = 2/sqrt(omega2)`` (a
+    rigorous lower bound on the undamped central-difference critical step), the weight exponent
+    ``p`` used, the governing species and per-species details."""
+
+    omega2: float
+    p: float
+    governing: int
+    species: list = field(default_factory=list)
+    trivial_omega2: float = float("nan")
+
+    @property
+    def dt(self) -> float:
+        return 2.0 / math.sqrt(self.omega2) if self.omega2 > 0 else math.inf
+
+
+def _as_species(masses, radii, inertia, z):
+    m = np.atleast_1d(np.asarray(masses, float))
+    r = np.broadcast_to(np.atleast_1d(np.asarray(radii, float)), m.shape).astype(float)
+    if inertia is None:
+        i = 0.4 * m * r * r
+    else:
+        i = np.broadcast_to(np.atleast_1d(np.asarray(inertia, float)), m.shape).astype(float)
+    zz = np.broadcast_to(np.atleast_1d(np.asarray(z)), m.shape).astype(int)
+    for name, arr in (("masses", m), ("radii", r), ("inertia", i)):
+        if not np.all(np.isfinite(arr)) or np.any(arr <= 0):
+            raise ValueError(f"{name}: every value must be a positive finite number")
+    if np.any(zz < 0):
+        raise ValueError("z: must be >= 0")
+    return m, r, i, zz
+
+
+def _pars(kn, ks, kr, ktw, m, r, i, p, t0):
+    """Per-species end parameters ``(alpha, beta, gamma, gamma_r, gamma_w, t0)`` with the splitting
+    weights ``w = 1 + max_j (c_j / c_i)^p`` (Lemma 2) and the smallest arm ratio ``t0``."""
+    cn, ct, cr = 1.0 / m, 1.0 / m + r * r / i, 1.0 / i
+    wn = 1.0 + (cn.max() / cn) ** p
+    wt = 1.0 + (ct.max() / ct) ** p
+    wr = 1.0 + (cr.max() / cr) ** p
+    return np.stack([wn * kn / m, wt * ks / m, wt * ks * r * r / i, wr * kr / i, wr * ktw / i, t0], 1)
+
+
+def _domination(pars_i, pars_n):
+    """Factor ``c`` with ``D(pars_i) <= c D_s D(pars_n) D_s`` (Loewner) for every arrangement, ``D_s``
+    diagonal with ``max(D_s)^2 <= 1``-normalised scale folded into ``c`` (dense_packing_bound.md, Lemma 9, remark
+    on species), so that ``Phi(pars_i) <= c Phi(pars_n)``; ``None`` when no such factor is found."""
+    a, b, g, gr, gw, t0 = (float(t) for t in pars_i)
+    an, bn, gn, grn, gwn, t0n = (float(t) for t in pars_n)
+    if (bn == 0 and b > 0) or (gn == 0 and g > 0) or t0 < t0n:
+        return None
+    if bn > 0:
+        s1 = b / bn
+    else:
+        s1 = a / an if an > 0 else 1.0
+    if gn > 0:
+        s2 = g / gn
+    else:
+        ratios = [c / d for c, d in ((gr, grn), (gw, gwn)) if d > 0]
+        s2 = max(ratios) if ratios else 1.0
+    delta = 1.0
+    for comp, node, s in ((a, an, s1), (gr, grn, s2), (gw, gwn, s2)):
+        if comp == 0:
+            continue
+        if node == 0 or s == 0:
+            return None
+        delta = max(delta, comp / (s * node))
+    return delta * max(s1, s2) * (1.0 + 1e-12)
+
+
+def dense_omega2_bound(kn, ks, masses, radii, inertia=None, z=12, *, kr: float = 0.0, ktw: float = 0.0,
+                       overlap: float = 0.0, contact_tolerance: float = 1e-9, arms: str = "full",
+                       p_grid=None, rtol: float = 2e-3, n_theta: int = 96) -> DenseBound:
+    """Rigorous upper bound on ``omega_max^2`` of every packing of the given sphere species (dense_packing_bound.md, Theorem 1).
+
+    ``kn, ks`` [N/m]: the largest normal / tangential contact stiffness (``ks = 0`` and ``ks > kn``
+    allowed); ``kr, ktw`` [N m/rad]: rolling / twisting springs on the relative rotation (optional).
+    ``masses, radii, inertia`` (arrays over species; ``inertia`` defaults to ``2/5 m R^2``, give the
+    smallest principal moment for non-isotropic bodies); ``z`` the largest number of contacts of a
+    particle (scalar or per species; 12 = kissing number of equal spheres); ``overlap`` the largest
+    overlap as a fraction of ``R_i + R_j`` (``eps`` of H4); ``contact_tolerance`` how far beyond
+    touching a contact may be (``d <= (1+tau)(R_i+R_j)``).  ``arms``: ``"full"`` (``a = R n``,
+    LAMMPS / YADE; hypothesis H1) or ``"overlap-midpoint"`` (dtcrit's ``a = (R - delta/2) n``: every arm
+    in ``[t0 R, R]`` with ``t0 = 1 - overlap (R_i + R_max) / (2 R_i)``, Remark 3).  ``p_grid`` the splitting exponents tried
+    (each gives a valid bound, the smallest is returned; default ``(0, 0.5, 1)`` for several
+    species).  ``rtol`` the branch-and-bound stopping tolerance and ``n_theta`` the sphere grid:
+    they change only how tight the bound is, never its validity.
+
+    Returns :class:`DenseBound`; ``.dt = 2/sqrt(omega2)`` is a lower bound on the true critical
+    step of the undamped central-difference family for every such packing.
+    """
+    kn, ks, kr, ktw = (float(v) for v in (kn, ks, kr, ktw))
+    if min(kn, ks, kr, ktw) < 0 or not all(math.isfinite(v) for v in (kn, ks, kr, ktw)):
+        raise ValueError("stiffnesses must be finite and >= 0")
+    if not 0.0 <= overlap < 1.0:
+        raise ValueError("overlap must lie in [0, 1)")
+    m, r, i, zz = _as_species(masses, radii, inertia, z)
+    psi, z_eff = _species_geometry(r, zz, overlap, contact_tolerance)
+    if arms == "full":
+        t0 = np.ones_like(r)
+    elif arms == "overlap-midpoint":
+        t0 = np.clip(1.0 - overlap * (r + r.max()) / (2.0 * r), 0.0, 1.0)
+    else:
+        raise ValueError(f"arms must be 'full' or 'overlap-midpoint', got {arms!r}")
+    if p_grid is None:
+        p_grid = (0.0,) if len(m) == 1 or (np.ptp(m) == 0 and np.ptp(r) == 0 and np.ptp(i) == 0) else (0.0, 0.5, 1.0)
+    nodes: list[tuple[np.ndarray, int, float, float]] = []  # (pars, z_eff, psi, rigorous Phi)
+
+    def node_bound(pars_s, z_s, psi_s, exact=False):
+        """Best rigorous bound from the computed nodes; with ``exact`` only nodes of the same
+        ``(z_eff, psi)`` (then as good as the species' own branch and bound up to the scale)."""
+        ub = math.inf
+        for pn, zn, psin, phin in nodes:
+            if (z_s == zn and psi_s == psin) if exact else (z_s <= zn and psi_s >= psin):
+                c = _domination(pars_s, pn)
+                if c is not None:
+                    ub = min(ub, c * phin)
+        return ub
+
+    best: DenseBound | None = None
+    for p in p_grid:
+        # a refined species at or above the best bound so far means this p cannot win: stop early
+        abandon = best.omega2 if best is not None else math.inf
+        pars = _pars(kn, ks, kr, ktw, m, r, i, p, t0)
+        trivial = np.array([z_eff[s] * _trivial(pars[s]) for s in range(len(m))])
+        active = (z_eff > 0) & (trivial > 0)
+        if active.any() and len(m) > 1:
+            # seed node: conservative for every species (largest z, smallest angle)
+            seed = int(np.argmax(np.where(active, trivial, -1.0)))
+            zs, ps = int(z_eff[active].max()), float(psi[active].min())
+            if not np.isfinite(node_bound(pars[seed], zs, ps)):
+                nodes.append((pars[seed].copy(), zs, ps, _phi_bound(zs, ps, tuple(pars[seed]), rtol, n_theta)[0]))
+        ub = np.array([min(trivial[s], node_bound(pars[s], int(z_eff[s]), float(psi[s]))) if active[s] else 0.0
+                       for s in range(len(m))])
+        how = ["trivial (z lambda_max(Q))" if ub[s] == trivial[s] else "dominated by a computed node"
+               for s in range(len(m))]
+        refined = ~active.copy()
+        # refine the species holding the current maximum until that maximum is its own branch-and-bound value
+        while active.any():
+            s = int(np.argmax(np.where(active, ub, -1.0)))
+            if refined[s] or ub[s] >= abandon:
+                break
+            phi = node_bound(pars[s], int(z_eff[s]), float(psi[s]), exact=True)
+            if not np.isfinite(phi):
+                phi = _phi_bound(int(z_eff[s]), float(psi[s]), tuple(pars[s]), rtol, n_theta)[0]
+                nodes.append((pars[s].copy(), int(z_eff[s]), float(psi[s]), phi))
+            if phi < ub[s]:
+                ub[s], how[s] = phi, "branch and bound"
+            refined[s] = True
+            for t in range(len(m)):
+                if active[t] and not refined[t]:
+                    nb = node_bound(pars[t], int(z_eff[t]), float(psi[t]))
+                    if nb < ub[t]:
+                        ub[t], how[t] = nb, "dominated by a computed node"
+        running = float(ub.max(initial=0.0))
+        gov = int(np.argmax(ub))
+        if running >= abandon:
+            continue
+        details = [(float(ub[s]), how[s] if active[s] else "no contacts") for s in range(len(m))]
+        cand = DenseBound(omega2=running, p=float(p), governing=gov, trivial_omega2=float(trivial.max()),
+                          species=[{"mass": float(m[s]), "radius": float(r[s]), "inertia": float(i[s]),
+                                    "z_eff": int(z_eff[s]), "theta_min_deg": math.degrees(2 * psi[s]),
+                                    "omega2": details[s][0], "how": details[s][1]} for s in range(len(m))])
+        if best is None or cand.omega2 < best.omega2:
+            best = cand
+    return best
+
+
+def dense_dt_bound(*args, **kwargs) -> float:
+    """``2 / sqrt(dense_omega2_bound(...).omega2)``: a rigorous lower bound on the critical step."""
+    return dense_omega2_bound(*args, **kwargs).dt
