@@ -21,7 +21,10 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
+    from dtcrit import __version__
+
     parser = _Parser(prog="dtcrit", description="Critical time steps for explicit DEM simulations.")
+    parser.add_argument("--version", action="version", version=f"dtcrit {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for name in COMMANDS:
         importlib.import_module(f"dtcrit.cli.{name}").add_parser(sub)

@@ -116,6 +116,10 @@ def _key_text(key: str) -> str:
     return key if _BARE_KEY.match(key) else json.dumps(key)
 
 
+TOP_LEVEL_KEYS = ("integrator", "omega_max", "safety", "pairs", "title", "coordination_max", "overlap_max")
+"""Keys that belong before the first table (``dtcrit.scenes.model.TOP_KEYS`` without the tables)."""
+
+
 def _check_keys(prefix: str, table: dict, allowed: tuple[str, ...], vocabulary: tuple[str, ...], where: str) -> None:
     """Reject keys outside ``allowed``; suggest the nearest key (preferring the allowed ones)."""
     for key in table:
@@ -128,6 +132,9 @@ def _check_keys(prefix: str, table: dict, allowed: tuple[str, ...], vocabulary: 
             str(key).lower(), allowed, n=1, cutoff=0.5
         )
         hint = f" (did you mean '{close[0]}'?)" if close else ""
+        if prefix and key in TOP_LEVEL_KEYS:
+            hint = (f" ('{key}' is a top-level key: in TOML every key after a [table] header belongs to that table, "
+                    "so write top-level keys before the first table)")
         raise InputError(path, f"unknown key{hint}; valid keys here: {', '.join(allowed)}")
 
 

@@ -257,6 +257,8 @@ def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
     safety = _number("safety", doc["safety"], hi=1.0) if "safety" in doc else 1.0
     pairs = _choice("pairs", doc["pairs"], PAIRS_CHOICES, "pairs setting") if "pairs" in doc else "all"
     title = _string("title", doc["title"]) if "title" in doc else None
+    if title is not None and len(title) > MAX_TITLE:
+        raise InputError("title", f"{len(title)} characters: at most {MAX_TITLE} (it is printed and put into emitted code)")
 
     coordination = None
     if "coordination_max" in doc:
@@ -311,16 +313,24 @@ def parse_scene(text: str, source: str = "<scene>") -> Scene:
     return scene_from_dict(doc, source)
 
 
+MAX_SCENE_BYTES = 8 << 20
+"""A scene file is a few kilobytes; 8 MiB leaves room for polyhedra with very many vertices."""
+MAX_TITLE = 200
+
+
 def load_scene(path: str | Path) -> Scene:
     """Read and validate a scene file; unreadable or non-UTF-8 files raise ``InputError('file', ...)``."""
     p = Path(path)
     try:
-        data = p.read_bytes()
+        with p.open("rb") as handle:
+            data = handle.read(MAX_SCENE_BYTES + 1)  # never more: /dev/zero is not a scene
     except OSError as exc:
         reason = exc.strerror or type(exc).__name__
         raise InputError("file", f"cannot read the scene file: {reason}") from None
+    if len(data) > MAX_SCENE_BYTES:
+        raise InputError("file", f"more than {MAX_SCENE_BYTES} bytes: larger than a scene file can be")
     try:
-        text = data.decode("utf-8")
+        text = data.decode("utf-8-sig")  # a UTF-8 byte-order mark is accepted
     except UnicodeDecodeError as exc:
         raise InputError("file", f"not UTF-8 text (byte {exc.start}); a scene is a TOML text file") from None
     return parse_scene(text, str(path))
