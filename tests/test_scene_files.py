@@ -38,3 +38,14 @@ def test_version(capsys):
     with pytest.raises(SystemExit) as exc:
         main(["--version"])
     assert exc.value.code == 0 and capsys.readouterr().out.strip() == f"dtcrit {__version__}"
+
+
+def test_cube_from_corners_with_duplicates(tmp_path, capsys):
+    """A cube given by its 8 corners plus 2 repeats: 8 vertices are reported, and its moments, equal up to
+    rounding, give B_max = 0 (no rotation limit) instead of a 1e13 s step from B ~ 3e-16."""
+    corners = [[x, y, z] for x in (1, -1) for y in (1, -1) for z in (1, -1)]
+    text = ('integrator = "velocity-verlet"\nomega_max = 10.0\n[[particle]]\nshape = "polyhedron"\n'
+            f'vertices = {corners + corners[:2]!r}\ndensity = 1000.0\n[contact]\nmodel = "linear"\nkn = 1e5\nks = 1e5\n')
+    rc, _ = _run(tmp_path, text.encode())
+    out = capsys.readouterr().out
+    assert rc == 0 and "8 vertices (10 points given)" in out and "B_max = 0 for every pair" in out

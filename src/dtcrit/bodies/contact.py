@@ -120,10 +120,17 @@ def a_bound(p1, p2=None) -> float:
     return float(1.0 / p1.mass + 1.0 / p2.mass + s1 + s2)
 
 
+B_ROUNDING = 64 * 2.220446049250313e-16
+"""Differences of principal moments at the rounding level of their computation (a cube built from its
+corners has ``B ~ 3e-16``) are equal moments: ``b_max`` below this is 0, not a rotation step of 1e13 s."""
+
+
 def b_max(p) -> float:
-    """Peng et al. 2020, Eq (54): ``max(|Ixx-Iyy|/Izz, |Ixx-Izz|/Iyy, |Iyy-Izz|/Ixx)`` (dimensionless)."""
+    """Peng et al. 2020, Eq (54): ``max(|Ixx-Iyy|/Izz, |Ixx-Izz|/Iyy, |Iyy-Izz|/Ixx)`` (dimensionless),
+    0 below ``B_ROUNDING``."""
     p = _shape("p", p)
-    return float(_k.b_max(*p.inertia))
+    b = float(_k.b_max(*p.inertia))
+    return b if b > B_ROUNDING else 0.0
 
 
 def b_bound(p) -> float:

@@ -103,7 +103,9 @@ class Particle:
     def describe(self) -> str:
         dims = ", ".join(f"{k} = {_fmt_dim(v)}" for k, v in self.dimensions.items() if k != "vertices")
         if "vertices" in self.dimensions:
-            dims = f"{len(self.dimensions['vertices'])} vertices"
+            corners = len(self.shape.vertices)
+            given = len(self.dimensions["vertices"])
+            dims = f"{corners} vertices" + ("" if corners == given else f" ({given} points given)")
         if self.sizes is not None and self.sizes.kind != "single":
             masses = f"masses {self.shapes[0].mass:.6g}..{self.shapes[-1].mass:.6g} kg"
             return f"{self.kind} ({self.sizes.describe()}), {masses}"
