@@ -49,3 +49,10 @@ def test_cube_from_corners_with_duplicates(tmp_path, capsys):
     rc, _ = _run(tmp_path, text.encode())
     out = capsys.readouterr().out
     assert rc == 0 and "8 vertices (10 points given)" in out and "B_max = 0 for every pair" in out
+
+
+def test_friction_is_accepted_with_a_note(tmp_path, capsys):
+    rc, path = _run(tmp_path, (BODY + "friction = 0.5\n").encode())
+    out, err = capsys.readouterr()
+    assert rc == 0 and "dt_crit" in out
+    assert err.startswith(f"{path}:contact.friction: note: accepted, not used") and len(err.splitlines()) == 1

@@ -29,12 +29,17 @@ PARTICLE_ALL = tuple(dict.fromkeys(PARTICLE_COMMON + SPHERE_SIZE_KEYS + tuple(k 
 CONTACT_MODELS = ("linear", "yade", "hertz")
 CONTACT_KEYS = {
     "linear": ("model", "kn", "ks", "cn", "cs", "restitution", "damping_ratio", "damping_convention", "youngs_modulus",
-               "poisson_ratio"),
+               "poisson_ratio", "friction"),
     "yade": ("model", "youngs_modulus", "ks_ratio", "cn", "cs", "restitution", "damping_ratio", "damping_convention",
-             "poisson_ratio"),
+             "poisson_ratio", "friction"),
     "hertz": ("model", "youngs_modulus", "poisson_ratio", "velocity", "restitution", "damping_ratio", "damping_convention",
-              "curvature_radius"),
+              "curvature_radius", "friction"),
 }
+NOT_IN_THE_STEP = {
+    "friction": "the friction coefficient caps the tangential force when a contact slides; the linear step is that "
+                "of the sticking contact (its tangential spring), which friction does not change",
+}
+"""DEM keys that a scene may carry but that do not enter the critical step: accepted with a note saying why."""
 CONTACT_ALL = tuple(dict.fromkeys(CONTACT_KEYS["linear"] + CONTACT_KEYS["yade"] + CONTACT_KEYS["hertz"]))
 
 

@@ -49,6 +49,7 @@ from dtcrit.scenes.model import (
     CONTACT_ALL,
     CONTACT_KEYS,
     CONTACT_MODELS,
+    NOT_IN_THE_STEP,
     PAIRS_CHOICES,
     PARTICLE_ALL,
     PARTICLE_COMMON,
@@ -176,6 +177,10 @@ def _contact(table: Any, particles: list[Particle], out_warnings: list) -> tuple
     _check_keys(prefix, table, CONTACT_KEYS[model], CONTACT_ALL, f"by the {model} contact model")
 
     cn, cs, restitution, zeta = parse_damping(prefix, table)  # one way only
+    for key, why in NOT_IN_THE_STEP.items():
+        if key in table:
+            _number(prefix + key, table[key], allow_zero=True)
+            out_warnings.append((prefix + key, f"note: accepted, not used: {why}"))
 
     # elastic constants: in [contact] (scalar or per particle) or in each [[particle]] table
     n = len(particles)
