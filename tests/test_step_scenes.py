@@ -141,3 +141,23 @@ def test_wall_damping_uses_each_codes_wall_mass(convention, wall_mass):
     w = next(p for p in critical_step(s).pairs if p.contact.wall is not None)
     assert w.contact.cn == pytest.approx(2 * 0.3 * math.sqrt(KN * wall_mass * M), rel=1e-14)
     assert w.normal.A == pytest.approx(1 / M, rel=1e-15)
+
+
+def test_review_findings(tmp_path, capsys):
+    """A dashpot without spring gives valid JSON (zeta_mode null); a huge coordination_max is one line; the shear
+    zeta of a convention that derives c_s from c_n is not labelled 'as given'."""
+    import json
+
+    text = (f'integrator = "velocity-verlet"\n{SPHERE}[contact]\nmodel = "linear"\nkn = {KN!r}\nks = 0.0\n'
+            'restitution = 0.5\n')
+    path = tmp_path / "dashpot.toml"
+    path.write_text(text)
+    assert main(["step", str(path), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["pairs"][0]["shear"]["zeta_mode"] is None and doc["pairs"][0]["shear"]["regime"] == "dashpot only"
+    path.write_text("coordination_max = 100000000000000000000\n" + text)
+    assert main(["step", str(path)]) == 2
+    assert capsys.readouterr().err.startswith(f"{path}:coordination_max: ")
+    s = _scene('restitution = 0.5\ndamping_convention = "liggghts"')
+    res = critical_step(s)
+    assert res.translation.governing_direction.direction == "shear" and "as given" not in res.bound

@@ -75,8 +75,9 @@ def format_text(result) -> str:
                  f"dt = {t.dt_translation:.6g} s ({t.label}, {t.governing_direction.direction} mode, {t.method})")
     if result.dense is None:
         factors = ", ".join(f"z = {z}: x {f:.3g}" if f is not None else f"z = {z}: n/a" for z, f in result.dense_factors.items())
-        lines.append(f"dense packings: this step is for an isolated contact; a packing with at most z contacts per "
-                     f"particle needs at most ({factors}); set coordination_max")
+        lines.append(f"dense packings: this step is for an isolated contact; any packing with at most z contacts per "
+                     f"particle is proven stable at ({factors}) of it by the block bound; set coordination_max for "
+                     "the step of the scene's packing (sharper for spheres)")
     else:
         lines.append(f"isolated contact: dt = {result.dt_isolated:.6g} s ({result.dt_crit / result.dt_isolated:.4g} x of it "
                      "holds for the packing)")
@@ -84,8 +85,11 @@ def format_text(result) -> str:
         lines.append(_pair_line(p))
     if sc.omega_max is None:
         lines.append("rotation: omega_max not given, the rotation-dominant bound (Eqs. (54), (56)) is not evaluated")
-    elif result.rotation is None:
+    elif result.rotation is None and max(result.B_max.values()) == 0:
         lines.append("rotation: B_max = 0 for every pair (Eq. (54)): no rotation-dominant limit")
+    elif result.rotation is None:
+        lines.append(f"rotation: B_max = {max(result.B_max.values()):.6g}, but 2/(omega_max (B_i + B_j)) lies beyond the "
+                     "float64 range: no rotation-dominant limit")
     else:
         r = result.rotation
         lines.append(f"rotation: B_max = {max(result.B_max.values()):.6g}, dt = 2/(omega_max (B_i + B_j)) = {r.dt_rotation:.6g} s "
@@ -93,8 +97,8 @@ def format_text(result) -> str:
     lines.append("")
     z = sc.coordination_max or 12
     lines.append(f"estimates DEM codes use, against dt_crit for {result.holds_for} (UNSAFE: larger than it; "
-                 f"dense: against dtcrit's proven step for any packing with at most {z} contacts per particle, "
-                 "a lower bound: 'above' means not covered by it):")
+                 f"dense: against dtcrit's proven step for any packing with at most {z} contacts per particle"
+                 + ("" if sc.coordination_max else " (block bound)") + ", a lower bound: 'above' means not covered by it):")
     width = max(len(e.estimate.key) for e in result.estimates)
     missing: dict[str, list[str]] = {}
     for e in result.estimates:

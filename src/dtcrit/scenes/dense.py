@@ -40,6 +40,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from dtcrit.integrators.stability import mode_dt
 
 SPHERE_BOUND_MAX_SPECIES = 6
@@ -100,22 +102,24 @@ def sphere_bound(scene, steps, z: int) -> tuple[float, float] | None:
     bounds = []
     for a, b in ((max(s.contact.kn for s in steps), max(s.contact.ks for s in steps)),
                  (max(s.contact.cn for s in steps), max(s.contact.cs for s in steps))):
-        bounds.append(0.0 if a == 0 and b == 0 else
-                      dense_omega2_bound(a, b, m, r, inertia, z, overlap=scene.overlap_max).omega2)
+        with np.errstate(all="ignore"):  # wide cones (large overlap_max) divide by a zero cap; the bound stays valid
+            bounds.append(0.0 if a == 0 and b == 0 else
+                          dense_omega2_bound(a, b, m, r, inertia, z, overlap=scene.overlap_max).omega2)
     return bounds[0], bounds[1]
 
 
 def dense_step(integrator: str, terms: list[tuple[float, float, str]], z: int,
-               spheres: tuple[float, float] | None = None) -> DenseStep:
+               spheres: tuple[float, float] | None = None, overlap: float | None = None) -> DenseStep:
     """The step that holds for every packing with at most ``z`` contacts per particle: the block bound,
     or the smaller geometric sphere bound ``spheres = (lambda_K, lambda_C)`` where it applies."""
     lam_k = z * max(t[0] for t in terms)
     lam_c = z * max(t[1] for t in terms)
     where = max(terms, key=lambda t: t[0])[2]
-    how = "block bound"
+    how = f"block bound, worst at {where}"
     if spheres is not None and (spheres[0] < lam_k or spheres[1] < lam_c):
         lam_k, lam_c = min(lam_k, spheres[0]), min(lam_c, spheres[1])
-        how = "sphere-packing bound (contact normals at least the law-of-cosines angle apart)"
+        how = (f"sphere-packing bound: contact normals at least the law-of-cosines angle apart, overlaps at most "
+               f"{overlap:g} of R_i + R_j")
     if integrator not in DENSE_SCHEMES:
         return DenseStep(z, None, lam_k, lam_c, where,
                          f"no packing bound for '{integrator}': it is unstable undamped, so its one-mode stable set is not closed "
@@ -123,5 +127,5 @@ def dense_step(integrator: str, terms: list[tuple[float, float, str]], z: int,
     r = mode_dt(integrator, lam_k, lam_c, 1.0)
     dt = r.dt if math.isfinite(r.dt) else None
     reason = (f"any packing with at most {z} contacts per particle: lambda_max(M^-1 K) <= {lam_k:.6g} 1/s^2, "
-              f"lambda_max(M^-1 C) <= {lam_c:.6g} 1/s ({how}; block bound worst at {where})")
+              f"lambda_max(M^-1 C) <= {lam_c:.6g} 1/s ({how})")
     return DenseStep(z, dt, lam_k, lam_c, where, reason)

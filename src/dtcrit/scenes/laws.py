@@ -101,3 +101,10 @@ def resolve_wall(scene, wall, i: int, r: float | None = None) -> PairContact:
     cn, cs, zn, zs = _dashpots(conv, wall.damping, wall.cn, wall.cs, wall.damping_ratio, wall.kn, wall.ks, m_eff)
     return PairContact(i, 0, m_eff, wall.kn, wall.ks, cn, cs, wall.damping_ratio if wall.damping not in ("coefficients", "none") else None,
                        radius_i=r, zeta_n=zn, zeta_s=zs, convention=conv.name, wall=wall.name, wall_number=wall.number)
+
+
+def convention_of(scene, pc: PairContact):
+    """The damping convention that resolved contact ``pc`` (a particle pair's, or a wall's)."""
+    if pc.wall is not None:
+        return wall_convention(scene.contact.damping_convention, scene.contact.model)
+    return convention_for(scene.contact.damping_convention, scene.contact.model)

@@ -270,6 +270,8 @@ def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
         raw = doc["coordination_max"]
         if isinstance(raw, bool) or not isinstance(raw, int) or raw < 1:
             raise InputError("coordination_max", f"must be a positive whole number of contacts per particle (got {_short(raw)})")
+        if raw > MAX_COORDINATION:
+            raise InputError("coordination_max", f"{raw} contacts per particle: at most {MAX_COORDINATION}")
         coordination = raw
 
     overlap = 0.05
@@ -284,9 +286,9 @@ def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
     particles = [_particle(n + 1, t) for n, t in enumerate(tables)]
     if "pairs" in doc and len(particles) == 1 and pairs != "all":
         raise InputError("pairs", "'unlike' needs two or more [[particle]] tables")
-    walls = parse_walls(doc["wall"], len(particles)) if "wall" in doc else ()
-
     found: list[tuple[str, str]] = []
+    walls = parse_walls(doc["wall"], len(particles), found) if "wall" in doc else ()
+
     law, particles = _contact(_required("", doc, "contact", "the [contact] table"), particles, found)
     if law.model == "hertz" and any(p.sizes is not None and p.sizes.kind == "lognormal" for p in particles):
         found.append(("contact.model", "warning: Hertz stiffness over a lognormal size range is evaluated at "
@@ -321,6 +323,8 @@ def parse_scene(text: str, source: str = "<scene>") -> Scene:
 MAX_SCENE_BYTES = 8 << 20
 """A scene file is a few kilobytes; 8 MiB leaves room for polyhedra with very many vertices."""
 MAX_TITLE = 200
+MAX_COORDINATION = 100_000
+"""Far above any packing (a sphere among ones 100 times smaller touches about 40,000)."""
 
 
 def load_scene(path: str | Path) -> Scene:

@@ -9,7 +9,8 @@ ROTATION_EQUATIONS = "Peng et al. 2020, Eqs. (54), (56)-(57)"
 
 
 def _direction_json(d) -> dict:
-    return {"k": d.k, "c": d.c, "A": d.A, "zeta": d.zeta, "zeta_mode": d.zeta_mode, "regime": d.regime, "dt": d.dt}
+    return {"k": d.k, "c": d.c, "A": d.A, "zeta": d.zeta, "zeta_mode": _finite(d.zeta_mode), "regime": d.regime,
+            "dt": _finite(d.dt)}
 
 
 def pair_json(p) -> dict:
@@ -35,7 +36,7 @@ def pair_json(p) -> dict:
         "dt_shear": _finite(p.shear.dt),
         "dt_translation": p.dt_translation,
         "normal": _direction_json(p.normal),
-        "shear": {**_direction_json(p.shear), "dt": _finite(p.shear.dt)},
+        "shear": _direction_json(p.shear),
         "B_sum": p.B_sum,
         "dt_rotation": p.dt_rotation,
     }
@@ -72,10 +73,12 @@ def _contact_json(sc, convention: str | None) -> dict:
     law = sc.contact
     out = {"model": law.model, "damping": law.damping, "damping_ratio": law.damping_ratio, "restitution": law.restitution,
            "damping_convention": convention}
+    given = law.damping in ("coefficients", "none")  # otherwise the dashpots are per pair (pairs[].cn, cs)
+    cn, cs = (law.cn or 0.0, law.cs or 0.0) if given else (None, None)
     if law.model == "linear":
-        out.update(kn=law.kn, ks=law.ks, cn=law.cn or 0.0, cs=law.cs or 0.0)
+        out.update(kn=law.kn, ks=law.ks, cn=cn, cs=cs)
     elif law.model == "yade":
-        out.update(ks_ratio=law.ks_ratio, cn=law.cn or 0.0, cs=law.cs or 0.0)
+        out.update(ks_ratio=law.ks_ratio, cn=cn, cs=cs)
     else:
         out.update(velocity=law.velocity, curvature_radius=law.curvature_radius)
     return out
@@ -131,7 +134,7 @@ def step_json(result) -> dict:
             "k": g.k,
             "c": g.c,
             "zeta": g.zeta,
-            "zeta_mode": g.zeta_mode,
+            "zeta_mode": _finite(g.zeta_mode),
             "regime": g.regime,
             "reason": g.reason,
             "equations": TRANSLATION_EQUATIONS,

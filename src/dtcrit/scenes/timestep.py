@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from dtcrit.errors import InputError
 from dtcrit.scenes import estimators as est
 from dtcrit.scenes.dense import FACTOR_COORDINATIONS, DenseStep, block_terms, dense_step, sphere_bound
-from dtcrit.scenes.laws import resolve_pair, resolve_wall
+from dtcrit.scenes.laws import convention_of, resolve_pair, resolve_wall
 from dtcrit.scenes.model import Scene
 from dtcrit.scenes.pair_modes import DirectionStep, PairStep, pair_step
 from dtcrit.scenes.scene_estimates import scene_estimates
@@ -148,7 +148,7 @@ def critical_step(scene: Scene) -> StepResult:
     if scene.coordination_max is not None:
         particle_steps = [s for s in steps if s.contact.wall is None]
         spheres = sphere_bound(scene, particle_steps, scene.coordination_max)
-        dense = dense_step(scene.integrator, terms, scene.coordination_max, spheres)
+        dense = dense_step(scene.integrator, terms, scene.coordination_max, spheres, scene.overlap_max)
         if dense.dt is None:
             raise InputError("coordination_max", dense.reason + "; remove coordination_max for the isolated-contact step")
     else:
@@ -166,7 +166,9 @@ def critical_step(scene: Scene) -> StepResult:
     else:
         governing, dt = "translation", t.dt_translation
         what = "no positive step is stable" if dt == 0.0 else f"exact '{scene.integrator}' boundary"
-        zeta = "" if g.zeta is None else f", zeta = {g.zeta:.6g} as given"
+        given = g.direction == "normal" or convention_of(scene, t.contact).shear_rule == "zeta"
+        zeta = ("" if g.zeta is None else f", zeta = {g.zeta:.6g} as given" if given
+                else f", zeta_s = c_s/(2 sqrt(k_s m*)) = {g.zeta:.6g}")
         bound = (f"translation-dominant, {'wall contact' if t.contact.wall else 'pair'} {t.label}, {g.direction} mode "
                  f"({t.method}): {what} with k = {g.k:.6g} N/m, c = {g.c:.6g} N s/m, A = {g.A:.6g} 1/kg "
                  f"({g.regime}{zeta}, mode zeta = {g.zeta_mode:.6g})")

@@ -37,12 +37,17 @@ class Wall:
         return damping_kind(self.restitution, self.damping_ratio, self.cn, self.cs)
 
 
-def parse_walls(value: Any, n_particles: int) -> tuple[Wall, ...]:
-    """Validate the ``[[wall]]`` tables."""
+def parse_walls(value: Any, n_particles: int, out_warnings: list | None = None) -> tuple[Wall, ...]:
+    """Validate the ``[[wall]]`` tables (``ks > kn`` is accepted with a warning, as in ``[contact]``)."""
     tables = [value] if isinstance(value, dict) else value
     if not isinstance(tables, list):
         raise InputError("wall", f"must be [[wall]] tables (got {_type_name(value)}: {_short(value)})")
-    return tuple(_wall(k + 1, t, n_particles) for k, t in enumerate(tables))
+    walls = tuple(_wall(k + 1, t, n_particles) for k, t in enumerate(tables))
+    for w in walls:
+        if w.ks > w.kn and out_warnings is not None:
+            out_warnings.append((f"wall[{w.number}].ks", f"warning: ks = {w.ks:g} exceeds kn = {w.kn:g}; each mode is "
+                                 "still checked with its own stiffness"))
+    return walls
 
 
 def _wall(number: int, table: Any, n_particles: int) -> Wall:
