@@ -66,6 +66,8 @@ def _imports(path: Path) -> list[tuple[int, str]]:
                 module = ".".join(base + ([node.module] if node.module else []))
             else:
                 module = node.module or ""
+            if module == "dtcrit" and all(alias.name == "__version__" for alias in node.names):
+                continue  # the version is defined in the namespace itself, not loaded lazily
             out.append((node.lineno, module))
             for alias in node.names:  # ``from dtcrit.pkg import module``
                 candidate = f"{module}.{alias.name}"
