@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings, strategies as st
 
 from _multidof import spectral_radius
 from dtcrit.packing import LinearLaw, analyse, apply_law, find_sphere_contacts, lattice, mass_matrix, random_packing, stiffness_matrix
@@ -122,3 +123,37 @@ def test_sphere_bound_covers_the_worst_known_arrangements(z, build):
     assert rep.omega_max**2 <= bound
     if z == 12:
         assert bound <= 48.91 * (1 + 1e-3)
+
+
+def _cluster(rng, n, r_centre, r_neighbour):
+    """A centre sphere touched by up to ``n`` neighbours at random directions (rejection: no two neighbours overlap)."""
+    pos = [np.zeros(3)]
+    radii = [r_centre]
+    d = r_centre + r_neighbour
+    for _ in range(4000):
+        if len(pos) == n + 1:
+            break
+        u = rng.normal(size=3)
+        p = d * u / np.linalg.norm(u)
+        if all(np.linalg.norm(p - q) >= (r_neighbour + rr) * (1 - 1e-12) for q, rr in zip(pos[1:], radii[1:])):
+            pos.append(p)
+            radii.append(r_neighbour)
+    from dtcrit.packing import Packing
+
+    return Packing.spheres(np.array(pos), np.array(radii), density=1.0)
+
+
+@settings(max_examples=20)
+@given(st.integers(0, 2**32 - 1), st.integers(2, 12), st.sampled_from([(1.0, 1.0), (1.0, 2.0), (1.0, 0.7), (0.5, 3.0)]),
+       st.sampled_from(KS_RATIOS))
+def test_dense_step_is_below_the_exact_step_of_random_clusters(seed, n, radii, ks_ratio):
+    """Random clusters: a sphere touched by up to 12 others of another size; the dense step of the two sizes with
+    z = the cluster's largest coordination never exceeds the cluster's exact step."""
+    packing = _cluster(np.random.default_rng(seed), n, *radii)
+    kn = 1.0e4
+    contacts = find_sphere_contacts(packing)
+    if contacts.count == 0:
+        return
+    exact, z = _exact_dt(packing, kn, ks_ratio * kn)
+    dense = critical_step(_scene_for(packing, kn, ks_ratio * kn, z)).dt_dense
+    assert dense <= exact * (1 + 1e-12), (seed, n, radii, ks_ratio, dense, exact)
