@@ -32,6 +32,9 @@ def run(args) -> int:
     from dtcrit.bench.runner import FULL_RUN, QUICK, run_bench
     from dtcrit.errors import InputError
 
+    from dtcrit.cli.outputs import check_output_dir
+
+    check_output_dir(args.out)
     config = QUICK if args.quick else FULL_RUN
     if args.scenes is not None:
         if args.scenes < max(config.n_ref, config.n_eig, config.n_mp, 1):

@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import json
 import sys
-from pathlib import Path
 
 from dtcrit.errors import InputError
 
@@ -57,9 +56,9 @@ def run(args) -> int:
         if not parts:
             raise InputError("only", "empty list")
         only = check_figure_names(parts)
-    out = Path(args.out)
-    if out.exists() and not out.is_dir():
-        raise InputError("out", f"{out} exists and is not a folder")
+    from dtcrit.cli.outputs import check_output_dir
+
+    out = check_output_dir(args.out)
     result = make_figures(out, fine=args.fine, only=only, show_progress=not args.json)
     if args.json:
         sys.stdout.write(json.dumps(result.summary, indent=2, allow_nan=False) + "\n")

@@ -92,6 +92,10 @@ def _text(rep: dict) -> str:
 def run(args) -> int:
     import dtcrit.impact as imp
 
+    from dtcrit.cli.outputs import check_output_dir
+
+    if args.out:
+        check_output_dir(args.out)
     omega_dt = args.omega_dt
     if omega_dt is not None:
         imp.check_omega_dt(omega_dt, "omega-dt")
@@ -107,8 +111,6 @@ def run(args) -> int:
     data = imp.to_json(rep)
     if args.out:
         out = Path(args.out)
-        if out.exists() and not out.is_dir():
-            raise ValueError(f"out: {args.out} exists and is not a directory")
         out.mkdir(parents=True, exist_ok=True)
         stem = f"impact_{rep['integrator']}_zeta{rep['zeta']:g}"
         (out / f"{stem}.json").write_text(json.dumps(data, indent=2) + "\n")

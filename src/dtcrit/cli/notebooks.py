@@ -16,6 +16,9 @@ def add_parser(sub):
 def run(args) -> int:
     from dtcrit.notebooks import render, sources
 
+    from dtcrit.cli.outputs import check_output_dir
+
+    check_output_dir(args.out)
     todo = [s for s in sources() if not args.only or s.stem in args.only]
     if not todo:
         raise ValueError("notebooks: no notebook sources matched")

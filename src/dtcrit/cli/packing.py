@@ -96,6 +96,10 @@ def run_command(args) -> int:
 
     if not math.isfinite(args.damping_ratio) or args.damping_ratio < 0:
         raise ValueError(f"damping-ratio: must be a finite number >= 0, got {args.damping_ratio}")
+    if args.write_dump:
+        from dtcrit.cli.outputs import check_output_file
+
+        check_output_file(args.write_dump, "--write-dump")
     law = _law(args)
     packing = _packing(args)
     report = analyse(packing, law, integrator=args.integrator, damping_ratio=args.damping_ratio, method=args.solver)

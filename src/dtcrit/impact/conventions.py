@@ -51,10 +51,17 @@ def _number(key: str, value) -> float:
     return out
 
 
+MAX_ZETA = 1e50
+"""Above this damping ratio the exact impact's closed forms (powers of mu = sqrt(zeta^2 - 1)) leave the
+float64 range; physically the contact is then a pure dashpot that never releases within the sweep."""
+
+
 def check_zeta(zeta) -> float:
     z = _number("zeta", zeta)
     if z < 0:
         raise InputError("zeta", f"damping ratio must be >= 0 (got {z})")
+    if z > MAX_ZETA:
+        raise InputError("zeta", f"damping ratio {z:g} is above {MAX_ZETA:g}: the exact impact leaves the float64 range")
     return z
 
 

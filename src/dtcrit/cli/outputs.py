@@ -1,0 +1,44 @@
+"""Check, before any work starts, that a command can write where it was told to (``--out``,
+``--write-dump``): one line and exit 2 instead of a traceback after minutes of work.  Nothing is
+created: the nearest existing folder on the path must be a folder that accepts a file."""
+from __future__ import annotations
+
+import tempfile
+from pathlib import Path
+
+from dtcrit.errors import InputError
+
+
+def _nearest_existing(path: Path) -> Path:
+    p = path
+    while not p.exists() and p != p.parent:
+        p = p.parent
+    return p
+
+
+def _accepts_files(folder: Path, flag: str, target: Path) -> None:
+    if not folder.is_dir():
+        raise InputError(flag, f"cannot write {target}: {folder} is not a folder")
+    try:
+        with tempfile.TemporaryFile(dir=folder):
+            pass
+    except OSError as exc:
+        raise InputError(flag, f"cannot write into {folder}: {exc.strerror or exc}") from None
+
+
+def check_output_dir(path, flag: str = "--out") -> Path:
+    """``path`` is, or can become, a folder we can write into."""
+    p = Path(path)
+    if p.exists() and not p.is_dir():
+        raise InputError(flag, f"{p} exists and is not a folder")
+    _accepts_files(_nearest_existing(p), flag, p)
+    return p
+
+
+def check_output_file(path, flag: str) -> Path:
+    """``path`` can be written as a file (its folder exists or can be made, and accepts files)."""
+    p = Path(path)
+    if p.is_dir():
+        raise InputError(flag, f"{p} is a folder, not a file")
+    _accepts_files(_nearest_existing(p.parent), flag, p)
+    return p
