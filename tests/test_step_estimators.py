@@ -135,3 +135,20 @@ def test_damping_ratio_from_restitution_is_monotone_and_bounded(e):
     z = damping_ratio_from_restitution(e)
     assert 0.0 <= z < 1.0
     assert damping_ratio_from_restitution(min(1.0, e * 1.01)) <= z
+
+
+def test_yade_stepper_as_it_runs():
+    """YADE's GlobalStiffnessTimeStepper: 1.41044 x 0.8 x sqrt(min(m/K_ii, I/K_rot_ii)), its source's constant and
+    default safety, for one contact per body (K_ii = max(kn, ks), K_rot = ks R^2 for a sphere)."""
+    import math
+
+    from dtcrit.scenes.timestep import critical_step
+
+    r, rho, kn, ks = 0.001, 2500.0, 1e5, 4e4
+    m = rho * 4 / 3 * math.pi * r**3
+    s = parse_scene(f'integrator = "leapfrog"\n[[particle]]\nshape = "sphere"\nradius = {r!r}\ndensity = {rho!r}\n'
+                    f'[contact]\nmodel = "linear"\nkn = {kn!r}\nks = {ks!r}\n')
+    got = {e.estimate.key: e.estimate.dt for e in critical_step(s).estimates}
+    expect = 1.41044 * 0.8 * math.sqrt(min(m / max(kn, ks), 0.4 * m * r * r / (ks * r * r)))
+    assert got["yade_gsts"] == pytest.approx(expect, rel=1e-14)
+    assert got["yade_gsts"] / got["diagonal_stiffness"] == pytest.approx(1.41044 * 0.8 / math.sqrt(2), rel=1e-14)

@@ -18,6 +18,8 @@ __all__ = [
     "hertz_contact_time",
     "damped_collision_time",
     "diagonal_stiffness_step",
+    "YADE_GSTS_CONSTANT",
+    "YADE_GSTS_SAFETY",
     "RAYLEIGH_FRACTIONS",
     "COLLISION_TIME_DIVISOR",
     "HERTZ_TIME_CONSTANT",
@@ -83,3 +85,10 @@ def diagonal_stiffness_step(mass: float, inertia: float, k_translation: float, k
     """
     rotation = inertia / k_rotation if k_rotation > 0 else math.inf  # no tangential spring: no rotational stiffness
     return math.sqrt(2.0) * math.sqrt(min(mass / k_translation, rotation))
+
+
+YADE_GSTS_CONSTANT = 1.41044
+"""YADE GlobalStiffnessTimeStepper's factor in front of sqrt(min(m/K_ii, I/K_rot_ii)) (GlobalStiffnessTimeStepper.cpp);
+its comment calls it sqrt(2), but 1.41044 / sqrt(2) = 0.99733: the step it sets is 0.27 % below sqrt(2) x ..."""
+YADE_GSTS_SAFETY = 0.8
+"""Its default ``timestepSafetyCoefficient`` (GlobalStiffnessTimeStepper.hpp)."""

@@ -4,6 +4,8 @@ diagonal-stiffness estimate of YADE/PFC and the paper's Eq. (46) (:mod:`dtcrit.s
 """
 from __future__ import annotations
 
+import math
+
 from dtcrit.integrators.stability import paper_eq46
 from dtcrit.scenes import estimators as est
 
@@ -64,6 +66,13 @@ def scene_estimates(scene, steps) -> list[est.Estimate]:
         "per-body diagonal stiffness sqrt(2) sqrt(min(m/K_ii, I/K_rot_ii)) (YADE GlobalStiffnessTimeStepper, PFC; before their safety factor)",
         min(diag),
         "one contact per body: K_ii = max(kn, ks), K_rot_ii = k r_max^2 (ks for a sphere, whose normal force has no arm)",
+    ))
+    factor = est.YADE_GSTS_CONSTANT * est.YADE_GSTS_SAFETY / math.sqrt(2.0)
+    out.append(est.Estimate(
+        "yade_gsts",
+        "YADE GlobalStiffnessTimeStepper as it runs: 1.41044 x timestepSafetyCoefficient 0.8 x sqrt(min(m/K_ii, I/K_rot_ii))",
+        factor * min(diag),
+        "its defaults; one contact per body as for diagonal_stiffness",
     ))
 
     eq46 = min(min([paper_eq46(p.contact.kn, p.contact.cn, p.A_max)]
