@@ -58,9 +58,20 @@ def test_bad_input_is_one_line_exit_2(capsys, argv, words):
 
 
 def test_hertz_on_a_touching_lattice_has_no_stiffness(capsys):
-    """Hertz tangent stiffness vanishes at zero overlap: a touching lattice has no vibrating mode."""
-    out = _json(capsys, ["packing", "--lattice", "sc", "--youngs", "7e10"])
-    assert out["omega_max"] == 0.0 and out["dt_crit"] is None
+    """Hertz tangent stiffness vanishes at zero overlap: a touching lattice has no vibrating mode, said in one line."""
+    assert main(["packing", "--lattice", "sc", "--youngs", "7e10"]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and len(err.splitlines()) == 1 and "zero overlap" in err
+
+
+def test_a_packing_without_contacts_is_refused(tmp_path, capsys):
+    from dtcrit.packing import Packing, write_dump
+
+    path = tmp_path / "apart.dump"
+    write_dump(path, Packing.spheres([[0.0, 0, 0], [10.0, 0, 0]], [1.0, 1.0], density=1.0))
+    assert main(["packing", str(path), "--kn", "1"]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and "no two particles touch" in err and len(err.splitlines()) == 1
 
 
 def test_progress_lines_when_asked(monkeypatch, capsys):

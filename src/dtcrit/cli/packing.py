@@ -103,6 +103,12 @@ def run_command(args) -> int:
     law = _law(args)
     packing = _packing(args)
     report = analyse(packing, law, integrator=args.integrator, damping_ratio=args.damping_ratio, method=args.solver)
+    if report.n_contacts == 0:
+        raise ValueError("packing: no two particles touch: no contact limits the step (nothing to analyse)")
+    if not report.omega_max > 0:
+        why = (" (Hertz stiffness 2 E* sqrt(R* delta) vanishes at zero overlap: the spheres only touch)"
+               if "hertz" in report.law.lower() else "")
+        raise ValueError(f"packing: every contact has zero stiffness{why}: no vibrating mode, no critical step")
     if args.write_dump:
         write_dump(args.write_dump, packing)
     if args.json:
