@@ -1,0 +1,39 @@
+"""The envelope every ``--json`` output of dtcrit carries (README.md, section "JSON").
+
+Each document starts with ``schema`` (``dtcrit-<command>/<major>``: a key keeps its meaning within a
+major version, new keys may be added), ``dtcrit_version``, ``units`` (the unit of every dimensional
+key, SI throughout) and ``derivation_hashes``: for each committed generated module
+(``dtcrit._generated``) the hash of the derivation that produced it, read from the module's header
+line ``# Derivation hash: …``, so an output can be traced to the exact formulas behind it.  The
+headers are read as text: nothing here imports the generated code.
+"""
+from __future__ import annotations
+
+from functools import lru_cache
+from importlib import resources
+
+_HASH_PREFIX = "# Derivation hash:"
+
+
+@lru_cache(maxsize=1)
+def derivation_hashes() -> dict[str, str]:
+    """``{generated module name: derivation hash}`` from the headers of ``dtcrit/_generated/*.py``."""
+    out: dict[str, str] = {}
+    for entry in sorted(resources.files("dtcrit._generated").iterdir(), key=lambda e: e.name):
+        if not entry.name.endswith(".py") or entry.name.startswith("__"):
+            continue
+        with entry.open("r", encoding="utf-8") as fh:
+            for _, line in zip(range(8), fh):
+                if line.startswith(_HASH_PREFIX):
+                    out[entry.name[:-3]] = line[len(_HASH_PREFIX):].strip()
+                    break
+    return out
+
+
+def envelope(schema: str, units: dict[str, str]) -> dict:
+    """The leading keys of a JSON document of schema ``schema`` (e.g. ``"dtcrit-packing/1"``)."""
+    from dtcrit import __version__
+
+    return {"schema": schema, "dtcrit_version": __version__, "units": dict(units),
+            "derivation_hashes": derivation_hashes()}
+
