@@ -13,9 +13,20 @@ A contact between ``i`` and ``j`` with contact point ``x_c``, arms ``a_i = x_c -
 
 (``[a]_x`` the cross-product matrix; Peng et al. 2020, Eqs (1)-(2), (17)-(19) linearised).  Its
 springs store ``1/2 delta^T K_c delta`` with ``K_c = k_n n n^T + k_s (1 - n n^T)``, so the contact
-adds the 12 x 12 element ``[B_i B_j]^T K_c [B_i B_j]`` to the global stiffness.  The initial-stress
-(geometric) stiffness of the pre-loaded contacts is neglected, as in Otsubo et al.: it is of
-relative order ``F / (k R)``, the overlap strain.
+adds the 12 x 12 element ``[B_i B_j]^T K_c [B_i B_j]`` to the global stiffness.
+
+Further per-contact terms, when the contacts carry them (``dtcrit.packing.model.Contacts``):
+
+* rolling and twisting springs act on the relative rotation ``theta_j - theta_i = R_j t_j - R_i t_i``
+  with ``K_r = k_tw n n^T + k_r (1 - n n^T)`` (YADE's CohFrictPhys moment law, LAMMPS ``granular``
+  rolling/twisting springs, linearised);
+* the initial-stress (geometric) stiffness of a contact pre-loaded by the compressive normal force
+  ``F``: the force turns with the centre line, ``dF_i/du_i = -k_n n n^T + (F/r)(1 - n n^T)``, i.e.
+  ``-(F/r)(1 - n n^T)`` on the relative displacement of the two centres (``r`` their distance).
+  Otsubo et al. neglect it (relative order ``F/(k_n r)``, about the overlap strain); it is included
+  when ``force_n`` is given;
+* dashpots (``cn``, ``cs``) give the damping matrix ``C`` with the same kinematics as the springs,
+  ``[B_i B_j]^T C_c [B_i B_j]``, ``C_c = c_n n n^T + c_s (1 - n n^T)`` (``damping_matrix``).
 """
 from __future__ import annotations
 
@@ -76,6 +87,57 @@ def _require_stiffness(contacts: Contacts) -> None:
         raise InputError("contacts", "no stiffness: apply a contact law first (model.apply_law)")
 
 
+def _zero(contacts: Contacts, sl) -> np.ndarray:
+    return np.zeros(contacts.i[sl].shape)
+
+
+def _centre_distance(packing: Packing, contacts: Contacts, sl) -> np.ndarray:
+    d = packing.positions[contacts.j[sl]] - packing.positions[contacts.i[sl]]
+    if packing.box is not None:
+        d = d + contacts.image[sl] * packing.box.lengths
+    return np.linalg.norm(d, axis=1)
+
+
+def _pair_blocks(b_i, b_j, tensor):
+    """``(B_i^T T B_i, B_j^T T B_j, B_i^T T B_j)`` for stacks of (nc, 3, 6) ``B`` and (nc, 3, 3) ``T``."""
+    tb_i, tb_j = tensor @ b_i, tensor @ b_j
+    b_it, b_jt = np.swapaxes(b_i, 1, 2), np.swapaxes(b_j, 1, 2)
+    return b_it @ tb_i, b_jt @ tb_j, b_it @ tb_j
+
+
+def _element_blocks(packing: Packing, contacts: Contacts, sl, kind: str):
+    """The 6 x 6 blocks ``(ii, jj, ij)`` of each contact's element of ``K`` (``kind="stiffness"``)
+    or ``C`` (``kind="damping"``) for the contacts ``sl`` (module docstring)."""
+    normal = contacts.normal[sl]
+    b_i, b_j = contact_kinematics(packing, contacts, sl)
+    if kind == "stiffness":
+        along, across = contacts.kn[sl], contacts.ks[sl]
+    else:
+        along = _zero(contacts, sl) if contacts.cn is None else contacts.cn[sl]
+        across = _zero(contacts, sl) if contacts.cs is None else contacts.cs[sl]
+    k_ii, k_jj, k_ij = _pair_blocks(b_i, b_j, contact_stiffness_tensor(normal, along, across))
+    if kind != "stiffness":
+        return k_ii, k_jj, k_ij
+    nc = normal.shape[0]
+    eye, zero = np.broadcast_to(np.eye(3), (nc, 3, 3)), np.zeros((nc, 3, 3))
+    if contacts.rotational_springs:
+        rot_i, rot_j = -eye, eye
+        if packing.orientations is not None:
+            rot_i = -packing.orientations[contacts.i[sl]]
+            rot_j = packing.orientations[contacts.j[sl]]
+        twist = _zero(contacts, sl) if contacts.ktw is None else contacts.ktw[sl]
+        roll = _zero(contacts, sl) if contacts.kr is None else contacts.kr[sl]
+        extra = _pair_blocks(np.concatenate([zero, rot_i], axis=2), np.concatenate([zero, rot_j], axis=2),
+                             contact_stiffness_tensor(normal, twist, roll))
+        k_ii, k_jj, k_ij = (a + b for a, b in zip((k_ii, k_jj, k_ij), extra))
+    if contacts.force_n is not None and np.any(contacts.force_n[sl] > 0):
+        g = contacts.force_n[sl] / _centre_distance(packing, contacts, sl)
+        extra = _pair_blocks(np.concatenate([-eye, zero], axis=2), np.concatenate([eye, zero], axis=2),
+                             contact_stiffness_tensor(normal, _zero(contacts, sl), -g))
+        k_ii, k_jj, k_ij = (a + b for a, b in zip((k_ii, k_jj, k_ij), extra))
+    return k_ii, k_jj, k_ij
+
+
 def stiffness_matrix(packing: Packing, contacts: Contacts, *, chunk: int = 1 << 17,
                      label: str = "assembly") -> sps.bsr_matrix:
     """Global stiffness matrix ``K`` (6N x 6N, symmetric, 6 x 6 blocks) as ``scipy.sparse.bsr_matrix``.
@@ -85,6 +147,16 @@ def stiffness_matrix(packing: Packing, contacts: Contacts, *, chunk: int = 1 << 
     chunks of ``chunk`` contacts (a progress bar shows when the assembly is long).
     """
     _require_stiffness(contacts)
+    return _assemble(packing, contacts, "stiffness", chunk, label)
+
+
+def damping_matrix(packing: Packing, contacts: Contacts, *, chunk: int = 1 << 17,
+                   label: str = "damping assembly") -> sps.bsr_matrix:
+    """Global damping matrix ``C`` of the contact dashpots ``cn``, ``cs`` (module docstring)."""
+    return _assemble(packing, contacts, "damping", chunk, label)
+
+
+def _assemble(packing: Packing, contacts: Contacts, kind: str, chunk: int, label: str) -> sps.bsr_matrix:
     n = packing.n
     nc = contacts.count
     diag = np.zeros((n, 6, 6))
@@ -92,13 +164,7 @@ def stiffness_matrix(packing: Packing, contacts: Contacts, *, chunk: int = 1 << 
     starts = range(0, nc, chunk)
     for start in tqdm(starts, desc=label, disable=None if nc >= LONG_WORK else True, leave=False):
         sl = slice(start, min(start + chunk, nc))
-        bi, bj = contact_kinematics(packing, contacts, sl)
-        kc = contact_stiffness_tensor(contacts.normal[sl], contacts.kn[sl], contacts.ks[sl])
-        kbi = kc @ bi
-        kbj = kc @ bj
-        k_ii = np.swapaxes(bi, 1, 2) @ kbi
-        k_jj = np.swapaxes(bj, 1, 2) @ kbj
-        k_ij = np.swapaxes(bi, 1, 2) @ kbj
+        k_ii, k_jj, k_ij = _element_blocks(packing, contacts, sl, kind)
         ci, cj = contacts.i[sl], contacts.j[sl]
         self_contact = ci == cj
         if self_contact.any():  # coupling blocks of a self-image contact land on the diagonal

@@ -174,6 +174,12 @@ class Contacts:
     touching its own periodic image.  ``overlap`` >= 0; ``radius_eff`` is the effective radius of
     curvature ``R* = R_i R_j / (R_i + R_j)`` for spheres (Hertz), NaN otherwise.  ``kn``/``ks``
     are the normal and tangential spring stiffnesses [N/m] once a contact law was applied.
+
+    Optional per-contact terms (``None`` when absent): ``cn``/``cs`` the normal and tangential
+    dashpot coefficients [N s/m] (force ``-c`` times the relative velocity of the contact points);
+    ``kr``/``ktw`` the rolling and twisting spring stiffnesses [N m/rad] (moment against the
+    relative rotation ``theta_j - theta_i`` perpendicular to, and about, the normal); ``force_n``
+    the compressive normal force [N] a pre-loaded contact carries, for its geometric stiffness.
     """
 
     i: np.ndarray
@@ -186,6 +192,11 @@ class Contacts:
     radius_eff: np.ndarray
     kn: np.ndarray | None = None
     ks: np.ndarray | None = None
+    cn: np.ndarray | None = None
+    cs: np.ndarray | None = None
+    kr: np.ndarray | None = None
+    ktw: np.ndarray | None = None
+    force_n: np.ndarray | None = None
 
     @property
     def count(self) -> int:
@@ -195,18 +206,43 @@ class Contacts:
         """Contacts per particle; a contact with one's own image counts twice (both sides)."""
         return (np.bincount(self.i, minlength=n_particles) + np.bincount(self.j, minlength=n_particles))
 
-    def with_stiffness(self, kn, ks) -> "Contacts":
-        kn = np.broadcast_to(np.asarray(kn, dtype=float), self.i.shape).copy()
-        ks = np.broadcast_to(np.asarray(ks, dtype=float), self.i.shape).copy()
-        for key, k in (("kn", kn), ("ks", ks)):
-            if np.any(~np.isfinite(k)) or np.any(k < 0):
-                raise InputError(key, "contact stiffness must be a finite number >= 0")
-        return replace(self, kn=kn, ks=ks)
+    def _per_contact(self, **values) -> dict:
+        out = {}
+        for key, value in values.items():
+            if value is None:
+                out[key] = None
+                continue
+            arr = np.broadcast_to(np.asarray(value, dtype=float), self.i.shape).copy()
+            if np.any(~np.isfinite(arr)) or np.any(arr < 0):
+                raise InputError(key, "every value must be a finite number >= 0")
+            out[key] = arr
+        return out
+
+    def with_stiffness(self, kn, ks, kr=None, ktw=None) -> "Contacts":
+        """Per-contact springs: ``kn``, ``ks`` [N/m]; rolling ``kr`` and twisting ``ktw`` [N m/rad]."""
+        return replace(self, **self._per_contact(kn=kn, ks=ks, kr=kr, ktw=ktw))
+
+    def with_damping(self, cn, cs) -> "Contacts":
+        """Per-contact dashpots ``cn`` (normal), ``cs`` (tangential) [N s/m]."""
+        return replace(self, **self._per_contact(cn=cn, cs=cs))
+
+    def with_normal_force(self, force_n) -> "Contacts":
+        """The compressive normal force [N] of each pre-loaded contact (geometric stiffness)."""
+        return replace(self, **self._per_contact(force_n=force_n))
+
+    @property
+    def damped(self) -> bool:
+        return any(c is not None and np.any(c > 0) for c in (self.cn, self.cs))
+
+    @property
+    def rotational_springs(self) -> bool:
+        return any(k is not None and np.any(k > 0) for k in (self.kr, self.ktw))
 
     def subset(self, mask) -> "Contacts":
         pick = lambda a: None if a is None else a[mask]  # noqa: E731
         return Contacts(self.i[mask], self.j[mask], self.normal[mask], self.arm_i[mask], self.arm_j[mask],
-                        self.overlap[mask], self.image[mask], self.radius_eff[mask], pick(self.kn), pick(self.ks))
+                        self.overlap[mask], self.image[mask], self.radius_eff[mask], pick(self.kn), pick(self.ks),
+                        pick(self.cn), pick(self.cs), pick(self.kr), pick(self.ktw), pick(self.force_n))
 
     @classmethod
     def empty(cls) -> "Contacts":

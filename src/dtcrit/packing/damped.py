@@ -1,0 +1,202 @@
+"""The exact critical step of a packing with per-contact dashpots (any, non-proportional, damping).
+
+The packing obeys ``M x'' + C x' + K x = 0`` with ``C`` the assembled contact dashpots
+(``dtcrit.packing.assembly.damping_matrix``).  When ``C`` is not diagonalised by the undamped modes the
+modal route (``dtcrit.packing.damping``: top undamped mode, its modal damping ratio) is only an
+approximation; with strong dashpots another mode governs.  This module gives the exact answer.
+
+**Lagged-damping central difference** (``leapfrog``; ``symplectic-euler`` and ``velocity-verlet`` have
+the same amplification polynomial: LAMMPS's ``fix nve/sphere`` with its dashpots on the half-step
+velocity, YADE's leapfrog with the lagged velocity).  Eliminating the velocities, ``x_n = lambda^n x``
+solves ``P(lambda) x = 0`` with
+
+    P(lambda) = (lambda - 1)^2 M + h (lambda - 1) C + h^2 lambda K.
+
+For an eigenpair, ``x^H P(lambda) x = 0`` is the scalar polynomial with the Rayleigh quotients
+``m = x^H M x > 0``, ``c = x^H C x >= 0``, ``k = x^H K x >= 0``, whose roots lie in the closed unit disk
+iff ``4m - 2hc - h^2 k >= 0`` (Jury conditions of ``lambda^2 - (2 - hc/m - h^2 k/m) lambda + 1 - hc/m``).
+Hence every eigenvalue satisfies ``|lambda| <= 1`` while ``4M - 2hC - h^2 K`` is positive definite, and
+at the first ``h`` where it turns singular its null vector ``x`` gives ``P(-1) x = 0``: ``lambda = -1``
+is an eigenvalue.  The critical step is therefore exactly the root of
+
+    g(h) = lambda_max(2h C~ + h^2 K~) - 4,   C~ = M^(-1/2) C M^(-1/2),  K~ = M^(-1/2) K M^(-1/2),
+
+a convex increasing function of ``h`` (a maximum of convex Rayleigh quotients ``2hc + h^2 k``), solved
+by Newton's method from the undamped step ``2/omega_max`` downwards (monotone for a convex increasing
+function) with ``g'(h) = v^T (2 C~ + 2h K~) v`` (Hellmann-Feynman).  With ``C = 0`` it is ``2/omega_max``;
+for one contact it is the closed form ``2/(omega (zeta + sqrt(zeta^2 + 1)))``.
+
+``leapfrog-centred`` (damping on the mean of the half-step velocities):
+``P(lambda) = (lambda - 1)^2 M + (h/2)(lambda^2 - 1) C + h^2 lambda K`` and the same argument gives the
+condition ``4M - h^2 K > 0``: ``2/omega_max`` whatever the dashpots.
+
+Every other scheme is solved by ``spectral_radius`` (the largest ``|lambda|`` of its amplification
+operator, ARPACK, built from the scheme's own update rule ``dtcrit.integrators.schemes``) and bisection.
+
+``dt_lower`` is a rigorous lower bound: ``lambda_max(2h C~ + h^2 K~) <= 2h beta + h^2 alpha`` with
+``alpha``, ``beta`` upper bounds of ``lambda_max(K~)``, ``lambda_max(C~)`` (block Gershgorin bounds of
+``dtcrit.packing.estimates``), so ``h = 4/(beta + sqrt(beta^2 + 4 alpha))`` is stable.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse.linalg as spla
+
+from dtcrit.errors import InputError
+from dtcrit.integrators.schemes import INTEGRATORS
+
+from dtcrit.packing.assembly import damping_matrix, mass_diagonal, scale_symmetric, stiffness_matrix
+from dtcrit.packing.eigen import largest_mode
+from dtcrit.packing.estimates import block_diagonal, gershgorin
+from dtcrit.packing.model import Contacts, Packing
+
+LAGGED = ("leapfrog", "symplectic-euler", "velocity-verlet")
+CENTRED = ("leapfrog-centred",)
+NEWTON_RTOL = 1e-10
+
+
+@dataclass(frozen=True)
+class DampedStep:
+    """Critical step ``dt`` of the damped packing, a rigorous lower bound ``dt_lower``, the undamped
+    step ``dt_undamped = 2/omega_max``, the governing mode ``vector`` (mass-scaled coordinates, the
+    null vector of ``4M - 2hC - h^2 K`` at ``dt``; ``None`` for the spectral route), the route taken,
+    and the number of eigen-solves."""
+
+    dt: float
+    dt_lower: float
+    dt_undamped: float
+    method: str
+    vector: np.ndarray | None
+    solves: int
+
+
+def scaled_matrices(packing: Packing, contacts: Contacts):
+    """``(K~, C~)`` in the symmetric mass-scaled form (module docstring)."""
+    d = mass_diagonal(packing)
+    k = scale_symmetric(stiffness_matrix(packing, contacts), d, inplace=True)
+    c = scale_symmetric(damping_matrix(packing, contacts), d, inplace=True)
+    return k, c
+
+
+def _upper_bound(a, d_ones) -> float:
+    return min(block_diagonal(a).omega2, gershgorin(a, d_ones).omega2)
+
+
+def _lower_bound(k, c) -> float:
+    ones = np.ones(k.shape[0])
+    alpha = _upper_bound(k, ones)
+    beta = _upper_bound(c, ones) if c.nnz else 0.0
+    if alpha <= 0:
+        return math.inf
+    return 4.0 / (beta + math.sqrt(beta * beta + 4.0 * alpha))
+
+
+def _lagged_root(k, c, omega2: float, method: str):
+    """Newton's method on ``g(h)`` from ``h = 2/omega_max`` (module docstring)."""
+    h = 2.0 / math.sqrt(omega2)
+    k, c = k.tocsr(), c.tocsr()
+    solves, v = 0, None
+    for _ in range(60):
+        top = largest_mode((2.0 * h) * c + (h * h) * k, method)
+        solves += 1
+        v = top.vector
+        slope = float(v @ (2.0 * (c @ v) + 2.0 * h * (k @ v)))
+        g = top.value - 4.0
+        if slope <= 0:
+            break
+        step = g / slope
+        h_new = h - step
+        if abs(step) <= NEWTON_RTOL * h:
+            h = h_new
+            break
+        h = h_new
+    return h, v, solves
+
+
+def damped_critical_dt(packing: Packing, contacts: Contacts, integrator: str = "velocity-verlet", *,
+                       method: str = "auto") -> DampedStep:
+    """The exact critical step of ``integrator`` on the packing with its contact dashpots."""
+    if integrator not in INTEGRATORS:
+        raise InputError("integrator", f"unknown integrator {integrator!r}")
+    k, c = scaled_matrices(packing, contacts)
+    top = largest_mode(k, method)
+    if top.value <= 0:
+        raise InputError("contacts", "the packing has no stiffness: no vibrating mode")
+    dt_undamped = 2.0 / math.sqrt(top.value)
+    if integrator in CENTRED or not contacts.damped:
+        if integrator in LAGGED + CENTRED:
+            bound = _lower_bound(k, c.multiply(0.0) if integrator in CENTRED else c)
+            return DampedStep(dt_undamped, min(bound, dt_undamped), dt_undamped,
+                              "2/omega_max (4M - h^2 K > 0)", top.vector, 1)
+    if integrator in LAGGED:
+        h, v, solves = _lagged_root(k, c, top.value, method)
+        bound = _lower_bound(k, c)
+        return DampedStep(h, min(bound, h), dt_undamped, "root of lambda_max(2h C~ + h^2 K~) = 4", v, solves + 1)
+    h, solves = critical_by_spectral_radius(k, c, integrator, dt_undamped)
+    return DampedStep(h, 0.0, dt_undamped, "bisection on the amplification operator's spectral radius",
+                      None, solves + 1)
+
+
+def amplification_operator(k, c, integrator: str, h: float) -> spla.LinearOperator:
+    """One step of ``integrator``'s update rule on the mass-scaled packing, ``y'' = -K~ y - C~ y'``,
+    as a linear operator on the stacked state (two or three blocks of ``n``)."""
+    scheme = INTEGRATORS[integrator]
+    if integrator in CENTRED:
+        raise InputError("integrator", "leapfrog-centred needs a linear solve per step; its step is 2/omega_max")
+    n, parts = k.shape[0], len(scheme.state)
+
+    class _Force:
+        dv = None
+
+        def __call__(self, x, v):
+            return -(k @ x) - (c @ v)
+
+    force = _Force()
+
+    def matvec(s):
+        s = np.asarray(s).reshape(-1)
+        out = scheme.step([s[p * n:(p + 1) * n] for p in range(parts)], h, force)
+        return np.concatenate(out)
+
+    return spla.LinearOperator((parts * n, parts * n), matvec=matvec, dtype=float)
+
+
+def spectral_radius(k, c, integrator: str, h: float) -> float:
+    """Largest ``|lambda|`` of the amplification operator (ARPACK; dense below 600 states)."""
+    op = amplification_operator(k, c, integrator, h)
+    size = op.shape[0]
+    if size <= 600:
+        dense = op @ np.eye(size)
+        return float(np.max(np.abs(np.linalg.eigvals(dense))))
+    v0 = np.random.default_rng(20170601).standard_normal(size)
+    w = spla.eigs(op, k=1, which="LM", v0=v0, tol=1e-10, return_eigenvectors=False)
+    return float(np.max(np.abs(w)))
+
+
+def critical_by_spectral_radius(k, c, integrator: str, h_hi: float, *, rtol: float = 1e-7,
+                                slack: float = 1e-9) -> tuple[float, int]:
+    """Bisection for the largest ``h`` with spectral radius ``<= 1 + slack`` (undamped modes of a
+    stable step sit on the unit circle to rounding), searched below ``h_hi`` (doubled if stable)."""
+    solves = 0
+    hi = h_hi
+    while spectral_radius(k, c, integrator, hi) <= 1.0 + slack:
+        solves += 1
+        hi *= 2.0
+        if hi > 1e6 * h_hi:
+            return math.inf, solves
+    lo = 0.0
+    while hi - lo > rtol * hi:
+        mid = 0.5 * (lo + hi)
+        solves += 1
+        if spectral_radius(k, c, integrator, mid) <= 1.0 + slack:
+            lo = mid
+        else:
+            hi = mid
+    return lo, solves
+
+
+__all__ = ["DampedStep", "damped_critical_dt", "spectral_radius", "amplification_operator",
+           "critical_by_spectral_radius", "scaled_matrices"]
