@@ -1,15 +1,16 @@
 #!/usr/bin/env python3
 """Set-up and task runner for dtcrit: needs only a Python >= 3.11 on the machine.
 
-    python3 dev.py demo       create .venv if missing, install dtcrit, run the main job
-    python3 dev.py test       the same set-up, then the whole test suite
-    python3 dev.py generate   regenerate the committed generated code and derivation records
+    python3 dev.py demo       create .venv if missing, install dtcrit (runtime dependencies only), run the main job
+    python3 dev.py test       the same set-up with the test extras (pytest, hypothesis, Jupyter, ...), then the suite
+    python3 dev.py generate   regenerate the committed generated code and derivation records (test extras)
 
 Every task creates the virtual environment ``.venv`` beside this file when it is missing,
 (re)installs the package whenever ``pyproject.toml`` or ``constraints.txt`` (the pinned versions)
-changed since the last install, and
+changed since the last install or the task needs extras the last install did not have (``demo``
+needs none: NumPy, SciPy, SymPy, mpmath, tqdm; ``test`` and ``generate`` the ``test`` extra), and
 byte-compiles ``src`` (cheap when up to date), so that with ``PYTHONDONTWRITEBYTECODE=1`` dtcrit
-is not recompiled at every start.  ``test`` also installs ``gfortran`` and LAMMPS (``lmp``) with
+is not recompiled at every start.  ``test`` also installs ``gfortran``, LAMMPS (``lmp``) and YADE (``yade``) with
 ``apt-get`` when they are missing and we are root, so the emitted Fortran is compiled and the engine
 cases run (never fatal here: without them those tests skip, except under ``CI=true``, where the
 engine tests fail; ``DTCRIT_NO_APT=1`` opts out).
@@ -37,21 +38,37 @@ def run(*cmd: str | os.PathLike, env: dict | None = None) -> int:
     return subprocess.call([str(c) for c in cmd], cwd=ROOT, env=env)
 
 
-def ensure_venv() -> None:
+EXTRAS = {"demo": (), "test": ("test",), "generate": ("test",)}
+"""The optional dependency groups of pyproject.toml each task installs: the demo runs on the runtime
+dependencies alone; the tests (and the derivation scripts behind ``generate``) need the ``test`` extra."""
+
+
+def _installed() -> tuple[str, set[str]]:
+    """(digest of pyproject.toml + constraints.txt, extras) of the last install, from the stamp."""
+    if not STAMP.exists():
+        return "", set()
+    digest, _, extras = STAMP.read_text().strip().partition(" ")
+    return digest, set(filter(None, extras.split(",")))
+
+
+def ensure_venv(extras: tuple[str, ...] = ()) -> None:
     if sys.version_info < (3, 11):
         sys.exit("dtcrit needs Python >= 3.11 (found %s)" % sys.version.split()[0])
     if not PY.exists():
         if run(sys.executable, "-m", "venv", VENV) != 0:
             sys.exit("could not create the virtual environment .venv")
     digest = hashlib.sha256((ROOT / "pyproject.toml").read_bytes() + (ROOT / "constraints.txt").read_bytes()).hexdigest()
-    if STAMP.exists() and STAMP.read_text() == digest:
+    done, had = _installed()
+    if done == digest and set(extras) <= had:
         return
+    wanted = sorted(set(extras) | (had if done == digest else set()))
     quiet = ["-q"] if os.environ.get("CI") else []
     if run(PY, "-m", "pip", "install", *quiet, "--upgrade", "pip") != 0:
         sys.exit("pip upgrade failed")
-    if run(PY, "-m", "pip", "install", *quiet, "-c", "constraints.txt", "-e", ".[test]") != 0:
-        sys.exit("installing dtcrit and its test dependencies failed")
-    STAMP.write_text(digest)
+    target = "." + (f"[{','.join(wanted)}]" if wanted else "")
+    if run(PY, "-m", "pip", "install", *quiet, "-c", "constraints.txt", "-e", target) != 0:
+        sys.exit("installing dtcrit" + (f" with {', '.join(wanted)} extras" if wanted else "") + " failed")
+    STAMP.write_text(f"{digest} {','.join(wanted)}")
 
 
 def compile_sources() -> None:
@@ -60,9 +77,10 @@ def compile_sources() -> None:
         print("byte-compiling src failed (not fatal: Python compiles on import)", flush=True)
 
 
-APT_TOOLS = {"gfortran": "gfortran", "lmp": "lammps"}
+APT_TOOLS = {"gfortran": "gfortran", "lmp": "lammps", "yade": "yade"}
 """Binaries the tests use -> the Debian package that provides them: gfortran compiles the emitted
-Fortran; lmp (LAMMPS, GRANULAR package) runs the engine cases that dtcrit's steps are checked on."""
+Fortran; lmp (LAMMPS, GRANULAR package) and yade (YADE, leapfrog) run the engine cases that dtcrit's
+steps are checked on."""
 
 
 def ensure_apt_tools() -> None:
@@ -122,6 +140,6 @@ TASKS = {"demo": demo, "test": test, "generate": generate}
 if __name__ == "__main__":
     if len(sys.argv) < 2 or sys.argv[1] not in TASKS:
         sys.exit("usage: python3 dev.py {%s} [args]" % "|".join(TASKS))
-    ensure_venv()
+    ensure_venv(EXTRAS[sys.argv[1]])
     compile_sources()
     sys.exit(TASKS[sys.argv[1]]())

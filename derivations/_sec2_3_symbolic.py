@@ -51,7 +51,9 @@ def section_convention() -> list[str]:
         "",
         "So the convention is self-consistent.  Euler's equations (11)-(12) are applied to the local moment "
         "$R M_G$ and the angular acceleration is returned with $R^T$; the global inverse inertia is "
-        "$W = R^T I^{-1} R$.  The Figure 2 quaternions below are given in this convention.",
+        "$W = R^T I^{-1} R$.  The Figure 2 quaternions below are the particles' orientations read body to world, "
+        "the one convention dtcrit uses wherever it carries a quaternion: $R_i = R(q_i)^T$, $q_i$ the conjugate "
+        "of the quaternion whose Eq. (7) matrix is the paper's $R_i$.",
         "",
     ]
     return out

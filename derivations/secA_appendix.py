@@ -232,7 +232,7 @@ def build() -> str:
     ]
     mx, ml = s["max_config"], s["max_lambda_config"]
     for title, cfg in (("maximum of $|A F|$", mx), ("maximum of $\\lambda_{max}(A)$", ml)):
-        Q2 = _quat_matrix(cfg["quaternion_2_wxyz"])
+        Q2 = _quat_matrix(cfg["quaternion_2_body_to_world_wxyz"])
         chain = _chain_float(np.array(cfg["r1"]), np.array(cfg["r2"]), Q2, mf, inertia_f, FORCE)
         L += [
             f"**{title}** (grid {_n(s['shapes']['ellipsoid']['max_accel_grid'] if cfg is mx else s['shapes']['ellipsoid']['max_lambda_grid'])}, "
@@ -241,7 +241,7 @@ def build() -> str:
             f"* $|A F|$ = {_n(cfg['accel'])} m/s$^2$, $\\lambda_{{max}}$ = {_n(cfg['lambda_max'])} 1/kg; chain of "
             f"Eqs. (1)-(19) re-evaluated from the rounded configuration: $|\\ddot x_c|$ = {_n(np.linalg.norm(chain), 5)}.",
             f"* normal of 1 {_v(cfg['normal_1'])}, contact point {_v(cfg['contact_point'])}, $r_2$ {_v(cfg['r2'])}, "
-            f"centre of 2 {_v(cfg['centre_2'])}, quaternion of 2 (w, x, y, z) {_v(cfg['quaternion_2_wxyz'])}, "
+            f"centre of 2 {_v(cfg['centre_2'])}, quaternion of 2 (w, x, y, z) {_v(cfg['quaternion_2_body_to_world_wxyz'])}, "
             f"long axis of 2 {_v(cfg['long_axis_2'])} ({_n(cfg['angle_between_long_axes_deg'], 4)} degrees from "
             "that of 1).",
             "",

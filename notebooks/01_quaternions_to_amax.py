@@ -34,8 +34,11 @@ qw, qx, qy, qz = sp.symbols("q_w q_x q_y q_z", real=True)
 quat.quaternion_rotation_matrix((qw, qx, qy, qz))
 
 # %% [markdown]
-# The paper uses $M_L = R\,M_G$ (Eq. 5): $R$ maps global components to body components.  The
-# convention checks (orthogonality, composition, inversion) all hold:
+# This is the matrix of Eq. (7).  dtcrit reads a quaternion $q$ as a particle's orientation, body to
+# world: $v_{world} = R(q)\,v_{body}$, in every function and JSON key that carries one.  The paper uses
+# $M_L = R\,M_G$ (Eq. 5), a matrix from global to body components: that is $R(q)^T$, the matrix of
+# the conjugate quaternion.  The convention checks (orthogonality, composition, inversion by the
+# conjugate) all hold:
 
 # %%
 checks = quat.check_rotation_convention()

@@ -125,12 +125,13 @@ def test_a_max_is_eq26_term_by_term():
 def test_coefficient_matrix_matches_direct_rigid_body_evaluation(n1, n2, q1, q2, r1, r2):
     s1, s2 = SHAPES[n1], SHAPES[n2]
     q1, q2 = np.array(q1) / np.linalg.norm(q1), np.array(q2) / np.linalg.norm(q2)
-    # paper's R (global -> local) is the active matrix of q (Eq. 7), i.e. scipy's from_quat
-    R1 = Rotation.from_quat([*q1[1:], q1[0]]).as_matrix()
-    R2 = Rotation.from_quat([*q2[1:], q2[0]]).as_matrix()
+    # orientations body to world: the active matrix of q (Eq. 7), i.e. scipy's from_quat; the paper's R
+    # (global -> local, Eq. 5) that direct_matrix takes is its transpose
+    Q1 = Rotation.from_quat([*q1[1:], q1[0]]).as_matrix()
+    Q2 = Rotation.from_quat([*q2[1:], q2[0]]).as_matrix()
     A = contact.coefficient_matrix(s1, s2, r1, r2, R1=q1, R2=q2)
-    A_mat = contact.coefficient_matrix(s1, s2, r1, r2, R1=R1, R2=R2)
-    D = direct_matrix(s1.mass, s1.inertia, R1, np.array(r1), s2.mass, s2.inertia, R2, np.array(r2))
+    A_mat = contact.coefficient_matrix(s1, s2, r1, r2, R1=Q1, R2=Q2)
+    D = direct_matrix(s1.mass, s1.inertia, Q1.T, np.array(r1), s2.mass, s2.inertia, Q2.T, np.array(r2))
     scale = np.max(np.abs(D))
     np.testing.assert_allclose(A, D, rtol=0, atol=1e-13 * scale)
     np.testing.assert_allclose(A_mat, D, rtol=0, atol=1e-13 * scale)
@@ -198,7 +199,7 @@ def test_random_admissible_contacts_never_exceed_a_bound(pair):
     assert np.all(lam <= bound * (1 + SLACK))
     # the arms seen from the global frame give the same matrices through the public function
     i = int(np.argmax(lam))
-    A = contact.coefficient_matrix(s1, s2, batch.r1[i], batch.r2[i], R1=batch.Q1[i].T, R2=batch.Q2[i].T)
+    A = contact.coefficient_matrix(s1, s2, batch.r1[i], batch.r2[i], R1=batch.Q1[i], R2=batch.Q2[i])
     assert math.isclose(np.linalg.eigvalsh(A)[-1], lam[i], rel_tol=1e-12)
 
 
@@ -241,7 +242,7 @@ def test_search_establishes_where_eq26_fails(name, exceeds):
     res = cs.search_supremum(s, s, n_random=1500, n_starts=4, iterations=80, seed=2)
     c = res.contact
     # the returned contact reproduces the value through the public coefficient matrix
-    A = contact.coefficient_matrix(s, s, c.r1[0], c.r2[0], R1=c.Q1[0].T, R2=c.Q2[0].T)
+    A = contact.coefficient_matrix(s, s, c.r1[0], c.r2[0], R1=c.Q1[0], R2=c.Q2[0])
     assert math.isclose(np.linalg.eigvalsh(A)[-1], res.value, rel_tol=1e-12)
     assert res.value <= dtcrit.a_bound(s) * (1 + SLACK)
     assert res.value >= dtcrit.a_bound(s) * (1 - 1e-6)

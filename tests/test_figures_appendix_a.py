@@ -65,7 +65,8 @@ def matrix_chain(r1, r2, Q2, m, inertia):
 
 
 def config_arrays(cfg_dict):
-    Q2 = Rotation.from_quat(np.roll(np.array(cfg_dict["quaternion_2_wxyz"]), -1)).as_matrix()
+    # body-to-world quaternion (w, x, y, z); SciPy's from_quat takes (x, y, z, w) in the same convention
+    Q2 = Rotation.from_quat(np.roll(np.array(cfg_dict["quaternion_2_body_to_world_wxyz"]), -1)).as_matrix()
     return (np.array(cfg_dict["r1"]), np.array(cfg_dict["r2"]), Q2, np.array(cfg_dict["normal_1"]),
             np.array(cfg_dict["centre_2"]))
 

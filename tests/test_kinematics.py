@@ -104,9 +104,12 @@ def test_eq7_kernel_is_the_rotation_of_the_quaternion(q):
 
 
 def test_quaternions_of_the_configurations_reproduce_their_matrices():
+    """The configurations' quaternions are orientations body to world: their Eq. (7) matrices are the
+    transposes of the paper's R_i (global -> local, Eq. 5)."""
     for cfg in tips.FIG2.values():
         q1, q2 = cfg.quaternions()
-        assert quat.quaternion_rotation_matrix(q2) == sp.Matrix(cfg.R2)
+        assert quat.quaternion_rotation_matrix(q1) == sp.Matrix(cfg.R1).T
+        assert quat.quaternion_rotation_matrix(q2) == sp.Matrix(cfg.R2).T
         assert sum(c**2 for c in q2) == 1
 
 

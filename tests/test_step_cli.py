@@ -40,7 +40,7 @@ def test_console_script_and_module_give_the_same_output():
     assert a.stdout == b.stdout
 
 
-JSON_KEYS = {"schema", "scene", "title", "integrator", "dt_crit", "safety", "dt_recommended", "governing", "bound",
+JSON_KEYS = {"schema", "dtcrit_version", "units", "derivation_hashes", "scene", "title", "integrator", "dt_crit", "safety", "dt_recommended", "governing", "bound",
              "formula", "translation", "rotation", "estimators", "pairs", "particles", "contact", "warnings",
              "holds_for", "dt_isolated", "dt_dense", "coordination_max", "dense", "dense_factors", "walls"}
 
@@ -54,8 +54,8 @@ def test_json_is_complete_and_stable(scene, capsys):
     assert doc["schema"] == "dtcrit-step/1"
     assert set(doc["translation"]) >= {"A_max", "A_bound", "dt"}
     assert doc["rotation"] is None or set(doc["rotation"]) >= {"B_max", "dt"}
-    for key in ("rayleigh", "rayleigh_10", "rayleigh_20", "rayleigh_40", "hertz_time", "collision_time_50",
-                "diagonal_stiffness", "paper_eq46"):
+    for key in ("rayleigh", "rayleigh_10", "rayleigh_20", "rayleigh_40", "hertz_time", "hertz_10", "hertz_20",
+                "collision_time_50", "diagonal_stiffness", "yade_gsts", "paper_eq46"):
         assert set(doc["estimators"][key]) >= {"dt", "unsafe"}
     assert doc["governing"] in ("translation", "rotation", "dense")
     isolated = min(doc["translation"]["dt"], (doc["rotation"] or {}).get("dt") or float("inf"))

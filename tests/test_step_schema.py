@@ -54,3 +54,70 @@ def test_the_schema_rejects_what_it_should(capsys):
         mutate(doc)
         with pytest.raises(jsonschema.ValidationError):
             jsonschema.validate(doc, SCHEMA)
+
+
+DIMENSIONLESS = {"zeta", "zeta_mode", "zeta_normal", "zeta_shear", "damping_ratio", "restitution", "safety", "ks_ratio",
+                 "fractions", "sigma", "B_max", "B_sum", "4", "6", "12", "number", "coordination_max", "particles",
+                 "attained_at", "overlap_max", "poisson_ratio"}
+"""Numbers of a step document without a unit (ratios, factors, counts); every other number must be in ``units``."""
+
+
+def _numeric_keys(x, name=None, out=None):
+    out = set() if out is None else out
+    if isinstance(x, dict):
+        for k, v in x.items():
+            if k not in ("units", "derivation_hashes"):
+                _numeric_keys(v, k, out)
+    elif isinstance(x, list):
+        for v in x:
+            _numeric_keys(v, name, out)
+    elif isinstance(x, (int, float)) and not isinstance(x, bool):
+        out.add(name)
+    return out
+
+
+def _all_docs(capsys, tmp_path):
+    docs = [_doc(capsys, p) for p in sorted((ROOT / "examples").glob("*.toml"))]
+    for name, text in EXTRA.items():
+        path = tmp_path / f"{name}.toml"
+        path.write_text(text)
+        docs.append(_doc(capsys, path))
+    return docs
+
+
+def test_envelope_version_and_derivation_hashes(capsys):
+    """The envelope of every --json: the package version and, per generated module, the hash its header names."""
+    import re
+
+    import dtcrit
+
+    doc = _doc(capsys, ROOT / "examples" / "paper_ellipsoids.toml")
+    assert list(doc)[:4] == ["schema", "dtcrit_version", "units", "derivation_hashes"]
+    assert doc["dtcrit_version"] == dtcrit.__version__
+    expected = {}
+    for f in sorted((ROOT / "src" / "dtcrit" / "_generated").glob("*.py")):
+        m = re.search(r"^# Derivation hash: (\S+)$", f.read_text(), re.M)
+        if m:
+            expected[f.stem] = m.group(1)
+    assert expected and doc["derivation_hashes"] == expected
+
+
+def test_every_dimensional_number_has_its_unit(capsys, tmp_path):
+    docs = _all_docs(capsys, tmp_path)
+    seen = set().union(*(_numeric_keys(d) for d in docs))
+    units = docs[0]["units"]
+    missing = seen - set(units) - DIMENSIONLESS
+    assert not missing, f"numbers without a unit: {sorted(missing)}"
+    assert not (set(units) & DIMENSIONLESS)
+    assert units["dt_crit"] == "s" and units["kn"] == "N/m" and units["cn"] == "N s/m" and units["A"] == "1/kg"
+    assert units["lambda_k"] == "1/s^2" and units["inertia"] == "kg m^2" and units["omega_max"] == "rad/s"
+
+
+def test_the_schema_requires_the_envelope(capsys):
+    good = _doc(capsys, ROOT / "examples" / "paper_ellipsoids.toml")
+    for mutate in (lambda d: d.pop("units"), lambda d: d.pop("derivation_hashes"), lambda d: d.update(dtcrit_version=1),
+                   lambda d: d["units"].pop("dt_crit"), lambda d: d.update(derivation_hashes={})):
+        doc = json.loads(json.dumps(good))
+        mutate(doc)
+        with pytest.raises(jsonschema.ValidationError):
+            jsonschema.validate(doc, SCHEMA)

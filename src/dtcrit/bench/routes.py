@@ -11,8 +11,8 @@ closed-form-numpy              dtcrit     generated closed form, vectorised
                                           (``dtcrit.integrators.stability.critical_dt_array``)
 closed-form-fused              dtcrit     the same closed forms, fused and in place
                                           (``dtcrit.bench.fused``)
-closed-form-c                  dtcrit     the closed forms emitted as C, compiled, via ctypes
-                                          (``dtcrit.bench.c_kernel``)
+closed-form-c                  dtcrit     the careful step emitted as C (``dtcrit codegen``'s),
+                                          compiled, via ctypes (``dtcrit.bench.c_kernel``)
 closed-form-scalar             dtcrit     ``dtcrit.critical_dt`` scene by scene (validates
                                           its input and refuses what it cannot represent)
 eigenvalues-closed+bisection   direct     generated closed-form eigenvalues
@@ -87,9 +87,13 @@ def closed_form_fused(integrator, k, c, A):
 
 
 def closed_form_c(integrator, k, c, A):
+    """The emitted careful C step over arrays; a step outside float64 (inf, or 0 for a stable
+    contact) is refused as by the other dtcrit routes."""
     from dtcrit.bench.c_kernel import critical_dt_c
+    from dtcrit.integrators.stability import refuse_unrepresentable
 
-    return critical_dt_c(integrator, *_arrays(k, c, A))
+    k, c, A = _arrays(k, c, A)
+    return refuse_unrepresentable(integrator, critical_dt_c(integrator, k, c, A), k, c, A)
 
 
 # --- direct float64 routes: eigenvalues + bisection ---------------------------------------------

@@ -36,7 +36,8 @@ import numpy as np
 
 from dtcrit.bench import reference as ref
 from dtcrit.bench.paper_forms import PAPER_FORMS
-from dtcrit.bench.routes import EIG_SAMPLE, FULL, MP_SAMPLE, ROUTES, floor_kernel
+from dtcrit.bench.ratios import ratios as _ratios
+from dtcrit.bench.routes import EIG_SAMPLE, FULL, MP_SAMPLE, ROUTES
 from dtcrit.bench.suite import SUITE, random_batch
 from dtcrit.errors import InputError
 from tqdm import tqdm
@@ -247,47 +248,6 @@ def _batch_part(config: BenchConfig, batch, refs, routes) -> tuple[list[dict], d
         row["n_accuracy"] = sum(e["n_accuracy"] for e in entries)
         per_route.append(row)
     return per_route, timing_raw
-
-
-def _ratios(config: BenchConfig, batch, timing_raw) -> dict:
-    """Section 4: generated closed form vs eigvals + bisection, and NumPy kernels vs the floor."""
-    from dtcrit.bench.fused import FUSED, critical_dt_fused
-    from dtcrit.integrators.stability import critical_dt_array
-
-    out = {"speedup_vs_eig_by_integrator": {}, "kernel_vs_floor_by_integrator": {}}
-    k, c, A = batch.k, batch.c, batch.A
-    for name in tqdm(config.integrators, desc="bench: floor ratios", disable=None):
-        floor = gen = fused = math.inf
-        for _ in range(max(3, config.repeats)):  # interleaved, best of each
-            t0 = time.perf_counter()
-            floor_kernel(k, A)
-            t1 = time.perf_counter()
-            critical_dt_array(name, k, c, A)
-            t2 = time.perf_counter()
-            if name in FUSED:
-                critical_dt_fused(name, k, c, A)
-            t3 = time.perf_counter()
-            floor, gen = min(floor, t1 - t0), min(gen, t2 - t1)
-            if name in FUSED:
-                fused = min(fused, t3 - t2)
-        entry = {"floor_seconds": floor, "generated_seconds": gen, "generated_ratio": gen / floor}
-        if name in FUSED:
-            entry["fused_seconds"] = fused
-            entry["fused_ratio"] = fused / floor
-        entry["best_ratio"] = min(entry["generated_ratio"], entry.get("fused_ratio", math.inf))
-        out["kernel_vs_floor_by_integrator"][name] = entry
-        eig = timing_raw.get(("eigvals+bisection", name))
-        if eig is not None:
-            out["speedup_vs_eig_by_integrator"][name] = eig / (gen / len(batch))
-    sp = out["speedup_vs_eig_by_integrator"]
-    kv = out["kernel_vs_floor_by_integrator"]
-    radical = [n for n in kv if n in FUSED]
-    out["speedup_vs_eig"] = min(sp.values()) if sp else None
-    out["kernel_vs_floor"] = max(kv[n]["best_ratio"] for n in radical) if radical else None
-    out["kernel_vs_floor_generated"] = max(kv[n]["generated_ratio"] for n in radical) if radical else None
-    out["kernel_vs_floor_cubic"] = kv["paper-eq40"]["best_ratio"] if "paper-eq40" in kv else None
-    out["n_scenes"] = len(batch)
-    return out
 
 
 # --- the suite -------------------------------------------------------------------------------

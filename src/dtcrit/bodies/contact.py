@@ -4,7 +4,7 @@ Peng, Burns & Hanley (2020), Sections 2, 3 and 5.  With force ``F`` on particle 
 at the contact arms ``r1, r2`` and no angular velocity, the relative acceleration of the contact
 points is ``xdd_c = A F`` with the symmetric positive definite coefficient matrix
 
-    A = (1/m1 + 1/m2) 1 + sum_i [r_i]x^T W_i [r_i]x,   W_i = R_i^T I_i^-1 R_i
+    A = (1/m1 + 1/m2) 1 + sum_i [r_i]x^T W_i [r_i]x,   W_i = Q_i I_i^-1 Q_i^T
 
 (derived from Eqs 1-19 in ``dtcrit.symbolic.kinematics``; the paper keeps its diagonal in three
 special configurations, Eqs 22-25).  The functions here:
@@ -17,6 +17,12 @@ special configurations, Eqs 22-25).  The functions here:
   attained for identical particles and, whenever the top eigenvectors can be aligned, for others.
 * :func:`b_max` -- Eq (54); :func:`b_bound` -- the tight constant of the gyroscopic term.
 * :func:`coefficient_matrix` -- ``A`` for given arms and orientations.
+
+Rotation convention (the one used wherever dtcrit carries a quaternion): an orientation is
+*body-to-world*.  The unit quaternion ``q = (qw, qx, qy, qz)`` of a particle gives, through the
+matrix printed as Eq (7), ``Q = R(q)`` with ``v_world = Q v_body`` (the columns of ``Q`` are the
+body axes in world components).  The paper's Eq (5) matrix, world to body (``M_L = R M_G``), is
+``Q^T``, the matrix of the conjugate quaternion.
 
 Units: SI throughout; ``A`` in 1/kg, ``B`` dimensionless.
 """
@@ -66,8 +72,9 @@ def _vector(key: str, v) -> np.ndarray:
 
 
 def _rotation(key: str, R) -> np.ndarray:
-    """The paper's rotation (global -> local, Eq 5) from ``None`` (identity), a unit quaternion
-    ``(qw, qx, qy, qz)`` (Eq 7; normalised here) or a proper orthogonal 3x3 matrix."""
+    """A particle's orientation ``Q``, body to world (``v_world = Q v_body``), from ``None`` (identity), a
+    unit quaternion ``(qw, qx, qy, qz)`` (normalised here; ``Q`` is its Eq (7) matrix) or a proper
+    orthogonal 3x3 body-to-world matrix."""
     if R is None:
         return np.eye(3)
     try:
@@ -162,15 +169,17 @@ def coefficient_matrix(p1, p2, r1, r2, R1=None, R2=None) -> np.ndarray:
     """The 3x3 coefficient matrix ``A`` of the contact force in ``xdd_c = A F + Omega`` (global frame).
 
     ``r1, r2``: contact arms ``x_c - x_i`` in global components (Peng et al. 2020, Eqs 1-2);
-    ``R1, R2``: orientations in the paper's convention ``M_L = R M_G`` (Eq 5) as a unit quaternion
-    ``(qw, qx, qy, qz)`` (Eq 7) or a rotation matrix; ``None`` means axis aligned.  The arms need not
-    lie on the surfaces (pure kinematics); ``A = (1/m1 + 1/m2) 1 + sum_i R_i^T T_i(R_i r_i) R_i`` with
-    the generated per-particle term ``T(p) = [p]x^T I^-1 [p]x`` (Eqs 3-19).
+    ``R1, R2``: the particles' orientations, body to world (``v_world = R_i v_body``): a unit
+    quaternion ``(qw, qx, qy, qz)`` whose Eq (7) matrix is that rotation, or the rotation matrix
+    itself; ``None`` means axis aligned.  (The paper's Eq (5) rotation, world to body, is ``R_i^T``.)
+    The arms need not lie on the surfaces (pure kinematics); ``A = (1/m1 + 1/m2) 1 + sum_i R_i
+    T_i(R_i^T r_i) R_i^T`` with the generated per-particle term ``T(p) = [p]x^T I^-1 [p]x`` in body
+    components (Eqs 3-19).
     """
     p1, p2 = _shape("p1", p1), _shape("p2", p2)
     r1, r2 = _vector("r1", r1), _vector("r2", r2)
-    R1, R2 = _rotation("R1", R1), _rotation("R2", R2)
-    T1 = R1.T @ arm_terms_local((R1 @ r1)[None, :], p1.inertia)[0] @ R1
-    T2 = R2.T @ arm_terms_local((R2 @ r2)[None, :], p2.inertia)[0] @ R2
+    Q1, Q2 = _rotation("R1", R1), _rotation("R2", R2)
+    T1 = Q1 @ arm_terms_local((Q1.T @ r1)[None, :], p1.inertia)[0] @ Q1.T
+    T2 = Q2 @ arm_terms_local((Q2.T @ r2)[None, :], p2.inertia)[0] @ Q2.T
     A = (1.0 / p1.mass + 1.0 / p2.mass) * np.eye(3) + T1 + T2
     return 0.5 * (A + A.T)

@@ -72,7 +72,8 @@ def axis_angle(axis: np.ndarray, angle) -> np.ndarray:
 
 
 def random_rotations(rng: np.random.Generator, n: int) -> np.ndarray:
-    """Uniformly distributed rotations (normalised Gaussian quaternions, Eq 7 kernel, transposed to body->global)."""
+    """Uniformly distributed body-to-world rotations: normalised Gaussian quaternions, the transposes of their
+    Eq 7 matrices, i.e. the body-to-world matrices of the conjugate quaternions (uniform on SO(3) either way)."""
     q = rng.normal(size=(n, 4))
     q /= np.linalg.norm(q, axis=1, keepdims=True)
     R = np.stack([np.asarray(e, float) for e in _k.rotation_matrix(q[:, 0], q[:, 1], q[:, 2], q[:, 3])], -1)

@@ -22,6 +22,8 @@ def add_parser(subparsers) -> None:
     p.add_argument("--lang", required=True, choices=("c", "numpy", "fortran"), help="output language")
     p.add_argument("--name", default="dtcrit_dt_crit", help="function name (default dtcrit_dt_crit)")
     p.add_argument("--out", metavar="FILE", help="write to FILE instead of standard output")
+    p.add_argument("--json", action="store_true", help="print the metadata (schema dtcrit-codegen/1: language, integrator, "
+                   "arguments, formulas, derivation hashes and the source) as JSON on standard output")
     p.set_defaults(run=run)
 
 
@@ -32,14 +34,19 @@ def run(args) -> int:
     from dtcrit.scenes.scene import load_scene
 
     name = check_name(args.name)
+    if args.out:
+        from dtcrit.cli.outputs import check_output_file
+
+        check_output_file(args.out, "--out")
     args.source_label = args.scene
     scene = load_scene(args.scene)
-    for key, message in scene.warnings:
-        sys.stderr.write(f"{args.scene}:{key}: {message}\n")
-    from dtcrit.codegen import emit_for_scene  # SymPy: only now
+    from dtcrit.codegen import metadata  # SymPy: only now
 
     command = f"dtcrit codegen {args.scene} --lang {args.lang}" + (f" --name {name}" if name != "dtcrit_dt_crit" else "")
-    text = emit_for_scene(scene, args.lang, name, command)
+    doc = metadata(scene, args.lang, name, command)
+    for key, message in scene.warnings:  # only once nothing can fail any more: one line for a refusal
+        sys.stderr.write(f"{args.scene}:{key}: {message}\n")
+    text = doc["source"]
     if args.out:
         try:
             with open(args.out, "w", encoding="utf-8") as fh:
@@ -47,6 +54,10 @@ def run(args) -> int:
         except OSError as exc:
             args.source_label = None
             raise ValueError(f"--out: cannot write {args.out}: {exc.strerror or exc}") from None
-    else:
+    if getattr(args, "json", False):
+        import json
+
+        sys.stdout.write(json.dumps(doc, indent=1) + "\n")
+    elif not args.out:
         sys.stdout.write(text)
     return 0

@@ -26,19 +26,39 @@ def _accepts_files(folder: Path, flag: str, target: Path) -> None:
         raise InputError(flag, f"cannot write into {folder}: {exc.strerror or exc}") from None
 
 
+def _path(path, flag: str) -> Path:
+    text = str(path)
+    if not text:
+        raise InputError(flag, "empty path")
+    if "\x00" in text:
+        raise InputError(flag, "the path contains a NUL character")
+    return Path(text)
+
+
 def check_output_dir(path, flag: str = "--out") -> Path:
     """``path`` is, or can become, a folder we can write into."""
-    p = Path(path)
-    if p.exists() and not p.is_dir():
-        raise InputError(flag, f"{p} exists and is not a folder")
-    _accepts_files(_nearest_existing(p), flag, p)
+    p = _path(path, flag)
+    try:
+        if p.exists() and not p.is_dir():
+            raise InputError(flag, f"{p} exists and is not a folder")
+        _accepts_files(_nearest_existing(p), flag, p)
+    except OSError as exc:  # a name too long, a loop of links, ...
+        raise InputError(flag, f"cannot write {_short(p)}: {exc.strerror or exc}") from None
     return p
 
 
 def check_output_file(path, flag: str) -> Path:
     """``path`` can be written as a file (its folder exists or can be made, and accepts files)."""
-    p = Path(path)
-    if p.is_dir():
-        raise InputError(flag, f"{p} is a folder, not a file")
-    _accepts_files(_nearest_existing(p.parent), flag, p)
+    p = _path(path, flag)
+    try:
+        if p.is_dir():
+            raise InputError(flag, f"{p} is a folder, not a file")
+        _accepts_files(_nearest_existing(p.parent), flag, p)
+    except OSError as exc:
+        raise InputError(flag, f"cannot write {_short(p)}: {exc.strerror or exc}") from None
     return p
+
+
+def _short(p: Path, limit: int = 80) -> str:
+    text = str(p)
+    return text if len(text) <= limit else text[: limit - 3] + "..."

@@ -32,6 +32,16 @@ def _s(x) -> str:
     return "n/a" if x is None else f"{x:.6g}"
 
 
+def ratio_text(r: float, digits: int = 4) -> str:
+    """``r`` with ``digits`` significant digits, or as many more as it takes (up to 17, round-trip) for a
+    ratio that is not exactly 1 never to read as 1 (1.0024 x dt_crit UNSAFE printed as '1' misleads)."""
+    for d in range(digits, 18):
+        text = f"{r:.{d}g}"
+        if r == 1.0 or float(text) != 1.0:
+            return text
+    return repr(r)
+
+
 def _contact_line(sc, convention: str | None) -> str:
     c = sc.contact
     damping = c.damping + ("" if c.damping in ("none", "coefficients") else f" (damping convention {convention})")
@@ -74,13 +84,13 @@ def format_text(result) -> str:
     lines.append(f"translation: A_max (Eq. (26) as printed) = {a_max}, A_bound (verified) = {t.A_bound:.6g} 1/kg, "
                  f"dt = {t.dt_translation:.6g} s ({t.label}, {t.governing_direction.direction} mode, {t.method})")
     if result.dense is None:
-        factors = ", ".join(f"z = {z}: x {f:.3g}" if f is not None else f"z = {z}: n/a" for z, f in result.dense_factors.items())
+        factors = ", ".join(f"z = {z}: x {ratio_text(f, 3)}" if f is not None else f"z = {z}: n/a" for z, f in result.dense_factors.items())
         lines.append(f"dense packings: this step is for an isolated contact; any packing with at most z contacts per "
                      f"particle is proven stable at ({factors}) of it by the block bound; set coordination_max for "
                      "the step of the scene's packing (sharper for spheres)")
     else:
-        lines.append(f"isolated contact: dt = {result.dt_isolated:.6g} s ({result.dt_crit / result.dt_isolated:.4g} x of it "
-                     "holds for the packing)")
+        lines.append(f"isolated contact: dt = {result.dt_isolated:.6g} s ({ratio_text(result.dt_crit / result.dt_isolated)} "
+                     "x of it holds for the packing)")
     for p in result.pairs:
         lines.append(_pair_line(p))
     if sc.omega_max is None:
@@ -108,7 +118,7 @@ def format_text(result) -> str:
         ratio = e.estimate.dt / result.dt_crit if result.dt_crit > 0 else float("inf")
         flag = "UNSAFE" if e.unsafe else "ok"
         dense = "n/a" if e.unsafe_dense is None else ("above" if e.unsafe_dense else "within")
-        lines.append(f"  {e.estimate.key:<{width}}  {e.estimate.dt:12.6g} s  {ratio:8.4g} x dt_crit  {flag:<6}  "
+        lines.append(f"  {e.estimate.key:<{width}}  {e.estimate.dt:12.6g} s  {ratio_text(ratio):>8} x dt_crit  {flag:<6}  "
                      f"dense {dense:<6}  {e.estimate.label}")
     for note, keys in missing.items():
         lines.append(f"  not applicable: {', '.join(keys)} ({note})")
@@ -121,9 +131,9 @@ def run(args) -> int:
 
     args.source_label = args.scene
     scene = load_scene(args.scene)
+    result = critical_step(scene)  # may still refuse the scene: then its one line is the only one on stderr
     for key, message in scene.warnings:
         sys.stderr.write(f"{args.scene}:{key}: {message}\n")
-    result = critical_step(scene)
     if args.json:
         print(json.dumps(result.to_json(), indent=2, allow_nan=False))
     else:

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dtcrit.codegen.kernel import Argument, ContactKernel, build_kernel
 from dtcrit.codegen.kernel_mp import evaluate_mp
-from dtcrit.codegen.render import DEFAULT_NAME, LANGUAGES, count_c_operations, render
+from dtcrit.codegen.render import DEFAULT_NAME, LANGUAGES, count_c_operations, render, render_step
 from dtcrit.codegen.structure import KernelStructure, general_structure, structure_of_scene
 
 __all__ = [
@@ -23,10 +23,52 @@ __all__ = [
     "count_c_operations",
     "emit_for_scene",
     "evaluate_mp",
+    "metadata",
     "general_structure",
     "render",
     "structure_of_scene",
 ]
+
+
+CODEGEN_UNITS = {"dt": "s", "kn": "N/m", "ks": "N/m", "cn": "N s/m", "cs": "N s/m", "m": "kg", "I": "kg m^2",
+                 "r": "m", "A": "1/kg", "omega_max": "rad/s"}
+
+
+def metadata(scene, lang: str, name: str = DEFAULT_NAME, command: str | None = None) -> dict:
+    """The ``dtcrit codegen --json`` document (schema ``dtcrit-codegen/1``): what the emitted code computes
+    and from what -- language, integrator, function and arguments with units, the equations, the
+    specialisations, the derivation hash of the kernel and of the careful step it calls -- and the source."""
+    from pathlib import Path
+
+    import dtcrit.codegen.step as step
+    from dtcrit.json_meta import envelope
+    from dtcrit.symbolic.closed_forms import formula_text
+
+    kernel = build_kernel(structure_of_scene(scene))
+    label = Path(scene.source).name + (f" ({scene.title})" if scene.title else "")
+    source = render(kernel, lang, name, label, command)
+    st = kernel.structure
+    doc = envelope("dtcrit-codegen/1", CODEGEN_UNITS)
+    doc.update({
+        "language": lang,
+        "integrator": st.integrator,
+        "function": name,
+        "scene": label,
+        "arguments": [{"name": a.name, "unit": a.unit, "meaning": a.meaning} for a in kernel.arguments],
+        "returns": {"name": "dt", "unit": "s", "meaning": "critical time step of the contact (0: no positive step "
+                    "is stable; NaN: a NaN or negative argument)"},
+        "formulas": {"tau": formula_text(st.integrator), "equations": list(kernel.equations),
+                     "careful_step": {step.SUFFIX[d]: list(step.chain(st.integrator, d).equations)
+                                      for d in kernel.step_variants}},
+        "structure": {"identical": st.identical, "sides": list(st.sides), "damped_normal": st.damped_normal,
+                      "damped_shear": st.damped_shear, "rotation": st.rotation},
+        "specialisations": st.specialisations(),
+        "kernel_hash": kernel.hash(),
+        "step_hashes": {step.SUFFIX[d]: step.chain_hash(st.integrator, d) for d in kernel.step_variants},
+        "op_count": kernel.op_count(),
+        "source": source,
+    })
+    return doc
 
 
 def emit_for_scene(scene, lang: str, name: str = DEFAULT_NAME, command: str | None = None) -> str:

@@ -222,3 +222,149 @@ FORTRAN_HELPER = """\
     if (.not. ieee_is_finite(t)) t = 0.0_c_double
   end function {name}
 """
+
+
+# ----------------------------------------------------------------------------------------------
+# Floating-point primitives of dtcrit.symbolic.careful_forms (frexp parts, scaling by a power of
+# two, error-free product and sum), one small helper each.  C and Fortran use the same
+# operations (Dekker's product with Veltkamp's splitting, no fma), so they agree bit for bit.
+# ----------------------------------------------------------------------------------------------
+C_PRIMITIVES = """\
+/* x = mantissa 2^exponent, 1/2 <= |mantissa| < 1 (frexp); the exponent of 0, inf or NaN is 0 */
+static double {p}_mantissa(double x)
+{{
+    int e;
+    return frexp(x, &e);
+}}
+
+static double {p}_exponent(double x)
+{{
+    int e = 0;
+    if (!isfinite(x)) return 0.0;
+    (void)frexp(x, &e);
+    return (double)e;
+}}
+
+/* x 2^e for a whole number e held in a double */
+static double {p}_ldexp(double x, double e)
+{{
+    return ldexp(x, (int)e);
+}}
+
+/* a b - fl(a b), exactly (Dekker's product, Veltkamp's splitting; |a|, |b| < 2^995) */
+static double {p}_two_product_error(double a, double b)
+{{
+    const double prod = a * b;
+    const double ta = 134217729.0 * a;
+    const double ah = ta - (ta - a);
+    const double al = a - ah;
+    const double tb = 134217729.0 * b;
+    const double bh = tb - (tb - b);
+    const double bl = b - bh;
+    return ((ah * bh - prod) + ah * bl + al * bh) + al * bl;
+}}
+
+/* a + b - fl(a + b), exactly (Knuth's two-sum) */
+static double {p}_two_sum_error(double a, double b)
+{{
+    const double s = a + b;
+    const double bb = s - a;
+    return (a - (s - bb)) + (b - bb);
+}}
+"""
+
+FORTRAN_PRIMITIVES = """\
+  ! x = mantissa 2^exponent, 1/2 <= |mantissa| < 1 (frexp); 0, inf and NaN are their own mantissa
+  pure function frexp_mantissa(x) result(m)
+    real(c_double), intent(in) :: x
+    real(c_double) :: m
+    m = x
+    if (ieee_is_finite(x) .and. abs(x) > 0.0_c_double) m = fraction(x)
+  end function frexp_mantissa
+
+  ! the exponent of x (0 for 0, inf and NaN), as a real
+  pure function frexp_exponent(x) result(e)
+    real(c_double), intent(in) :: x
+    real(c_double) :: e
+    e = 0.0_c_double
+    if (ieee_is_finite(x) .and. abs(x) > 0.0_c_double) e = real(exponent(x), c_double)
+  end function frexp_exponent
+
+  ! x 2^e for a whole number e held in a real
+  pure function times_power_of_two(x, e) result(y)
+    real(c_double), intent(in) :: x, e
+    real(c_double) :: y
+    y = x
+    if (ieee_is_finite(x) .and. abs(x) > 0.0_c_double) y = scale(x, int(e))
+  end function times_power_of_two
+
+  ! a b - fl(a b), exactly (Dekker's product, Veltkamp's splitting; |a|, |b| < 2^995)
+  pure function two_product_error(a, b) result(err)
+    real(c_double), intent(in) :: a, b
+    real(c_double) :: err, prod, ta, ah, al, tb, bh, bl
+    prod = a * b
+    ta = 134217729.0_c_double * a
+    ah = ta - (ta - a)
+    al = a - ah
+    tb = 134217729.0_c_double * b
+    bh = tb - (tb - b)
+    bl = b - bh
+    err = ((ah * bh - prod) + ah * bl + al * bh) + al * bl
+  end function two_product_error
+
+  ! a + b - fl(a + b), exactly (Knuth's two-sum)
+  pure function two_sum_error(a, b) result(err)
+    real(c_double), intent(in) :: a, b
+    real(c_double) :: err, s, bb
+    s = a + b
+    bb = s - a
+    err = (a - (s - bb)) + (b - bb)
+  end function two_sum_error
+"""
+
+NUMPY_PRIMITIVES = '''\
+def _mantissa(x):
+    """x = mantissa 2^exponent, 1/2 <= |mantissa| < 1 (np.frexp)."""
+    return np.frexp(x)[0]
+
+
+def _exponent(x):
+    """The exponent of x as a float (0 for 0, inf and NaN)."""
+    return np.where(np.isfinite(x), np.frexp(x)[1], 0).astype(float)
+
+
+def _ldexp(x, e):
+    """x 2^e for whole numbers e held in floats."""
+    return np.ldexp(x, np.asarray(e).astype(np.int64))
+
+
+def _two_product_error(a, b):
+    """a b - fl(a b), exactly (Dekker's product, Veltkamp's splitting)."""
+    p = a * b
+    ta = 134217729.0 * a
+    ah = ta - (ta - a)
+    al = a - ah
+    tb = 134217729.0 * b
+    bh = tb - (tb - b)
+    bl = b - bh
+    return ((ah * bh - p) + ah * bl + al * bh) + al * bl
+
+
+def _two_sum_error(a, b):
+    """a + b - fl(a + b), exactly (Knuth's two-sum)."""
+    s = a + b
+    bb = s - a
+    return (a - (s - bb)) + (b - bb)
+'''
+
+
+def _blocks(text: str, sep: str) -> dict[str, str]:
+    """Split a helper text into its functions, keyed by the primitive each implements."""
+    keys = ("mantissa", "exponent", "ldexp", "two_product_error", "two_sum_error")
+    blocks = [b.strip("\n") + "\n" for b in text.split(sep) if b.strip()]
+    return dict(zip(keys, blocks))
+
+
+C_PRIMITIVE_BLOCKS = _blocks(C_PRIMITIVES, "\n\n")
+FORTRAN_PRIMITIVE_BLOCKS = _blocks(FORTRAN_PRIMITIVES, "\n\n")
+NUMPY_PRIMITIVE_BLOCKS = _blocks(NUMPY_PRIMITIVES, "\n\n\n")

@@ -28,28 +28,21 @@ from functools import cached_property, lru_cache
 
 import sympy as sp
 
+from dtcrit.codegen.functions import critical_step, critical_step_undamped, cubic_positive_root, hypot
 from dtcrit.codegen.structure import KernelStructure
 from dtcrit.errors import InputError
 from dtcrit.symbolic.closed_forms import closed_pieces, eps, formula_text, gamma, omega
+from dtcrit.symbolic.careful_forms import nan_max, nan_min
 from dtcrit.symbolic.emit import derivation_hash, square_root_of_term
 from dtcrit.symbolic.integrators import zeta as zeta_sym
 
 
-class cubic_positive_root(sp.Function):
-    """Smallest (largest when the fourth argument is true) positive real root of
-    t^3 + a2 t^2 + a1 t + a0 (0 when there is none); emitted as a helper function."""
-
-    nargs = 4
-    is_real = True
-    is_nonnegative = True
 
 
-class hypot(sp.Function):
-    """sqrt(x^2 + y^2) without overflow or underflow (C99/Fortran 2008 ``hypot``, ``np.hypot``)."""
 
-    nargs = 2
-    is_real = True
-    is_nonnegative = True
+
+
+
 
 
 def _with_hypot(expr: sp.Expr) -> sp.Expr:
@@ -96,14 +89,25 @@ class ContactKernel:
         return tuple(a.symbol for a in self.arguments)
 
     @property
-    def uses_cubic(self) -> bool:
-        return any(e.has(cubic_positive_root) for _, e in self.steps)
+    def uses_step(self) -> bool:
+        return bool(self.step_variants)
+
+    @property
+    def step_variants(self) -> tuple[bool, ...]:
+        """Which careful steps the chain calls: True the damped dt(k, c, A), False the undamped dt(k, A)."""
+        return tuple(d for d, f in ((True, critical_step), (False, critical_step_undamped))
+                     if any(e.has(f) for _, e in self.steps))
 
     def hash(self) -> str:
-        """Short stable hash of the derivation (integrator, arguments and every step)."""
+        """Short stable hash of the derivation (integrator, arguments, every step and the careful step's chain)."""
+        from dtcrit.codegen.step import chain
+
         items = [sp.Symbol(self.structure.integrator)] + list(self.symbols)
         for s, e in self.steps:
             items += [s, e]
+        for d in self.step_variants:
+            for s, e in chain(self.structure.integrator, d).steps:
+                items += [s, e]
         return derivation_hash(items)
 
     def cse(self) -> tuple[list[tuple[sp.Symbol, sp.Expr]], list[tuple[sp.Symbol, sp.Expr]]]:
@@ -141,8 +145,12 @@ class ContactKernel:
         return tuple(_dependency_order(self.symbols, items, self.result))
 
     def op_count(self) -> int:
-        """Arithmetic and function operations after CSE (``sympy.count_ops``, each emitted statement)."""
-        return int(sum(sp.count_ops(e) for _, e in self.statements()))
+        """Arithmetic and function operations after CSE (``sympy.count_ops``, each emitted statement,
+        including those of the careful steps it calls)."""
+        from dtcrit.codegen.step import chain
+
+        own = sum(sp.count_ops(e) for _, e in self.statements())
+        return int(own + sum(sp.count_ops(e) for d in self.step_variants for _, e in chain(self.structure.integrator, d).steps))
 
     def full_expression(self) -> sp.Expr:
         """The result as one expression of the arguments (steps substituted back)."""
@@ -275,7 +283,7 @@ def _side_A_term(kind: str, syms: dict[str, sp.Symbol]) -> sp.Expr:
 def _b_max(syms: dict[str, sp.Symbol]) -> sp.Expr:
     """Peng et al. 2020, Eq. (54)."""
     ixx, iyy, izz = syms["I_xx"], syms["I_yy"], syms["I_zz"]
-    return sp.Max(sp.Abs(ixx - iyy) / izz, sp.Abs(ixx - izz) / iyy, sp.Abs(iyy - izz) / ixx)
+    return nan_max(sp.Abs(ixx - iyy) / izz, sp.Abs(ixx - izz) / iyy, sp.Abs(iyy - izz) / ixx)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -352,45 +360,24 @@ def build_kernel(structure: KernelStructure) -> ContactKernel:
 
     dt_names = []
     tau_text = formula_text(integrator)
-    if not structure.damped or not depends_on_damping:
-        w, kA = _pos("omega"), _pos("kA")
-        steps.append((kA, sp.Max(kn * A_n, ks * A) if spheres else sp.Max(kn, ks) * A))
-        steps.append((w, sp.sqrt(kA)))
-        dt_t = _pos("dt_translation")
-        steps.append((dt_t, tau0 / w))
-        dt_names.append(dt_t)
-        largest = "max(kn A_n, ks A_s)" if spheres else "max(kn, ks) A"
-        equations.append(f"dt_translation = {sp.sstr(tau0)}/omega, omega = sqrt({largest})  "
-                         f"(tau_crit = omega dt = {sp.sstr(tau0)} for this integrator{' at zeta = 0' if depends_on_damping else ', any damping'})")
-    else:
-        for j in ("n", "s"):
-            w, kA = _pos(f"omega_{j}"), _pos(f"kA_{j}")
-            steps.append((kA, stiff[j] * A_dir[j]))  # one rounding, then one square root
-            steps.append((w, sp.sqrt(kA)))
-            dt_j = _pos(f"dt_{j}")
-            if damping[j] is not None:
-                g = _pos(f"gamma_{j}")
-                steps.append((g, damping[j] * A_dir[j] / 2))
-                e = kernel
-                if e.has(ZETA) or e.has(EPS):
-                    z = _pos(f"zeta_{j}")
-                    steps.append((z, g / w))
-                    e = e.xreplace({ZETA: z})
-                if e.has(EPS):  # (omega/gamma)^2 from the ratio: no overflow of omega^2 or gamma^2
-                    ep = _pos(f"eps_{j}")
-                    steps.append((ep, 1 / z**2))
-                    e = e.xreplace({EPS: ep})
-                steps.append((dt_j, e.xreplace({OMEGA: w, GAMMA: g, KA: kA})))
-            else:
-                steps.append((dt_j, tau0 / w))
-            dt_names.append(dt_j)
-        a_j = "A_j" if spheres else "A"
-        equations.append(f"dt_j = tau(zeta_j)/omega_j, omega_j = sqrt(k_j {a_j}), gamma_j = c_j {a_j}/2, zeta_j = gamma_j/omega_j, "
-                         "j = n, s  (Peng et al. 2020, Eqs. (29)-(30))")
-        equations.append(f"tau: {tau_text}")
-        if kernel.has(cubic_positive_root):
-            equations.append("cubic roots: zeta <= 1: smallest positive root tau of the cubic above; zeta > 1: tau = 1/(zeta y), "
-                             "y the largest positive root of the cubic in y with coefficients in eps = 1/zeta^2 = (omega/gamma)^2")
+    for j in ("n", "s"):
+        dt_j = _pos(f"dt_{j}")
+        if damping[j] is not None and depends_on_damping:
+            steps.append((dt_j, critical_step(stiff[j], damping[j], A_dir[j])))
+        else:
+            steps.append((dt_j, critical_step_undamped(stiff[j], A_dir[j])))
+        dt_names.append(dt_j)
+    a_j = "A_j" if spheres else "A"
+    equations.append(f"dt_j = tau(zeta_j)/omega_j, omega_j = sqrt(k_j {a_j}), gamma_j = c_j {a_j}/2, zeta_j = gamma_j/omega_j, "
+                     "j = n, s  (Peng et al. 2020, Eqs. (29)-(30))" + ("" if structure.damped and depends_on_damping
+                                                                       else f"; undamped: tau = {sp.sstr(tau0)}"))
+    equations.append(f"tau: {tau_text}")
+    equations.append("each dt_j by critical_step(k_j, c_j, A_j): the careful evaluation of dtcrit.integrators.precise "
+                     "(exact power-of-two scaling, forward Euler's error-free residual, the cubic's identity; "
+                     "NaN for NaN or negative inputs)")
+    if direction_kernel(integrator).has(cubic_positive_root):
+        equations.append("cubic roots: zeta <= 1: smallest positive root tau of the cubic above; zeta > 1: tau = 1/(zeta y), "
+                         "y the largest positive root of the cubic in y with coefficients in eps = 1/zeta^2 = (omega/gamma)^2")
 
     # rotation
     if structure.rotation:
@@ -418,7 +405,7 @@ def build_kernel(structure: KernelStructure) -> ContactKernel:
 
     result = _pos("dt")
     if len(dt_names) > 1:
-        steps.append((result, sp.Min(*dt_names)))
+        steps.append((result, nan_min(*dt_names)))
         equations.append("dt = min(" + ", ".join(s.name for s in dt_names) + ")")
     else:  # a single bound: it is the result
         last, expr = steps.pop()

@@ -53,12 +53,27 @@ _MP_MODULES = [
 ]
 
 
+def _mp_step(integrator: str):
+    """critical_step(k, c, A) at high precision: the closed form of dtcrit.symbolic (dt_crit_mp)."""
+    from dtcrit.symbolic.closed_forms import dt_crit_mp
+
+    def step(k, c, A):
+        return dt_crit_mp(integrator, k, c, A, dps=mp.mp.dps)
+
+    return step
+
+
 @lru_cache(maxsize=64)
 def _step_functions(kernel: ContactKernel):
     known = list(kernel.symbols)
     funcs = []
+    modules = [{**_MP_MODULES[0], "critical_step": _mp_step(kernel.structure.integrator),
+                "critical_step_undamped": (lambda f: lambda k, A: f(k, 0, A))(_mp_step(kernel.structure.integrator)), "is_nan": mp.isnan, "is_negative": lambda x: x < 0}, "mpmath"]
+    from dtcrit.symbolic.careful_forms import is_nan
+
     for s, e in kernel.steps:
-        funcs.append((s, tuple(known), sp.lambdify(known, e, modules=_MP_MODULES)))
+        e = e.replace(is_nan, lambda *a: sp.false)  # the reference takes finite arguments: no NaN to test for
+        funcs.append((s, tuple(known), sp.lambdify(known, e, modules=modules)))
         known.append(s)
     return funcs
 

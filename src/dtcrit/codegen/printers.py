@@ -25,7 +25,47 @@ def nested_branches(printer, expr: sp.Piecewise, template: str) -> str:
     return text
 
 
-class _CompiledCalls:
+class _Primitives:
+    """The floating-point primitives of ``dtcrit.symbolic.careful_forms`` and the careful step
+    ``critical_step(k, c, A)``, printed as calls to helpers emitted beside the kernel
+    (``dtcrit.codegen.helpers``): ``PRIMITIVE`` maps a primitive to the helper's name pattern, with
+    ``{p}`` the prefix of the file's helpers."""
+
+    PRIMITIVE: dict = {}
+    prefix = ""
+
+    def _call(self, key, expr):
+        return f"{self.PRIMITIVE[key].format(p=self.prefix)}({', '.join(self._print(a) for a in expr.args)})"
+
+    def _print_mantissa(self, expr):
+        return self._call("mantissa", expr)
+
+    def _print_exponent(self, expr):
+        return self._call("exponent", expr)
+
+    def _print_ldexp(self, expr):
+        return self._call("ldexp", expr)
+
+    def _print_two_product_error(self, expr):
+        return self._call("two_product_error", expr)
+
+    def _print_two_sum_error(self, expr):
+        return self._call("two_sum_error", expr)
+
+    def _print_is_nan(self, expr):
+        return self._call("is_nan", expr)
+
+    def _print_critical_step(self, expr):
+        return self._call("critical_step", expr)
+
+    def _print_critical_step_undamped(self, expr):
+        return self._call("critical_step", expr).replace("critical_step(", "critical_step_undamped(")
+
+    def _print_is_negative(self, expr):
+        return f"({self._print(expr.args[0])} < 0)"
+
+
+class _CompiledCalls(_Primitives):
     """Calls shared by the compiled languages: the ``hypot`` function and the cubic-root helper
     ``helper_name`` (its last argument a logical, spelled ``LOGICAL[False]`` / ``LOGICAL[True]``)."""
 
@@ -44,9 +84,27 @@ class _CompiledCalls:
 class CPrinter(_CompiledCalls, C99CodePrinter):
     """C99 with ``hypot``, ``x*x`` for squares and the cubic helper ``<prefix>_cubic_positive_root``."""
 
-    def __init__(self, helper_name: str):
+    PRIMITIVE = {"mantissa": "{p}_mantissa", "exponent": "{p}_exponent", "ldexp": "{p}_ldexp",
+                 "two_product_error": "{p}_two_product_error", "two_sum_error": "{p}_two_sum_error",
+                 "is_nan": "isnan", "critical_step": "{p}_critical_step"}
+
+    def __init__(self, helper_name: str, prefix: str = ""):
         super().__init__()
         self.helper_name = helper_name
+        self.prefix = prefix
+
+    def _print_floor(self, expr):
+        return f"floor({self._print(expr.args[0])})"
+
+    def _logical(self, expr, op):
+        return f" {op} ".join(f"({self._print(a)})" if isinstance(a, (sp.And, sp.Or)) else self._print(a)
+                              for a in expr.args)
+
+    def _print_And(self, expr):
+        return self._logical(expr, "&&")
+
+    def _print_Or(self, expr):
+        return self._logical(expr, "||")
 
     def _print_Pow(self, expr):
         roots = _hypot_args(expr)
@@ -86,9 +144,34 @@ class FortranPrinter(_CompiledCalls, FCodePrinter):
     KIND = "c_double"
     LOGICAL = (".false.", ".true.")
 
-    def __init__(self, helper_name: str):
+    PRIMITIVE = {"mantissa": "frexp_mantissa", "exponent": "frexp_exponent", "ldexp": "times_power_of_two",
+                 "two_product_error": "two_product_error", "two_sum_error": "two_sum_error",
+                 "is_nan": "ieee_is_nan", "critical_step": "critical_step"}
+
+    def __init__(self, helper_name: str, prefix: str = ""):
         super().__init__({"standard": 2008, "source_format": "free"})
         self.helper_name = helper_name
+
+    def _print_NaN(self, expr):
+        return f"ieee_value(0.0_{self.KIND}, ieee_quiet_nan)"
+
+    def _print_floor(self, expr):
+        return f"real(floor({self._print(expr.args[0])}), {self.KIND})"
+
+    def _call(self, key, expr):
+        args = [self._real(int(a)) if a.is_Integer else self._print(a) for a in expr.args]
+        return f"{self.PRIMITIVE[key]}({', '.join(args)})"
+
+    def _extremum(self, fn, expr):
+        args = [self._real(int(a)) if a.is_Integer else self._print(a) for a in expr.args]
+        return f"{fn}({', '.join(args)})"
+
+    def _print_Max(self, expr):
+        return self._extremum("max", expr)
+
+    def _print_Min(self, expr):
+        return self._extremum("min", expr)
+
 
     def _real(self, integer: int) -> str:
         return f"{integer}.0_{self.KIND}"
@@ -115,10 +198,14 @@ class FortranPrinter(_CompiledCalls, FCodePrinter):
         return super()._print_Pow(expr)
 
 
-class NumPyPrinter(_NumPyBase):
+class NumPyPrinter(_Primitives, _NumPyBase):
     """NumPy (vectorised): ``np.hypot``, elementwise ``np.minimum``/``np.maximum``, ``np.where``."""
 
-    def __init__(self, helper_name: str):
+    PRIMITIVE = {"mantissa": "_mantissa", "exponent": "_exponent", "ldexp": "_ldexp",
+                 "two_product_error": "_two_product_error", "two_sum_error": "_two_sum_error",
+                 "is_nan": "np.isnan", "critical_step": "_critical_step"}
+
+    def __init__(self, helper_name: str, prefix: str = ""):
         super().__init__({"fully_qualified_modules": True, "inline": True})
         self.helper_name = helper_name
 

@@ -12,7 +12,8 @@ import textwrap
 
 from dtcrit.errors import InputError
 
-from dtcrit.codegen.helpers import C_HELPER, FORTRAN_HELPER, NUMPY_HELPER, NUMPY_HELPER_NAME
+import dtcrit.codegen.step as step
+from dtcrit.codegen.helpers import NUMPY_HELPER_NAME
 from dtcrit.codegen.kernel import ContactKernel
 from dtcrit.codegen.printers import CPrinter, FortranPrinter, NumPyPrinter
 
@@ -34,6 +35,8 @@ def check_name(name: str) -> str:
 _USED_NAMES = frozenset("""
     sqrt hypot fmin fmax fabs cbrt acos cos sinh asinh cosh acosh fma isfinite min max abs merge sign real
     ieee_is_finite ieee_value ieee_positive_inf ieee_arithmetic iso_c_binding c_double cubic_positive_root
+    ieee_is_nan ieee_quiet_nan isnan frexp ldexp floor fraction exponent scale int critical_step frexp_mantissa
+    frexp_exponent times_power_of_two two_product_error two_sum_error
     auto break case char const continue default do else enum extern float for goto if inline long register
     restrict return short signed sizeof static struct switch typedef union unsigned void volatile while
 """.split()) | frozenset(w.lower() for w in keyword.kwlist)
@@ -46,6 +49,9 @@ def check_name_for(kernel: ContactKernel, name: str) -> str:
     """``name`` is not one the emitted code already uses: the kernel's arguments and intermediate
     values, the functions it calls, a keyword.  Compared without case, as Fortran does."""
     taken = {a.name.lower() for a in kernel.arguments} | {str(s).lower() for s, _ in kernel.statements()}
+    if kernel.uses_step:
+        taken |= {n.lower() for n in step.local_names(kernel.structure.integrator, kernel.step_variants)} | {"k", "c"}
+        taken |= {f"{name}_{step.SUFFIX[d]}".lower() for d in kernel.step_variants} - {name.lower()}
     if name.lower() in taken or name.lower() in _USED_NAMES:
         raise InputError("name", f"{name!r} is already a name in the emitted code (an argument, an intermediate "
                          "value, a function it calls or a keyword; compared without case as in Fortran); choose another")
@@ -74,10 +80,11 @@ def header_lines(kernel: ContactKernel, lang: str, scene_label: str, command: st
     for a in kernel.arguments:
         lines += textwrap.wrap(f"{a.name:<{width}}  [{a.unit}]  {a.meaning}", 96, initial_indent="  ",
                                subsequent_indent="  " + " " * (width + 2))
-    lines.append("Returns: the critical time step [s] of the contact (0 when no positive step is stable);")
+    lines.append("Returns: the critical time step [s] of the contact (0 when no positive step is stable; NaN when an")
+    lines.append("  argument is NaN or a stiffness, damping or inverse inertia is negative);")
     lines.append("  multiply by your safety factor.  Multiple simultaneous contacts need a smaller step.")
     lines.append(f"Operations after common-subexpression elimination: {kernel.op_count()}")
-    lines.append("IEEE double arithmetic is assumed (do not compile with -ffast-math).")
+    lines.append("IEEE double arithmetic is assumed (no -ffast-math, no fused multiply-add contraction).")
     return lines
 
 
@@ -95,10 +102,12 @@ def _statements(kernel: ContactKernel):
 
 def render_c(kernel: ContactKernel, name: str, header: list[str]) -> str:
     helper = f"{name}_cubic_positive_root"
-    printer = CPrinter(helper)
+    printer = CPrinter(helper, name)
     out = [_comment(header, "c"), "#include <math.h>", ""]
-    if kernel.uses_cubic:
-        out += [C_HELPER.format(name=helper)]
+    if kernel.uses_step:
+        integ, variants = kernel.structure.integrator, kernel.step_variants
+        out += [step.c_support(integ, name, variants)]
+        out += [step.c_function(integ, f"{name}_{step.SUFFIX[d]}", name, True, d) for d in variants]
     params = ", ".join(f"double {a.name}" for a in kernel.arguments)
     out.append(f"double {name}({params})")
     out.append("{")
@@ -118,14 +127,18 @@ def render_fortran(kernel: ContactKernel, name: str, header: list[str]) -> str:
     out += [
         f"module {module}",
         "  use, intrinsic :: iso_c_binding, only: c_double",
+        step.FORTRAN_IEEE,
         "  implicit none",
         "  private",
         f"  public :: {name}",
         "contains",
         "",
     ]
-    if kernel.uses_cubic:
-        out.append(FORTRAN_HELPER.format(name=helper))
+    if kernel.uses_step:
+        integ, variants = kernel.structure.integrator, kernel.step_variants
+        out += [step.fortran_support(integ, variants).rstrip("\n"), ""]
+        for d in variants:
+            out += step.fortran_function(integ, step.SUFFIX[d], False, d) + [""]
     arg_names = [a.name for a in kernel.arguments]
     out += _fortran_wrap(f"  function {name}({', '.join(arg_names)}) result({kernel.result}) bind(C, name=\"{name}\")")
     out += _fortran_wrap("    real(c_double), value, intent(in) :: " + ", ".join(arg_names))
@@ -142,19 +155,17 @@ def render_fortran(kernel: ContactKernel, name: str, header: list[str]) -> str:
     return "\n".join(out) + "\n"
 
 
-def _fortran_wrap(line: str, width: int = 100) -> list[str]:
-    if len(line) <= width:
-        return [line]
-    indent = len(line) - len(line.lstrip()) + 4
-    parts = textwrap.wrap(line, width - 2, subsequent_indent=" " * indent, break_long_words=False, break_on_hyphens=False)
-    return [p + " &" for p in parts[:-1]] + [parts[-1]]
+_fortran_wrap = step._fortran_wrap
 
 
 def render_numpy(kernel: ContactKernel, name: str, header: list[str]) -> str:
     printer = NumPyPrinter(NUMPY_HELPER_NAME)
-    out = [_comment(header, "numpy"), "import numpy as np", ""]
-    if kernel.uses_cubic:
-        out += [NUMPY_HELPER.strip("\n"), "", ""]
+    out = [_comment(header, "numpy"), "import numpy as np", "", ""]
+    if kernel.uses_step:
+        integ, variants = kernel.structure.integrator, kernel.step_variants
+        out += [step.numpy_support(integ, variants).rstrip("\n"), "", ""]
+        for d in variants:
+            out += [step.numpy_function(integ, "_" + step.SUFFIX[d], d).rstrip("\n"), "", ""]
     args = ", ".join(a.name for a in kernel.arguments)
     out.append(f"def {name}({args}):")
     doc = [f'    """Critical time step [s] of one contact ({kernel.structure.integrator}); elementwise on arrays.', ""]
@@ -182,12 +193,58 @@ def render(kernel: ContactKernel, lang: str, name: str = DEFAULT_NAME, scene_lab
 
 
 def count_c_operations(source: str) -> int:
-    """Arithmetic operators and calls in the emitted C function body (an independent count)."""
-    body = source[source.rindex("{", 0, source.rindex("return")):]
+    """Arithmetic operators and calls in the bodies of the emitted C kernel and of the careful steps
+    it calls (an independent count; the shared primitive helpers are left out)."""
+    starts = [m.start() for m in re.finditer(r"^(?:static )?double \w+\((?:double \w+(?:, )?)+\)\n\{", source, flags=re.M)]
+    bodies = [source[s:source.index("\n}\n", s)] for s in starts]
+    body = "\n".join(b for b in bodies if "_critical_step" in b.split("(")[0] or b is bodies[-1])
     body = re.sub(r"\bconst double\s+\w+\s*=", "", body)
     ops = len(re.findall(r"(?<![eE])[-+*/]|<=|>=|<|>|\?", body))
-    calls = len(re.findall(r"\b(?:sqrt|hypot|fmin|fmax|fabs|cbrt|\w+_cubic_positive_root)\s*\(", body))
+    calls = len(re.findall(r"\b(?:sqrt|hypot|fmin|fmax|fabs|cbrt|isnan|\w+_cubic_positive_root|\w+_critical_step(?:_undamped)?)\s*\(", body))
     return ops + calls
 
 
-__all__ = ["LANGUAGES", "DEFAULT_NAME", "render", "check_name", "check_name_for", "count_c_operations"]
+
+# --- a bare step file ------------------------------------------------------------------------
+
+def step_header(integrator: str, lang: str, command: str) -> list[str]:
+    from dtcrit.symbolic.closed_forms import formula_text
+
+    lines = ["GENERATED by dtcrit codegen -- do not edit by hand.", f"Regenerate with: {command}", "",
+             f"Critical time step of one mode xddot = -k A x - c A xdot, '{integrator}' integrator",
+             "(exact integrator boundary derived by dtcrit from the update rule; careful evaluation for every float64 input).",
+             f"tau: {formula_text(integrator)}", "Evaluation:"]
+    lines += [f"  {e}" for e in step.chain(integrator).equations]
+    lines.append(f"Derivation hash: {step.chain_hash(integrator)}")
+    lines.append("Arguments, in order:")
+    lines += [f"  {s.name:<2} [{unit}]  {meaning}" for s, meaning, unit in step.ARGUMENTS]
+    lines.append("Returns: the critical time step [s]; 0 when no positive float64 step is stable (also when the exact")
+    lines.append("  step lies below the float64 range), inf beyond it, NaN for NaN or negative inputs.")
+    lines.append("IEEE double arithmetic is assumed (no -ffast-math, no fused multiply-add contraction).")
+    return lines
+
+
+def render_step(integrator: str, lang: str, name: str, command: str | None = None) -> str:
+    """A self-contained file with the public function ``name(k, c, A)`` in ``lang``."""
+    from dtcrit.integrators.stability import check_integrator
+
+    integrator = check_integrator(integrator)
+    name = check_name(name)
+    if name.lower() in {n.lower() for n in step.local_names(integrator)} | {"k", "c"}:
+        raise InputError("name", f"{name!r} is already a name in the emitted code; choose another")
+    header = _comment(step_header(integrator, lang, command or f"python -c \"import dtcrit.codegen as g; print(g.render_step('{integrator}', '{lang}', '{name}'), end='')\""), lang)
+    if lang == "c":
+        return header + "#include <math.h>\n\n" + step.c_support(integrator, name) + "\n" + step.c_function(integrator, name, name, False)
+    if lang == "numpy":
+        return header + "import numpy as np\n\n\n" + step.numpy_support(integrator) + "\n\n" + step.numpy_function(integrator, name)
+    if lang == "fortran":
+        module = f"{name}_module"
+        out = [header.rstrip("\n"), f"module {module}", "  use, intrinsic :: iso_c_binding, only: c_double", step.FORTRAN_IEEE,
+               "  implicit none", "  private", f"  public :: {name}", "contains", "", step.fortran_support(integrator).rstrip("\n"), ""]
+        out += step.fortran_function(integrator, name, bind=True)
+        out += ["", f"end module {module}"]
+        return "\n".join(out) + "\n"
+    raise InputError("lang", f"unknown language {lang!r}; choose one of c, numpy, fortran")
+
+
+__all__ = ["render_step", "LANGUAGES", "DEFAULT_NAME", "render", "check_name", "check_name_for", "count_c_operations"]

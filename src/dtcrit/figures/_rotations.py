@@ -1,10 +1,12 @@
 """Rotations and direction samples for the Appendix A searches (NumPy only).
 
-Orientation convention: ``Q`` is the body-to-global matrix (columns are the body axes in global
-components), so a body-frame vector ``v`` is ``Q v`` globally.  Peng et al. 2020 write the inverse,
-``R = Q^T`` (global to local, Eq. (5)).  Appendix A's quaternion (``q_y = -sin(pi/8)``,
-``q_w = cos(pi/8)``, "45 degrees around the minus y axis") is read as the usual active rotation of
-the body, ``Q = R(q)`` of Eq. (7), as in the converter the paper cites (its ref. 23).
+Orientation convention (dtcrit's one convention for quaternions, as in
+``dtcrit.bodies.contact.coefficient_matrix``): body to world.  ``Q`` is the body-to-world matrix
+(columns are the body axes in world components), so a body-frame vector ``v`` is ``Q v`` in the
+world, and a quaternion ``q = (qw, qx, qy, qz)`` stands for ``Q = R(q)``, the matrix of Eq. (7).
+Peng et al. 2020 write the inverse, ``R = Q^T`` (world to body, Eq. (5)).  Appendix A's quaternion
+(``q_y = -sin(pi/8)``, ``q_w = cos(pi/8)``, "45 degrees around the minus y axis") is read this way, as
+the usual active rotation of the body, as in the converter the paper cites (its ref. 23).
 """
 from __future__ import annotations
 
@@ -44,7 +46,8 @@ def rotvec_matrix(v) -> np.ndarray:
 
 
 def quaternion_matrix(q) -> np.ndarray:
-    """Peng et al. 2020, Eq. (7): the rotation matrix of the unit quaternion ``(qw, qx, qy, qz)``."""
+    """Peng et al. 2020, Eq. (7): the body-to-world matrix ``Q`` of the unit orientation quaternion
+    ``(qw, qx, qy, qz)`` (``v_world = Q v_body``)."""
     w, x, y, z = (float(t) for t in q)
     return np.array([
         [w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)],
@@ -54,7 +57,8 @@ def quaternion_matrix(q) -> np.ndarray:
 
 
 def matrix_quaternion(Q) -> tuple[float, float, float, float]:
-    """Unit quaternion ``(qw, qx, qy, qz)`` (qw >= 0) of the rotation matrix ``Q`` (Eq. (7) inverted)."""
+    """Unit orientation quaternion ``(qw, qx, qy, qz)`` (qw >= 0) of the body-to-world matrix ``Q``
+    (Eq. (7) inverted: ``quaternion_matrix(matrix_quaternion(Q)) == Q``)."""
     Q = np.asarray(Q, dtype=float)
     t = np.trace(Q)
     if t > 0:

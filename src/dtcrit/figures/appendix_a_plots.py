@@ -27,9 +27,35 @@ def _surface(ax, xyz, values, norm, cmap):
                     linewidth=0, antialiased=False, shade=False)
 
 
-def _mark(ax, point, text, colour):
-    ax.scatter([point[0]], [point[1]], [point[2]], color=colour, s=40, depthshade=False, edgecolor="k")
-    ax.text(point[0], point[1], point[2], "  " + text, fontsize=7.5, color="k")
+def _mark(ax, point, label, colour, marker="o"):
+    """A marked point, named in the panel's legend (3-D text labels get clipped by the surfaces and the axes)."""
+    ax.scatter([point[0]], [point[1]], [point[2]], color=colour, s=46, marker=marker, depthshade=False,
+               edgecolor="k", linewidths=0.9, label=label, zorder=10)
+
+
+def _tidy_axes(ax, nbins: int = 4) -> None:
+    """Few ticks per 3-D axis and the axis names pushed clear of them (no colliding tick labels)."""
+    from matplotlib.ticker import MaxNLocator
+
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+        axis.set_major_locator(MaxNLocator(nbins=nbins))
+    ax.tick_params(labelsize=7.5, pad=1)
+    ax.set_xlabel("x [m]", labelpad=4)
+    ax.set_ylabel("y [m]", labelpad=4)
+    ax.zaxis.set_rotate_label(False)  # otherwise drawn mirrored at some view angles
+    ax.set_zlabel("z [m]", labelpad=2, rotation=90)
+
+
+def _legend_below(ax) -> None:
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.04), fontsize=7.5, frameon=False, ncol=1,
+              handletextpad=0.3)
+
+
+def _point(p) -> str:
+    """``(x, y, z)`` to 3 digits, rounding noise (below 1e-9 of the largest component) shown as 0."""
+    p = np.asarray(p, dtype=float)
+    tiny = 1e-9 * float(np.max(np.abs(p)))
+    return "(" + ", ".join(f"{0.0 if abs(v) <= tiny else v:.3g}" for v in p) + ")"
 
 
 def _plot_a2(fams, path: Path) -> Path:
@@ -40,17 +66,20 @@ def _plot_a2(fams, path: Path) -> Path:
     vmin = min(float(f.accel.min()) for f in fams)
     vmax = max(float(f.accel.max()) for f in fams)
     norm, cmap = Normalize(vmin, vmax), plt.get_cmap("jet")
-    fig = plt.figure(figsize=(11, 5))
+    fig = plt.figure(figsize=(11, 5.6))
     for k, fam in enumerate(fams):
         ax = fig.add_subplot(1, 2, k + 1, projection="3d")
         _surface(ax, fam.xyz, fam.accel, norm, cmap)
-        _mark(ax, fam.best.contact_point, f"max {fam.best.accel:.4g}", "w")
+        _mark(ax, fam.best.contact_point,
+              f"max |A F| on the octant: {fam.best.accel:.4g} m/s^2, contact point {_point(fam.best.contact_point)}",
+              "w")
         ax.set_title(f"scenario {k + 1}: particle 2 fixed (45 deg about -y, roll {math.degrees(fam.roll):g} deg)",
                      fontsize=9)
-        ax.set_xlabel("x [m]"), ax.set_ylabel("y [m]"), ax.set_zlabel("z [m]")
-        ax.set_box_aspect((3, 2, 1))
+        ax.set_box_aspect((3, 2, 1.2))
         ax.view_init(elev=25, azim=35)
-    fig.subplots_adjust(right=0.86, wspace=0.05)
+        _tidy_axes(ax)
+        _legend_below(ax)
+    fig.subplots_adjust(left=0.02, right=0.86, wspace=0.12, bottom=0.12)
     fig.colorbar(cm.ScalarMappable(norm=norm, cmap=cmap), cax=fig.add_axes([0.9, 0.2, 0.018, 0.6]),
                  label="|xdd_c| = |A F| [m/s^2]")
     fig.suptitle("Like Fig. A2: octant I of ellipsoid 1 coloured by |xdd_c| (F = (1,1,1) N, unit density)", fontsize=10)
@@ -66,19 +95,22 @@ def _plot_a4(tangent, pinned, path: Path) -> Path:
     vmin = min(float(f.accel.min()) for f in allf)
     vmax = max(float(f.accel.max()) for f in allf)
     norm, cmap = Normalize(vmin, vmax), plt.get_cmap("jet")
-    fig = plt.figure(figsize=(11, 9.5))
+    fig = plt.figure(figsize=(11, 10.5))
     for row, fams in enumerate((tangent, pinned)):
         for k, fam in enumerate(fams):
             ax = fig.add_subplot(2, 2, 2 * row + k + 1, projection="3d")
             _surface(ax, fam.xyz, fam.accel, norm, cmap)
-            _mark(ax, fam.best.centre2, f"max {fam.best.accel:.4g}", "w")
+            _mark(ax, fam.best.centre2, f"max |A F|: {fam.best.accel:.4g} m/s^2, centre of 2 {_point(fam.best.centre2)}",
+                  "w")
             if fam.reference is not None:
-                _mark(ax, fam.reference.centre2, f"orthogonal {fam.reference.accel:.4g}", "0.6")
+                _mark(ax, fam.reference.centre2, f"orthogonal long axes: {fam.reference.accel:.4g} m/s^2, "
+                      f"centre of 2 {_point(fam.reference.centre2)}", "0.55", marker="s")
             kind = "tangent (admissible)" if row == 0 else "paper: tip of 2 pinned (overlapping)"
             ax.set_title(f"scenario {k + 1} (roll {math.degrees(fam.roll):g} deg), {kind}", fontsize=8.5)
-            ax.set_xlabel("x [m]"), ax.set_ylabel("y [m]"), ax.set_zlabel("z [m]")
             ax.view_init(elev=20, azim=-60)
-    fig.subplots_adjust(right=0.86, wspace=0.1, hspace=0.15)
+            _tidy_axes(ax)
+            _legend_below(ax)
+    fig.subplots_adjust(left=0.02, right=0.86, wspace=0.12, hspace=0.3, bottom=0.08)
     fig.colorbar(cm.ScalarMappable(norm=norm, cmap=cmap), cax=fig.add_axes([0.9, 0.25, 0.018, 0.5]),
                  label="|xdd_c| = |A F| [m/s^2]")
     fig.suptitle("Like Fig. A4: centres of ellipsoid 2 as its orientation changes, contact at (3, 0, 0)", fontsize=10)

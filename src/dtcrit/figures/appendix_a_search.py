@@ -19,10 +19,12 @@ from dtcrit.figures._rotations import (
     unit_from_angles,
 )
 
+QUATERNION_KEY = "quaternion_2_body_to_world_wxyz"
+"""JSON key of particle 2's orientation: (qw, qx, qy, qz), body to world (Eq. (7) gives v_world = R(q) v_body)."""
 FORCE = (1.0, 1.0, 1.0)
 """Appendix A's contact force on particle 2 [N]."""
 PAPER_BASE_QUATERNION = (math.cos(math.pi / 8), 0.0, -math.sin(math.pi / 8), 0.0)
-"""(qw, qx, qy, qz) of particle 2 in the 'change centre' scenario: 45 degrees about -y."""
+"""(qw, qx, qy, qz) of particle 2 in the 'change centre' scenario, body to world: 45 degrees about -y."""
 GRIDS = {
     # name: (normals, orientations, refined seeds per objective, scenario grid per side)
     "coarse": (256, 384, 4, 31),
@@ -71,11 +73,12 @@ def batch_coefficient_matrices(body1, body2, normals, p1, p2, Q2) -> np.ndarray:
 
 
 def coefficient_matrix_single(body1, body2, r1, r2, Q2) -> np.ndarray:
-    """One contact's ``A`` through ``dtcrit.bodies.contact.coefficient_matrix`` (rotations global to local)."""
+    """One contact's ``A`` through ``dtcrit.bodies.contact.coefficient_matrix`` (particle 1 axis aligned,
+    ``Q2`` the body-to-world orientation of particle 2, as that function takes it)."""
     from dtcrit.bodies.contact import coefficient_matrix
 
     return np.asarray(coefficient_matrix(body1, body2, np.asarray(r1, float), np.asarray(r2, float),
-                                         np.eye(3), np.asarray(Q2, float).T), dtype=float)
+                                         None, np.asarray(Q2, float)), dtype=float)
 
 
 # ============================================================================================
@@ -86,7 +89,7 @@ class ContactConfig:
     """One contact of particle 2 on particle 1 (global frame = particle 1's frame)."""
 
     normal: tuple[float, float, float]  # outward normal of particle 1 at the contact (global)
-    orientation: tuple[tuple[float, ...], ...]  # Q2, body-to-global, rows
+    orientation: tuple[tuple[float, ...], ...]  # Q2, body to world (v_world = Q2 v_body), rows
     contact_point: tuple[float, float, float]
     r1: tuple[float, float, float]
     r2: tuple[float, float, float]
@@ -98,7 +101,8 @@ class ContactConfig:
 
     @property
     def quaternion(self) -> tuple[float, float, float, float]:
-        """(qw, qx, qy, qz) of particle 2 (active rotation, Eq. (7) gives ``Q2``)."""
+        """(qw, qx, qy, qz) of particle 2, body to world: its Eq. (7) matrix is ``Q2`` (qw >= 0).  Passed as
+        ``R2`` to ``dtcrit.bodies.contact.coefficient_matrix`` (``R1`` = identity) it gives ``matrix``."""
         return matrix_quaternion(np.array(self.orientation))
 
     def describe(self, digits: int = 6) -> dict:
@@ -119,7 +123,7 @@ class ContactConfig:
             "r1": rnd(self.r1),
             "r2": rnd(self.r2),
             "centre_2": rnd(self.centre2),
-            "quaternion_2_wxyz": rnd(self.quaternion),
+            QUATERNION_KEY: rnd(self.quaternion),
             "long_axis_2": rnd(long2 * (1 if long2[np.argmax(np.abs(long2))] > 0 else -1)),
             "angle_between_long_axes_deg": rnd(math.degrees(math.acos(min(1.0, abs(float(long2[0])))))),
             "matrix": rnd(self.matrix),

@@ -127,35 +127,47 @@ def write_pair_csv(steps: PairSteps, path: Path) -> Path:
 
 def plot_pair_steps(steps: PairSteps, x: np.ndarray, xlabel: str, title: str, path: Path,
                     integrators=SCENE_INTEGRATORS) -> Path:
-    """Panels: the printed Eq. (46), then each integrator's verified bound (A_max solid, a_bound dashed)."""
+    """Panels: the printed Eq. (46), then each integrator's verified bound (A_max solid, a_bound dashed).
+
+    Each panel has its own y-range (the printed Eq. (46) grows with N, the verified bounds do not, so a
+    shared range would squeeze them); one legend below the panels gives the colour of each damping
+    number N (the same in every panel) and the two line styles of the verified panels.
+    """
     plt = pyplot()
+    from matplotlib.lines import Line2D
+
     panels = 1 + len(integrators)
-    fig, axes = plt.subplots(1, panels, figsize=(4.6 * panels, 4.4), sharey=True)
+    fig, axes = plt.subplots(1, panels, figsize=(4.6 * panels, 4.4))
     cmap = plt.get_cmap("viridis")
     colours = [cmap(i / max(1, len(steps.n_values) - 1) * 0.9) for i in range(len(steps.n_values))]
     ms = 1e3
     ax = axes[0]
     for i, n in enumerate(steps.n_values):
-        ax.plot(x, steps.printed_eq46[i] * ms, color=colours[i], lw=1.6, label=f"N = {n}")
+        ax.plot(x, steps.printed_eq46[i] * ms, color=colours[i], lw=1.6)
     ax.set_title("Eq. (46) as printed, A = A_max (Eq. 26)", fontsize=9.5)
-    ax.legend(fontsize=8, title="damping", title_fontsize=8)
+    tops = [float(np.nanmax(steps.printed_eq46)) * ms]
     ratio = float(np.median(steps.a_bound / steps.a_max))
     for ax, name in zip(axes[1:], integrators):
         for i, n in enumerate(steps.n_values):
             ax.plot(x, steps.verified_a_max[name][i] * ms, color=colours[i], lw=1.6)
             ax.plot(x, steps.verified_a_bound[name][i] * ms, color=colours[i], lw=1.2, ls="--")
-        ax.plot([], [], color="0.3", lw=1.6, label="A = A_max (Eq. 26)")
-        ax.plot([], [], color="0.3", lw=1.2, ls="--", label=f"A = verified bound ({ratio:.4g} A_max)")
         same = all(np.allclose(steps.verified_a_max[name][i], steps.verified_a_max[name][0], rtol=1e-12)
                    for i in range(len(steps.n_values)))
         ax.set_title(f"verified bound: {name}" + (" (the same for every N)" if same else ""), fontsize=9.5)
-        ax.legend(fontsize=8)
-    for ax in axes:
+        tops.append(float(max(np.nanmax(steps.verified_a_max[name]), np.nanmax(steps.verified_a_bound[name]))) * ms)
+    for ax, top in zip(axes, tops):
         ax.set_xlabel(xlabel)
+        ax.set_ylim(0.0, 1.06 * top)
         ax.grid(alpha=0.3)
-    axes[0].set_ylabel(r"$\Delta t_{cri}$ [ms]")
+        ax.set_ylabel(r"$\Delta t_{cri}$ [ms]")
+    handles = [Line2D([], [], color=colours[i], lw=2.0, label=f"N = {n} (zeta = {n / 2:g} with A_max)")
+               for i, n in enumerate(steps.n_values)]
+    handles += [Line2D([], [], color="0.3", lw=1.6, label="verified, A = A_max (Eq. 26)"),
+                Line2D([], [], color="0.3", lw=1.2, ls="--", label=f"verified, A = a_bound ({ratio:.4g} A_max)")]
     fig.suptitle(title, fontsize=10.5)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0.0, 0.1, 1.0, 1.0))
+    fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=8.5, frameon=False,
+               title="damping c = N sqrt(k_n/A_max): colour; A: line style (verified panels)", title_fontsize=8.5)
     return save_figure(fig, path)
 
 

@@ -107,10 +107,15 @@ def plot_fig3(data: Fig3Data, path: Path) -> Path:
         if not same_a:
             ax.plot(data.beta, data.verified_eq26[group[0]], color=cmap(i), lw=1.0, ls="--",
                     label="verified with Eq. (26) A: " + " = ".join(group))
-    for x, txt in ((2 / math.sqrt(7), r"$\beta=2/\sqrt{7}$"), (2 * math.sqrt(2), r"$\beta=2\sqrt{2}$")):
-        ax.axvline(x, color="0.8", lw=0.8, zorder=0)
-        ax.text(x, 3.38, txt, ha="center", va="top", fontsize=8, color="0.4",
-                bbox=dict(fc="white", ec="none", pad=1))
+    # Eqs. (58) and (59) have vertical asymptotes (their square roots vanish): drawn and named.  Eq. (58)'s
+    # is critical damping, zeta = beta sqrt(7)/2 = 1, where forward Euler's bound has its corner too.
+    for x, txt, side in ((2 / math.sqrt(7), r"Eq. (58) asymptote, $\zeta=1$" "\n" r"$\beta=2/\sqrt{7}\approx0.756$", 1),
+                         (2 * math.sqrt(2), r"Eq. (59) asymptote" "\n" r"$\beta=2\sqrt{2}\approx2.83$", -1)):
+        ax.axvline(x, color="0.6", lw=0.9, ls=(0, (1, 2)), zorder=0)
+        ax.text(x + side * 0.03, 3.42, txt, ha="left" if side > 0 else "right", va="top", fontsize=7.5,
+                color="0.35", bbox=dict(fc="white", ec="none", pad=1, alpha=0.85))
+    ax.plot([], [], color="0.6", lw=0.9, ls=(0, (1, 2)),
+            label="vertical asymptotes of Eqs. (58), (59)\n(beyond them the printed forms are undefined)")
     a_txt = (f"A = {data.a_bound_times_m:.6g}/m (Eq. 26 = verified bound)" if same_a else
              f"A = {data.a_bound_times_m:.6g}/m verified, {data.a_max_times_m:.6g}/m Eq. (26)")
     ax.set_title("Fig. 3: two identical spheres, " + a_txt, fontsize=10)
@@ -118,7 +123,8 @@ def plot_fig3(data: Fig3Data, path: Path) -> Path:
     ax.set_ylabel(r"$\Delta t_{cri}\sqrt{k/m}$")
     ax.set_xlim(0, BETA_MAX)
     ax.set_ylim(0, 3.5)
-    ax.legend(fontsize=7.5, loc="upper left", framealpha=0.9)
+    # outside the axes, so that no curve is hidden behind it
+    ax.legend(fontsize=7.5, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0, frameon=False)
     ax.grid(alpha=0.3)
     return save_figure(fig, path)
 

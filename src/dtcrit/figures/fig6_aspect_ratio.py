@@ -105,8 +105,8 @@ def ratio_at(e1: float, e2: float, *, verified: bool = False) -> float:
 class AspectRatioData:
     """Figure 6 on the grid ``e1 x e2`` (arrays indexed ``[i_e1, i_e2]``); steps in seconds.
 
-    The verified translation step needs ``a_bound`` for every geometry, so
-    it is evaluated on the sub-grid ``e_verified`` (every ``VERIFIED_STRIDE``-th grid value).
+    Every quantity, the verified one included, is evaluated at every grid point (``a_bound`` of an
+    ellipsoid is a closed form, :func:`dtcrit.bodies.contact.a_bound`).
     """
 
     e1: np.ndarray
@@ -115,10 +115,8 @@ class AspectRatioData:
     b_max: np.ndarray
     translation_printed: np.ndarray  # Eq. (48) with A_max
     rotation: np.ndarray  # Eq. (56)/(57)
-    e_verified: np.ndarray
-    a_bound: np.ndarray  # on e_verified x e_verified
-    translation_verified: np.ndarray  # velocity Verlet, undamped, A = a_bound (sub-grid)
-    rotation_verified_grid: np.ndarray  # Eq. (57) on the sub-grid
+    a_bound: np.ndarray  # verified bound [1/kg]
+    translation_verified: np.ndarray  # velocity Verlet, undamped, A = a_bound
 
     @property
     def ratio_printed(self) -> np.ndarray:
@@ -126,7 +124,12 @@ class AspectRatioData:
 
     @property
     def ratio_verified(self) -> np.ndarray:
-        return self.rotation_verified_grid / self.translation_verified
+        return self.rotation / self.translation_verified
+
+    def fall_from_sphere(self, verified: bool) -> float:
+        """Fraction by which the translation-dominant step falls from the sphere (1, 1) to (5, 5)."""
+        t = self.translation_verified if verified else self.translation_printed
+        return float(1.0 - t[-1, -1] / t[0, 0])
 
     def ratio_stats(self, verified: bool = False) -> dict:
         r = self.ratio_verified if verified else self.ratio_printed
@@ -140,9 +143,6 @@ class AspectRatioData:
             "points": int(r.size),
         }
 
-
-VERIFIED_STRIDE = 10
-"""Sub-grid step (in grid cells) of the verified translation step: 41 -> 5 x 5, 161 -> 17 x 17."""
 
 _CACHE: dict[int, AspectRatioData] = {}
 
@@ -168,19 +168,16 @@ def _fig6_grid(n: int, progress_label: str | None) -> AspectRatioData:
     trans_p = 2.0 / np.sqrt(STIFFNESS * amax)  # Eq. (48)
     with np.errstate(divide="ignore"):
         rot = np.where(bmax > 0, 2.0 / (OMEGA_MAX * 2.0 * np.where(bmax > 0, bmax, 1.0)), np.inf)
-    idx = np.arange(0, e.size, VERIFIED_STRIDE)
-    if idx[-1] != e.size - 1:
-        idx = np.append(idx, e.size - 1)
-    pts = [(a, b) for a in range(idx.size) for b in range(idx.size)]
+    pts = [(i, j) for i in range(e.size) for j in range(e.size)]
     if progress_label:
         from tqdm import tqdm
 
         pts = tqdm(pts, total=len(pts), desc=progress_label, disable=None)
-    abnd = np.empty((idx.size, idx.size))
-    for a, b in pts:
-        abnd[a, b] = _a_bound_point(e[idx[a]], e[idx[b]])
+    abnd = np.empty_like(amax)
+    for i, j in pts:
+        abnd[i, j] = _a_bound_point(e[i], e[j])
     trans_v = critical_steps(SCENE_INTEGRATOR, STIFFNESS, 0.0, abnd)
-    return AspectRatioData(e, e.copy(), amax, bmax, trans_p, rot, e[idx], abnd, trans_v, rot[np.ix_(idx, idx)])
+    return AspectRatioData(e, e.copy(), amax, bmax, trans_p, rot, abnd, trans_v)
 
 
 def four_orders_region(verified: bool = False, directions: int = 19) -> dict:
@@ -214,40 +211,43 @@ def four_orders_region(verified: bool = False, directions: int = 19) -> dict:
 
 
 def _csv_rows(d: AspectRatioData):
-    where = {float(v): k for k, v in enumerate(d.e_verified)}
     for i, e1 in enumerate(d.e1):
         for j, e2 in enumerate(d.e2):
             a, b, c = (float(v) for v in ellipsoid_axes(e1, e2))
-            ia, jb = where.get(float(e1)), where.get(float(e2))
-            ver = (d.a_bound[ia, jb], d.translation_verified[ia, jb], d.ratio_verified[ia, jb]) \
-                if ia is not None and jb is not None else (math.nan, math.nan, math.nan)
             yield [e1, e2, a, b, c, d.a_max[i, j], d.b_max[i, j], d.translation_printed[i, j], d.rotation[i, j],
-                   d.ratio_printed[i, j], *ver]
+                   d.ratio_printed[i, j], d.a_bound[i, j], d.translation_verified[i, j], d.ratio_verified[i, j]]
 
 
 def plot_fig6(d: AspectRatioData, path: Path) -> Path:
+    """Four panels on the full grid: the translation-dominant step with Eq. (26)'s ``A_max`` (Eq. (48)) and
+    with the verified ``a_bound`` on one colour scale (so their fall with aspect ratio compares directly),
+    the rotation-dominant step (Eq. (57)) and the ratio of Eq. (57) to Eq. (48)."""
     plt = pyplot()
-    from matplotlib.colors import LogNorm
+    from matplotlib.colors import LogNorm, Normalize
 
     E1, E2 = np.meshgrid(d.e1, d.e2, indexing="ij")
-    V1, V2 = np.meshgrid(d.e_verified, d.e_verified, indexing="ij")
     fig, axes = plt.subplots(2, 2, figsize=(11, 9))
+    trans_ms = (d.translation_printed * 1e3, d.translation_verified * 1e3)
+    shared = Normalize(vmin=float(min(np.min(t) for t in trans_ms)), vmax=float(max(np.max(t) for t in trans_ms)))
+    fall_p, fall_v = 100 * d.fall_from_sphere(False), 100 * d.fall_from_sphere(True)
     panels = [
-        (axes[0, 0], d.translation_printed * 1e3, "translation-dominant, Eq. (48) with A_max [ms]", "viridis", False),
-        (axes[0, 1], d.translation_verified * 1e3,
-         f"translation-dominant, verified ({SCENE_INTEGRATOR}, a_bound) [ms], sub-grid", "viridis", False),
+        (axes[0, 0], trans_ms[0], "translation-dominant, Eq. (48) with Eq. (26) A_max [ms]\n"
+         f"falls {fall_p:.1f} % from the sphere (1, 1) to (5, 5)", "viridis", shared),
+        (axes[0, 1], trans_ms[1], f"translation-dominant, verified ({SCENE_INTEGRATOR}, A = a_bound) [ms]\n"
+         f"falls {fall_v:.1f} % from the sphere (1, 1) to (5, 5)", "viridis", shared),
         (axes[1, 0], np.where(np.isfinite(d.rotation), d.rotation, np.nan),
-         "rotation-dominant, Eq. (57), omega_max = 1 rad/s [s] (inf at e1=e2=1)", "magma", True),
+         "rotation-dominant, Eq. (57), omega_max = 1 rad/s [s]\n(unbounded at the sphere e1 = e2 = 1)", "magma", "log"),
         (axes[1, 1], np.where(np.isfinite(d.ratio_printed), d.ratio_printed, np.nan),
-         "ratio rotation / translation (Eq. 57 / Eq. 48)", "cividis", True),
+         "ratio rotation / translation (Eq. 57 / Eq. 48)", "cividis", "log"),
     ]
-    for ax, z, title, cmap, log in panels:
-        X, Y = (V1, V2) if z.shape == V1.shape and z.shape != E1.shape else (E1, E2)
+    for ax, z, title, cmap, norm in panels:
         lo, hi = float(np.nanmin(z)), float(np.nanmax(z))
-        norm = LogNorm(vmin=lo, vmax=hi) if log else None
-        mesh = ax.pcolormesh(X, Y, z, shading="nearest", cmap=cmap, norm=norm)
+        log = norm == "log"
+        if log:
+            norm = LogNorm(vmin=lo, vmax=hi)
+        mesh = ax.pcolormesh(E1, E2, z, shading="nearest", cmap=cmap, norm=norm)
         levels = np.geomspace(lo, hi, 8)[1:-1] if log else np.linspace(lo, hi, 7)[1:-1]
-        cs = ax.contour(X, Y, z, levels=levels, colors="w", linewidths=0.6)
+        cs = ax.contour(E1, E2, z, levels=levels, colors="w", linewidths=0.6)
         ax.clabel(cs, fontsize=7, fmt="%.3g")
         fig.colorbar(mesh, ax=ax)
         ax.set_title(title, fontsize=9)
@@ -272,9 +272,8 @@ def plot_fig6(d: AspectRatioData, path: Path) -> Path:
 
 
 def write_fig6(out: Path, *, fine: bool = False, show_progress: bool = True) -> list[Path]:
-    d = fig6_data(161 if fine else 41, progress_label="fig6 a_bound sub-grid" if show_progress else None)
+    d = fig6_data(161 if fine else 41, progress_label="fig6 a_bound" if show_progress else None)
     header = ["e1", "e2", "a", "b", "c", "A_max_eq26", "B_max_eq54", "dt_translation_eq48", "dt_rotation_eq57",
-              "ratio_eq57_over_eq48", "A_bound (sub-grid)", "dt_translation_verified (sub-grid)",
-              "ratio_eq57_over_verified (sub-grid)"]
+              "ratio_eq57_over_eq48", "A_bound", "dt_translation_verified", "ratio_eq57_over_verified"]
     csv_path = write_csv(Path(out) / "fig6_aspect_ratio.csv", header, _csv_rows(d))
     return [plot_fig6(d, Path(out) / "fig6_aspect_ratio.png"), csv_path]

@@ -8,13 +8,21 @@ Keys (each present when its figure was run):
   verified bound, the ratio a_bound/A_max, and the values at the first sweep point;
 * ``aspect_ratio`` (Fig. 6): ``min_ratio``, ``max_ratio`` (largest finite), ``fraction_over_1e4``
   over the grid of rotation-dominant / translation-dominant steps (Eq. (57) / Eq. (48)), the grid
-  points where the ratio is unbounded (a sphere: B_max = 0), the same with the verified bound on
-  its sub-grid, and ``four_orders_region`` (distance from e1 = e2 = 1 within which the printed
-  ratio exceeds 1e4; with a_bound <= A_max the verified ratio is smaller still);
+  points where the ratio is unbounded (a sphere: B_max = 0), ``translation_fall_sphere_to_5_5`` (the
+  fraction by which the translation-dominant step falls from e1 = e2 = 1 to e1 = e2 = 5), the same
+  with the verified bound (``verified``, same grid), and ``four_orders_region`` (distance from
+  e1 = e2 = 1 within which the printed ratio exceeds 1e4; with a_bound <= A_max the verified ratio
+  is smaller still);
 * ``appendix_a``: ``orthogonal``, ``max_found``, ``max_config``, ``orthogonal_is_max`` (|xdd_c| for
-  F = (1, 1, 1)), the eigenvalue maxima, and the superquadric and box searches.
+  F = (1, 1, 1)), the eigenvalue maxima, and the superquadric and box searches.  Each configuration
+  carries particle 2's orientation as ``quaternion_2_body_to_world_wxyz`` (body to world, the
+  convention of ``dtcrit.bodies.contact.coefficient_matrix``: passed there as ``R2``, with ``R1``
+  the identity, it reproduces the configuration's ``matrix`` and ``accel``).
 
-Values are plain floats; nothing infinite or NaN is emitted (strict JSON).
+:func:`document` puts the envelope of every dtcrit JSON document in front (``dtcrit.json_meta``:
+``schema`` = ``dtcrit-figures/1``, ``dtcrit_version``, ``units``, ``derivation_hashes``); its schema is
+``dtcrit/schemas/dtcrit-figures-1.json``.  Values are plain floats; nothing infinite or NaN is
+emitted (strict JSON).
 """
 from __future__ import annotations
 
@@ -22,7 +30,46 @@ import math
 
 import numpy as np
 
-__all__ = ["summary", "fig3_summary", "pair_summary", "aspect_ratio_summary"]
+__all__ = ["JSON_SCHEMA", "JSON_UNITS", "document", "summary", "fig3_summary", "pair_summary", "aspect_ratio_summary"]
+
+JSON_SCHEMA = "dtcrit-figures/1"
+_PAIR_UNITS = {
+    "first_point.k_n": "N/m", "first_point.density": "kg/m^3", "a_max_eq26": "1/kg", "a_bound": "1/kg",
+    "a_bound_over_a_max": "1", "N": "1", "eq46_printed": "s", "verified_a_max.*": "s", "verified_a_bound.*": "s",
+}
+_CONFIG_UNITS = {
+    "accel": "m/s^2", "lambda_max": "1/kg", "normal_1": "1", "contact_point": "m", "r1": "m", "r2": "m",
+    "centre_2": "m", "quaternion_2_body_to_world_wxyz": "1", "long_axis_2": "1", "angle_between_long_axes_deg": "deg",
+    "matrix": "1/kg",
+}
+_SHAPE_UNITS = {
+    "mass": "kg", "max_arm": "m", "a_max_eq26": "1/kg", "a_bound": "1/kg", "max_accel": "m/s^2",
+    "max_accel_grid": "m/s^2", "accel_bound_eq26": "m/s^2", "max_lambda": "1/kg", "max_lambda_grid": "1/kg",
+    "lambda_over_eq26": "1", "lambda_over_a_bound": "1", "penetration_of_maximisers": "m", "contacts_evaluated": "1",
+}
+JSON_UNITS: dict[str, str] = {
+    # Fig. 3 is dimensionless throughout: A*m, beta = c/sqrt(m k), dt*sqrt(k/m)
+    "fig3.*": "1",
+    **{f"{fig}.{k}": u for fig in ("fig4", "fig5") for k, u in _PAIR_UNITS.items()},
+    # Fig. 6: step ratios, fractions, counts, (e1, e2) points and distances in the (e1, e2) plane
+    "aspect_ratio.*": "1",
+    **{f"appendix_a.{k}": u for k, u in {
+        "orthogonal": "m/s^2", "orthogonal_lambda": "1/kg", "orthogonal_penetration_depth": "m", "max_found": "m/s^2",
+        "margin": "1", "max_lambda_found": "1/kg", "lambda_margin_over_orthogonal": "1", "a_max_eq26": "1/kg",
+        "a_bound": "1/kg", "accel_bound_eq26": "m/s^2", "scenarios.*.roll_deg": "deg"}.items()},
+    **{f"appendix_a.*.{k}": u for k, u in _CONFIG_UNITS.items()},
+    **{f"appendix_a.shapes.*.{k}": u for k, u in _SHAPE_UNITS.items()},
+}
+"""Unit of every number of a figures document: keys are dotted paths into it, ``*`` standing for any run of
+keys (an integrator, a shape, a configuration); a list has the unit of its key; ``1`` is dimensionless.
+Appendix A is at unit density with F = (1, 1, 1) N."""
+
+
+def document(summary_: dict) -> dict:
+    """The ``--json`` document: the envelope (``dtcrit.json_meta.envelope``), then the figures' summary."""
+    from dtcrit.json_meta import envelope
+
+    return {**envelope(JSON_SCHEMA, JSON_UNITS), **summary_}
 
 
 def _clean(obj):
@@ -81,8 +128,7 @@ def aspect_ratio_summary(fine: bool = False, region: bool = True) -> dict:
     for key, verified in (("printed", False), ("verified", True)):
         st = d.ratio_stats(verified)
         r = d.ratio_verified if verified else d.ratio_printed
-        ev = d.e_verified if verified else d.e1
-        inf_pts = [[float(ev[i]), float(ev[j])] for i, j in zip(*np.nonzero(~np.isfinite(r)))]
+        inf_pts = [[float(d.e1[i]), float(d.e2[j])] for i, j in zip(*np.nonzero(~np.isfinite(r)))]
         out[key] = {
             "min_ratio": st["min_ratio"],
             "max_ratio": st["max_finite_ratio"],
@@ -90,15 +136,18 @@ def aspect_ratio_summary(fine: bool = False, region: bool = True) -> dict:
             "points_over_1e4": st["points_over_1e4"],
             "points": st["points"],
             "unbounded_at": inf_pts,
+            "translation_fall_sphere_to_5_5": d.fall_from_sphere(verified),
         }
-    idx = [int(np.argmin(np.abs(d.e1 - v))) for v in d.e_verified]
     res = dict(out["printed"])
     res.update({
         "grid": f"{d.e1.size} x {d.e2.size}, e1, e2 in [1, 5]",
         "ratio_at_a3_b2_c1": ratio_at(1.5, 2.0),
         "ratio_at_a3_b2_c1_verified": ratio_at(1.5, 2.0, verified=True),
-        "verified": dict(out["verified"], grid=f"{d.e_verified.size} x {d.e_verified.size} sub-grid",
-                         a_bound_below_a_max=bool(np.all(d.a_bound <= d.a_max[np.ix_(idx, idx)]))),
+        "verified": dict(out["verified"], grid=f"{d.e1.size} x {d.e2.size}",
+                         # equal at e1 = 1 (a = b), where they agree to the last bit or two
+                         a_bound_below_a_max=bool(np.all(d.a_bound <= d.a_max * (1.0 + 1e-12))),
+                         a_bound_over_a_max_range=[float(np.min(d.a_bound / d.a_max)),
+                                                   float(np.max(d.a_bound / d.a_max))]),
     })
     if region:
         res["four_orders_region"] = four_orders_region()

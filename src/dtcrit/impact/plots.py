@@ -38,7 +38,7 @@ def plot_sweep(report: dict, path) -> None:
         ax.plot(grid, [s.on_step for s in stats], color="C1", lw=0.8, ls="--", label="contact begins on a step")
         ex = exact_impact(z)
         ax.axhline(ex.exit_ratio, color="k", lw=1.0, label="exact")
-        ax.axhline(1.0, color="0.5", lw=0.6, ls=":")
+        ax.axhline(1.0, color="0.5", lw=0.6, ls=":", label="v_exit = v_entry")
         tau_star = linear_bound(name, z)
         if tau_star > 0:
             ax.axvline(tau_star, color="C3", lw=0.8, ls="-.", label="linear bound")
@@ -89,16 +89,18 @@ def plot_hertz(study: dict, path) -> None:
 
 
 def plot_phase_curve(report: dict, path) -> None:
-    """v_exit/v_entry vs entry phase at the single step of a report made with ``omega_dt``."""
+    """v_exit/v_entry vs entry phase at the single step of a report made with ``omega_dt``: one marker per
+    simulated entry phase, the exact impact and the line v_exit = v_entry, every one named in the legend."""
     run: ImpactRun = report["_run"]
-    fig = _figure(6.0, 3.0)
+    fig = _figure(6.0, 3.4)
     ax = fig.add_subplot(1, 1, 1)
-    ax.plot(run.phases, run.ratios[0], marker=".", ms=3, lw=0.8)
-    ax.axhline(report["exact"]["exit_ratio"], color="k", lw=1.0, label="exact")
-    ax.axhline(1.0, color="0.5", lw=0.6, ls=":")
+    ax.plot(run.phases, run.ratios[0], marker=".", ms=3, lw=0.8, color="C0",
+            label=f"time-stepped, one marker per entry phase ({len(run.phases)} phases)")
+    ax.axhline(report["exact"]["exit_ratio"], color="k", lw=1.0, label="exact impact")
+    ax.axhline(1.0, color="0.5", lw=0.6, ls=":", label="v_exit = v_entry (above: energy created)")
     ax.set_xlabel("entry phase phi")
     ax.set_ylabel("v_exit / v_entry")
     ax.set_title(f"{report['integrator']}, zeta = {report['zeta']:g}, omega dt = {run.omega_dt[0]:g}", fontsize=9)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(0.0, -0.2), ncol=1, frameon=False)
     fig.tight_layout()
-    fig.savefig(path)
+    fig.savefig(path, bbox_inches="tight")

@@ -1,5 +1,6 @@
 """The impact report of ``dtcrit impact``: per damping ratio, the sweep against the exact impact and the
-linear bound, the undamped closed forms, and its JSON form.
+linear bound, the undamped closed forms, and its JSON form (schema ``dtcrit-impact/1``,
+``dtcrit/schemas/dtcrit-impact-1.json``; README.md, section JSON).
 """
 from __future__ import annotations
 
@@ -33,6 +34,21 @@ from dtcrit.impact.stepped import (
 )
 from dtcrit.impact.sweep import PhaseStats, energy_created_ranges, linear_bound, sweep, sweep_grid
 from dtcrit.integrators.stability import check_integrator
+from dtcrit.json_meta import envelope
+
+JSON_SCHEMA = "dtcrit-impact/1"
+_STEP = "omega*dt, omega = sqrt(k/m) (rows of hertz: omega_t*dt)"
+_RATIO = "v_exit/v_entry"
+JSON_UNITS = {
+    "omega_dt": _STEP, "critical_omega_dt": "omega*dt", "above_exact": "omega*dt (ranges [from, to])",
+    "above_one": "omega*dt (ranges [from, to])", "linearised_bound": "omega_t*dt",
+    "largest_omega_dt_within_threshold": "omega_t*dt", "linear_contact_largest_omega_dt_within_threshold": "omega*dt",
+    "duration": "1/omega (in hertz.exact: 1/omega_t)", "overlap_at_release": "v0/omega", "duration_dmax_over_v0": "dmax/v0",
+    "exit_ratio": _RATIO, "exact_exit_ratio": _RATIO, "min": _RATIO, "mean": _RATIO, "max": _RATIO, "on_step": _RATIO,
+    "largest_ratio_below_critical": _RATIO,
+}
+"""The scale of every scaled quantity of an impact document (the study is nondimensional: ``scaling``); the
+other numbers are counts, fractions, damping ratios and relative errors."""
 
 
 def _zeta_summary(name: str, zeta: float, grid, stats: list[PhaseStats]) -> dict:
@@ -83,7 +99,7 @@ def impact_report(
     report: dict = {
         "integrator": name,
         "zeta": z,
-        "units": UNITS,
+        "scaling": UNITS,
         "convention": CONVENTION,
         "critical_omega_dt": linear_bound(name, z),
         "exact": ex.as_dict(),
@@ -147,10 +163,16 @@ def _closed_form_section(name: str, grid, run: ImpactRun, closed: np.ndarray) ->
     return section
 
 
+def _plain(value):
+    """``value`` without the private (array) entries, recursively; non-finite numbers become null."""
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items() if not str(k).startswith("_")}
+    if isinstance(value, list):
+        return [_plain(v) for v in value]
+    return _json_number(value)
+
+
 def to_json(report: dict) -> dict:
-    """The report without the private (array) entries, recursively."""
-    if isinstance(report, dict):
-        return {k: to_json(v) for k, v in report.items() if not str(k).startswith("_")}
-    if isinstance(report, list):
-        return [to_json(v) for v in report]
-    return _json_number(report)
+    """The documented JSON form of a report (schema ``dtcrit-impact/1``): the envelope of every dtcrit JSON
+    (:func:`dtcrit.json_meta.envelope`), then the report without its private entries."""
+    return {**envelope(JSON_SCHEMA, JSON_UNITS), **_plain(report)}

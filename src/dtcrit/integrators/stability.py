@@ -87,7 +87,7 @@ def _exact_steps(name: str, k, c, A) -> np.ndarray:
         return precise.forward_euler_exact(k, c, A)
     if name == "paper-eq40":
         return precise.paper_eq40_identity(k, c, A)
-    return precise.scaled_closed_form(name, k, c, A)
+    return precise.fast_closed_form(name, k, c, A)
 
 
 def refuse_unrepresentable(integrator: str, dt: np.ndarray, k, c, A) -> np.ndarray:

@@ -94,13 +94,13 @@ def equal_sphere_rows(rows):
 
 def plot(rows, fit: PowerFit, path) -> None:
     """alpha against CN_max, by packing family, with the equal-sphere power-law fit ``fit``, the
-    lattice law and the two-sphere value."""
+    lattice law and the two-sphere value (the legend outside the axes, clear of the points and fits)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(6.0, 4.2))
+    fig, ax = plt.subplots(figsize=(8.4, 4.2))
     markers = {"lattice": "s", "mono": "o", "uniform": "^", "lognormal": "v"}
     for kind, marker in markers.items():
         sel = [r for r in rows if r.kind == kind]
@@ -112,10 +112,10 @@ def plot(rows, fit: PowerFit, path) -> None:
     ax.axhline(2 / math.sqrt(7), color="grey", ls="--", lw=1, label="two spheres, 2/sqrt(7)")
     ax.set_xlabel("maximum coordination number CN_max")
     ax.set_ylabel("alpha = dt_crit / sqrt(m_min / K_max)")
-    ax.legend(fontsize=7, loc="lower right")
+    ax.legend(fontsize=7.5, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0, frameon=False)
     ax.grid(alpha=0.3)
     fig.tight_layout()
-    fig.savefig(path, dpi=120, metadata={"Software": None})
+    fig.savefig(path, dpi=120, bbox_inches="tight", metadata={"Software": None})
     plt.close(fig)
 
 

@@ -23,6 +23,7 @@ __all__ = [
     "RAYLEIGH_FRACTIONS",
     "COLLISION_TIME_DIVISOR",
     "HERTZ_TIME_CONSTANT",
+    "HERTZ_FRACTIONS",
 ]
 
 RAYLEIGH_FRACTIONS = (0.10, 0.20, 0.40)
@@ -33,6 +34,9 @@ COLLISION_TIME_DIVISOR = 50.0
 HERTZ_TIME_CONSTANT = 2.87
 """Hertz contact duration t = 2.87 (m*^2 / (R* E*^2 v))^(1/5), as LIGGGHTS' ``check/timestep/gran``
 prints it (the exact constant is 2.868..., see tests/test_step_estimators.py)."""
+HERTZ_FRACTIONS = (0.10, 0.20)
+"""Fractions of the Hertz contact duration codes step with: LIGGGHTS' ``fix check/timestep/gran N f_R f_H``
+warns when dt exceeds the fraction ``f_H`` of it given in the input script, 0.1 or 0.2 in its examples."""
 
 
 @dataclass(frozen=True)

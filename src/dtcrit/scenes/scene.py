@@ -260,6 +260,9 @@ def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
     integrator = check_integrator(_string("integrator", _required("", doc, "integrator", "the integrator name")))
     omega_max = _number("omega_max", doc["omega_max"]) if "omega_max" in doc else None
     safety = _number("safety", doc["safety"], hi=1.0) if "safety" in doc else 1.0
+    if safety < MIN_SAFETY:
+        raise InputError("safety", f"{safety:g} is below {MIN_SAFETY:g}: a step a million times below the critical one "
+                         "is not a safety margin (codes use 0.1-0.9; subnormal factors lose their digits)")
     pairs = _choice("pairs", doc["pairs"], PAIRS_CHOICES, "pairs setting") if "pairs" in doc else "all"
     title = _string("title", doc["title"]) if "title" in doc else None
     if title is not None and len(title) > MAX_TITLE:
@@ -323,6 +326,9 @@ def parse_scene(text: str, source: str = "<scene>") -> Scene:
 MAX_SCENE_BYTES = 8 << 20
 """A scene file is a few kilobytes; 8 MiB leaves room for polyhedra with very many vertices."""
 MAX_TITLE = 200
+MIN_SAFETY = 1e-6
+"""Smallest accepted safety factor: below it ``dt_recommended`` is no longer a margin on ``dt_crit`` (and a
+subnormal factor, e.g. 1e-320, keeps only a few significant digits)."""
 MAX_COORDINATION = 100_000
 """Far above any packing (a sphere among ones 100 times smaller touches about 40,000)."""
 
@@ -336,6 +342,8 @@ def load_scene(path: str | Path) -> Scene:
     except OSError as exc:
         reason = exc.strerror or type(exc).__name__
         raise InputError("file", f"cannot read the scene file: {reason}") from None
+    except ValueError:  # a NUL character in the path
+        raise InputError("file", "cannot read the scene file: the path contains a NUL character") from None
     if len(data) > MAX_SCENE_BYTES:
         raise InputError("file", f"more than {MAX_SCENE_BYTES} bytes: larger than a scene file can be")
     try:

@@ -1,5 +1,5 @@
 """The estimates DEM codes use, computed for a scene beside its verified step (``dtcrit step``):
-Rayleigh time and its fractions, Hertz contact time, damped collision time / 50, the per-body
+Rayleigh time and its fractions, Hertz contact duration and its fractions, damped collision time / 50, the per-body
 diagonal-stiffness estimate of YADE/PFC and the paper's Eq. (46) (:mod:`dtcrit.scenes.estimators`).
 """
 from __future__ import annotations
@@ -35,13 +35,15 @@ def scene_estimates(scene, steps) -> list[est.Estimate]:
             out.append(est.Estimate(f"rayleigh_{round(f * 100)}", f"{round(f * 100)} % of T_R (EDEM: 20 % at coordination >= 4, up to 40 % below)", None, why))
 
     hertz = [p.contact for p in pairs if p.contact.delta_max is not None]
-    if hertz:
-        t_h = min(est.hertz_contact_time(c.m_star, c.r_star, c.e_star, c.velocity) for c in hertz)
-        out.append(est.Estimate("hertz_time", "Hertz contact time 2.87 (m*^2/(R* E*^2 v))^(1/5) (LIGGGHTS, EDEM)", t_h,
-                                "m* = m1 m2/(m1 + m2); impact speed v of the scene"))
-    else:
-        out.append(est.Estimate("hertz_time", "Hertz contact time 2.87 (m*^2/(R* E*^2 v))^(1/5) (LIGGGHTS, EDEM)", None,
-                                "needs a Hertz contact (youngs_modulus, poisson_ratio, velocity)"))
+    t_h = min(est.hertz_contact_time(c.m_star, c.r_star, c.e_star, c.velocity) for c in hertz) if hertz else None
+    why = ("m* = m1 m2/(m1 + m2); impact speed v of the scene" if hertz
+           else "needs a Hertz contact (youngs_modulus, poisson_ratio, velocity)")
+    out.append(est.Estimate("hertz_time", "Hertz contact duration 2.87 (m*^2/(R* E*^2 v))^(1/5) (LIGGGHTS, EDEM; "
+                            "a duration, not a step: codes take a fraction of it)", t_h, why))
+    for f in est.HERTZ_FRACTIONS:
+        out.append(est.Estimate(f"hertz_{round(f * 100)}", f"{round(f * 100)} % of the Hertz contact duration (LIGGGHTS "
+                                "check/timestep/gran warns above the fraction its input sets, 10-20 %)",
+                                None if t_h is None else f * t_h, why))
 
     t_c = [est.damped_collision_time(p.contact.kn, p.contact.cn, p.contact.m_star) for p in pairs]
     t_c50 = _min_or_none(t_c)
@@ -79,4 +81,11 @@ def scene_estimates(scene, steps) -> list[est.Estimate]:
                    + ([paper_eq46(p.contact.ks, p.contact.cs, p.A_max)] if p.contact.ks > 0 else [])) for p in pairs)
     out.append(est.Estimate("paper_eq46", "Peng et al. 2020, Eq. (46) with Eq. (26) A_max (as printed)", eq46,
                             "smallest over pairs and directions"))
-    return out
+    return [_finite(e) for e in out]
+
+
+def _finite(e: est.Estimate) -> est.Estimate:
+    """An estimate beyond the float64 range (m/k overflows for a subnormal stiffness) does not apply."""
+    if e.dt is None or (math.isfinite(e.dt) and e.dt > 0):
+        return e
+    return est.Estimate(e.key, e.label, None, f"{e.dt!r} s: beyond the float64 range for this scene")

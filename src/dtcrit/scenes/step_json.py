@@ -2,7 +2,29 @@
 "JSON").  New keys may be added; existing keys keep their meaning."""
 from __future__ import annotations
 
+from dtcrit.json_meta import envelope
+
 JSON_SCHEMA = "dtcrit-step/1"
+UNITS = {
+    # times
+    "dt": "s", "dt_crit": "s", "dt_isolated": "s", "dt_dense": "s", "dt_recommended": "s", "dt_normal": "s",
+    "dt_shear": "s", "dt_translation": "s", "dt_rotation": "s",
+    # contact springs, dashpots and the inverse-inertia coefficient of xdd = -A (K x + C xd)
+    "k": "N/m", "kn": "N/m", "ks": "N/m", "c": "N s/m", "cn": "N s/m", "cs": "N s/m",
+    "A": "1/kg", "A_max": "1/kg", "A_bound": "1/kg", "A_normal": "1/kg", "A_shear": "1/kg",
+    # dense-packing bound: largest eigenvalue of M^-1 K, and of M^-1 C
+    "lambda_k": "1/s^2", "lambda_c": "1/s",
+    # particles
+    "mass": "kg", "m_star": "kg", "density": "kg/m^3", "inertia": "kg m^2", "half_lengths": "m", "max_arm": "m",
+    "equivalent_radius": "m", "radius_i": "m", "radius_j": "m", "radii": "m", "median": "m", "min": "m", "max": "m",
+    # Hertz linearisation and rotation
+    "e_star": "Pa", "g_star": "Pa", "r_star": "m", "delta_max": "m", "velocity": "m/s", "curvature_radius": "m",
+    "omega_max": "rad/s",
+}
+"""The unit of every dimensional key, wherever it appears in the document (SI).  Every other number is
+dimensionless: damping ratios (``zeta*``, ``damping_ratio``), ``restitution``, ``safety``, ``ks_ratio``,
+``fractions``, ``sigma`` (of ln R), ``B_max``/``B_sum`` (Eq. (54): ``dt = 2/(omega_max (B_i + B_j))``),
+the ``dense_factors`` and counts (``number``, ``coordination_max``, ``particles``)."""
 TRANSLATION_EQUATIONS = ("Peng et al. 2020, Eqs. (26), (29)-(30); exact integrator boundary (amplification matrix, "
                          "Jury conditions)")
 ROTATION_EQUATIONS = "Peng et al. 2020, Eqs. (54), (56)-(57)"
@@ -107,7 +129,7 @@ def step_json(result) -> dict:
             "equations": ROTATION_EQUATIONS,
         }
     return {
-        "schema": JSON_SCHEMA,
+        **envelope(JSON_SCHEMA, UNITS),
         "scene": sc.source,
         "title": sc.title,
         "integrator": sc.integrator,

@@ -1,6 +1,11 @@
 """Quaternions and rotations for the contact kinematics (Peng et al. 2020, Eq. (7)): skew matrices, the
 body-to-world rotation matrix of a unit quaternion, products, conjugates, and the check of the
 rotation convention.
+
+Convention (the one dtcrit uses wherever it carries a quaternion): ``q = (qw, qx, qy, qz)`` is a
+particle's orientation, body to world: ``v_world = R(q) v_body`` with ``R(q)`` the matrix printed as
+Eq. (7).  The paper's Eq. (5) matrix, world to body (``M_L = R M_G``), is ``R(q)^T``, which is the
+matrix of the conjugate quaternion (:func:`check_rotation_convention` proves it).
 """
 from __future__ import annotations
 
@@ -31,7 +36,10 @@ def cross(u, v) -> sp.Matrix:
 def quaternion_rotation_matrix(q) -> sp.Matrix:
     """Peng et al. 2020, Eqs (7)-(8): the rotation matrix of the unit quaternion ``q = (qw, qx, qy, qz)``.
 
-    Used as ``M_L = R M_G`` (Eq 5), i.e. it maps global components to local components.
+    Read body to world: for a particle of orientation ``q``, ``v_world = R(q) v_body`` (the columns are
+    the body axes in world components).  The paper's Eq (5) matrix, world to body, is ``R(q)^T =
+    R(conjugate q)``: where a derivation uses this function's value as the Eq (5) matrix, its
+    argument is the conjugate of the particle's orientation quaternion.
     """
     w, x, y, z = (sp.sympify(c) for c in q)
     return sp.Matrix(
@@ -63,6 +71,9 @@ def quaternion_conjugate(q) -> tuple:
 def quaternion_from_matrix(R: sp.Matrix) -> tuple:
     """An exact unit quaternion ``q`` with ``quaternion_rotation_matrix(q) == R`` (R proper orthogonal).
 
+    For a body-to-world matrix ``R`` this is the particle's orientation quaternion; for the paper's
+    Eq (5) matrix (world to body) it is the conjugate of it.
+
     Shepperd's choice of the largest diagonal combination keeps the square root away from zero.
     """
     R = sp.Matrix(R)
@@ -88,7 +99,9 @@ def quaternion_from_matrix(R: sp.Matrix) -> tuple:
 
 
 def check_rotation_convention() -> dict[str, bool]:
-    """Symbolic checks that Eq (7) with Eq (5) is a self-consistent convention (see module docstring)."""
+    """Symbolic checks that Eq (7) with Eq (5) is a self-consistent convention (see module docstring):
+    ``R(q)`` is a rotation, its inverse (the paper's Eq (5) matrix when ``R(q)`` is body to world) is the
+    matrix of the conjugate quaternion, and products of quaternions compose the rotations."""
     qw, qx, qy, qz, pw, px, py, pz = sp.symbols("q_w q_x q_y q_z p_w p_x p_y p_z", real=True)
     q, p = (qw, qx, qy, qz), (pw, px, py, pz)
     unit_q = {qw: sp.sqrt(1 - qx**2 - qy**2 - qz**2)}

@@ -88,7 +88,9 @@ class TipConfiguration:
         return to_global(sp.Matrix(R), self.arm_local(j))
 
     def quaternions(self) -> tuple[tuple, tuple]:
-        return quaternion_from_matrix(self.R1), quaternion_from_matrix(self.R2)
+        """The particles' orientation quaternions, body to world (dtcrit's one convention): ``R_j^T = R(q_j)``
+        with ``R_j`` the paper's Eq. (5) matrix (world to body)."""
+        return quaternion_from_matrix(sp.Matrix(self.R1).T), quaternion_from_matrix(sp.Matrix(self.R2).T)
 
     def particles(self, w_is_local: bool = False, rotate=None) -> tuple[RigidParticle, RigidParticle]:
         """Both particles, optionally with the whole pair turned by the global rotation ``rotate``

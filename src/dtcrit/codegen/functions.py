@@ -1,0 +1,36 @@
+"""The functions the emitted code calls, as SymPy function classes (printed by ``dtcrit.codegen.printers``)."""
+from __future__ import annotations
+
+import sympy as sp
+
+
+class cubic_positive_root(sp.Function):
+    """Smallest (largest when the fourth argument is true) positive real root of
+    t^3 + a2 t^2 + a1 t + a0 (0 when there is none); emitted as a helper function."""
+
+    nargs = 4
+    is_real = True
+    is_nonnegative = True
+
+
+class critical_step(sp.Function):
+    """The careful critical step of one mode, dt(k, c, A) (``dtcrit.symbolic.careful_forms``),
+    emitted as a helper function beside the kernel (``dtcrit.codegen.step``)."""
+
+    nargs = 3
+    is_real = True
+
+
+class critical_step_undamped(sp.Function):
+    """``critical_step`` of an undamped mode, dt(k, A)."""
+
+    nargs = 2
+    is_real = True
+
+
+class hypot(sp.Function):
+    """sqrt(x^2 + y^2) without overflow or underflow (C99/Fortran 2008 ``hypot``, ``np.hypot``)."""
+
+    nargs = 2
+    is_real = True
+    is_nonnegative = True
