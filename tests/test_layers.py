@@ -9,6 +9,7 @@ no chain of imports leads back to where it started.
 from __future__ import annotations
 
 import ast
+import sys
 from pathlib import Path
 
 import pytest
@@ -35,6 +36,7 @@ LAYERS = (
     ("dtcrit.notebooks", 9),
     ("dtcrit.cli", 10),
     ("dtcrit.__main__", 10),
+    ("dtcrit.engine_scripts", 11),  # run inside the engines (YADE's Python): a leaf nothing imports
 )
 RUNTIME = (3, 4, 5, 6, 7)
 HEAVY_SYMBOLIC = ("sympy",)
@@ -105,6 +107,18 @@ def test_imports_follow_the_layer_order(path):
     if rank in RUNTIME:
         wrong += [f"line {line}: runtime imports {m}" for line, m in _imports(path) if m.split(".")[0] in HEAVY_SYMBOLIC]
     assert not wrong, f"{module}: " + "; ".join(wrong)
+
+
+def test_engine_scripts_import_only_the_standard_library_and_yade():
+    """The scripts run inside YADE's own Python, where dtcrit and its dependencies are not installed."""
+    scripts = sorted((PACKAGE / "engine_scripts").glob("*.py"))
+    allowed = set(sys.stdlib_module_names) | {"yade", "__main__"} | {p.stem for p in scripts}  # siblings by name
+    wrong = []
+    for path in scripts:
+        for line, module in _imports(path):
+            if not (module.split(".")[0] in allowed or module.startswith("dtcrit.engine_scripts")):
+                wrong.append(f"{path.name}:{line}: {module}")
+    assert not wrong, "engine scripts import more than the standard library and yade: " + "; ".join(wrong)
 
 
 def test_no_import_cycles():

@@ -72,6 +72,7 @@ __all__ = [
     "run_case",
     "bounded",
     "bisect_threshold",
+    "run_lmp",
     "LammpsError",
 ]
 
@@ -399,7 +400,8 @@ def build_inputs(case: Case, dt: float, steps: int, *, eps: float = 1e-7, seed: 
 _COLUMNS = ("step", "atoms", "etot", "fdev", "tdev", "ndev", "grow")
 
 
-def _parse_thermo(log: str) -> dict[str, np.ndarray]:
+def _parse_thermo(log: str, columns: tuple[str, ...] = _COLUMNS) -> dict[str, np.ndarray]:
+    """The thermo table of a LAMMPS log as arrays named by `columns` (rows of another width end it)."""
     rows: list[list[float]] = []
     inside = False
     for line in log.splitlines():
@@ -410,15 +412,15 @@ def _parse_thermo(log: str) -> dict[str, np.ndarray]:
             inside = True
             continue
         if inside:
-            if s[0] == "Loop" or len(s) != len(_COLUMNS):
+            if s[0] == "Loop" or len(s) != len(columns):
                 inside = False
                 continue
             try:
                 rows.append([float(t) for t in s])
             except ValueError:
                 inside = False
-    arr = np.array(rows, dtype=float).reshape(-1, len(_COLUMNS))
-    return {name: arr[:, k] for k, name in enumerate(_COLUMNS)}
+    arr = np.array(rows, dtype=float).reshape(-1, len(columns))
+    return {name: arr[:, k] for k, name in enumerate(columns)}
 
 
 def _window_growth(step: np.ndarray, grow: np.ndarray, nsteps: int) -> float:
@@ -452,29 +454,44 @@ def _rate(step: np.ndarray, grow: np.ndarray) -> float:
     return float(math.exp(slope))
 
 
+def run_lmp(script: str, data: str, *, lmp: str | None = None,
+            keep_dir: str | os.PathLike | None = None, timeout: float = 120.0) -> str:
+    """Run `lmp` on an input script (which reads ``case.data``) in a scratch directory; its log.
+
+    Debian's `lmp` is an Open MPI program run as a singleton: ``ess_singleton_isolated`` keeps
+    it from starting an MPI daemon, and a start-up that still fails in ``MPI_Init`` (seen when
+    several `lmp` start at once on a busy machine) is retried twice.
+    """
+    exe = lmp or engine_executable("lammps")
+    if exe is None:
+        raise LammpsError("LAMMPS binary `lmp` not found (apt-get install lammps)")
+    env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_MCA_ess_singleton_isolated="1")
+    for attempt in range(3):
+        with tempfile.TemporaryDirectory(prefix="lmp_case_") as tmp:
+            work = Path(keep_dir) if keep_dir is not None else Path(tmp)
+            work.mkdir(parents=True, exist_ok=True)
+            (work / "in.case").write_text(script)
+            (work / "case.data").write_text(data)
+            proc = subprocess.run(
+                [exe, "-in", "in.case", "-log", "log.lammps", "-screen", "none", "-nocite"],
+                cwd=work, env=env, capture_output=True, text=True, timeout=timeout,
+            )
+            logfile = work / "log.lammps"
+            log = logfile.read_text() if logfile.exists() else ""
+        if not (proc.returncode != 0 and not log and "MPI_Init" in proc.stdout + proc.stderr):
+            break
+    if proc.returncode != 0 or "ERROR" in log:
+        tail = "\n".join((log or proc.stdout + proc.stderr).splitlines()[-15:])
+        raise LammpsError(f"lmp failed (exit {proc.returncode}):\n{tail}")
+    return log
+
+
 def run_case(case: Case, dt: float, steps: int, *, eps: float = 1e-7, seed: int = 12345,
              lmp: str | None = None, keep_dir: str | os.PathLike | None = None,
              timeout: float = 120.0) -> RunResult:
     """Run `case` for `steps` steps of size `dt` in LAMMPS and classify the outcome."""
-    exe = lmp or engine_executable("lammps")
-    if exe is None:
-        raise LammpsError("LAMMPS binary `lmp` not found (apt-get install lammps)")
     script, data = build_inputs(case, dt, steps, eps=eps, seed=seed)
-    env = dict(os.environ, OMP_NUM_THREADS="1")
-    with tempfile.TemporaryDirectory(prefix="lmp_case_") as tmp:
-        work = Path(keep_dir) if keep_dir is not None else Path(tmp)
-        work.mkdir(parents=True, exist_ok=True)
-        (work / "in.case").write_text(script)
-        (work / "case.data").write_text(data)
-        proc = subprocess.run(
-            [exe, "-in", "in.case", "-log", "log.lammps", "-screen", "none", "-nocite"],
-            cwd=work, env=env, capture_output=True, text=True, timeout=timeout,
-        )
-        logfile = work / "log.lammps"
-        log = logfile.read_text() if logfile.exists() else ""
-    if proc.returncode != 0 or "ERROR" in log:
-        tail = "\n".join((log or proc.stdout + proc.stderr).splitlines()[-15:])
-        raise LammpsError(f"lmp failed (exit {proc.returncode}):\n{tail}")
+    log = run_lmp(script, data, lmp=lmp, keep_dir=keep_dir, timeout=timeout)
     ser = _parse_thermo(log)
     if ser["step"].size == 0:
         raise LammpsError("no thermo output parsed from the LAMMPS log")

@@ -11,12 +11,23 @@ import importlib
 import sys
 
 # Subcommands in the order ``dtcrit --help`` lists them.
-COMMANDS: tuple[str, ...] = ("step", "codegen", "packing", "impact", "figures", "bench", "notebooks")
+COMMANDS: tuple[str, ...] = ("step", "codegen", "packing", "audit", "impact", "figures", "bench", "notebooks")
+
+
+def one_line(text: str) -> str:
+    """``text`` as one line: whitespace runs become one space, other control characters their escapes."""
+    text = " ".join(str(text).split())
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+
+
+def _shorten(text: str, limit: int = 200) -> str:
+    """A source label (a path as given) of at most ``limit`` characters: its start and its end."""
+    return text if len(text) <= limit else f"{text[: limit // 2 - 2]}...{text[-(limit // 2 - 1):]}"
 
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):  # one line, exit status 2 (argparse's own convention)
-        sys.stderr.write(f"{self.prog}: {message}\n")
+        sys.stderr.write(f"{one_line(self.prog)}: {one_line(message)}\n")
         raise SystemExit(2)
 
 
@@ -35,14 +46,14 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     if not getattr(args, "run", None):
-        parser.print_help()
+        sys.stderr.write(f"dtcrit: give a command, one of {', '.join(COMMANDS)} (dtcrit --help says what each does)\n")
         return 2
     try:
         return int(args.run(args) or 0)
     except ValueError as exc:  # includes dtcrit.errors.InputError
         source = getattr(args, "source_label", None)
-        prefix = f"{source}:" if source else "dtcrit: "
-        sys.stderr.write(f"{prefix}{' '.join(str(exc).split())}\n")
+        prefix = f"{_shorten(one_line(source))}:" if source else "dtcrit: "
+        sys.stderr.write(f"{prefix}{one_line(exc)}\n")
         return 2
     except BrokenPipeError:
         return 0

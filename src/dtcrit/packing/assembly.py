@@ -24,7 +24,7 @@ Further per-contact terms, when the contacts carry them (``dtcrit.packing.model.
   ``F``: the force turns with the centre line, ``dF_i/du_i = -k_n n n^T + (F/r)(1 - n n^T)``, i.e.
   ``-(F/r)(1 - n n^T)`` on the relative displacement of the two centres (``r`` their distance).
   Otsubo et al. neglect it (relative order ``F/(k_n r)``, about the overlap strain); it is included
-  when ``force_n`` is given;
+  when ``force_n`` is given (a bond in tension, ``F < 0``, stiffens);
 * dashpots (``cn``, ``cs``) give the damping matrix ``C`` with the same kinematics as the springs,
   ``[B_i B_j]^T C_c [B_i B_j]``, ``C_c = c_n n n^T + c_s (1 - n n^T)`` (``damping_matrix``).
 """
@@ -130,7 +130,7 @@ def _element_blocks(packing: Packing, contacts: Contacts, sl, kind: str):
         extra = _pair_blocks(np.concatenate([zero, rot_i], axis=2), np.concatenate([zero, rot_j], axis=2),
                              contact_stiffness_tensor(normal, twist, roll))
         k_ii, k_jj, k_ij = (a + b for a, b in zip((k_ii, k_jj, k_ij), extra))
-    if contacts.force_n is not None and np.any(contacts.force_n[sl] > 0):
+    if contacts.force_n is not None and np.any(contacts.force_n[sl] != 0):
         g = contacts.force_n[sl] / _centre_distance(packing, contacts, sl)
         extra = _pair_blocks(np.concatenate([-eye, zero], axis=2), np.concatenate([eye, zero], axis=2),
                              contact_stiffness_tensor(normal, _zero(contacts, sl), -g))

@@ -88,7 +88,8 @@ def find_sphere_contacts(packing: Packing, tolerance: float = 1e-9) -> Contacts:
     i, j, image, sep, d = i[touch], j[touch], image[touch], sep[touch], d[touch]
     if np.any(d <= 0):
         k = int(np.argmax(d <= 0))
-        raise InputError("positions", f"particles {int(i[k])} and {int(j[k])} have coincident centres")
+        raise InputError("positions", f"particles {packing.particle_id(i[k])} and {packing.particle_id(j[k])} "
+                                      "have coincident centres")
     order = np.lexsort((image[:, 2], image[:, 1], image[:, 0], j, i))
     i, j, image, sep, d = i[order], j[order], image[order], sep[order], d[order]
     n = sep / d[:, None]

@@ -34,13 +34,16 @@ Every other scheme is solved by ``spectral_radius`` (the largest ``|lambda|`` of
 operator, ARPACK, built from the scheme's own update rule ``dtcrit.integrators.schemes``) and bisection.
 
 ``dt_lower`` is a rigorous lower bound: ``lambda_max(2h C~ + h^2 K~) <= 2h beta + h^2 alpha`` with
-``alpha``, ``beta`` upper bounds of ``lambda_max(K~)``, ``lambda_max(C~)`` (block Gershgorin bounds of
-``dtcrit.packing.estimates``), so ``h = 4/(beta + sqrt(beta^2 + 4 alpha))`` is stable.
+``alpha``, ``beta`` upper bounds of ``lambda_max(K~)``, ``lambda_max(C~)`` (block-diagonal and Gershgorin
+bounds of ``dtcrit.packing.estimates``, the smaller; both need positive semi-definite elements, so
+``alpha`` is taken for the springs with the tensile pre-loads only: the compressive pre-load terms are
+negative semi-definite and can only lower ``lambda_max(K~)``), so ``h = 4/(beta + sqrt(beta^2 + 4 alpha))``
+is stable.
 """
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.sparse.linalg as spla
@@ -52,6 +55,7 @@ from dtcrit.packing.assembly import damping_matrix, mass_diagonal, scale_symmetr
 from dtcrit.packing.eigen import largest_mode
 from dtcrit.packing.estimates import block_diagonal, gershgorin
 from dtcrit.packing.model import Contacts, Packing
+
 
 LAGGED = ("leapfrog", "symplectic-euler", "velocity-verlet")
 CENTRED = ("leapfrog-centred",)
@@ -85,7 +89,9 @@ def _upper_bound(a, d_ones) -> float:
     return min(block_diagonal(a).omega2, gershgorin(a, d_ones).omega2)
 
 
-def _lower_bound(k, c) -> float:
+def lagged_lower_bound(k, c) -> float:
+    """Rigorous lower bound on the lagged central difference's step (module docstring); ``k`` must be
+    positive semi-definite element by element (springs only: no pre-load term)."""
     ones = np.ones(k.shape[0])
     alpha = _upper_bound(k, ones)
     beta = _upper_bound(c, ones) if c.nnz else 0.0
@@ -126,15 +132,21 @@ def damped_critical_dt(packing: Packing, contacts: Contacts, integrator: str = "
     if top.value <= 0:
         raise InputError("contacts", "the packing has no stiffness: no vibrating mode")
     dt_undamped = 2.0 / math.sqrt(top.value)
-    if integrator in CENTRED or not contacts.damped:
-        if integrator in LAGGED + CENTRED:
-            bound = _lower_bound(k, c.multiply(0.0) if integrator in CENTRED else c)
-            return DampedStep(dt_undamped, min(bound, dt_undamped), dt_undamped,
-                              "2/omega_max (4M - h^2 K > 0)", top.vector, 1)
+
+    def bound(c_part) -> float:
+        # a compressive pre-load term is negative semi-definite: the springs with only the tensile
+        # pre-loads (positive semi-definite elements) bound the packing from above
+        if contacts.force_n is None or not np.any(contacts.force_n > 0):
+            return lagged_lower_bound(k, c_part)
+        tensile = replace(contacts, force_n=np.minimum(contacts.force_n, 0.0))
+        return lagged_lower_bound(scaled_matrices(packing, tensile)[0], c_part)
+
+    if integrator in CENTRED or (integrator in LAGGED and not contacts.damped):
+        return DampedStep(dt_undamped, min(bound(c.multiply(0.0)), dt_undamped), dt_undamped,
+                          "2/omega_max (4M - h^2 K > 0)", top.vector, 1)
     if integrator in LAGGED:
         h, v, solves = _lagged_root(k, c, top.value, method)
-        bound = _lower_bound(k, c)
-        return DampedStep(h, min(bound, h), dt_undamped, "root of lambda_max(2h C~ + h^2 K~) = 4", v, solves + 1)
+        return DampedStep(h, min(bound(c), h), dt_undamped, "root of lambda_max(2h C~ + h^2 K~) = 4", v, solves + 1)
     h, solves = critical_by_spectral_radius(k, c, integrator, dt_undamped)
     return DampedStep(h, 0.0, dt_undamped, "bisection on the amplification operator's spectral radius",
                       None, solves + 1)
@@ -177,9 +189,11 @@ def spectral_radius(k, c, integrator: str, h: float) -> float:
 
 
 def critical_by_spectral_radius(k, c, integrator: str, h_hi: float, *, rtol: float = 1e-7,
-                                slack: float = 1e-9) -> tuple[float, int]:
-    """Bisection for the largest ``h`` with spectral radius ``<= 1 + slack`` (undamped modes of a
-    stable step sit on the unit circle to rounding), searched below ``h_hi`` (doubled if stable)."""
+                                slack: float = 1e-6) -> tuple[float, int]:
+    """Bisection for the largest ``h`` with spectral radius ``<= 1 + slack``, searched below ``h_hi``
+    (doubled while stable).  The slack covers rounding: undamped modes of a stable step sit on the
+    unit circle, and the rigid-body modes of a packing are Jordan blocks at ``+1``, which rounding
+    spreads by about ``sqrt(eps)``; a mode growing by less than ``1e-6`` a step is taken as stable."""
     solves = 0
     hi = h_hi
     while spectral_radius(k, c, integrator, hi) <= 1.0 + slack:

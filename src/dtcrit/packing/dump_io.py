@@ -189,13 +189,17 @@ def packing_from_snapshot(snap: _Snapshot, density: float | None = None, label: 
     elif density is None:
         raise InputError("density", "the dump has no mass column: give the particle density")
     order = np.argsort(snap.rows[:, cols["id"]], kind="stable") if "id" in cols else np.arange(len(r))
+    ids = None
     if "id" in cols:
         ids = snap.rows[order, cols["id"]]
         dup = np.flatnonzero(ids[1:] == ids[:-1])
         if dup.size:
             raise _fail(snap.first_line + int(order[dup[0] + 1]), f"atom id {ids[dup[0]]:g} appears twice")
+        bad = np.flatnonzero(ids != np.rint(ids))
+        if bad.size:
+            raise _fail(snap.first_line + int(order[bad[0]]), f"atom id {ids[bad[0]]:g} is not a whole number")
     return Packing.spheres(x[order], r[order], density=density, masses=None if masses is None else masses[order],
-                           box=snap.box, label=label or f"dump, timestep {snap.timestep}")
+                           box=snap.box, label=label or f"dump, timestep {snap.timestep}", ids=ids)
 
 
 def read_dump(path, *, density: float | None = None, snapshot: int = -1) -> Packing:

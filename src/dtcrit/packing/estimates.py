@@ -80,16 +80,21 @@ def gershgorin(a, mass_diag: np.ndarray) -> Estimate:
     return Estimate("gershgorin", float(best), "lower bound on dt", which)
 
 
-def diagonal_stiffness(a) -> Estimate:
-    """YADE / PFC per-body diagonal estimate ``omega^2 = 2 max_d K_dd / M_dd`` (heuristic)."""
+def _one_based(p: int) -> int:
+    return int(p) + 1
+
+
+def diagonal_stiffness(a, particle_id=_one_based) -> Estimate:
+    """YADE / PFC per-body diagonal estimate ``omega^2 = 2 max_d K_dd / M_dd`` (heuristic).
+    ``particle_id`` names particle ``p`` in the detail (``Packing.particle_id``; default ``p + 1``)."""
     d = np.asarray(a.diagonal())
     k = int(np.argmax(d))
     part = "rotation" if k % 6 >= 3 else "translation"
     return Estimate("diagonal", float(2.0 * d[k]), "heuristic",
-                    f"sqrt(2) sqrt(M/K) on DOF {k % 6} ({part}) of particle {k // 6}")
+                    f"sqrt(2) sqrt(M/K) on DOF {k % 6} ({part}) of particle {particle_id(k // 6)}")
 
 
-def block_diagonal(a) -> Estimate:
+def block_diagonal(a, particle_id=_one_based) -> Estimate:
     """Rigorous per-body bound ``omega^2 <= 2 max_p lambda_max(A_pp)`` (module docstring)."""
     n = a.shape[0] // 6
     if hasattr(a, "blocksize") and a.blocksize == (6, 6):
@@ -103,7 +108,7 @@ def block_diagonal(a) -> Estimate:
     top = np.linalg.eigvalsh(0.5 * (blocks + np.swapaxes(blocks, 1, 2)))[:, -1]
     p = int(np.argmax(top))
     return Estimate("block_diagonal", float(2.0 * top[p]), "lower bound on dt",
-                    f"sqrt(2) / sqrt(lambda_max of the 6x6 block) of particle {p}")
+                    f"sqrt(2) / sqrt(lambda_max of the 6x6 block) of particle {particle_id(p)}")
 
 
 def _compliance(packing: Packing, contacts: Contacts, sl) -> np.ndarray:
@@ -204,12 +209,13 @@ def rayleigh(a, packing: Packing, contacts: Contacts, omega2_c: np.ndarray | Non
     if contacts.count:
         w = single_contact_frequencies(packing, contacts) if omega2_c is None else omega2_c
         top = np.argsort(-w, kind="stable")[:n_contacts]  # stable: ties go to the lower contact index
-        trials += [(f"mode of contact {int(c)} alone", contact_mode(packing, contacts, int(c))) for c in top]
+        trials += [(f"mode of the contact of particles {packing.particle_id(contacts.i[c])} and "
+                    f"{packing.particle_id(contacts.j[c])} alone", contact_mode(packing, contacts, int(c))) for c in top]
     d = np.asarray(a.diagonal())
     k = int(np.argmax(d))
     unit = np.zeros(a.shape[0])
     unit[k] = 1.0
-    trials.append((f"DOF {k % 6} of particle {k // 6} alone", unit))
+    trials.append((f"DOF {k % 6} of particle {packing.particle_id(k // 6)} alone", unit))
     best, name = 0.0, "none"
     for label, v in trials:
         norm = float(v @ v)

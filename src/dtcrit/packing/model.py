@@ -53,7 +53,9 @@ class Packing:
     inertia; ``radii`` (N,) sphere radii, or for non-spherical particles the radius of the
     bounding sphere (used only to find candidate contacts); ``orientations`` (N, 3, 3) rotation
     matrices from each body frame to the global frame, or ``None`` for spheres (identity);
-    ``shapes`` one object per particle with ``.support(direction)`` for non-spheres, else ``None``.
+    ``shapes`` one object per particle with ``.support(direction)`` for non-spheres, else ``None``;
+    ``ids`` the engine's own particle ids (a dump's ``id`` column), else ``None`` (then particles are
+    numbered from 1 in messages: ``particle_id``).
     """
 
     positions: np.ndarray
@@ -65,6 +67,7 @@ class Packing:
     shapes: Sequence[Any] | None = None
     half_lengths: np.ndarray | None = None
     label: str = ""
+    ids: np.ndarray | None = None
 
     def __post_init__(self):
         x = np.ascontiguousarray(self.positions, dtype=float)
@@ -98,6 +101,12 @@ class Packing:
             h = np.ascontiguousarray(h, dtype=float)
             if h.shape != (n, 3):
                 raise InputError("half_lengths", f"expected shape {(n, 3)}, got {h.shape}")
+        ids = self.ids
+        if ids is not None:
+            ids = np.ascontiguousarray(ids).reshape(-1).astype(np.int64)
+            if ids.shape != (n,) or np.unique(ids).size != n:
+                raise InputError("ids", f"expected {n} distinct particle ids")
+            object.__setattr__(self, "ids", ids)
         if self.shapes is not None and len(self.shapes) != n:
             raise InputError("shapes", f"expected {n} shapes, got {len(self.shapes)}")
         object.__setattr__(self, "positions", x)
@@ -110,6 +119,10 @@ class Packing:
     @property
     def n(self) -> int:
         return self.positions.shape[0]
+
+    def particle_id(self, index) -> int:
+        """The id of particle ``index`` as the user knows it: the engine's id, else ``index + 1``."""
+        return int(self.ids[index]) if self.ids is not None else int(index) + 1
 
     @property
     def dofs(self) -> int:
@@ -124,7 +137,7 @@ class Packing:
 
     @classmethod
     def spheres(cls, positions, radii, *, density=None, masses=None, box: Box | None = None,
-                label: str = "") -> "Packing":
+                label: str = "", ids=None) -> "Packing":
         """Solid spheres: ``m = 4/3 pi R^3 rho`` (or given masses) and ``I = 2/5 m R^2``."""
         positions = np.asarray(positions, dtype=float)
         radii = np.broadcast_to(np.asarray(radii, dtype=float), positions.shape[:1]).copy()
@@ -142,7 +155,7 @@ class Packing:
             raise InputError("mass", "every mass must be a positive finite number")
         inertia = 0.4 * masses * radii**2
         return cls(positions, masses, np.repeat(inertia[:, None], 3, axis=1), radii, box=box,
-                   half_lengths=np.repeat(radii[:, None], 3, axis=1), label=label)
+                   half_lengths=np.repeat(radii[:, None], 3, axis=1), label=label, ids=ids)
 
     @classmethod
     def from_shapes(cls, shapes, positions, orientations=None, *, box: Box | None = None,
@@ -179,7 +192,7 @@ class Contacts:
     dashpot coefficients [N s/m] (force ``-c`` times the relative velocity of the contact points);
     ``kr``/``ktw`` the rolling and twisting spring stiffnesses [N m/rad] (moment against the
     relative rotation ``theta_j - theta_i`` perpendicular to, and about, the normal); ``force_n``
-    the compressive normal force [N] a pre-loaded contact carries, for its geometric stiffness.
+    the normal force [N] a pre-loaded contact carries (compressive positive), for its geometric stiffness.
     """
 
     i: np.ndarray
@@ -227,8 +240,12 @@ class Contacts:
         return replace(self, **self._per_contact(cn=cn, cs=cs))
 
     def with_normal_force(self, force_n) -> "Contacts":
-        """The compressive normal force [N] of each pre-loaded contact (geometric stiffness)."""
-        return replace(self, **self._per_contact(force_n=force_n))
+        """The normal force [N] of each pre-loaded contact, compressive positive (a bond in tension is
+        negative), for its geometric stiffness."""
+        arr = np.broadcast_to(np.asarray(force_n, dtype=float), self.i.shape).copy()
+        if not np.all(np.isfinite(arr)):
+            raise InputError("force_n", "every normal force must be a finite number")
+        return replace(self, force_n=arr)
 
     @property
     def damped(self) -> bool:

@@ -118,7 +118,8 @@ def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, int
     estimates: dict[str, est.Estimate] = {}
     if with_estimates:
         w_c = est.single_contact_frequencies(packing, contacts) if contacts.count else None
-        for e in (est.gershgorin(a, md), est.block_diagonal(a), est.diagonal_stiffness(a),
+        for e in (est.gershgorin(a, md), est.block_diagonal(a, packing.particle_id),
+                  est.diagonal_stiffness(a, packing.particle_id),
                   est.two_particle_amax(packing, contacts),
                   est.two_particle_exact(packing, contacts, w_c), est.rayleigh(a, packing, contacts, w_c)):
             estimates[e.name] = e
