@@ -28,27 +28,29 @@ def test_lattice_json(capsys):
 
 
 def test_random_text_report(capsys):
-    assert main(["packing", "--random", "40", "--cn", "5", "--sizes", "uniform", "--spread", "0.2", "--seed", "3"]) == 0
+    assert main(["packing", "--random", "40", "--cn", "5", "--sizes", "uniform", "--spread", "0.2", "--seed", "3",
+                 "--kn", "1e5"]) == 0
     text = capsys.readouterr().out
     assert "dt_crit = 2/omega_max" in text and "gershgorin" in text and "coordination mean 5" in text
 
 
 def test_damped_integrator_bound(capsys):
     pytest.importorskip("dtcrit.integrators.stability")
-    out = _json(capsys, ["packing", "--lattice", "fcc", "--cells", "1", "--damping-ratio", "0.1"])
+    out = _json(capsys, ["packing", "--lattice", "fcc", "--cells", "1", "--damping-ratio", "0.1", "--kn", "1e5"])
     assert out["dt_integrator"] < out["dt_crit"]
     assert out["dt_integrator"] == pytest.approx(out["dt_crit"] / (0.1 + math.sqrt(1.01)), rel=1e-9)
 
 
 @pytest.mark.parametrize("argv,words", [
-    (["packing"], "give exactly one of FILE, --lattice or --random"),
-    (["packing", "--lattice", "sc", "--random", "10"], "give exactly one"),
+    (["packing", "--kn", "1"], "give exactly one of FILE, --lattice or --random"),
+    (["packing", "--lattice", "sc"], "kn: give the contact stiffness"),
+    (["packing", "--kn", "1", "--lattice", "sc", "--random", "10"], "give exactly one"),
     (["packing", "--lattice", "sc", "--kn", "-1"], "kn: must be a finite number >= 0"),
-    (["packing", "--lattice", "sc", "--cells", "0"], "cells"),
+    (["packing", "--kn", "1", "--lattice", "sc", "--cells", "0"], "cells"),
     (["packing", "--lattice", "sc", "--youngs", "1e9", "--kn", "1e5"], "either --kn/--ks or --youngs"),
-    (["packing", "--lattice", "sc", "--damping-ratio", "-0.1"], "damping-ratio"),
-    (["packing", "--lattice", "sc", "--radius", "0"], "radius"),
-    (["packing", "--random", "10", "--cn", "30"], "cn"),
+    (["packing", "--kn", "1", "--lattice", "sc", "--damping-ratio", "-0.1"], "damping-ratio"),
+    (["packing", "--kn", "1", "--lattice", "sc", "--radius", "0"], "radius"),
+    (["packing", "--kn", "1", "--random", "10", "--cn", "30"], "cn"),
     (["packing", "--scale", "1e3,abc"], "scale"),
 ])
 def test_bad_input_is_one_line_exit_2(capsys, argv, words):

@@ -97,9 +97,10 @@ BAD = [
 
 @pytest.mark.parametrize("text,line,words", BAD)
 def test_malformed_files_name_the_line(tmp_path, text, line, words):
+    path = _write(tmp_path, text)
     with pytest.raises(InputError) as err:
-        read_dump(_write(tmp_path, text), density=1.0)
-    assert err.value.key == f"line {line}"
+        read_dump(path, density=1.0)
+    assert err.value.key == f"{path}:{line}"
     assert words in err.value.reason
 
 
@@ -112,10 +113,10 @@ def test_missing_density_and_empty_file(tmp_path):
 
 def test_cli_one_line_error_with_file_and_line(tmp_path, capsys):
     path = _write(tmp_path, BAD[7][0])
-    assert main(["packing", str(path), "--density", "1000"]) == 2
+    assert main(["packing", str(path), "--density", "1000", "--kn", "1"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1
-    assert err.startswith(f"{path}:line 12: ")
+    assert err.startswith(f"dtcrit: {path}:12: ")
     assert "Traceback" not in err
 
 

@@ -49,9 +49,9 @@ def _read_dump(path: str, density, index):
     try:
         return read_dump(path, density=density, snapshot=index)
     except InputError as exc:
-        if exc.key.startswith("line "):
-            raise InputError(f"{path}:{exc.key[5:]}", exc.reason) from None
-        raise InputError(f"{path}" if exc.key == "file" else f"--{exc.key}", exc.reason) from None
+        if exc.key.startswith(str(path)):
+            raise
+        raise InputError(f"{path}" if exc.key == "file" else f"--{exc.key.replace('_', '-')}", exc.reason) from None
 
 
 def _is_yade_export(path: str) -> bool:

@@ -5,8 +5,8 @@
     dtcrit packing --random 500 --cn 6 [--sizes lognormal --spread 0.3] [--seed 1]
     dtcrit packing --scale 1e3,1e4,1e5                     the scale benchmark (table)
 
-Contact law: ``--kn/--ks`` linear springs (``--ks`` defaults to ``--kn``) or ``--youngs/--poisson``
-for Hertz-Mindlin tangent stiffness at each contact's overlap.
+Contact law (required: the step scales with it): ``--kn/--ks`` linear springs (``--ks`` defaults to
+``--kn``) or ``--youngs/--poisson`` for Hertz-Mindlin tangent stiffness at each contact's overlap.
 """
 from __future__ import annotations
 
@@ -14,7 +14,6 @@ import json
 import math
 import sys
 
-DEFAULT_KN = 1.0e5  # N/m
 DEFAULT_DENSITY = 2650.0  # kg/m^3 (quartz), for generated packings
 DEFAULT_RADIUS = 1.0e-3  # m
 
@@ -38,7 +37,7 @@ def add_parser(subparsers) -> None:
     mat = p.add_argument_group("material and contacts")
     mat.add_argument("--density", type=float, help=f"particle density [kg/m^3] (generated default {DEFAULT_DENSITY:g}; "
                                                    "required for a dump without a mass column)")
-    mat.add_argument("--kn", type=float, help=f"normal spring stiffness [N/m] (default {DEFAULT_KN:g})")
+    mat.add_argument("--kn", type=float, help="normal spring stiffness [N/m] (this or --youngs is required)")
     mat.add_argument("--ks", type=float, help="tangential spring stiffness [N/m] (default: equal to kn)")
     mat.add_argument("--youngs", type=float, help="Young's modulus [Pa]: Hertz-Mindlin tangent stiffness instead")
     mat.add_argument("--poisson", type=float, default=0.25, help="Poisson's ratio with --youngs (default 0.25)")
@@ -61,8 +60,10 @@ def _law(args):
         if args.kn is not None or args.ks is not None:
             raise ValueError("kn: give either --kn/--ks or --youngs/--poisson, not both")
         return HertzMindlinLaw(args.youngs, args.poisson)
-    kn = DEFAULT_KN if args.kn is None else args.kn
-    return LinearLaw(kn, kn if args.ks is None else args.ks)
+    if args.kn is None:
+        raise ValueError("kn: give the contact stiffness (--kn [--ks] for linear springs, or --youngs [--poisson] "
+                         "for Hertz-Mindlin): the step scales with it")
+    return LinearLaw(args.kn, args.kn if args.ks is None else args.ks)
 
 
 def _packing(args):
@@ -76,7 +77,6 @@ def _packing(args):
         raise ValueError("packing: give exactly one of FILE, --lattice or --random"
                          + (f" (got {', '.join(chosen)})" if chosen else ""))
     if args.file is not None:
-        args.source_label = args.file
         return read_dump(args.file, density=args.density, snapshot=args.snapshot)
     density = DEFAULT_DENSITY if args.density is None else args.density
     if args.lattice is not None:
@@ -112,7 +112,12 @@ def run_command(args) -> int:
     if args.write_dump:
         write_dump(args.write_dump, packing)
     if args.json:
-        json.dump(report.to_dict(), sys.stdout, indent=2, sort_keys=True)
+        from dtcrit.json_meta import envelope
+        from dtcrit.packing.report import JSON_SCHEMA, UNITS
+
+        doc = envelope(JSON_SCHEMA, UNITS)
+        doc.update(report.to_dict())
+        json.dump(doc, sys.stdout, indent=2)
         sys.stdout.write("\n")
     else:
         print(format_report(report))

@@ -17,7 +17,8 @@ Positions come from ``x y z``, ``xu yu zu`` (unwrapped) or ``xs ys zs`` (box fra
 ``radius`` or ``diameter``; masses from an optional ``mass`` column, otherwise from ``density``.
 Each axis is periodic when its boundary flag is ``pp`` (LAMMPS's default ``p p p`` when the header
 has no flags).  Non-periodic walls are not part of the packing (no wall contacts).  Triclinic boxes
-are rejected.  Any malformed content raises ``InputError`` whose key is ``line N``.
+are rejected.  Any malformed content raises ``InputError`` whose key is ``line N`` (``FILE:N`` from
+``read_dump``).
 """
 from __future__ import annotations
 
@@ -211,12 +212,17 @@ def read_dump(path, *, density: float | None = None, snapshot: int = -1) -> Pack
         raise InputError("file", f"cannot read {path}: {exc.strerror or exc}") from None
     except UnicodeDecodeError:
         raise InputError("file", f"{path} is not a text dump file") from None
-    snaps = read_snapshots(text)
     try:
-        snap = snaps[snapshot]
-    except IndexError:
-        raise InputError("snapshot", f"the file has {len(snaps)} snapshot(s); index {snapshot} is out of range") from None
-    return packing_from_snapshot(snap, density, label=f"{path.name}, timestep {snap.timestep}")
+        snaps = read_snapshots(text)
+        try:
+            snap = snaps[snapshot]
+        except IndexError:
+            raise InputError("snapshot", f"the file has {len(snaps)} snapshot(s); index {snapshot} is out of range") from None
+        return packing_from_snapshot(snap, density, label=f"{path.name}, timestep {snap.timestep}")
+    except InputError as exc:
+        if exc.key.startswith("line "):  # FILE:LINE: reason
+            raise InputError(f"{path}:{exc.key[5:]}", exc.reason) from None
+        raise
 
 
 def format_dump(packing: Packing, *, timestep: int = 0, with_mass: bool = True) -> str:

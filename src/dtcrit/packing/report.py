@@ -20,6 +20,13 @@ from dtcrit.packing.eigen import DEFAULT_TOL, TopMode, largest_mode, mode_charac
 from dtcrit.packing.model import Contacts, LinearLaw, Packing, apply_law
 
 
+JSON_SCHEMA = "dtcrit-packing/1"
+UNITS = {"omega_max": "rad/s", "dt_crit": "s", "dt_integrator": "s", "m_min": "kg", "k_max": "N/m",
+         "estimates.*.dt": "s", "estimates.*.omega": "rad/s"}
+"""Units of the dimensional keys of ``dtcrit packing --json`` (schema ``dtcrit-packing/1``); every other
+number is dimensionless (counts, coordination, ``alpha``, ratios, residuals, fractions)."""
+
+
 @dataclass
 class PackingReport:
     """Everything ``dtcrit packing`` prints: sizes, coordination, ``omega_max`` [rad/s], ``dt_crit``
