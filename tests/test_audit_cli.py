@@ -77,6 +77,17 @@ def test_a_pair_at_a_tiny_gap_is_not_a_contact(tmp_path, capsys):
     assert doc["n_contacts"] == 1
 
 
+def test_granular_hooke_pair_matches_gran_hooke_history(tmp_path, capsys):
+    """Two equal spheres: pair granular (hooke, linear_history, damping mass_velocity) is the same contact
+    as gran/hooke/history, up to its torque arm R - delta/2 (here delta = 2e-9 m: 1e-6 relative)."""
+    dump = tmp_path / "pair.dump"
+    dump.write_text(_dump(_pair_rows()))
+    granular = _json(capsys, dump, "--pair-style",
+                     "granular hooke 1e4 3e4 tangential linear_history 8e3 0.5 0.5 damping mass_velocity")
+    gran = _json(capsys, dump, "--pair-style", "gran/hooke/history 1e4 8e3 3e4 1.5e4 0.5 1")
+    assert abs(granular["dt_crit"] / gran["dt_crit"] - 1) < 1e-5
+
+
 def test_a_contact_table_gives_the_pair_style_answer(tmp_path, capsys):
     dump = tmp_path / "pair.dump"
     dump.write_text(_dump(_pair_rows()))
@@ -150,10 +161,16 @@ def _bad_cases(tmp: Path):
         (["good.dump", "--pair-style", GOOD_STYLE, "--dt", "-1"], "--dt:"),
         (["missing.dump", "--pair-style", GOOD_STYLE], "SNAPSHOT:"),
         (["export.json"], "export.json: bodies"),
+        (["good.dump", "--pair-style", "granular jkr 1e4 50 0.3 10 tangential mindlin NULL 1 0.5"], "jkr is not supported"),
+        (["good.dump", "--pair-style", "granular hooke 1e4 50"], "tangential model is required"),
+        (["good.dump", "--pair-style", "granular hooke 1e4 tangential linear_history 1e4 1 0.5"], "hooke eta must be"),
+        (["good.dump", "--pair-style", "granular hooke 1e4 5 tangential linear_history 1e4 1 0.5 damping sticky"],
+         "damping must be one of"),
+        (["good.dump", "--pair-style", "granular hooke 1e4 5 tangential mindlin NULL 1 0.5"], "needs a material"),
     ]
 
 
-@pytest.mark.parametrize("case", range(17))
+@pytest.mark.parametrize("case", range(22))
 def test_bad_input_is_one_line_and_exit_2(case, tmp_path, capsys, monkeypatch):
     monkeypatch.chdir(tmp_path)
     argv, expected = _bad_cases(tmp_path)[case]

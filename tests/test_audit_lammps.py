@@ -112,3 +112,24 @@ def test_mid_overlap_arms_would_be_unsafe_on_lammps(tmp_path_factory):
     mid = apply_terms(with_arms(p, c, "mid-overlap"), terms, preload=False)
     dt_mid = damped_critical_dt(p, mid).dt
     assert grows(dump, HOOKE, dt_mid * (1 - 5e-4))
+
+
+GRANULAR = {
+    "hooke-linear-history": ("hooke-overlap-3.6%", "granular hooke 1e4 0 tangential linear_history 2857 0 0.5 "
+                                                   "damping mass_velocity"),
+    "hooke-rolling-twisting": ("hooke-overlap-3.6%", "granular hooke 1e4 0 tangential linear_history 5000 0 1e4 "
+                                                     "damping mass_velocity rolling sds 5000 0 1e4 twisting marshall"),
+    "hertz-mindlin-viscoelastic": ("hertz", "granular hertz 2e8 0 tangential mindlin 2e8 0 1e4 damping viscoelastic"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(GRANULAR))
+def test_pair_style_granular(name, capsys, tmp_path, tmp_path_factory):
+    """``pair_style granular``: torque arm R - delta/2 with the full-radius slip velocity, rolling and
+    twisting springs; LAMMPS's bisected threshold within 1e-4 (the bisection's width) of dtcrit's step."""
+    packing, style = GRANULAR[name]
+    dump = _dump(packing, tmp_path_factory)
+    doc = _audit(capsys, tmp_path, dump, "--pair-style", style)
+    dt = doc["dt_crit"]
+    threshold = bisect_threshold(dump, style, 0.98 * dt, 1.02 * dt, rel_tol=1e-4, steps=4000)
+    assert 0.999 <= dt / threshold <= 1.0 + 1e-4

@@ -102,9 +102,17 @@ def _data_file(x, radii, density_or_mass, length, velocities=None, *, masses=Fal
     return "\n".join(lines) + "\n"
 
 
+def _pair_lines(pair_style: str) -> list[str]:
+    """``pair_style`` and ``pair_coeff`` lines; ``granular ARGS`` puts ARGS on ``pair_coeff * *``."""
+    words = pair_style.split()
+    if words[0] == "granular":
+        return ["pair_style granular", "pair_coeff * * " + " ".join(words[1:])]
+    return [f"pair_style {pair_style}", "pair_coeff * *"]
+
+
 def _header(pair_style: str) -> list[str]:
     return ["units si", "dimension 3", "atom_style sphere", "atom_modify map array sort 0 0.0", "boundary p p p",
-            "newton off", "comm_modify vel yes", "read_data case.data", f"pair_style {pair_style}", "pair_coeff * *",
+            "newton off", "comm_modify vel yes", "read_data case.data", *_pair_lines(pair_style),
             "neighbor 1e-4 bin", "neigh_modify delay 0 every 1 check yes"]
 
 

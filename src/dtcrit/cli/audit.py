@@ -98,9 +98,10 @@ def _build(args):
     if args.local:
         i, j = read_local_dump(args.local, packing)
         contacts = overlaps_of_pairs(packing, i, j)
-        contacts = with_arms(packing, contacts.subset(contacts.overlap > 0), convention.arm)
+        contacts = contacts.subset(contacts.overlap > 0)
     else:
         contacts = engine_sphere_contacts(packing, convention)
+    contacts = with_arms(packing, contacts, style.arm)  # the pair style's own kinematics
     return packing, apply_terms(contacts, style.terms(packing, contacts), preload=convention.preload), \
         convention, style.describe(), {}
 

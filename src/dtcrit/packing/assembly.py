@@ -25,8 +25,9 @@ Further per-contact terms, when the contacts carry them (``dtcrit.packing.model.
   ``-(F/r)(1 - n n^T)`` on the relative displacement of the two centres (``r`` their distance).
   Otsubo et al. neglect it (relative order ``F/(k_n r)``, about the overlap strain); it is included
   when ``force_n`` is given (a bond in tension, ``F < 0``, stiffens);
-* dashpots (``cn``, ``cs``) give the damping matrix ``C`` with the same kinematics as the springs,
-  ``[B_i B_j]^T C_c [B_i B_j]``, ``C_c = c_n n n^T + c_s (1 - n n^T)`` (``damping_matrix``).
+* dashpots (``cn``, ``cs``; rolling and twisting ``cr``, ``ctw``) give the damping matrix ``C`` with the
+  same kinematics as the springs, ``[B_i B_j]^T C_c [B_i B_j]``, ``C_c = c_n n n^T + c_s (1 - n n^T)``
+  (``damping_matrix``).
 """
 from __future__ import annotations
 
@@ -116,20 +117,21 @@ def _element_blocks(packing: Packing, contacts: Contacts, sl, kind: str):
         along = _zero(contacts, sl) if contacts.cn is None else contacts.cn[sl]
         across = _zero(contacts, sl) if contacts.cs is None else contacts.cs[sl]
     k_ii, k_jj, k_ij = _pair_blocks(b_i, b_j, contact_stiffness_tensor(normal, along, across))
-    if kind != "stiffness":
-        return k_ii, k_jj, k_ij
     nc = normal.shape[0]
     eye, zero = np.broadcast_to(np.eye(3), (nc, 3, 3)), np.zeros((nc, 3, 3))
-    if contacts.rotational_springs:
+    twist, roll = (contacts.ktw, contacts.kr) if kind == "stiffness" else (contacts.ctw, contacts.cr)
+    if twist is not None or roll is not None:
         rot_i, rot_j = -eye, eye
         if packing.orientations is not None:
             rot_i = -packing.orientations[contacts.i[sl]]
             rot_j = packing.orientations[contacts.j[sl]]
-        twist = _zero(contacts, sl) if contacts.ktw is None else contacts.ktw[sl]
-        roll = _zero(contacts, sl) if contacts.kr is None else contacts.kr[sl]
+        twist = _zero(contacts, sl) if twist is None else twist[sl]
+        roll = _zero(contacts, sl) if roll is None else roll[sl]
         extra = _pair_blocks(np.concatenate([zero, rot_i], axis=2), np.concatenate([zero, rot_j], axis=2),
                              contact_stiffness_tensor(normal, twist, roll))
         k_ii, k_jj, k_ij = (a + b for a, b in zip((k_ii, k_jj, k_ij), extra))
+    if kind != "stiffness":
+        return k_ii, k_jj, k_ij
     if contacts.force_n is not None and np.any(contacts.force_n[sl] != 0):
         g = contacts.force_n[sl] / _centre_distance(packing, contacts, sl)
         extra = _pair_blocks(np.concatenate([-eye, zero], axis=2), np.concatenate([eye, zero], axis=2),

@@ -22,6 +22,9 @@ against the engine's own runs (``tests/test_audit_lammps.py``, ``tests/test_engi
   ``delta (R_i - R_j)/(2 (R_i + R_j))`` relative in the arms (below 1e-4 at packing overlaps).  On a
   pair at 10 % overlap dtcrit's mid-overlap arm gives a step 2.6 % above YADE's threshold and the full
   radius 1 % below; this equivalent lands within 5e-7 (``tests/test_engine_yade.py``).
+* **LAMMPS ``pair_style granular``** -- slip velocity with the full radius, torque with ``R - delta/2``
+  (``dtcrit.packing.granular_style``): the symmetric equivalent has arms ``sqrt(R (R - delta/2))``
+  (exact for two equal spheres, like YADE's below, with ``alpha = 1``).
 * **pre-load** -- the normal force turns with the centre line, which adds the geometric stiffness
   ``-(F/r)(1 - n n^T)`` of every pre-loaded contact (``dtcrit.packing.assembly``).  It softens the
   packing and is part of what the engines integrate, so it is included for every engine.
@@ -85,6 +88,11 @@ def with_arms(packing: Packing, contacts: Contacts, arm: str) -> Contacts:
         arm_j = np.sqrt((r_j - 0.5 * delta) * r_j / alpha)
         return replace(contacts, arm_i=arm_i[:, None] * contacts.normal, arm_j=-arm_j[:, None] * contacts.normal,
                        ks=alpha * contacts.ks)
+    if arm == "granular":  # LAMMPS pair granular: slip velocity with R, torque with R - delta/2
+        half = 0.5 * contacts.overlap
+        arm_i = np.sqrt(r[contacts.i] * (r[contacts.i] - half))
+        arm_j = np.sqrt(r[contacts.j] * (r[contacts.j] - half))
+        return replace(contacts, arm_i=arm_i[:, None] * contacts.normal, arm_j=-arm_j[:, None] * contacts.normal)
     if arm == "radius":
         return replace(contacts, arm_i=r[contacts.i][:, None] * contacts.normal,
                        arm_j=-r[contacts.j][:, None] * contacts.normal)

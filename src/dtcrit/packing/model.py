@@ -191,7 +191,8 @@ class Contacts:
     Optional per-contact terms (``None`` when absent): ``cn``/``cs`` the normal and tangential
     dashpot coefficients [N s/m] (force ``-c`` times the relative velocity of the contact points);
     ``kr``/``ktw`` the rolling and twisting spring stiffnesses [N m/rad] (moment against the
-    relative rotation ``theta_j - theta_i`` perpendicular to, and about, the normal); ``force_n``
+    relative rotation ``theta_j - theta_i`` perpendicular to, and about, the normal), ``cr``/``ctw`` their
+    dashpots [N m s/rad]; ``force_n``
     the normal force [N] a pre-loaded contact carries (compressive positive), for its geometric stiffness.
     """
 
@@ -210,6 +211,8 @@ class Contacts:
     kr: np.ndarray | None = None
     ktw: np.ndarray | None = None
     force_n: np.ndarray | None = None
+    cr: np.ndarray | None = None
+    ctw: np.ndarray | None = None
 
     @property
     def count(self) -> int:
@@ -235,9 +238,10 @@ class Contacts:
         """Per-contact springs: ``kn``, ``ks`` [N/m]; rolling ``kr`` and twisting ``ktw`` [N m/rad]."""
         return replace(self, **self._per_contact(kn=kn, ks=ks, kr=kr, ktw=ktw))
 
-    def with_damping(self, cn, cs) -> "Contacts":
-        """Per-contact dashpots ``cn`` (normal), ``cs`` (tangential) [N s/m]."""
-        return replace(self, **self._per_contact(cn=cn, cs=cs))
+    def with_damping(self, cn, cs, cr=None, ctw=None) -> "Contacts":
+        """Per-contact dashpots ``cn`` (normal), ``cs`` (tangential) [N s/m]; rolling ``cr`` and twisting
+        ``ctw`` [N m s/rad] on the relative angular velocity."""
+        return replace(self, **self._per_contact(cn=cn, cs=cs, cr=cr, ctw=ctw))
 
     def with_normal_force(self, force_n) -> "Contacts":
         """The normal force [N] of each pre-loaded contact, compressive positive (a bond in tension is
@@ -249,7 +253,7 @@ class Contacts:
 
     @property
     def damped(self) -> bool:
-        return any(c is not None and np.any(c > 0) for c in (self.cn, self.cs))
+        return any(c is not None and np.any(c > 0) for c in (self.cn, self.cs, self.cr, self.ctw))
 
     @property
     def rotational_springs(self) -> bool:
@@ -259,7 +263,8 @@ class Contacts:
         pick = lambda a: None if a is None else a[mask]  # noqa: E731
         return Contacts(self.i[mask], self.j[mask], self.normal[mask], self.arm_i[mask], self.arm_j[mask],
                         self.overlap[mask], self.image[mask], self.radius_eff[mask], pick(self.kn), pick(self.ks),
-                        pick(self.cn), pick(self.cs), pick(self.kr), pick(self.ktw), pick(self.force_n))
+                        pick(self.cn), pick(self.cs), pick(self.kr), pick(self.ktw), pick(self.force_n),
+                        pick(self.cr), pick(self.ctw))
 
     @classmethod
     def empty(cls) -> "Contacts":

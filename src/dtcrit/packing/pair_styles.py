@@ -34,13 +34,18 @@ FLAG = "--pair-style"
 
 @dataclass(frozen=True)
 class ContactTerms:
-    """Per-contact springs [N/m], dashpots [N s/m] and the compressive normal force [N]."""
+    """Per-contact springs [N/m], dashpots [N s/m], the normal force [N] (compressive positive) and,
+    when the law has them, rolling and twisting springs [N m/rad] and dashpots [N m s/rad]."""
 
     kn: np.ndarray
     ks: np.ndarray
     cn: np.ndarray
     cs: np.ndarray
     force_n: np.ndarray
+    kr: np.ndarray | None = None
+    ktw: np.ndarray | None = None
+    cr: np.ndarray | None = None
+    ctw: np.ndarray | None = None
 
 
 def _number(text: str, what: str, *, allow_null: bool = False) -> float | None:
@@ -68,6 +73,8 @@ class GranPairStyle:
     dampflag: int
     text: str
 
+    arm = "radius"  # slip velocity and torque with the full radius (module docstring)
+
     def describe(self) -> str:
         return f"LAMMPS pair_style {self.text}"
 
@@ -85,18 +92,23 @@ class GranPairStyle:
         return ContactTerms(kn, ks, m_eff * self.gamma_n * scale, cs, force)
 
 
-def parse_pair_style(text: str) -> GranPairStyle:
-    """``GranPairStyle`` from the pair style line (without the leading ``pair_style``)."""
+def parse_pair_style(text: str):
+    """The law of the pair style line (without the leading ``pair_style``): a ``GranPairStyle``, or for
+    ``granular`` a ``dtcrit.packing.granular_style.GranularStyle`` from the ``pair_coeff`` words after it."""
     words = str(text).split()
     if words and words[0] == "pair_style":
         words = words[1:]
     if not words:
         raise InputError(FLAG, "empty: give the style and its arguments, e.g. 'gran/hooke/history 1e4 NULL 0 NULL 0.5 0'")
     style, args = words[0], words[1:]
+    if style == "granular":
+        from dtcrit.packing.granular_style import parse_granular
+
+        return parse_granular(args)
     if style.endswith("/omp") or style.endswith("/kk"):
         style = style.rsplit("/", 1)[0]
     if style not in GRAN_STYLES:
-        raise InputError(FLAG, f"unknown or unsupported pair style {style!r}; supported: {', '.join(GRAN_STYLES)}")
+        raise InputError(FLAG, f"unknown or unsupported pair style {style!r}; supported: {', '.join(GRAN_STYLES)}, granular")
     if args and args[-1] == "limit_damping":
         args = args[:-1]
     if len(args) != 6:
@@ -118,5 +130,6 @@ def parse_pair_style(text: str) -> GranPairStyle:
 
 def apply_terms(contacts: Contacts, terms: ContactTerms, *, preload: bool) -> Contacts:
     """Contacts carrying the terms (the normal force only with ``preload``: geometric stiffness)."""
-    out = contacts.with_stiffness(terms.kn, terms.ks).with_damping(terms.cn, terms.cs)
+    out = contacts.with_stiffness(terms.kn, terms.ks, terms.kr, terms.ktw)
+    out = out.with_damping(terms.cn, terms.cs, terms.cr, terms.ctw)
     return out.with_normal_force(terms.force_n) if preload else out
