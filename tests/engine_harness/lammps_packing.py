@@ -18,14 +18,13 @@ list, overlaps and masses come out of its dump), and the threshold is LAMMPS's o
 from __future__ import annotations
 
 import math
-import subprocess
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from . import engine_executable
+from .lammps import run_lmp
 
 GROWTH_LIMIT = 1e3  # envelope growth of the kinetic energy that counts as growing
 
@@ -34,23 +33,10 @@ def _g(x: float) -> str:
     return repr(float(x))
 
 
-def _lmp() -> str:
-    exe = engine_executable("lammps")
-    if exe is None:
-        raise RuntimeError("LAMMPS (lmp) is not installed")
-    return exe
-
-
 def _run(script: str, files: dict[str, str], workdir: Path, timeout: float = 300.0) -> str:
-    for name, text in files.items():
-        (workdir / name).write_text(text)
-    (workdir / "in.lmp").write_text(script)
-    out = subprocess.run([_lmp(), "-in", "in.lmp", "-log", "log.lammps", "-screen", "none"], cwd=workdir,
-                         capture_output=True, text=True, timeout=timeout)
-    log = (workdir / "log.lammps").read_text() if (workdir / "log.lammps").exists() else ""
-    if out.returncode != 0 and "ERROR" in log:
-        raise RuntimeError(f"lmp failed: {[ln for ln in log.splitlines() if 'ERROR' in ln][:1]}")
-    return log
+    """``lmp`` on ``script`` in ``workdir`` (which keeps its outputs), through ``lammps.run_lmp``
+    (Open MPI singleton settings, retried start-up)."""
+    return run_lmp(script, files["case.data"], keep_dir=workdir, timeout=timeout)
 
 
 @dataclass(frozen=True)
