@@ -33,8 +33,9 @@ METHODS = ("auto", "dense", "eigsh", "lobpcg")
 class TopMode:
     """Largest eigenpair of ``A``: ``value = omega_max^2`` [1/s^2], unit vector ``vector`` (in the
     mass-scaled coordinates ``v = M^(1/2) phi``), the solver used, its matrix-vector products and
-    the residual norm ``|A v - value v|``.  ``space`` (dense solver only) is an orthonormal basis of
-    the whole top eigenspace (eigenvalues within ``DEGENERATE_RTOL`` of the top one), ``None`` if
+    the residual norm ``|A v - value v|``.  ``space`` is an orthonormal basis of the top eigenspace
+    (dense: eigenvalues within ``DEGENERATE_RTOL`` of the top one; ``eigsh`` up to
+    ``ITERATIVE_SPACE_LIMIT`` DOFs: its Ritz vectors within ``ITERATIVE_DEGENERATE_RTOL``), ``None`` if
     not computed: in a degenerate eigenspace ``vector`` is an arbitrary member."""
 
     value: float
@@ -65,6 +66,11 @@ DEGENERATE_RTOL = 1e-9
 TOP_SPACE_MAX = 24
 """Most eigenpairs the dense solver computes to find the top eigenspace."""
 DEFAULT_TOL = 1e-7  # ARPACK residual tolerance; the Ritz value itself is then good to ~1e-9 (measured)
+ITERATIVE_SPACE_LIMIT = 200_000
+"""Up to this many DOFs ``eigsh`` computes the ``ITERATIVE_SPACE_K`` largest eigenpairs, so that a
+degenerate top eigenspace is seen (and labelled) as it is by the dense route; above it, only the top one."""
+ITERATIVE_SPACE_K = 12
+ITERATIVE_DEGENERATE_RTOL = 1e-7  # Ritz values this close to the top one count as the same eigenvalue
 
 
 def largest_mode(a, method: str = "auto", *, tol: float = DEFAULT_TOL, maxiter: int | None = None,
@@ -108,10 +114,16 @@ def largest_mode(a, method: str = "auto", *, tol: float = DEFAULT_TOL, maxiter: 
 
     op = spla.LinearOperator(a.shape, matvec=matvec, matmat=matvec, dtype=float)
     try:
+        space = None
         if method == "eigsh":
-            w, vecs = spla.eigsh(op, k=1, which="LA", tol=tol, v0=start,
-                                 maxiter=maxiter, ncv=min(n - 1, 24))
-            theta, v = float(w[0]), vecs[:, 0]
+            k = ITERATIVE_SPACE_K if n <= ITERATIVE_SPACE_LIMIT and n > ITERATIVE_SPACE_K + 2 else 1
+            w, vecs = spla.eigsh(op, k=k, which="LA", tol=tol, v0=start,
+                                 maxiter=maxiter, ncv=min(n - 1, 24 if k == 1 else 48))
+            top_index = int(np.argmax(w))
+            theta, v = float(w[top_index]), vecs[:, top_index]
+            if k > 1:
+                close = w >= theta - ITERATIVE_DEGENERATE_RTOL * abs(theta)
+                space = np.linalg.qr(vecs[:, close])[0]
         else:
             x0 = start[:, None]
             w, vecs = spla.lobpcg(op, x0, largest=True, tol=tol * 10, maxiter=maxiter or 500)
@@ -119,7 +131,7 @@ def largest_mode(a, method: str = "auto", *, tol: float = DEFAULT_TOL, maxiter: 
     finally:
         ticker.close()
     v = v / np.linalg.norm(v)
-    return TopMode(theta, v, method, count, _residual(a, v, theta))
+    return TopMode(theta, v, method, count, _residual(a, v, theta), space)
 
 
 def rotational_fraction(vector: np.ndarray) -> float:
