@@ -10,10 +10,11 @@ Every task creates the virtual environment ``.venv`` beside this file when it is
 changed since the last install or the task needs extras the last install did not have (``demo``
 needs none: NumPy, SciPy, SymPy, mpmath, tqdm; ``test`` and ``generate`` the ``test`` extra), and
 byte-compiles ``src`` (cheap when up to date), so that with ``PYTHONDONTWRITEBYTECODE=1`` dtcrit
-is not recompiled at every start.  ``test`` also installs ``gfortran``, LAMMPS (``lmp``) and YADE (``yade``) with
-``apt-get`` when they are missing and we are root, so the emitted Fortran is compiled and the engine
-cases run (never fatal here: without them those tests skip, except under ``CI=true``, where the
-engine tests fail; ``DTCRIT_NO_APT=1`` opts out).
+is not recompiled at every start.  ``test`` also installs ``gfortran``, LAMMPS (``lmp``, and its Python
+module for the system's ``python3``) and YADE (``yade``) with ``apt-get`` when they are missing and we
+are root, so the emitted Fortran is compiled and the engine cases and hooks run (never fatal here:
+without them those tests skip, except under ``CI=true``, where the engine tests fail;
+``DTCRIT_NO_APT=1`` opts out).
 """
 from __future__ import annotations
 
@@ -82,6 +83,25 @@ APT_TOOLS = {"gfortran": "gfortran", "lmp": "lammps", "yade": "yade"}
 Fortran; lmp (LAMMPS, GRANULAR package) and yade (YADE, leapfrog) run the engine cases that dtcrit's
 steps are checked on."""
 
+APT_PYTHON_MODULES = {"lammps": ("python3-lammps", "liblammps-dev")}
+"""Modules of the system's ``python3`` (not this environment's) the tests use -> the Debian packages
+that provide them: the LAMMPS Python module runs the LAMMPS hook (``engine_scripts/lammps_hook.py``)."""
+
+
+def system_python_has(module: str) -> bool:
+    """True when a ``python3`` on PATH outside ``.venv`` imports ``module`` (Debian's python3-* packages
+    install for the system's interpreter, which dtcrit's environment does not see)."""
+    for folder in os.environ.get("PATH", "").split(os.pathsep):
+        exe = shutil.which("python3", path=folder) if folder else None
+        if exe is None or Path(exe).parent.resolve() == BIN.resolve():
+            continue
+        try:
+            if subprocess.run([exe, "-c", f"import {module}"], capture_output=True, timeout=60).returncode == 0:
+                return True
+        except (OSError, subprocess.TimeoutExpired):
+            continue
+    return False
+
 
 def ensure_apt_tools() -> None:
     """Install the missing ``APT_TOOLS`` with apt-get (root only; DTCRIT_NO_APT=1 opts out).
@@ -90,6 +110,7 @@ def ensure_apt_tools() -> None:
     (``CI=true``), where the engine tests fail instead.
     """
     missing = [pkg for tool, pkg in APT_TOOLS.items() if not shutil.which(tool)]
+    missing += [pkg for module, pkgs in APT_PYTHON_MODULES.items() if not system_python_has(module) for pkg in pkgs]
     if not missing or os.environ.get("DTCRIT_NO_APT") == "1":
         return
     apt = shutil.which("apt-get")

@@ -103,7 +103,7 @@ def _build(args):
         contacts = engine_sphere_contacts(packing, convention)
     contacts = with_arms(packing, contacts, style.arm)  # the pair style's own kinematics
     return packing, apply_terms(contacts, style.terms(packing, contacts), preload=convention.preload), \
-        convention, style.describe(), {}
+        convention, style.describe(), {"material": style.material()}
 
 
 def run_command(args) -> int:
@@ -119,7 +119,7 @@ def run_command(args) -> int:
     args.source_label = None
     packing, contacts, convention, law, meta = _build(args)
     report = audit(packing, contacts, convention, law=law, source=args.snapshot, integrator=args.integrator,
-                   dt_user=args.dt if args.dt is not None else meta.get("dt"))
+                   dt_user=args.dt if args.dt is not None else meta.get("dt"), material=meta.get("material"))
     if args.json:
         json.dump(audit_json(report), sys.stdout, indent=2, sort_keys=True)
         sys.stdout.write("\n")

@@ -15,8 +15,9 @@ the normal force of the pre-load), built with the engine's conventions (``dtcrit
 * the codes' own estimators beside it, with their real constants: YADE's GlobalStiffnessTimeStepper
   (``1.41044 min sqrt(M_dd / K_dd)``, default safety 0.8; ``pkg/dem/GlobalStiffnessTimeStepper.cpp``),
   the undamped per-body bounds, and the LAMMPS-docs rule of a fraction of the collision time
-  ``pi sqrt(m_eff / k_n)`` (1/50 in the LAMMPS granular examples; LIGGGHTS warns when a step exceeds
-  10-20 % of a Hertz or Rayleigh time).
+  ``pi sqrt(m_eff / k_n)`` (1/50 in the LAMMPS granular examples), and with a material (Young's
+  modulus, Poisson's ratio) the Rayleigh time and its 20 % and 40 % (EDEM's guidance; LIGGGHTS warns
+  when a step exceeds the fraction of it its input sets).
 """
 from __future__ import annotations
 
@@ -88,7 +89,24 @@ def _limiting(packing: Packing, vector: np.ndarray | None) -> tuple[list[int], f
     return [packing.particle_id(p) for p in top], float(share[top].sum() / total)
 
 
-def _estimators(packing: Packing, springs: Contacts, dt_crit: float) -> list[dict]:
+def _rayleigh_rows(packing: Packing, material) -> list[tuple]:
+    """Rayleigh time of the smallest particle, ``T_R = pi R sqrt(rho/G)/(0.1631 nu + 0.8766)`` (Li et al.
+    2005, as EDEM and LIGGGHTS use it), and the fractions the codes step with: EDEM's 20-40 % guidance,
+    LIGGGHTS' check/timestep/gran warning (the fraction its input sets, 0.1-0.2 in its examples)."""
+    if material is None:
+        return []
+    youngs, nu = material
+    g = youngs / (2.0 * (1.0 + nu))
+    rho = packing.masses / ((4.0 / 3.0) * np.pi * packing.radii**3)
+    t_r = np.pi * packing.radii * np.sqrt(rho / g) / (0.1631 * nu + 0.8766)
+    p = int(np.argmin(t_r))
+    where = f"particle {packing.particle_id(p)}, E = {youngs:.6g} Pa, nu = {nu:.6g}"
+    return [("rayleigh_time", float(t_r[p]), "duration, not a step", f"Rayleigh time T_R of {where}"),
+            ("rayleigh_20", 0.2 * float(t_r[p]), "rule of thumb", "20 % of T_R (EDEM's lower guidance; LIGGGHTS warns above its input fraction)"),
+            ("rayleigh_40", 0.4 * float(t_r[p]), "rule of thumb", "40 % of T_R (EDEM's upper guidance)")]
+
+
+def _estimators(packing: Packing, springs: Contacts, dt_crit: float, material=None) -> list[dict]:
     md = mass_diagonal(packing)
     a = scale_symmetric(stiffness_matrix(packing, springs), md, inplace=True)
     diag = est.diagonal_stiffness(a, packing.particle_id)
@@ -110,6 +128,7 @@ def _estimators(packing: Packing, springs: Contacts, dt_crit: float) -> list[dic
     rows.append(("collision_time_fraction", float(t_c[c]) * COLLISION_FRACTION, "rule of thumb",
                  f"1/50 of the collision time pi sqrt(m_eff/k) of the contact of particles "
                  f"{packing.particle_id(springs.i[c])} and {packing.particle_id(springs.j[c])}"))
+    rows += _rayleigh_rows(packing, material)
     out = []
     for name, dt, kind, detail in rows:
         out.append({"name": name, "dt": dt, "ratio": dt / dt_crit, "safe": bool(dt <= dt_crit * (1 + 1e-12)),
@@ -118,8 +137,10 @@ def _estimators(packing: Packing, springs: Contacts, dt_crit: float) -> list[dic
 
 
 def audit(packing: Packing, contacts: Contacts, convention: EngineConvention, *, law: str, source: str,
-          integrator: str | None = None, dt_user: float | None = None, method: str = "auto") -> AuditReport:
-    """The audit of a snapshot (module docstring)."""
+          integrator: str | None = None, dt_user: float | None = None, method: str = "auto",
+          material: tuple[float, float] | None = None) -> AuditReport:
+    """The audit of a snapshot (module docstring); ``material`` (Young's modulus, Poisson's ratio), when
+    the contact law has one, adds the Rayleigh-time estimators."""
     _check_terms(contacts)
     integrator = integrator or convention.integrator
     step = damped_critical_dt(packing, contacts, integrator, method=method)
@@ -137,5 +158,5 @@ def audit(packing: Packing, contacts: Contacts, convention: EngineConvention, *,
         n_particles=packing.n, n_contacts=contacts.count, coordination_mean=float(cn.mean()),
         damped=contacts.damped, preload=bool(notes), dt_crit=step.dt, dt_safe=dt_safe,
         dt_undamped=step.dt_undamped, method=step.method, limiting=limiting, limiting_share=share,
-        dt_user=dt_user, estimators=_estimators(packing, springs, step.dt), notes=notes,
+        dt_user=dt_user, estimators=_estimators(packing, springs, step.dt, material), notes=notes,
     )

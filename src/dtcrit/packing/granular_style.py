@@ -27,14 +27,14 @@ hysteretic JKR branch) is refused.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from dtcrit.errors import InputError
 
 from dtcrit.packing.model import Contacts, Packing
-from dtcrit.packing.pair_styles import FLAG, ContactTerms, _number
+from dtcrit.packing.law_terms import FLAG, ContactTerms, number
 
 NORMAL_ARGS = {"hooke": ("kn", "eta"), "hertz": ("kn", "eta"), "hertz/material": ("E", "eta", "nu"),
                "dmt": ("E", "eta", "nu", "gamma")}
@@ -59,11 +59,14 @@ class GranularStyle:
     rolling: dict | None
     twisting: tuple[str, dict] | None
     text: str
-    extra: dict = field(default_factory=dict)
     arm = "granular"  # slip velocity with the full radius, torque with R - delta/2 (module docstring)
 
     def describe(self) -> str:
         return f"LAMMPS pair_style granular, pair_coeff * * {self.text}"
+
+    def material(self) -> tuple[float, float] | None:
+        """(Young's modulus, Poisson's ratio) of a material normal model, else None."""
+        return (self.normal_args["E"], self.normal_args["nu"]) if "E" in self.normal_args else None
 
     def _material(self) -> tuple[float, float]:
         e, nu = self.normal_args["E"], self.normal_args["nu"]
@@ -115,7 +118,7 @@ class GranularStyle:
 def _take(words: list[str], k: int, names: tuple[str, ...], what: str, *, nullable=("kt",)) -> tuple[dict, int]:
     if len(words) < k + len(names):
         raise InputError(FLAG, f"{what} takes {len(names)} values ({' '.join(names)}), found {len(words) - k}")
-    vals = {n: _number(words[k + m], f"{what} {n}", allow_null=n in nullable) for m, n in enumerate(names)}
+    vals = {n: number(words[k + m], f"{what} {n}", allow_null=n in nullable) for m, n in enumerate(names)}
     return vals, k + len(names)
 
 

@@ -19,45 +19,17 @@ The friction limit is taken as not reached (sticking contacts): the linear analy
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from dtcrit.errors import InputError
 
+from dtcrit.packing.granular_style import parse_granular
+from dtcrit.packing.law_terms import FLAG, ContactTerms, number
 from dtcrit.packing.model import Contacts, Packing
 
 GRAN_STYLES = ("gran/hooke", "gran/hooke/history", "gran/hertz/history")
-FLAG = "--pair-style"
-
-
-@dataclass(frozen=True)
-class ContactTerms:
-    """Per-contact springs [N/m], dashpots [N s/m], the normal force [N] (compressive positive) and,
-    when the law has them, rolling and twisting springs [N m/rad] and dashpots [N m s/rad]."""
-
-    kn: np.ndarray
-    ks: np.ndarray
-    cn: np.ndarray
-    cs: np.ndarray
-    force_n: np.ndarray
-    kr: np.ndarray | None = None
-    ktw: np.ndarray | None = None
-    cr: np.ndarray | None = None
-    ctw: np.ndarray | None = None
-
-
-def _number(text: str, what: str, *, allow_null: bool = False) -> float | None:
-    if allow_null and text == "NULL":
-        return None
-    try:
-        value = float(text)
-    except ValueError:
-        raise InputError(FLAG, f"{what} must be a number{' or NULL' if allow_null else ''}, found {text!r}") from None
-    if not math.isfinite(value) or value < 0:
-        raise InputError(FLAG, f"{what} must be a finite number >= 0, found {text!r}")
-    return value
 
 
 @dataclass(frozen=True)
@@ -74,6 +46,9 @@ class GranPairStyle:
     text: str
 
     arm = "radius"  # slip velocity and torque with the full radius (module docstring)
+
+    def material(self) -> None:
+        return None  # the gran/* styles take spring constants, not a material
 
     def describe(self) -> str:
         return f"LAMMPS pair_style {self.text}"
@@ -102,8 +77,6 @@ def parse_pair_style(text: str):
         raise InputError(FLAG, "empty: give the style and its arguments, e.g. 'gran/hooke/history 1e4 NULL 0 NULL 0.5 0'")
     style, args = words[0], words[1:]
     if style == "granular":
-        from dtcrit.packing.granular_style import parse_granular
-
         return parse_granular(args)
     if style.endswith("/omp") or style.endswith("/kk"):
         style = style.rsplit("/", 1)[0]
@@ -113,11 +86,11 @@ def parse_pair_style(text: str):
         args = args[:-1]
     if len(args) != 6:
         raise InputError(FLAG, f"{style} takes 6 arguments (Kn Kt gamma_n gamma_t xmu dampflag), found {len(args)}")
-    kn = _number(args[0], "Kn")
-    kt = _number(args[1], "Kt", allow_null=True)
-    gamma_n = _number(args[2], "gamma_n")
-    gamma_t = _number(args[3], "gamma_t", allow_null=True)
-    xmu = _number(args[4], "xmu")
+    kn = number(args[0], "Kn")
+    kt = number(args[1], "Kt", allow_null=True)
+    gamma_n = number(args[2], "gamma_n")
+    gamma_t = number(args[3], "gamma_t", allow_null=True)
+    xmu = number(args[4], "xmu")
     if xmu > 1e4:
         raise InputError(FLAG, f"xmu must lie in [0, 1e4] (LAMMPS's own limit), found {args[4]!r}")
     if args[5] not in ("0", "1"):
