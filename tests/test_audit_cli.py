@@ -181,3 +181,21 @@ def test_bad_input_is_one_line_and_exit_2(case, tmp_path, capsys, monkeypatch):
     assert len(lines) == 1 and expected in lines[0], err
     assert "Traceback" not in err
     assert sorted(p.name for p in tmp_path.iterdir()) == before  # nothing written
+
+
+def test_a_material_law_adds_the_rayleigh_time(tmp_path, capsys):
+    """T_R = pi R sqrt(rho/G)/(0.1631 nu + 0.8766) (Li et al. 2005), G = E/(2(1 + nu)), from the dump's
+    radius and mass; EDEM's 20 % and 40 % of it beside; a law of spring constants has none."""
+    path = tmp_path / "pair.dump"
+    path.write_text(_dump(_pair_rows()))
+    e, nu = 7e10, 0.25
+    doc = _json(capsys, path, "--pair-style", f"granular hertz/material {e} 0.3 {nu} tangential mindlin NULL 1 0.5")
+    rho = MASS / (4.0 / 3.0 * math.pi * R**3)
+    t_r = math.pi * R * math.sqrt(rho / (e / (2 * (1 + nu)))) / (0.1631 * nu + 0.8766)
+    est = doc["estimators"]
+    assert est["rayleigh_time"]["dt"] == pytest.approx(t_r, rel=1e-12)
+    assert est["rayleigh_20"]["dt"] == pytest.approx(0.2 * t_r, rel=1e-12)
+    assert est["rayleigh_40"]["dt"] == pytest.approx(0.4 * t_r, rel=1e-12)
+    jsonschema.validate(doc, SCHEMA)
+    plain = _json(capsys, path, "--pair-style", GOOD_STYLE)
+    assert "rayleigh_time" not in plain["estimators"]
