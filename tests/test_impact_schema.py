@@ -8,6 +8,7 @@ from pathlib import Path
 
 import jsonschema
 import pytest
+from _json_keys import numeric_keys
 
 import dtcrit
 from dtcrit.cli import main
@@ -62,23 +63,9 @@ RATIO_KEYS = {"zeta", "phases", "separated", "diverged", "energy_error", "energy
 """Counts, fractions, damping ratios and relative errors: the numbers of an impact document without a scale."""
 
 
-def _numeric_keys(x, name=None, out=None):
-    out = set() if out is None else out
-    if isinstance(x, dict):
-        for k, v in x.items():
-            if k not in ("units", "derivation_hashes"):
-                _numeric_keys(v, k, out)
-    elif isinstance(x, list):
-        for v in x:
-            _numeric_keys(v, name, out)
-    elif isinstance(x, (int, float)) and not isinstance(x, bool):
-        out.add(name)
-    return out
-
-
 def test_every_scaled_number_has_its_unit(capsys):
     docs = [_doc(capsys, *argv) for argv in CASES.values()]
-    seen = set().union(*(_numeric_keys(d) for d in docs))
+    seen = set().union(*(numeric_keys(d) for d in docs))
     missing = seen - set(docs[0]["units"]) - RATIO_KEYS
     assert not missing, sorted(missing)
 

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import jsonschema
 import pytest
+from _json_keys import numeric_keys
 
 from dtcrit.cli import main
 
@@ -62,20 +63,6 @@ DIMENSIONLESS = {"zeta", "zeta_mode", "zeta_normal", "zeta_shear", "damping_rati
 """Numbers of a step document without a unit (ratios, factors, counts); every other number must be in ``units``."""
 
 
-def _numeric_keys(x, name=None, out=None):
-    out = set() if out is None else out
-    if isinstance(x, dict):
-        for k, v in x.items():
-            if k not in ("units", "derivation_hashes"):
-                _numeric_keys(v, k, out)
-    elif isinstance(x, list):
-        for v in x:
-            _numeric_keys(v, name, out)
-    elif isinstance(x, (int, float)) and not isinstance(x, bool):
-        out.add(name)
-    return out
-
-
 def _all_docs(capsys, tmp_path):
     docs = [_doc(capsys, p) for p in sorted((ROOT / "examples").glob("*.toml"))]
     for name, text in EXTRA.items():
@@ -104,7 +91,7 @@ def test_envelope_version_and_derivation_hashes(capsys):
 
 def test_every_dimensional_number_has_its_unit(capsys, tmp_path):
     docs = _all_docs(capsys, tmp_path)
-    seen = set().union(*(_numeric_keys(d) for d in docs))
+    seen = set().union(*(numeric_keys(d) for d in docs))
     units = docs[0]["units"]
     missing = seen - set(units) - DIMENSIONLESS
     assert not missing, f"numbers without a unit: {sorted(missing)}"
