@@ -17,6 +17,17 @@ here and used by ``dtcrit.integrators.stability``:
 
 ``tests/test_precise.py`` checks symbolically that these forms are the derived closed forms.
 (First written for the bench's fused kernels, issue 5; moved here so every route shares them.)
+
+``fast_steps`` (used by ``critical_dt_array``) evaluates every scheme chunk by chunk in the unscaled
+rates where they cannot overflow, and falls back to the scaled forms above elsewhere:
+
+* the central-difference family ``2/(g + sqrt(g^2 + K))``, the centred leapfrog ``2/sqrt(K)``;
+* forward Euler ``min(c/k, 4/(u + sqrt(u^2 - 4K)))``; only the scenes with 7/8 < zeta^2 < 9/8 (about
+  15 % of the bench's batch, which draws that many near-critical scenes) are redone with the exact
+  residual, gathered from all chunks;
+* the Eq. (40) cubic in bounded variables (``eq40_bounded_cubic``: w = c^2 A/(2k + c^2 A) in [0, 1],
+  root r in (1, 3/2), dt = (c/2) r/(k + c^2 A/2)), two Halley steps and one Newton step for every
+  element at once, no branch on zeta.
 """
 from __future__ import annotations
 
@@ -149,46 +160,244 @@ def paper_eq40_identity(k, c, A) -> np.ndarray:
     return out
 
 
-_CHUNK = 1 << 14
+_CHUNK = 1 << 15
+_REDO_CHUNK = 1 << 12  # small temporaries: no fresh pages per operation
 _K_LO, _K_HI, _U_HI = 2.0**-1000, 2.0**1000, 2.0**500
+_A_LO = 2.0**-511
 _HYPOT_FAMILY = {"symplectic-euler": 0.5, "leapfrog": 0.5, "velocity-verlet": 0.5, "velocity-verlet-predicted": 1.0}
 
 
-def fast_closed_form(integrator: str, k, c, A) -> np.ndarray:
-    """``scaled_closed_form`` with a fast path, chunk by chunk (temporaries stay in cache): where
-    K = k A lies in [2^-1000, 2^1000] and u = c A <= 2^500, no scaling is needed and the closed form
-    is evaluated directly in the rates, ``2 / (g + sqrt(g^2 + K))`` with ``g = u/2`` (``u`` for the
-    predicted velocity Verlet; tau* = 2/(zeta + sqrt(zeta^2 + 1)) resp. 2/(2 zeta + sqrt(4 zeta^2 + 1)))
-    and ``2 / sqrt(K)`` for the centred leapfrog (tau* = 2): g^2 + K neither overflows nor loses K,
-    so each form is within a few roundings of the exact step.  Other chunks take ``scaled_closed_form``."""
-    half = _HYPOT_FAMILY.get(integrator)
-    if half is None and integrator != "leapfrog-centred":
-        return scaled_closed_form(integrator, k, c, A)
+def eq40_bounded_cubic(w, m):
+    """Coefficients (c3, c2, c1, c0) of the Eq. (40) scheme's boundary cubic in bounded variables.
+
+    With s = zeta^2, w = 2s/(1 + 2s) (= c^2 A/(2k + c^2 A)), m = 1 - w and tau = zeta m r (tau the
+    smallest positive root of tau^3 - 4 zeta tau^2 + (4 zeta^2 + 2) tau - 2 zeta), the cubic is a
+    multiple of h(r) = b r^3 - a r^2 + r - 1 with a = w m, b = a m/4, whose wanted root is its only
+    root in (1, 3/2) for every zeta >= 0: h < 0 on [0, 1], h(3/2) > 0 and h' >= 1/4 on [1, 3/2]
+    (derived from ``dtcrit.symbolic.closed_forms`` in ``tests/test_precise.py``).  In delta = r - 1,
+    h = c3 delta^3 + c2 delta^2 + c1 delta + c0.  Plain arithmetic (the test calls it on symbols)."""
+    a = w * m
+    b = a * m * 0.25
+    return b, 3 * b - a, 1 - 2 * a + 3 * b, b - a
+
+
+def _eq40_step(d, c3, c2, c1, c0, t1, t2, t3, t4, halley: bool):
+    """One Newton (or Halley) step on h(delta) = ((c3 d + c2) d + c1) d + c0, in place on ``d``."""
+    np.multiply(c3, d, out=t1)  # c3 d
+    np.add(t1, c2, out=t2)  # P1 = c3 d + c2
+    if halley:
+        np.add(t1, t2, out=t3)
+        t3 += t1  # h''/2 = 3 c3 d + c2
+    t1 += t2
+    t1 *= d
+    np.multiply(t2, d, out=t4)
+    t4 += c1  # P2 = P1 d + c1
+    t1 += t4  # h' = (c3 d + P1) d + P2
+    t4 *= d
+    t4 += c0  # h = P2 d + c0
+    if not halley:
+        t4 /= t1
+        d -= t4
+        return
+    t3 *= t4  # h h''/2
+    np.multiply(t1, t1, out=t2)
+    t2 -= t3  # h'^2 - h h''/2
+    t1 *= t4
+    t1 /= t2
+    d -= t1  # Halley: d - h h' / (h'^2 - h h''/2)
+
+
+def _eq40_chunk(k, c, A, o, B) -> bool:
+    """dt = L r, L = (c/2) / (k + c^2 A/2), on one chunk (tau = zeta m r, ``eq40_bounded_cubic``), r = 1 + delta
+    by a Halley step from delta = 0, a Halley step and a Newton step (h' >= 1/4 on [1, 3/2]; the
+    three steps reach the root to about an ulp for every zeta, ``tests/test_precise.py``).  False when the chunk is outside the unscaled
+    range (k + c^2 A/2 outside [2^-1000, 2^1000], A < 2^-511, or a NaN): inside it nothing
+    overflows, and a c A or c^2 A that underflows is negligible against k."""
+    d, c3, c2, c1, c0, t1, t2, t3, t4 = B
+    np.multiply(c, A, out=d)
+    d *= c
+    d *= 0.5  # p = c^2 A/2
+    np.add(k, d, out=t1)
+    if not (t1.min() >= _K_LO and t1.max() <= _K_HI and A.min() >= _A_LO):
+        return False
+    np.divide(k, t1, out=c3)  # m = k/(k + p)
+    np.divide(c, t1, out=o)
+    o *= 0.5  # the lead L = (c/2)/(k + p)
+    np.subtract(1.0, c3, out=d)  # w = 1 - m (an absolute error of an ulp moves r by about as much)
+    d *= c3  # a = w m
+    c3 *= d
+    c3 *= 0.25  # b = a m/4
+    np.subtract(c3, d, out=c0)  # b - a
+    np.multiply(c3, 3.0, out=c2)
+    c2 -= d  # 3b - a
+    np.subtract(c2, d, out=c1)
+    c1 += 1.0  # 1 - 2a + 3b
+    np.multiply(c0, c2, out=t1)  # Halley from delta = 0: delta = c0 c1 / (c0 c2 - c1^2)
+    np.multiply(c1, c1, out=t2)
+    t1 -= t2
+    np.multiply(c0, c1, out=d)
+    d /= t1
+    _eq40_step(d, c3, c2, c1, c0, t1, t2, t3, t4, True)
+    _eq40_step(d, c3, c2, c1, c0, t1, t2, t3, t4, False)
+    np.multiply(o, d, out=t1)
+    o += t1  # dt = L r = L + L delta (delta's last bits enter only the correction)
+    return True
+
+
+def _forward_euler_chunk(k, c, A, o, B):
+    """Forward Euler on one chunk: dt = min(c/k, 4/(u + sqrt(max(u^2 - 4K, 0)))) with K = k A, u = c A
+    (c/k <= 4/u exactly when zeta <= 1, and 4/(u + sqrt(u^2 - 4K)) < c/k when zeta > 1).  Returns the
+    (local) indices of the scenes with |u^2 - 4K| < 4K/8 (7/8 < zeta^2 < 9/8, where the rounded rates
+    lose digits), which the caller redoes with the exact residual (``_forward_euler_redo``), all chunks
+    at once; False when K or u is outside the unscaled range."""
+    K, u, t, a = B
+    np.multiply(k, A, out=K)
+    np.multiply(c, A, out=u)
+    if not (K.min() >= _K_LO and K.max() <= _K_HI and u.max() <= _U_HI):
+        return False
+    K *= 4.0
+    np.multiply(u, u, out=t)
+    t -= K  # u^2 - 4K = A R
+    np.abs(t, out=a)
+    a *= 8.0
+    near = np.flatnonzero(a < K)
+    np.maximum(t, 0.0, out=t)
+    np.sqrt(t, out=t)
+    t += u
+    np.divide(4.0, t, out=t)
+    np.divide(c, k, out=o)
+    np.minimum(o, t, out=o)
+    return near
+
+
+def _forward_euler_redo(k, c, A):
+    """The near-critical scenes of ``_forward_euler_chunk`` with the exact residual: unscaled
+    error-free products (``_forward_euler_near``) where 2^-450 <= c <= 2^450 and k, A lie in
+    [2^-900, 2^900] (no split overflows, no error term underflows), ``forward_euler_exact`` elsewhere."""
+    ok = (c >= _C_LO) & (c <= _C_HI) & (k >= _KA_LO) & (k <= _KA_HI) & (A >= _KA_LO) & (A <= _KA_HI)
+    if ok.all():
+        return _forward_euler_near(k, c, A)
+    return np.where(ok, _forward_euler_near(k, c, A), forward_euler_exact(k, c, A))
+
+
+_C_LO, _C_HI, _KA_LO, _KA_HI = 2.0**-450, 2.0**450, 2.0**-900, 2.0**900
+
+
+def _split(a):
+    t = _SPLIT * a
+    hi = t - (t - a)
+    return hi, a - hi
+
+
+def _forward_euler_near(k, c, A):
+    """c/k or 4/(c A + sqrt(A R)), R = c^2 A - 4k summed from error-free products, for scenes with
+    7/8 < zeta^2 < 9/8 and the ranges of ``_forward_euler_redo``: c^2 = p + e, p A = q + f and
+    e A = r + r2 exactly (Dekker), q - 4k is exact (Sterbenz: q/4k lies in [1/2, 2]), and the small
+    terms f + r + r2 are summed last (their rounding, ~2^-106 c^2 A, moves dt by less than an ulp)."""
+    ch, cl = _split(c)
+    p = c * c
+    e = ((ch * ch - p) + 2.0 * ch * cl) + cl * cl
+    ph, pl = _split(p)
+    Ah, Al = _split(A)
+    q = p * A
+    f = ((ph * Ah - q) + ph * Al + pl * Ah) + pl * Al
+    eh, el = _split(e)
+    r = e * A
+    r2 = ((eh * Ah - r) + eh * Al + el * Ah) + el * Al
+    R = (q - 4.0 * k) + ((f + r) + r2)
+    with np.errstate(all="ignore"):
+        over = 4.0 / (c * A + np.sqrt(np.maximum(A * R, 0.0)))
+    return np.where(R > 0, over, c / k)
+
+
+def _hypot_chunk(half):
+    def chunk(k, c, A, o, B) -> bool:
+        K, g = B[0], B[1]
+        np.multiply(k, A, out=K)
+        np.multiply(c, A, out=g)
+        if not (K.min() >= _K_LO and K.max() <= _K_HI and g.max() <= _U_HI):
+            return False
+        g *= half
+        np.multiply(g, g, out=o)
+        o += K
+        np.sqrt(o, out=o)
+        o += g
+        np.divide(2.0, o, out=o)
+        return True
+
+    return chunk
+
+
+def _centred_chunk(k, c, A, o, B) -> bool:
+    K = B[0]
+    np.multiply(k, A, out=K)
+    if not (K.min() >= _K_LO and K.max() <= _K_HI):
+        return False
+    np.sqrt(K, out=K)
+    np.divide(2.0, K, out=o)
+    return True
+
+
+_CHUNKS = {name: _hypot_chunk(h) for name, h in _HYPOT_FAMILY.items()}
+_CHUNKS["leapfrog-centred"] = _centred_chunk
+_CHUNKS["forward-euler"] = _forward_euler_chunk
+_CHUNKS["paper-eq40"] = _eq40_chunk
+_BUFFERS = {"forward-euler": 4, "paper-eq40": 9}
+# the schemes whose fast path can give 0 (no stable step when undamped, or an underflowed c/k)
+_ZERO_WHEN_UNDAMPED = ("forward-euler", "paper-eq40")
+
+
+def _slow(integrator: str, k, c, A):
+    if integrator == "forward-euler":
+        return forward_euler_exact(k, c, A)
+    if integrator == "paper-eq40":
+        return paper_eq40_identity(k, c, A)
+    return scaled_closed_form(integrator, k, c, A)
+
+
+def fast_steps(integrator: str, k, c, A, chunk: int = _CHUNK) -> tuple[np.ndarray, bool]:
+    """(dt, checked): the exact step chunk by chunk (temporaries stay in cache).  A chunk whose rates
+    lie in the unscaled range takes the fast form of its scheme (``_CHUNKS``: the closed form in the
+    rates K = k A, u = c A for the central-difference family, ``_forward_euler_chunk``,
+    ``_eq40_chunk``); other chunks take the scaled forms (``scaled_closed_form``,
+    ``forward_euler_exact``, ``paper_eq40_identity``), which have no limits.  ``checked`` is True when
+    every chunk was fast and none holds a step outside float64 (inf, NaN, or 0 for a damped contact),
+    so that ``stability.refuse_unrepresentable`` has nothing to find."""
     k, c, A = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (k, c, A)))
     k, c, A = (np.ascontiguousarray(v.ravel()) for v in (k, c, A))
     n = k.size
     out = np.empty(n)
-    m = max(1, min(_CHUNK, n))
-    K, g = np.empty(m), np.empty(m)
+    m = max(1, min(chunk, n))
+    B = [np.empty(m) for _ in range(_BUFFERS.get(integrator, 2))]
+    kern = _CHUNKS[integrator]
+    zero_ok = integrator in _ZERO_WHEN_UNDAMPED
+    checked = True
+    redo = []
     with np.errstate(all="ignore"):
         for i in range(0, n, m):
             j = min(n, i + m)
-            Kw, gw, o = K[: j - i], g[: j - i], out[i:j]
-            np.multiply(k[i:j], A[i:j], out=Kw)
-            if half is None:
-                if Kw.min() >= _K_LO and Kw.max() <= _K_HI:
-                    np.sqrt(Kw, out=Kw)
-                    np.divide(2.0, Kw, out=o)
-                    continue
-            else:
-                np.multiply(c[i:j], A[i:j], out=gw)
-                if Kw.min() >= _K_LO and Kw.max() <= _K_HI and gw.max() <= _U_HI:
-                    gw *= half
-                    np.multiply(gw, gw, out=o)
-                    o += Kw
-                    np.sqrt(o, out=o)
-                    o += gw
-                    np.divide(2.0, o, out=o)
-                    continue
-            o[:] = scaled_closed_form(integrator, k[i:j], c[i:j], A[i:j])
-    return out
+            w = j - i
+            o = out[i:j]
+            done = kern(k[i:j], c[i:j], A[i:j], o, [b[:w] for b in B])
+            if done is False:
+                o[:] = _slow(integrator, k[i:j], c[i:j], A[i:j])
+                checked = False
+                continue
+            if zero_ok and checked and np.count_nonzero(o) != np.count_nonzero(c[i:j]):
+                checked = False  # a damped contact whose step underflowed (refused by the caller)
+            if done is not True and done.size:
+                redo.append(done + i)
+        if redo:  # forward Euler's near-critical scenes of all chunks, gathered, in small chunks
+            idx = np.concatenate(redo)
+            kn, cn, An = k[idx], c[idx], A[idx]
+            dn = np.empty(idx.size)
+            for i in range(0, idx.size, _REDO_CHUNK):
+                j = min(idx.size, i + _REDO_CHUNK)
+                dn[i:j] = _forward_euler_redo(kn[i:j], cn[i:j], An[i:j])
+            out[idx] = dn
+    return out, checked
+
+
+def fast_closed_form(integrator: str, k, c, A) -> np.ndarray:
+    """The exact step of ``integrator`` for every float64 input (``fast_steps`` without the flag)."""
+    return fast_steps(integrator, k, c, A)[0]

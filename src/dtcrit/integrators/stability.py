@@ -7,7 +7,8 @@ the generated kernels in ``dtcrit._generated.critical_steps``.
 Numerics (``dtcrit.integrators.precise``): the kernels are homogeneous of degree -1 in ``omega = sqrt(k A)``
 and ``gamma = c A/2``; inputs are split into mantissa and exponent and both rates rescaled by the
 same power of two (exact), so any float64 inputs work; forward Euler near critical damping and
-the Eq. (40) cubic use error-free residuals and an identity of the cubic.  A step that lies beyond
+the Eq. (40) cubic use error-free residuals and an identity of the cubic.  Arrays go chunk by chunk
+through ``precise.fast_steps`` (unscaled rates where nothing can overflow, the scaled forms elsewhere).  A step that lies beyond
 or below the float64 range is refused with ``InputError``, never returned as inf or 0.
 """
 from __future__ import annotations
@@ -83,10 +84,6 @@ UNSTABLE_UNDAMPED = ("forward-euler", "paper-eq40")  # no stable dt > 0 when c =
 
 
 def _exact_steps(name: str, k, c, A) -> np.ndarray:
-    if name == "forward-euler":
-        return precise.forward_euler_exact(k, c, A)
-    if name == "paper-eq40":
-        return precise.paper_eq40_identity(k, c, A)
     return precise.fast_closed_form(name, k, c, A)
 
 
@@ -118,9 +115,10 @@ def critical_dt_array(integrator: str, k, c, A) -> np.ndarray:
     k, c, A = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (k, c, A)))
     shape = k.shape
     k, c, A = (np.ravel(v) for v in (k, c, A))
-    with np.errstate(all="ignore"):
-        dt = np.asarray(_exact_steps(name, k, c, A), dtype=float)
-    return refuse_unrepresentable(name, dt, k, c, A).reshape(shape)
+    dt, checked = precise.fast_steps(name, k, c, A)
+    if not checked:  # a chunk took the scaled forms, or holds a step float64 cannot (or need not) hold
+        refuse_unrepresentable(name, dt, k, c, A)
+    return dt.reshape(shape)
 
 
 def _regime(zeta: float) -> str:
