@@ -117,3 +117,18 @@ def test_numpy_output_is_vectorised(tmp_path, capsys):
     assert out.shape == (7,)
     single = [float(mod.dtcrit_dt_crit(x, 0.2 * x, 1.0, 1e6, 5e5, 10.0, 5.0)) for x in m]
     assert all(ulps(a, b) == 0 for a, b in zip(out, single))
+
+
+@pytest.mark.parametrize("scene", ["rolling_resistance.toml", "bonded_pair.toml"])
+def test_scenes_whose_springs_the_kernel_lacks_are_refused(scene, capsys, tmp_path):
+    """The emitted kernel carries normal and tangential springs only: a rolling or bond scene would get a
+    step above its own, so codegen refuses it in one line, writing nothing."""
+    from pathlib import Path
+
+    from dtcrit.cli import main
+
+    out = tmp_path / "k.c"
+    path = Path(__file__).resolve().parents[1] / "examples" / scene
+    assert main(["codegen", str(path), "--lang", "c", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert len(err.splitlines()) == 1 and "does not carry" in err and not out.exists()

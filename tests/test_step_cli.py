@@ -42,7 +42,8 @@ def test_console_script_and_module_give_the_same_output():
 
 JSON_KEYS = {"schema", "dtcrit_version", "units", "derivation_hashes", "scene", "title", "integrator", "dt_crit", "safety", "dt_recommended", "governing", "bound",
              "formula", "translation", "rotation", "estimators", "pairs", "particles", "contact", "warnings",
-             "holds_for", "dt_isolated", "dt_dense", "coordination_max", "dense", "dense_factors", "walls"}
+             "holds_for", "dt_isolated", "dt_dense", "coordination_max", "dense", "dense_factors", "walls",
+             "contact_rotation"}
 
 
 @pytest.mark.parametrize("scene", sorted(p.name for p in (ROOT / "examples").glob("*.toml")))
@@ -57,8 +58,11 @@ def test_json_is_complete_and_stable(scene, capsys):
     for key in ("rayleigh", "rayleigh_10", "rayleigh_20", "rayleigh_40", "hertz_time", "hertz_10", "hertz_20",
                 "collision_time_50", "diagonal_stiffness", "yade_gsts", "paper_eq46"):
         assert set(doc["estimators"][key]) >= {"dt", "unsafe"}
-    assert doc["governing"] in ("translation", "rotation", "dense")
-    isolated = min(doc["translation"]["dt"], (doc["rotation"] or {}).get("dt") or float("inf"))
+    assert doc["governing"] in ("translation", "rotation", "dense", "contact rotation")
+    if doc["governing"] == "contact rotation":
+        assert doc["contact_rotation"]["dt"] == doc["dt_crit"]
+    isolated = min(doc["translation"]["dt"], (doc["contact_rotation"] or {}).get("dt") or float("inf"),
+                   (doc["rotation"] or {}).get("dt") or float("inf"))
     assert doc["dt_isolated"] == isolated
     if doc["coordination_max"] is None:
         assert doc["dt_crit"] == isolated and doc["dt_dense"] is None and doc["holds_for"] == "an isolated contact"

@@ -2,7 +2,7 @@
 coefficient matrix of Peng, Burns & Hanley (2020), Sections 2-3 and 5.
 
 Shapes (one module per family): :mod:`~dtcrit.bodies.smooth` (sphere, ellipsoid, superquadric),
-:mod:`~dtcrit.bodies.polyhedra` (box, convex polyhedron); every shape is immutable and exposes
+:mod:`~dtcrit.bodies.polyhedra` (box, convex polyhedron), :mod:`~dtcrit.bodies.clump` (multi-sphere clumps); every shape is immutable and exposes
 ``kind``, ``mass``, ``volume``, ``density``, ``inertia`` (principal moments ``(I_xx, I_yy, I_zz)``
 about the centre, local frame), ``half_lengths``, ``max_arm``, ``equivalent_radius``, ``vertices``,
 ``surface_points(n)``, ``support(direction)``, ``satisfies_paper_assumptions`` and
@@ -10,6 +10,7 @@ about the centre, local frame), ``half_lengths``, ``max_arm``, ``equivalent_radi
 by polyhedra (:mod:`~dtcrit.bodies.hull`).
 """
 from dtcrit.bodies.checks import ORDER_RTOL, SUPERQUADRIC_EPS_MAX, SUPERQUADRIC_EPS_MIN, SYMMETRY_RTOL, AssumptionWarning
+from dtcrit.bodies.clump import Clump
 from dtcrit.bodies.polyhedra import Box, ConvexPolyhedron
 from dtcrit.bodies.smooth import Ellipsoid, Sphere, Superquadric
 from dtcrit.bodies.spec import shape_from_spec
@@ -22,6 +23,7 @@ __all__ = [
     "Superquadric",
     "Box",
     "ConvexPolyhedron",
+    "Clump",
     "shape_from_spec",
     "superquadric_max_arm",
     "SUPERQUADRIC_EPS_MIN",

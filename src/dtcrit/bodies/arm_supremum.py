@@ -13,6 +13,7 @@ Routes, chosen per shape by :func:`arm_term_supremum`:
   ``ellipsoid_arm_supremum``; proof in ``derivations/records/sec2_3_kinematics.md``).
 * ``"octant cones"`` (superquadrics): branch and bound over cones of directions in the first
   octant (:mod:`dtcrit.bodies.arm_cones`), NumPy only.
+* ``"clump"`` (multi-sphere bodies, not convex): ``r_max^2 / I_min`` (:mod:`dtcrit.bodies.clump`).
 * ``"support cutting planes"`` (any other smooth convex body with a support function): outer
   polytopes from support half-spaces, vertices by SciPy's Qhull, refined until the bound meets
   the best surface value.  Also the independent cross-check of the two routes above in the tests.
@@ -46,6 +47,7 @@ def _shape_key(shape) -> tuple:
         float(shape.max_arm),
         extra,
         None if verts is None else np.asarray(verts, float).tobytes(),
+        None if getattr(shape, "kind", "") != "clump" else shape.spheres.tobytes(),
     )
 
 
@@ -73,6 +75,8 @@ def _is_ellipsoid(shape) -> bool:
 
 
 def _arm_term_supremum(shape) -> ArmSupremum:
+    if getattr(shape, "kind", "") == "clump":  # not convex: the generic bound (dtcrit.bodies.clump)
+        return shape.arm_term_bound()
     inertia = np.array(shape.inertia, dtype=float)
     verts = getattr(shape, "vertices", None)
     if verts is not None:

@@ -40,6 +40,7 @@ def run(args) -> int:
         check_output_file(args.out, "--out")
     args.source_label = args.scene
     scene = load_scene(args.scene)
+    _refuse_what_the_kernel_leaves_out(scene)
     from dtcrit.codegen import metadata  # SymPy: only now
 
     command = f"dtcrit codegen {args.scene} --lang {args.lang}" + (f" --name {name}" if name != "dtcrit_dt_crit" else "")
@@ -61,3 +62,16 @@ def run(args) -> int:
     elif not args.out:
         sys.stdout.write(text)
     return 0
+
+
+def _refuse_what_the_kernel_leaves_out(scene) -> None:
+    """The emitted kernel has the normal and tangential springs and dashpots only: a scene with
+    rotational springs or dashpots (rolling, twisting, bonds) would get a step above its own, so it is
+    refused until the kernel carries them (``dtcrit step`` gives the scene's step)."""
+    law = scene.contact
+    walls = [w for w in scene.walls if any(getattr(w, k, 0.0) for k in ("kr", "ktw", "cr", "ctw"))]
+    if law.bond is not None or law.rotational is not None or walls:
+        what = "bond springs" if law.bond is not None else "rotational springs or dashpots (kr, ktw, cr, ctw)"
+        raise ValueError(f"contact: the emitted kernel does not carry {what} yet, so its step would exceed "
+                         "the scene's; dtcrit step gives the step of this scene")
+

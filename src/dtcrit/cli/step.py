@@ -49,6 +49,10 @@ def _contact_line(sc, convention: str | None) -> str:
         return f"  contact: linear, kn = {c.kn:g} N/m, ks = {c.ks:g} N/m, damping: {damping}"
     if c.model == "yade":
         return f"  contact: YADE linear law kn = 2 E1 R1 E2 R2/(E1 R1 + E2 R2), ks = {c.ks_ratio:g} kn, damping: {damping}"
+    if c.model == "bond":
+        b = c.bond
+        return (f"  contact: bond ({b.source}): kn = {c.kn:g} N/m, ks = {c.ks:g} N/m, kr = {b.kr:g} N m/rad, "
+                f"ktw = {b.ktw:g} N m/rad, damping: {damping}")
     return (f"  contact: hertz at impact speed {c.velocity:g} m/s (tangent stiffness at the largest overlap), "
             f"damping: {damping}")
 
@@ -58,8 +62,9 @@ def _pair_line(p) -> str:
     sizes = "" if c.radius_i is None else f" (R = {c.radius_i:g}" + ("" if c.radius_j is None else f", {c.radius_j:g}") + ")"
     zeta = "" if c.zeta_n is None else f", zeta_n = {c.zeta_n:.4g}" + ("" if c.zeta_s is None else f", zeta_s = {c.zeta_s:.4g}")
     shear = "free" if p.shear.dt == float("inf") else f"{p.shear.dt:.6g} s"
+    rot = "".join(f", dt_{d.direction} = {d.dt:.6g} s" for d in p.rotational)
     return (f"  pair {p.label}{sizes}: {p.method}, A_n = {p.normal.A:.6g}, A_s = {p.shear.A:.6g} 1/kg, "
-            f"dt_normal = {p.normal.dt:.6g} s, dt_shear = {shear}{zeta}")
+            f"dt_normal = {p.normal.dt:.6g} s, dt_shear = {shear}{rot}{zeta}")
 
 
 def format_text(result) -> str:

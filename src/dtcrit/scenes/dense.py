@@ -20,7 +20,7 @@ each element positive semi-definite.
    ``lambda_max(D_ic) = lambda_max(K_c^1/2 A_ic K_c^1/2)`` with ``A_ic = 1/m_i + [p]x^T I_i^-1 [p]x``
    the particle's part of the coefficient matrix.  For a sphere (arm R along n) that is
    ``max(kn/m_i, ks (1/m_i + R_i^2/I_i))``; for another shape at most ``max(kn, ks)(1/m_i + S_i)``
-   (arm supremum ``S_i``).  With at most ``z`` contacts per particle,
+   (arm supremum ``S_i``); with rotational springs see :func:`_rotational_block`.  With at most ``z`` contacts per particle,
    ``lambda_K <= max_i z max_c w_c lambda_max(D_ic)``, and likewise ``lambda_C`` with ``cn, cs``.
 2. *Damping.*  Each scheme evaluates the force once per step, at fixed scalar combinations of its
    stored state, so eliminating the state from an eigenvector of the whole packing's update gives
@@ -69,6 +69,22 @@ def _block(kind: str, shape, k_n: float, k_s: float) -> float:
     return max(k_n, k_s) * (1.0 / shape.mass + arm_term_supremum(shape).upper)
 
 
+def _rotational_block(kind: str, shape, k_n: float, k_s: float, k_r: float, k_tw: float, wall: bool) -> float:
+    """The block of step 1 with rotational springs: a sphere's own block of the element is the element of
+    that sphere against a fixed wall (normal, shear-rolling 2x2, twisting: exact); another shape's is at
+    most ``max(k_n, k_s)(1/m + S) + max(k_r, k_tw)/I_min`` (``lambda_max`` of a PSD block matrix is at most
+    the sum of its diagonal blocks' ``lambda_max``)."""
+    if kind != "sphere":
+        from dtcrit.bodies.arm_supremum import arm_term_supremum
+
+        return max(k_n, k_s) * (1.0 / shape.mass + arm_term_supremum(shape).upper) + max(k_r, k_tw) / min(shape.inertia)
+    from dtcrit._generated import rotational_modes as gen
+
+    a_ss, a_sr, a_rr, a_tw, _ = (float(x) for x in gen.wall_shear_rolling_block(shape.mass, shape.inertia[0], shape.max_arm))
+    block = np.array([[k_s * a_ss, math.sqrt(k_s * k_r) * a_sr], [math.sqrt(k_s * k_r) * a_sr, k_r * a_rr]])
+    return max(k_n / shape.mass, float(np.linalg.eigvalsh(block)[-1]), k_tw * a_tw)
+
+
 def block_terms(scene, steps) -> list[tuple[float, float, str]]:
     """``(w lambda_K, w lambda_C, where)`` of every contact a particle can have, from the pair steps."""
     out = []
@@ -83,16 +99,20 @@ def block_terms(scene, steps) -> list[tuple[float, float, str]]:
             w = 1.0 if pc.wall is not None else 2.0
             size = "" if r is None else f" (radius {r:g})"
             other = pc.wall if pc.wall is not None else f"particle {j}" + ("" if r_other is None else f" (radius {r_other:g})")
-            out.append((w * _block(part.kind, shape, pc.kn, pc.ks), w * _block(part.kind, shape, pc.cn, pc.cs),
-                        f"particle {i}{size} against {other}"))
+            if pc.rotational:
+                terms = (w * _rotational_block(part.kind, shape, pc.kn, pc.ks, pc.kr, pc.ktw, pc.wall is not None),
+                         w * _rotational_block(part.kind, shape, pc.cn, pc.cs, pc.cr, pc.ctw, pc.wall is not None))
+            else:
+                terms = (w * _block(part.kind, shape, pc.kn, pc.ks), w * _block(part.kind, shape, pc.cn, pc.cs))
+            out.append(terms + (f"particle {i}{size} against {other}",))
     return out
 
 
 def sphere_bound(scene, steps, z: int) -> tuple[float, float] | None:
     """``(lambda_K, lambda_C)`` from the geometric sphere-packing bound (:mod:`dtcrit.scenes.dense_spheres`),
     or None where it does not apply (other shapes, walls, more than ``SPHERE_BOUND_MAX_SPECIES`` sizes)."""
-    if scene.walls or any(p.kind != "sphere" for p in scene.particles):
-        return None
+    if scene.walls or any(p.kind != "sphere" for p in scene.particles) or any(s.contact.rotational for s in steps):
+        return None  # the geometric bound covers normal and shear springs only
     species = [(part.shape_at(r).mass, r, part.shape_at(r).inertia[0]) for part in scene.particles for r in part.radii]
     if len(species) > SPHERE_BOUND_MAX_SPECIES:
         return None

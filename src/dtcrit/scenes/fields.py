@@ -102,6 +102,32 @@ def _vertices(key: str, value: Any) -> list[list[float]]:
     return out
 
 
+def _clump_spheres(key: str, value: Any) -> list[list[float]]:
+    """``[[x, y, z, r], ...]``: at least one sphere, finite coordinates, positive radii."""
+    if not isinstance(value, list) or not value:
+        raise InputError(key, f"a clump needs at least one sphere [x, y, z, r] (got {_type_name(value)}: {_short(value)})")
+    out = []
+    for n, row in enumerate(value):
+        k = f"{key}[{n + 1}]"
+        if not isinstance(row, list) or len(row) != 4:
+            raise InputError(k, f"must be an [x, y, z, r] array of 4 numbers (got {_short(row)})")
+        nums = []
+        for m, v in enumerate(row):
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                raise InputError(f"{k}[{m + 1}]", f"must be a number (got {_type_name(v)}: {_short(v)})")
+            try:
+                x = float(v)
+            except OverflowError:
+                raise InputError(f"{k}[{m + 1}]", "must be a finite number") from None
+            if not math.isfinite(x):
+                raise InputError(f"{k}[{m + 1}]", f"must be finite (got {x})")
+            nums.append(x)
+        if nums[3] <= 0:
+            raise InputError(f"{k}[4]", f"the radius must be positive (got {nums[3]:g})")
+        out.append(nums)
+    return out
+
+
 def _short(value: Any, limit: int = 40) -> str:
     text = repr(value)
     text = " ".join(text.split())

@@ -70,7 +70,7 @@ def resolve_pair(scene, i: int, j: int, r1: float | None = None, r2: float | Non
     law = scene.contact
     label = f"{i}-{j}"
     extra: dict = {}
-    if law.model == "linear":
+    if law.model in ("linear", "bond"):
         kn, ks = law.kn, law.ks
     elif law.model == "yade":
         e1r1, e2r2 = p.youngs_modulus * r1, q.youngs_modulus * r2
@@ -78,16 +78,40 @@ def resolve_pair(scene, i: int, j: int, r1: float | None = None, r2: float | Non
         ks = law.ks_ratio * kn
     else:
         kn, ks, extra = _hertz(scene, p, q, m_star, r1, r2, label)
-    conv = convention_for(law.damping_convention, law.model)
+    conv = _convention(law)
     cn, cs, zn, zs = _dashpots(conv, law.damping, law.cn, law.cs, law.damping_ratio, kn, ks, m_star)
+    kr, ktw, cr, ctw = _rotational(law, kn, ks, cs, p.shape_at(r1), q.shape_at(r2), r1, r2, m1, m2, extra.get("delta_max"), label)
     return PairContact(i, j, m_star, kn, ks, cn, cs, law.damping_ratio if law.damping not in ("coefficients", "none") else None,
-                       radius_i=r1, radius_j=r2, zeta_n=zn, zeta_s=zs, convention=conv.name, **extra)
+                       radius_i=r1, radius_j=r2, zeta_n=zn, zeta_s=zs, convention=conv.name, kr=kr, ktw=ktw, cr=cr, ctw=ctw,
+                       **extra)
+
+
+def _convention(law):
+    """A bond's dashpots map like a linear contact's, PFC's convention by default."""
+    if law.model == "bond":
+        return convention_for(law.damping_convention or "pfc", "linear")
+    return convention_for(law.damping_convention, law.model)
+
+
+def _rotational(law, kn, ks, cs, p_shape, q_shape, r1, r2, m1, m2, delta, label):
+    """``(k_r, k_tw, c_r, c_tw)`` of a particle pair (:mod:`dtcrit.scenes.rotational`, :mod:`dtcrit.scenes.bonds`)."""
+    if law.bond is not None:
+        from dtcrit.scenes.bonds import rotational_dashpots
+
+        cr, ctw = rotational_dashpots(law.bond, law.damping_ratio, law.bond.kr, law.bond.ktw, min(p_shape.inertia),
+                                      min(q_shape.inertia))
+        return law.bond.kr, law.bond.ktw, cr, ctw
+    if law.rotational is None:
+        return 0.0, 0.0, 0.0, 0.0
+    from dtcrit.scenes.rotational import resolve_rotational
+
+    return resolve_rotational(law.rotational, kn, ks, cs, r1, r2, m1, m2, delta, label)
 
 
 def wall_convention(name: str | None, model: str):
     """The convention of a (linear) wall contact: the scene's, or its model's default; EDEM, whose
     law is Hertz-Mindlin only, maps to LIGGGHTS's linear (hooke) law."""
-    chosen = name or DEFAULT_CONVENTION[model]
+    chosen = name or DEFAULT_CONVENTION["linear" if model == "bond" else model]
     return CONVENTIONS["liggghts" if chosen == "edem" else chosen]
 
 
@@ -100,11 +124,12 @@ def resolve_wall(scene, wall, i: int, r: float | None = None) -> PairContact:
     m_eff = conv.wall_mass * m
     cn, cs, zn, zs = _dashpots(conv, wall.damping, wall.cn, wall.cs, wall.damping_ratio, wall.kn, wall.ks, m_eff)
     return PairContact(i, 0, m_eff, wall.kn, wall.ks, cn, cs, wall.damping_ratio if wall.damping not in ("coefficients", "none") else None,
-                       radius_i=r, zeta_n=zn, zeta_s=zs, convention=conv.name, wall=wall.name, wall_number=wall.number)
+                       radius_i=r, zeta_n=zn, zeta_s=zs, convention=conv.name, wall=wall.name, wall_number=wall.number,
+                       kr=wall.kr, ktw=wall.ktw, cr=wall.cr_value, ctw=wall.ctw_value)
 
 
 def convention_of(scene, pc: PairContact):
     """The damping convention that resolved contact ``pc`` (a particle pair's, or a wall's)."""
     if pc.wall is not None:
         return wall_convention(scene.contact.damping_convention, scene.contact.model)
-    return convention_for(scene.contact.damping_convention, scene.contact.model)
+    return _convention(scene.contact)

@@ -21,12 +21,21 @@ SHAPE_KEYS: dict[str, tuple[tuple[str, int | None], ...]] = {
     "superquadric": (("semi_axes", 3), ("exponents", 2)),
     "box": (("half_lengths", 3),),
     "polyhedron": (("vertices", -1),),
+    "clump": (("spheres", -2),),
 }
 PARTICLE_COMMON = ("shape", "density", "mass", "youngs_modulus", "poisson_ratio", "name")
 SPHERE_SIZE_KEYS = ("radius", "radii", "fractions", "lognormal")
 PARTICLE_ALL = tuple(dict.fromkeys(PARTICLE_COMMON + SPHERE_SIZE_KEYS + tuple(k for v in SHAPE_KEYS.values() for k, _ in v)))
 
-CONTACT_MODELS = ("linear", "yade", "hertz")
+CONTACT_MODELS = ("linear", "yade", "hertz", "bond")
+ROTATIONAL_KEYS = ("kr", "ktw", "cr", "ctw", "rolling_model", "rolling_friction", "rolling_viscous_damping",
+                   "rolling_stiffness_factor", "k_roll", "gamma_roll", "alpha_kr", "alpha_ktw", "twisting_model", "k_twist",
+                   "gamma_twist", "contact_radius")
+"""Rotational springs and dashpots of every contact model (:mod:`dtcrit.scenes.rotational`)."""
+BOND_KEYS = ("model", "kn", "ks", "kr", "ktw", "cn", "cs", "cr", "ctw", "damping_ratio", "damping_convention",
+             "bond_youngs_modulus", "bond_shear_modulus", "bond_poisson_ratio", "bond_stiffness_ratio", "bond_radius",
+             "bond_length", "contact_kn", "contact_ks")
+"""The ``bond`` model's keys (:mod:`dtcrit.scenes.bonds`)."""
 CONTACT_KEYS = {
     "linear": ("model", "kn", "ks", "cn", "cs", "restitution", "damping_ratio", "damping_convention", "youngs_modulus",
                "poisson_ratio", "friction"),
@@ -40,7 +49,9 @@ NOT_IN_THE_STEP = {
                 "of the sticking contact (its tangential spring), which friction does not change",
 }
 """DEM keys that a scene may carry but that do not enter the critical step: accepted with a note saying why."""
-CONTACT_ALL = tuple(dict.fromkeys(CONTACT_KEYS["linear"] + CONTACT_KEYS["yade"] + CONTACT_KEYS["hertz"]))
+CONTACT_KEYS = {model: keys + ROTATIONAL_KEYS for model, keys in CONTACT_KEYS.items()}
+CONTACT_KEYS["bond"] = BOND_KEYS
+CONTACT_ALL = tuple(dict.fromkeys(CONTACT_KEYS["linear"] + CONTACT_KEYS["yade"] + CONTACT_KEYS["hertz"] + BOND_KEYS))
 
 
 @dataclass(frozen=True)
@@ -67,6 +78,15 @@ class PairContact:
     r_star: float | None = None  # Hertz: effective radius [m]
     delta_max: float | None = None  # Hertz: largest overlap [m]
     velocity: float | None = None  # Hertz: impact speed [m/s]
+    kr: float = 0.0  # rolling spring [N m/rad] (dtcrit.scenes.rotational)
+    ktw: float = 0.0  # twisting spring [N m/rad]
+    cr: float = 0.0  # rolling dashpot [N m s/rad]
+    ctw: float = 0.0  # twisting dashpot [N m s/rad]
+
+    @property
+    def rotational(self) -> bool:
+        """Whether the contact has rotational springs or dashpots."""
+        return any(v > 0 for v in (self.kr, self.ktw, self.cr, self.ctw))
 
     @property
     def label(self) -> str:
@@ -106,6 +126,8 @@ class Particle:
         return self.shape_at(radius).mass
 
     def describe(self) -> str:
+        if self.kind == "clump":
+            return f"clump ({len(self.dimensions['spheres'])} spheres, overlaps counted once), mass {self.shape.mass:.6g} kg"
         dims = ", ".join(f"{k} = {_fmt_dim(v)}" for k, v in self.dimensions.items() if k != "vertices")
         if "vertices" in self.dimensions:
             corners = len(self.shape.vertices)
@@ -138,6 +160,8 @@ class ContactLaw:
     curvature_radius: float | None = None
     damping_convention: str | None = None  # None: the model's default (dtcrit.scenes.damping)
     ks_ratio: float | None = None  # yade: ks / kn
+    rotational: Any = None  # dtcrit.scenes.rotational.RotationalLaw (None: no rotational springs)
+    bond: Any = None  # dtcrit.scenes.bonds.BondLaw for model = "bond"
 
     @property
     def damping(self) -> str:

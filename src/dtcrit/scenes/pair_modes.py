@@ -16,6 +16,21 @@ A contact obeys ``xddot = -A (K x + C xdot)`` with ``K = kn n n^T + ks (1 - n n^
   :func:`dtcrit.bodies.contact.a_bound`), against a wall by ``1/m + S`` with the body's arm
   supremum ``S``; each direction is checked with its own stiffness and dashpot at that ``A``.
   Every integrator's step is non-increasing in ``A``, so this is safe for every contact.
+
+**Rotational springs** (rolling ``k_r``, twisting ``k_tw``, dashpots ``c_r``, ``c_tw``; the element of
+:mod:`dtcrit.symbolic.rotational_modes`, coefficients from ``dtcrit._generated.rotational_modes``):
+
+* spheres: twisting always separates, ``(k_tw, c_tw, 1/I_1 + 1/I_2)`` (wall: ``1/I``).  Rolling
+  separates when ``a_sr = R_1/I_1 - R_2/I_2 = 0`` (two equal spheres): ``(k_r, c_r, 1/I_1 + 1/I_2)``,
+  ``omega^2 = 2 k_r/I``.  Otherwise (unequal spheres, a wall) shear and rolling form one coupled 2x2
+  block, solved exactly by :func:`dtcrit.scenes.coupled_modes.block_step` (mode ``shear-rolling``,
+  which replaces the shear mode);
+* other shapes (a bound): with ``A6`` the 6x6 coefficient matrix of the element, for any positive
+  semi-definite ``[[P, Q], [Q^T, R]]`` ``lambda_max <= lambda_max(P) + lambda_max(R)`` (Cauchy-Schwarz), so
+  ``omega^2 <= max(k_n, k_s) A_bound + max(k_r, k_tw) A_rot`` with ``A_rot = 1/I_min,1 + 1/I_min,2``, and
+  likewise for the dashpots; every eigenvalue of the element is then that of one mode with those
+  ``(k/m, c/m)`` at most (:mod:`dtcrit.scenes.dense`, step 2), stable for the schemes whose one-mode
+  stable set is closed downwards (``DENSE_SCHEMES``); mode ``translation+rotation``.
 """
 from __future__ import annotations
 
@@ -53,17 +68,30 @@ class PairStep:
     method: str  # EXACT | BOUND
     B_sum: float | None = None  # B_i + B_j (None without omega_max)
     dt_rotation: float | None = None
+    rotational: tuple[DirectionStep, ...] = ()  # rolling, twisting, shear-rolling or translation+rotation modes
+    shear_coupled: bool = False  # the shear spring is part of a coupled mode (then ``shear`` is not a mode)
 
     @property
     def label(self) -> str:
         return self.contact.label
 
     @property
+    def modes(self) -> tuple[DirectionStep, ...]:
+        """The contact's modes (or bounds): normal, shear (unless coupled), and the rotational ones."""
+        return (self.normal,) + (() if self.shear_coupled else (self.shear,)) + self.rotational
+
+    @property
     def governing_direction(self) -> DirectionStep:
+        return min(self.modes, key=lambda d: d.dt)
+
+    @property
+    def translational_direction(self) -> DirectionStep:
+        """The governing one of the normal and shear springs' own modes."""
         return self.normal if self.normal.dt <= self.shear.dt else self.shear
 
     @property
     def dt_translation(self) -> float:
+        """The contact's step: its smallest mode, rotational springs included."""
         return self.governing_direction.dt
 
 
@@ -106,4 +134,49 @@ def pair_step(integrator: str, pc: PairContact, p_shape, q_shape, p_kind: str, q
         method = BOUND
     normal = direction_step(integrator, "normal", pc.kn, pc.cn, a_n, pc.zeta_n)
     shear = direction_step(integrator, "shear", pc.ks, pc.cs, a_t, pc.zeta_s)
-    return PairStep(pc, a_max, a_bound, normal, shear, method)
+    rotational, coupled = (), False
+    if pc.rotational:
+        rotational, coupled = rotational_modes(integrator, pc, p_shape, q_shape, method == EXACT, a_bound)
+    return PairStep(pc, a_max, a_bound, normal, shear, method, rotational=rotational, shear_coupled=coupled)
+
+
+def rotational_modes(integrator: str, pc: PairContact, p_shape, q_shape, spheres: bool,
+                     a_bound: float) -> tuple[tuple[DirectionStep, ...], bool]:
+    """The rolling and twisting modes (module docstring) and whether the shear spring is coupled."""
+    from dtcrit._generated import rotational_modes as gen
+    from dtcrit.scenes.coupled_modes import block_step
+
+    if not spheres:
+        from dtcrit.errors import InputError
+        from dtcrit.scenes.dense import DENSE_SCHEMES
+
+        if integrator not in DENSE_SCHEMES:
+            raise InputError("integrator", f"rotational springs on non-spherical bodies are bounded for "
+                             f"{', '.join(DENSE_SCHEMES)} only ('{integrator}' is unstable undamped)")
+        a_rot = 1.0 / min(p_shape.inertia) + (0.0 if q_shape is None else 1.0 / min(q_shape.inertia))
+        a_tr = a_bound if q_shape is not None else a_bound
+        lam_k = max(pc.kn, pc.ks) * a_tr + max(pc.kr, pc.ktw) * a_rot
+        lam_c = max(pc.cn, pc.cs) * a_tr + max(pc.cr, pc.ctw) * a_rot
+        r = mode_dt(integrator, lam_k, lam_c, 1.0)
+        why = (f"bound: omega^2 <= max(kn, ks) A_bound + max(kr, ktw) A_rot = {lam_k:.6g} 1/s^2, "
+               f"c/m <= {lam_c:.6g} 1/s, A_rot = {a_rot:.6g} 1/(kg m^2); {r.reason}")
+        return (DirectionStep("translation+rotation", lam_k, lam_c, 1.0, None, r.zeta, _regime(None, r), r.dt, why),), False
+    if q_shape is None:
+        a_ss, a_sr, a_rr, a_tw, a_det = (float(x) for x in gen.wall_shear_rolling_block(p_shape.mass, p_shape.inertia[0],
+                                                                                 p_shape.max_arm))
+    else:
+        a_ss, a_sr, a_rr, a_tw, a_det = (float(x) for x in gen.shear_rolling_block(
+            p_shape.mass, p_shape.inertia[0], p_shape.max_arm, q_shape.mass, q_shape.inertia[0], q_shape.max_arm))
+    modes, coupled = [], False
+    if pc.kr > 0 or pc.cr > 0:
+        if a_sr == 0.0:
+            modes.append(direction_step(integrator, "rolling", pc.kr, pc.cr, a_rr, None))
+        else:
+            b = block_step(integrator, a_ss, a_sr, a_rr, a_det, (pc.ks, pc.kr), (pc.cs, pc.cr))
+            regime = "undamped" if pc.cs == 0 and pc.cr == 0 else ("underdamped" if b.zeta_mode < 1 else "overdamped")
+            why = (f"shear and rolling coupled (a_sr = {a_sr:.6g} 1/(kg m)): largest omega^2 = {b.omega2:.6g} 1/s^2; {b.route}")
+            modes.append(DirectionStep("shear-rolling", pc.kr, pc.cr, a_rr, None, b.zeta_mode, regime, b.dt, why))
+            coupled = True
+    if pc.ktw > 0 or pc.ctw > 0:
+        modes.append(direction_step(integrator, "twisting", pc.ktw, pc.ctw, a_tw, None))
+    return tuple(modes), coupled

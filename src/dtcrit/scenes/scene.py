@@ -43,6 +43,7 @@ from dtcrit.scenes.fields import (
     _type_name,
     _vector,
     _vertices,
+    _clump_spheres,
 )
 from dtcrit.scenes.laws import resolve_pair
 from dtcrit.scenes.model import (
@@ -73,6 +74,7 @@ _SHAPE_ARG_TO_KEY = {
     "superquadric": {"a": "semi_axes", "b": "semi_axes", "c": "semi_axes", "eps1": "exponents", "eps2": "exponents"},
     "box": {"a": "half_lengths", "b": "half_lengths", "c": "half_lengths"},
     "polyhedron": {"vertices": "vertices"},
+    "clump": {"spheres": "spheres"},
 }
 
 
@@ -88,6 +90,8 @@ def _build_shape(prefix: str, kind: str, dims: dict, density: float | None, mass
         args, cls = tuple(dims["semi_axes"]) + tuple(dims["exponents"]), shapes.Superquadric
     elif kind == "box":
         args, cls = tuple(dims["half_lengths"]), shapes.Box
+    elif kind == "clump":
+        args, cls = (dims["spheres"],), shapes.Clump
     else:
         args, cls = (dims["vertices"],), shapes.ConvexPolyhedron
     size_key = next(iter(dims))
@@ -129,6 +133,8 @@ def _particle(number: int, table: Any) -> Particle:
             dims[key] = _number(prefix + key, value)
         elif length == -1:
             dims[key] = _vertices(prefix + key, value)
+        elif length == -2:
+            dims[key] = _clump_spheres(prefix + key, value)
         else:
             dims[key] = _vector(prefix + key, value, length)
     distribution = size_distribution(prefix, table) if kind == "sphere" else None
@@ -176,7 +182,13 @@ def _contact(table: Any, particles: list[Particle], out_warnings: list) -> tuple
     model = _choice(prefix + "model", _required(prefix, table, "model", f"one of {', '.join(CONTACT_MODELS)}"), CONTACT_MODELS, "contact model")
     _check_keys(prefix, table, CONTACT_KEYS[model], CONTACT_ALL, f"by the {model} contact model")
 
+    if model == "bond":
+        return _bond_contact(prefix, table, particles, out_warnings)
     cn, cs, restitution, zeta = parse_damping(prefix, table)  # one way only
+    from dtcrit.scenes.rotational import parse_rotational
+
+    rotational = parse_rotational(prefix, table)
+    rotational = rotational if rotational.present else None
     for key, why in NOT_IN_THE_STEP.items():
         if key in table:
             _number(prefix + key, table[key], allow_zero=True)
@@ -210,7 +222,7 @@ def _contact(table: Any, particles: list[Particle], out_warnings: list) -> tuple
                                  f"the Young's modulus of every particle (particle[{p.number}] has none)")
         ratio = _number(prefix + "ks_ratio", _required(prefix, table, "ks_ratio", "ks/kn (YADE's FrictMat.poisson)"), allow_zero=True)
         law = ContactLaw("yade", cn=cn, cs=cs, restitution=restitution, damping_ratio=zeta, damping_convention=convention,
-                         ks_ratio=ratio)
+                         ks_ratio=ratio, rotational=rotational)
         return law, particles
 
     if model == "linear":
@@ -223,7 +235,7 @@ def _contact(table: Any, particles: list[Particle], out_warnings: list) -> tuple
                  "Section 4.2); each direction is still checked with its own stiffness")
             )
         law = ContactLaw("linear", kn=kn, ks=ks, cn=cn, cs=cs, restitution=restitution, damping_ratio=zeta,
-                         damping_convention=convention)
+                         damping_convention=convention, rotational=rotational)
         return law, particles
 
     # hertz
@@ -243,7 +255,29 @@ def _contact(table: Any, particles: list[Particle], out_warnings: list) -> tuple
         raise InputError(prefix + ("cn" if cn is not None else "cs"), "a Hertz contact takes restitution or damping_ratio "
                          "(its dashpots scale with the overlap), not coefficients")
     law = ContactLaw("hertz", restitution=restitution, damping_ratio=zeta, velocity=velocity, curvature_radius=radius,
-                     damping_convention=convention)
+                     damping_convention=convention, rotational=rotational)
+    return law, particles
+
+
+def _bond_contact(prefix: str, table: dict, particles: list[Particle], out_warnings: list) -> tuple[ContactLaw, list[Particle]]:
+    """``model = "bond"`` (:mod:`dtcrit.scenes.bonds`)."""
+    from dtcrit.scenes.bonds import parse_bond
+
+    bond = parse_bond(prefix, table)
+    cn = _number(prefix + "cn", table["cn"], allow_zero=True) if "cn" in table else None
+    cs = _number(prefix + "cs", table["cs"], allow_zero=True) if "cs" in table else None
+    zeta = _number(prefix + "damping_ratio", table["damping_ratio"], allow_zero=True) if "damping_ratio" in table else None
+    if zeta is not None and (cn is not None or cs is not None):
+        raise InputError(prefix + "damping_ratio", "conflicting damping specifications: cn/cs and damping_ratio; give exactly one way")
+    convention = None
+    if "damping_convention" in table:
+        convention = _choice(prefix + "damping_convention", table["damping_convention"], tuple(CONVENTIONS), "damping convention")
+        convention_for(convention, "linear", prefix + "damping_convention")
+    if bond.ks + bond.contact_ks > bond.kn + bond.contact_kn:
+        out_warnings.append((prefix + "ks", f"note: the bond's shear spring {bond.ks + bond.contact_ks:g} N/m exceeds its "
+                             f"normal spring {bond.kn + bond.contact_kn:g} N/m; each mode is checked with its own stiffness"))
+    law = ContactLaw("bond", kn=bond.kn + bond.contact_kn, ks=bond.ks + bond.contact_ks, cn=cn, cs=cs, damping_ratio=zeta,
+                     damping_convention=convention, bond=bond)
     return law, particles
 
 

@@ -20,6 +20,12 @@ UNITS = {
     # Hertz linearisation and rotation
     "e_star": "Pa", "g_star": "Pa", "r_star": "m", "delta_max": "m", "velocity": "m/s", "curvature_radius": "m",
     "omega_max": "rad/s",
+    # rotational springs and dashpots of the contact element, and their modes
+    "kr": "N m/rad", "ktw": "N m/rad", "cr": "N m s/rad", "ctw": "N m s/rad", "stiffness": "N m/rad",
+    "dashpot": "N m s/rad", "A_rotation": "1/(kg m^2)", "omega2": "1/s^2", "dt_contact": "s",
+    "contact_radius": "m", "k_roll": "N/m", "gamma_roll": "N s/m", "k_twist": "N m/rad", "gamma_twist": "N m s/rad",
+    "bond_youngs_modulus": "Pa", "bond_shear_modulus": "Pa", "bond_radius": "m", "bond_length": "m",
+    "contact_kn": "N/m", "contact_ks": "N/m", "centre_of_mass": "m", "spheres": "m", "inertia_tensor": "kg m^2",
 }
 """The unit of every dimensional key, wherever it appears in the document (SI).  Every other number is
 dimensionless: damping ratios (``zeta*``, ``damping_ratio``), ``restitution``, ``safety``, ``ks_ratio``,
@@ -33,6 +39,13 @@ ROTATION_EQUATIONS = "Peng et al. 2020, Eqs. (54), (56)-(57)"
 def _direction_json(d) -> dict:
     return {"k": d.k, "c": d.c, "A": d.A, "zeta": d.zeta, "zeta_mode": _finite(d.zeta_mode), "regime": d.regime,
             "dt": _finite(d.dt)}
+
+
+def _rotational_json(d) -> dict:
+    bound = d.direction == "translation+rotation"
+    return {"direction": d.direction, "stiffness": None if bound else d.k, "dashpot": None if bound else d.c,
+            "A_rotation": None if bound else d.A, "omega2": d.k * d.A, "lambda_c": d.c * d.A,
+            "zeta_mode": _finite(d.zeta_mode), "regime": d.regime, "dt": _finite(d.dt), "reason": d.reason}
 
 
 def pair_json(p) -> dict:
@@ -56,11 +69,15 @@ def pair_json(p) -> dict:
         "A_shear": p.shear.A,
         "dt_normal": p.normal.dt,
         "dt_shear": _finite(p.shear.dt),
-        "dt_translation": p.dt_translation,
+        "dt_translation": p.translational_direction.dt,
         "normal": _direction_json(p.normal),
         "shear": _direction_json(p.shear),
         "B_sum": p.B_sum,
         "dt_rotation": p.dt_rotation,
+        "kr": c.kr, "ktw": c.ktw, "cr": c.cr, "ctw": c.ctw,
+        "rotational_modes": [_rotational_json(d) for d in p.rotational],
+        "shear_coupled": p.shear_coupled,
+        "dt_contact": _finite(p.dt_translation),
     }
     if c.delta_max is not None:
         out.update(e_star=c.e_star, g_star=c.g_star, r_star=c.r_star, delta_max=c.delta_max, velocity=c.velocity)
@@ -101,8 +118,17 @@ def _contact_json(sc, convention: str | None) -> dict:
         out.update(kn=law.kn, ks=law.ks, cn=cn, cs=cs)
     elif law.model == "yade":
         out.update(ks_ratio=law.ks_ratio, cn=cn, cs=cs)
+    elif law.model == "bond":
+        b = law.bond
+        out.update(kn=law.kn, ks=law.ks, cn=cn, cs=cs, bond={"kn": b.kn, "ks": b.ks, "kr": b.kr, "ktw": b.ktw,
+                                                              "contact_kn": b.contact_kn, "contact_ks": b.contact_ks,
+                                                              "source": b.source})
     else:
         out.update(velocity=law.velocity, curvature_radius=law.curvature_radius)
+    r = law.rotational
+    if r is not None:
+        out["rotational"] = {"kr": r.kr, "ktw": r.ktw, "cr": r.cr, "ctw": r.ctw, "rolling_model": r.rolling_model,
+                             "twisting_model": r.twisting_model, **dict(r.params)}
     return out
 
 
@@ -116,7 +142,11 @@ def _dense_json(d) -> dict | None:
 def step_json(result) -> dict:
     sc = result.scene
     t = result.translation
-    g = t.governing_direction
+    g = t.translational_direction
+    top = t.governing_direction
+    contact_rotation = None
+    if top.direction not in ("normal", "shear"):
+        contact_rotation = {"pair": t.label, **_rotational_json(top)}
     rot = None
     if sc.omega_max is not None:
         r = result.rotation
@@ -150,7 +180,7 @@ def step_json(result) -> dict:
             "A_bound": t.A_bound,
             "A": g.A,
             "method": t.method,
-            "dt": t.dt_translation,
+            "dt": g.dt,
             "pair": t.label,
             "direction": g.direction,
             "k": g.k,
@@ -162,6 +192,7 @@ def step_json(result) -> dict:
             "equations": TRANSLATION_EQUATIONS,
         },
         "rotation": rot,
+        "contact_rotation": contact_rotation,
         "estimators": {
             e.estimate.key: {"dt": e.estimate.dt, "unsafe": e.unsafe, "unsafe_dense": e.unsafe_dense,
                              "label": e.estimate.label, "note": e.estimate.note}

@@ -55,7 +55,7 @@ class StepResult:
     scene: Scene
     pairs: tuple[PairStep, ...]  # per pair of particle types (and per particle-wall pair): its governing size
     dt_crit: float
-    governing: str  # translation | rotation | dense
+    governing: str  # translation | contact rotation (a rotational spring's mode) | rotation | dense
     bound: str  # which bound, in words
     translation: PairStep  # the contact whose isolated translation step is smallest
     rotation: PairStep | None  # the pair whose rotation step is smallest (None: no rotation bound)
@@ -164,14 +164,22 @@ def critical_step(scene: Scene) -> StepResult:
         bound = (f"rotation-dominant, pair {r.label}: dt = 2/(omega_max (B_i + B_j)) "
                  f"= 2/({scene.omega_max:g} x {r.B_sum:.6g}) (Peng et al. 2020, Eqs. (54), (56))")
     else:
-        governing, dt = "translation", t.dt_translation
+        governing = "translation" if g.direction in ("normal", "shear") else "contact rotation"
+        dt = t.dt_translation
         what = "no positive step is stable" if dt == 0.0 else f"exact '{scene.integrator}' boundary"
         given = g.direction == "normal" or convention_of(scene, t.contact).shear_rule == "zeta"
         zeta = ("" if g.zeta is None else f", zeta = {g.zeta:.6g} as given" if given
                 else f", zeta_s = c_s/(2 sqrt(k_s m*)) = {g.zeta:.6g}")
+        if g.direction in ("normal", "shear"):
+            springs = f"k = {g.k:.6g} N/m, c = {g.c:.6g} N s/m, A = {g.A:.6g} 1/kg"
+        elif g.direction == "translation+rotation":
+            springs = f"omega^2 <= {g.k:.6g} 1/s^2, c/m <= {g.c:.6g} 1/s"
+        else:
+            springs = f"k = {g.k:.6g} N m/rad, c = {g.c:.6g} N m s/rad, A = {g.A:.6g} 1/(kg m^2)"
         bound = (f"translation-dominant, {'wall contact' if t.contact.wall else 'pair'} {t.label}, {g.direction} mode "
-                 f"({t.method}): {what} with k = {g.k:.6g} N/m, c = {g.c:.6g} N s/m, A = {g.A:.6g} 1/kg "
-                 f"({g.regime}{zeta}, mode zeta = {g.zeta_mode:.6g})")
+                 f"({t.method}): {what} with {springs} ({g.regime}{zeta}, mode zeta = {g.zeta_mode:.6g})")
+        if g.direction not in ("normal", "shear"):
+            bound = bound.replace("translation-dominant", "contact-dominant", 1) + f"; {g.reason}"
     rating = dense if dense is not None else rating
     dt_rating = None if rating.dt is None else min(rating.dt, dt_rot)
     estimates = tuple(

@@ -6,7 +6,10 @@ A wall is rigid and immobile, so a particle of mass ``m`` against it has the nor
 carries the spin with the full radius as arm, as LAMMPS ``fix wall/gran`` applies it).  Keys:
 ``kn``, ``ks`` [N/m] (required), damping like ``[contact]`` (``cn``/``cs``, ``restitution`` or
 ``damping_ratio``, mapped with the scene's damping convention and that convention's wall mass),
-``particles`` (the particle tables that touch it, counted from 1; default all) and ``name``.
+``particles`` (the particle tables that touch it, counted from 1; default all) and ``name``; and
+rotational springs ``kr``, ``ktw`` [N m/rad] with dashpots ``cr``, ``ctw`` [N m s/rad] (default 0) on the
+sphere's rotation relative to the wall.  The rolling spring couples to the shear spring at a wall
+(:mod:`dtcrit.symbolic.rotational_modes`): ``omega^2 = k_r/I`` is a mode only without shear spring.
 """
 from __future__ import annotations
 
@@ -17,7 +20,7 @@ from dtcrit.errors import InputError
 from dtcrit.scenes.damping import damping_kind, parse_damping
 from dtcrit.scenes.fields import _check_keys, _number, _required, _short, _string, _type_name
 
-WALL_KEYS = ("name", "model", "kn", "ks", "cn", "cs", "restitution", "damping_ratio", "particles")
+WALL_KEYS = ("name", "model", "kn", "ks", "cn", "cs", "restitution", "damping_ratio", "particles", "kr", "ktw", "cr", "ctw")
 
 
 @dataclass(frozen=True)
@@ -31,6 +34,18 @@ class Wall:
     restitution: float | None
     damping_ratio: float | None
     particles: tuple[int, ...]  # particle numbers that touch it
+    kr: float = 0.0  # rolling spring [N m/rad]
+    ktw: float = 0.0  # twisting spring [N m/rad]
+    cr: float | None = None  # rolling dashpot [N m s/rad]
+    ctw: float | None = None  # twisting dashpot [N m s/rad]
+
+    @property
+    def cr_value(self) -> float:
+        return self.cr or 0.0
+
+    @property
+    def ctw_value(self) -> float:
+        return self.ctw or 0.0
 
     @property
     def damping(self) -> str:
@@ -71,4 +86,6 @@ def _wall(number: int, table: Any, n_particles: int) -> Wall:
             raise InputError(prefix + "particles", f"no particle table {bad[0]} (the scene has {n_particles}, counted from 1)")
         touching = tuple(sorted(set(raw)))
     name = _string(prefix + "name", table["name"]) if "name" in table else f"wall {number}"
-    return Wall(number, name, kn, ks, cn, cs, e, zeta, touching)
+    rot = {k: _number(prefix + k, table[k], allow_zero=True) for k in ("kr", "ktw", "cr", "ctw") if k in table}
+    return Wall(number, name, kn, ks, cn, cs, e, zeta, touching, rot.get("kr", 0.0), rot.get("ktw", 0.0), rot.get("cr"),
+                rot.get("ctw"))

@@ -18,6 +18,7 @@ PRODUCERS: tuple[str, ...] = (
     "dtcrit.symbolic.stability_codegen",
     "dtcrit.symbolic.roots_codegen",
     "dtcrit.symbolic.contact_codegen",
+    "dtcrit.symbolic.rotational_modes",
 )
 
 
