@@ -8,12 +8,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from dtcrit.integrators.schemes import INTEGRATORS, LinearForce
+from dtcrit.integrators.schemes import LinearForce, lookup
 
 
 def matrices(integrator: str, tau, zeta) -> np.ndarray:
     """Batched amplification matrices, shape ``broadcast(tau, zeta).shape + (d, d)``."""
-    integ = INTEGRATORS[integrator]
+    integ = lookup(integrator)
     tau, zeta = np.broadcast_arrays(np.asarray(tau, dtype=float), np.asarray(zeta, dtype=float))
     d = len(integ.state)
     force = LinearForce(1.0, 2.0 * zeta)
@@ -36,7 +36,7 @@ def matrix_mp(integrator: str, tau, zeta):
     """The amplification matrix as an ``mpmath.matrix`` at the current working precision."""
     import mpmath as mp
 
-    integ = INTEGRATORS[integrator]
+    integ = lookup(integrator)
     d = len(integ.state)
     force = LinearForce(mp.mpf(1), 2 * mp.mpf(zeta))
     G = mp.matrix(d, d)

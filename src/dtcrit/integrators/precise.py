@@ -34,6 +34,7 @@ from __future__ import annotations
 import numpy as np
 
 from dtcrit._generated import critical_steps as _gen
+from dtcrit.integrators import precise_onstep
 
 _SPLIT = 134217729.0  # 2^27 + 1 (Dekker)
 
@@ -348,6 +349,8 @@ _ZERO_WHEN_UNDAMPED = ("forward-euler", "paper-eq40")
 
 
 def _slow(integrator: str, k, c, A):
+    if integrator in precise_onstep.CAREFUL:
+        return precise_onstep.steps(integrator, k, c, A)
     if integrator == "forward-euler":
         return forward_euler_exact(k, c, A)
     if integrator == "paper-eq40":
@@ -365,6 +368,8 @@ def fast_steps(integrator: str, k, c, A, chunk: int = _CHUNK) -> tuple[np.ndarra
     so that ``stability.refuse_unrepresentable`` has nothing to find."""
     k, c, A = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (k, c, A)))
     k, c, A = (np.ascontiguousarray(v.ravel()) for v in (k, c, A))
+    if integrator in precise_onstep.CAREFUL:  # whole-array forms; the caller checks the range
+        return precise_onstep.steps(integrator, k, c, A), False
     n = k.size
     out = np.empty(n)
     m = max(1, min(chunk, n))

@@ -13,7 +13,8 @@ coefficient ``A`` under ``F = -k x - c xdot`` obeys ``xddot = f(x, v) = -K x - C
 ``K = k A`` and ``C = c A``.  ``force`` below is that ``f``; ``force.dv`` is ``df/dv = -C``, needed
 only by the scheme that is implicit in the (linear) damping term and solved exactly.
 
-Adding an integrator is one new ``Integrator(...)`` entry in ``INTEGRATORS``.
+Adding an integrator is one new ``Integrator(...)`` entry in ``INTEGRATORS``.  A scheme written by a
+user in a scene is parsed into the same ``Integrator`` by ``dtcrit.integrators.user_rules``.
 """
 from __future__ import annotations
 
@@ -101,6 +102,24 @@ def _velocity_verlet_predicted(s, h, f):
     return x_next, v_half + h / 2 * a_next, a_next
 
 
+def _extended_taylor(s, h, f):
+    # Chrono DEM-Engine's default EXTENDED_TAYLOR (src/kernel/DEMIntegrationKernels.cu with
+    # DEMCustomizablePolicies/IntegrationVelPassOnExtendedTaylor.cu: v += h a, then x += h (v_old + h a/2))
+    # and Kratos DEM's TaylorScheme: the force, dashpot included, is evaluated at (x_n, v_n).
+    x, v = s
+    a = f(x, v)
+    return x + h * v + h * h / 2 * a, v + h * a
+
+
+def _adams_bashforth_2(s, h, f):
+    # MFiX DEM (model/des/cfnewvalues.f, INTG_ADAMS_BASHFORTH): second-order Adams-Bashforth for v,
+    # trapezoidal rule for x; state (x_n, v_n, a_{n-1}), the force (dashpot included) at (x_n, v_n).
+    x, v, a_old = s
+    a = f(x, v)
+    v_next = v + h / 2 * (3 * a - a_old)
+    return x + h / 2 * (v + v_next), v_next, a
+
+
 INTEGRATORS: dict[str, Integrator] = {
     i.name: i
     for i in (
@@ -141,7 +160,31 @@ INTEGRATORS: dict[str, Integrator] = {
             "velocity Verlet; damping force from the predicted full-step velocity v_n + dt a_n",
             "v_n + dt a_n",
         ),
+        Integrator(
+            "extended-taylor", ("x_n", "v_n"), _extended_taylor,
+            "second-order Taylor position update x + dt v + dt^2 a/2 with the old v, then v + dt a; "
+            "a = f(x_n, v_n); unstable for every dt when undamped (det G = 1 + (omega dt)^2/2)",
+            "v_n",
+            "Chrono DEM-Engine (default EXTENDED_TAYLOR), Kratos DEM TaylorScheme",
+        ),
+        Integrator(
+            "adams-bashforth-2", ("x_n", "v_n", "a_{n-1}"), _adams_bashforth_2,
+            "v by second-order Adams-Bashforth (3 a_n - a_{n-1})/2, x by the trapezoidal rule (v_n + v_{n+1})/2; "
+            "unstable for every dt when undamped",
+            "v_n",
+            "MFiX DEM (INTG_ADAMS_BASHFORTH)",
+        ),
     )
 }
 
 NAMES: tuple[str, ...] = tuple(INTEGRATORS)
+
+USER_INTEGRATORS: dict[str, Integrator] = {}
+"""Schemes a user wrote in a scene (``dtcrit.integrators.user_rules.register``), by name."""
+
+
+def lookup(name) -> Integrator:
+    """The built-in or registered user scheme called ``name`` (an ``Integrator`` is returned as is)."""
+    if isinstance(name, Integrator):
+        return name
+    return INTEGRATORS[name] if name in INTEGRATORS else USER_INTEGRATORS[name]

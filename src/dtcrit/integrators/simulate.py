@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from dtcrit.integrators.schemes import INTEGRATORS, LinearForce
+from dtcrit.integrators.schemes import LinearForce, lookup
 
 
 @dataclass(frozen=True)
@@ -35,7 +35,7 @@ def run(integrator: str, tau, zeta, n_steps: int, x0: float = 1.0, v0: float = 0
     norm is the Euclidean norm of all state variables; it is renormalised every step block so
     that a growing run never overflows (the growth factors are accumulated in log form).
     """
-    integ = INTEGRATORS[integrator]
+    integ = lookup(integrator)
     tau = np.asarray(tau, dtype=float)
     zeta = np.asarray(zeta, dtype=float)
     tau, zeta = np.broadcast_arrays(tau, zeta)

@@ -22,7 +22,8 @@ import numpy as np
 from dtcrit.integrators import precise
 from dtcrit._generated import critical_steps as _gen
 from dtcrit.errors import InputError
-from dtcrit.integrators.schemes import INTEGRATORS, NAMES
+from dtcrit.integrators.engines import ENGINES, resolve_integrator
+from dtcrit.integrators.schemes import INTEGRATORS, NAMES, USER_INTEGRATORS
 
 __all__ = ["CriticalStep", "critical_dt", "critical_dt_array", "dashpot_dt", "mode_dt", "paper_eq46", "scaled_rates", "INTEGRATORS"]
 
@@ -45,9 +46,12 @@ class CriticalStep:
 
 
 def check_integrator(name: str) -> str:
-    if name in INTEGRATORS:
+    """The scheme key of ``name``: a built-in or registered user scheme, or a DEM code's name
+    (``dtcrit.integrators.engines.resolve_integrator``); InputError otherwise."""
+    name, _note = resolve_integrator(name)
+    if name in INTEGRATORS or name in USER_INTEGRATORS:
         return name
-    close = difflib.get_close_matches(str(name), NAMES, n=1)
+    close = difflib.get_close_matches(str(name), NAMES + tuple(ENGINES), n=1)
     hint = f" (did you mean '{close[0]}'?)" if close else ""
     raise InputError("integrator", f"unknown integrator {name!r}{hint}; choose one of {', '.join(NAMES)}")
 
@@ -80,7 +84,8 @@ def scaled_rates(k, c, A):
     return w, g, s
 
 
-UNSTABLE_UNDAMPED = ("forward-euler", "paper-eq40")  # no stable dt > 0 when c = 0
+# no stable dt > 0 when c = 0: read from the generated boundaries (tau_crit(0) = 0)
+UNSTABLE_UNDAMPED = tuple(n for n in NAMES if float(_gen.DT_KERNELS[n](1.0, 0.0)) == 0.0)
 
 
 def _exact_steps(name: str, k, c, A) -> np.ndarray:
@@ -113,6 +118,10 @@ def critical_dt_array(integrator: str, k, c, A) -> np.ndarray:
     """
     name = check_integrator(integrator)
     k, c, A = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (k, c, A)))
+    if name not in _gen.DT_KERNELS:  # a user-written scheme: no emitted closed form
+        from dtcrit.integrators.spectral_route import critical_dt_spectral
+
+        return np.vectorize(lambda *a: critical_dt_spectral(name, *a), otypes=[float])(k, c, A)
     shape = k.shape
     k, c, A = (np.ravel(v) for v in (k, c, A))
     dt, checked = precise.fast_steps(name, k, c, A)
@@ -128,6 +137,8 @@ def _regime(zeta: float) -> str:
 
 
 def _governing_condition(integrator: str, zeta: float) -> str:
+    if integrator not in _gen.GOVERNING:
+        return "spectral radius of the amplification matrix (bisection at 50 digits)"
     for zeta_hi, label in _gen.GOVERNING[integrator]:
         if zeta <= zeta_hi:
             return label
@@ -160,7 +171,13 @@ def critical_dt(integrator: str, k, c, A) -> CriticalStep:
             f"no dt > 0 is stable: the '{name}' scheme is unstable for every step when {regime} "
             f"(zeta = {zeta:.6g}); the spectral radius exceeds 1 for all dt > 0"
         )
-    return CriticalStep(name, dt, reason, _gen.FORMULAS[name], omega, zeta, regime)
+    return CriticalStep(name, dt, reason, _formula(name), omega, zeta, regime)
+
+
+def _formula(name: str) -> str:
+    if name in _gen.FORMULAS:
+        return _gen.FORMULAS[name]
+    return "omega*dt = first tau at which the spectral radius of the amplification matrix of the rules exceeds 1"
 
 
 def dashpot_dt(integrator: str, c, A) -> float:
@@ -195,12 +212,12 @@ def mode_dt(integrator: str, k, c, A) -> CriticalStep:
     if k > 0:
         return critical_dt(name, k, c, A)
     if c == 0:
-        return CriticalStep(name, math.inf, "no spring and no dashpot: a free mode sets no limit", _gen.FORMULAS[name],
+        return CriticalStep(name, math.inf, "no spring and no dashpot: a free mode sets no limit", _formula(name),
                             0.0, 0.0, "free")
     dt = dashpot_dt(name, c, A)
     reason = (f"dashpot without spring (c A = {c * A:.6g} 1/s): the '{name}' update is stable while dt <= {dt:.6g} s"
               if math.isfinite(dt) else f"dashpot without spring: the '{name}' update is stable for every step")
-    return CriticalStep(name, dt, reason, _gen.FORMULAS[name], 0.0, math.inf, "dashpot only")
+    return CriticalStep(name, dt, reason, _formula(name), 0.0, math.inf, "dashpot only")
 
 
 def paper_eq46(k, c, A) -> float:

@@ -67,6 +67,8 @@ def _positive_roots(name: str, z) -> list[tuple[mp.mpf, int]]:
         coeffs = [mp.mpf(sp.N(c.subs(zeta, z), mp.mp.dps + 10)) for c in bf.poly.all_coeffs()]
         while coeffs and coeffs[0] == 0:
             coeffs.pop(0)
+        while len(coeffs) > 1 and coeffs[-1] == 0:  # roots at tau = 0 (a multiple one stalls polyroots)
+            coeffs.pop()
         if len(coeffs) < 2:
             continue
         roots = mp.polyroots(coeffs, maxsteps=200, extraprec=4 * mp.mp.dps)

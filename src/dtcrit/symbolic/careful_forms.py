@@ -243,7 +243,8 @@ def careful_chain(name: str, damped: bool = True) -> Chain:
             lead = _r("c_over_k")
             steps.append((lead, ldexp(mc / mk, ec - ek) * sp.simplify(-P0 / (2 * zeta))))
             ident = lead / (d * d + q0.subs(zeta, z))
-            body = sp.Piecewise((ident, sp.And(sp.Le(z, 1), sp.Gt(mc, 0))), (body, True))
+            z_hi = sp.Min(1, cp.piece.zeta_hi)  # the identity holds where the cubic piece governs
+            body = sp.Piecewise((ident, sp.And(sp.Le(z, z_hi), sp.Gt(mc, 0))), (body, True))
             eqs.append(f"zeta <= 1: dt = (c/k) / ((tau - {sp.sstr(h)})^2 + {sp.sstr(q0)}), tau the root of the cubic "
                        "(the cubic is tau ((tau - h)^2 + q0) - 2 zeta)")
     raw, dt = _r("dt_raw"), _r("dt")

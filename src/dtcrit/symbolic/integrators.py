@@ -17,7 +17,7 @@ from functools import lru_cache
 
 import sympy as sp
 
-from dtcrit.integrators.schemes import INTEGRATORS, Integrator, LinearForce
+from dtcrit.integrators.schemes import Integrator, LinearForce, lookup
 
 h, K, C = sp.symbols("h K C", positive=True)
 tau, zeta = sp.symbols("tau zeta", nonnegative=True)
@@ -25,7 +25,7 @@ lam = sp.Symbol("lambda")
 
 
 def _integrator(name_or_obj) -> Integrator:
-    return INTEGRATORS[name_or_obj] if isinstance(name_or_obj, str) else name_or_obj
+    return lookup(name_or_obj)
 
 
 def amplification_matrix(integrator, dimensionless: bool = False) -> sp.Matrix:
@@ -57,6 +57,8 @@ def characteristic_polynomial(name: str, dimensionless: bool = True) -> sp.Poly:
     lead = poly.LC()
     if sp.Poly(lead, *(sorted(lead.free_symbols, key=str) or [tau])).is_ground and lead.is_negative:
         poly = -poly
+    if poly.LC().is_Rational and poly.LC() != 1:  # a constant leading coefficient: the monic form
+        poly = sp.Poly(poly.as_expr() / poly.LC(), lam)
     return poly
 
 

@@ -27,7 +27,7 @@ from functools import lru_cache
 
 import sympy as sp
 
-from dtcrit.integrators.schemes import INTEGRATORS
+from dtcrit.integrators.schemes import lookup
 from dtcrit.symbolic.integrators import characteristic_polynomial, lam, tau, zeta
 
 # The paper's dimensional symbols (Eq. (40)): K_j = -k A < 0, C_j = -c A <= 0, dt > 0.
@@ -44,7 +44,7 @@ def degree(name: str) -> int:
 
 def structural_zero_eigenvalues(name: str) -> int:
     """Number of zero eigenvalues of ``G`` removed from its characteristic polynomial."""
-    return len(INTEGRATORS[name].state) - degree(name)
+    return len(lookup(name).state) - degree(name)
 
 
 def dimensional_polynomial(name: str) -> sp.Poly:
@@ -87,10 +87,10 @@ def discriminant(name: str) -> sp.Expr:
     raise NotImplementedError(f"{name}: degree {len(c) - 1}")
 
 
-def discriminant_factors(name: str) -> tuple[sp.Integer, list[tuple[sp.Expr, int]]]:
+def discriminant_factors(name: str) -> tuple[sp.Rational, list[tuple[sp.Expr, int]]]:
     """(constant, [(irreducible factor, multiplicity), ...]) of ``discriminant(name)``."""
     const, factors = sp.factor_list(discriminant(name), tau, zeta)
-    return sp.Integer(const), [(f, m) for f, m in factors]
+    return sp.Rational(const), [(f, m) for f, m in factors]
 
 
 def sqrt_abs_discriminant(name: str) -> sp.Expr:

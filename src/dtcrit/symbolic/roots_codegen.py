@@ -213,6 +213,8 @@ def dd_factor(f: sp.Expr) -> sp.Expr:
     poly = sp.Poly(f, tau, zeta)
     if len(poly.terms()) == 1:
         return f
+    if any(not c.is_Integer for c in poly.coeffs()):
+        return dd_rational(f)
     terms = [sp.Tuple(sp.Integer(c), i, j) for (i, j), c in sorted(poly.terms())]
     return DD_POLY(sp.Tuple(*terms), tau, zeta)
 

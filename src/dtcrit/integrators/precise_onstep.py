@@ -1,0 +1,66 @@
+"""Careful evaluation of the exact steps of the on-step-force schemes DEM codes ship (runtime; no SymPy).
+
+Both schemes evaluate the force, dashpot included, at (x_n, v_n); their boundaries are derived in
+``dtcrit.symbolic`` (``derivations/records/sec4_stability.md``) and emitted as
+``dtcrit._generated.critical_steps.dt_<name>``.  Evaluated here from the mantissas and exponents of
+k, c, A (never forming k A or c A in float64), with omega = sqrt(k A), gamma = c A / 2,
+zeta = gamma / omega:
+
+* ``extended-taylor`` (Chrono DEM-Engine, Kratos Taylor): omega dt = min(4 zeta, 1/zeta), i.e.
+  ``dt = min(2 c / k, 2 / (c A))`` -- two divisions, no root, no cancellation; 0 when c = 0;
+* ``adams-bashforth-2`` (MFiX): for zeta >= sqrt(3)/6 ``dt = 1 / (c A)``; below it tau* is the root
+  of tau^3 - 2 zeta tau^2 - 8 zeta^2 tau - 8 zeta = tau (tau - 4 zeta)(tau + 2 zeta) - 8 zeta, so
+  ``dt = (4 c / k) / ((tau* - 4 zeta)(tau* + 2 zeta))``: the lead 4c/k straight from the inputs and
+  the computed root (the generated cubic solver) only in the denominator, where tau* - 4 zeta is
+  at least (sqrt(3)/3) tau* (no cancellation).
+
+``tests/test_integrators_engines.py`` checks both against the 50-digit boundary and in ulps.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from dtcrit._generated import critical_steps as _gen
+
+SCHEMES = ("extended-taylor", "adams-bashforth-2")
+_AB2_SWITCH = np.sqrt(3.0) / 6.0
+
+
+def _split(k, c, A):
+    k, c, A = (np.asarray(v, dtype=float) for v in (k, c, A))
+    return np.frexp(k) + np.frexp(c) + np.frexp(A)
+
+
+def extended_taylor(k, c, A) -> np.ndarray:
+    """dt = min(2c/k, 2/(cA)) (0 when c = 0)."""
+    mk, ek, mc, ec, mA, eA = _split(k, c, A)
+    with np.errstate(all="ignore"):
+        spring = np.ldexp(2.0 * mc / mk, ec - ek)
+        dashpot = np.ldexp(2.0 / (mc * mA), -(ec + eA))
+        return np.where(mc > 0, np.minimum(spring, dashpot), 0.0)
+
+
+def adams_bashforth_2(k, c, A) -> np.ndarray:
+    """dt = 1/(cA) for zeta >= sqrt(3)/6, else (4c/k)/((tau - 4 zeta)(tau + 2 zeta)) (0 when c = 0)."""
+    mk, ek, mc, ec, mA, eA = _split(k, c, A)
+    e = ek + eA
+    odd = e & 1
+    w = np.sqrt(mk * mA * np.where(odd, 2.0, 1.0))  # omega = w 2^s
+    s = (e - odd) // 2
+    with np.errstate(all="ignore"):
+        z = np.ldexp(mc * mA * 0.5, np.clip(ec + eA - s, -1100, 1100)) / w
+        dashpot = np.ldexp(1.0 / (mc * mA), -(ec + eA))
+        zs = np.where(z < _AB2_SWITCH, z, 0.25)
+        t = _gen._cubic_positive_root(-2.0 * zs, -8.0 * zs * zs, -8.0 * zs, False)
+        lead = np.ldexp(4.0 * mc / mk, ec - ek)
+        cubic = lead / ((t - 4.0 * zs) * (t + 2.0 * zs))
+        out = np.where(z < _AB2_SWITCH, cubic, dashpot)
+        return np.where(mc > 0, out, 0.0)
+
+
+CAREFUL = {"extended-taylor": extended_taylor, "adams-bashforth-2": adams_bashforth_2}
+
+
+def steps(integrator: str, k, c, A) -> np.ndarray:
+    """The careful exact step of one of ``SCHEMES`` for arrays of k, c, A."""
+    return CAREFUL[integrator](k, c, A)

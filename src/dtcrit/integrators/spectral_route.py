@@ -1,0 +1,63 @@
+"""The critical step of a scheme without an emitted closed form (a user-written one): the first
+step at which the spectral radius of its amplification matrix exceeds 1 (runtime; no SymPy).
+
+In scaled units (omega = sqrt(k A) = 1, zeta = c A / (2 omega), tau = omega dt) the amplification
+matrix of the update rule (``dtcrit.integrators.amplification.matrix_mp``) is evaluated at 50
+digits; tau is scanned on a geometric grid from 1e-12 to 1e4 (10 points a decade) for the first
+unstable point (rho > 1 + 1e-30), then bisected to 1e-20 relative.  Stability is taken from 0
+upwards, as ``dtcrit.symbolic.boundary.tau_crit_mp`` does: 0 when even tau = 1e-12 is unstable.
+``tests/test_user_rules.py`` checks it against the exact boundary roots of the built-in schemes.
+"""
+from __future__ import annotations
+
+import math
+
+import mpmath as mp
+
+from dtcrit.errors import InputError
+from dtcrit.integrators.amplification import spectral_radius_mp
+
+DPS = 50
+_TOL = mp.mpf(10) ** -30
+
+
+def _unstable(integrator, t, z) -> bool:
+    return spectral_radius_mp(integrator, t, z, dps=DPS) > 1 + _TOL
+
+
+def tau_crit(integrator, zeta) -> float:
+    """tau* (float) of ``integrator`` at damping ratio ``zeta`` (0: no stable step; inf: none found up to 1e4)."""
+    with mp.workdps(DPS):
+        z = mp.mpf(zeta)
+        grid = [mp.mpf(10) ** (mp.mpf(e) / 10) for e in range(-120, 41)]
+        lo = mp.mpf(0)
+        for t in grid:
+            if _unstable(integrator, t, z):
+                hi = t
+                break
+            lo = t
+        else:
+            return math.inf
+        if lo == 0:
+            return 0.0
+        while hi - lo > mp.mpf(10) ** -20 * hi:
+            mid = (lo + hi) / 2
+            if _unstable(integrator, mid, z):
+                hi = mid
+            else:
+                lo = mid
+        return float(lo)
+
+
+def critical_dt_spectral(integrator, k, c, A) -> float:
+    """dt* [s] for one contact mode (k > 0, c >= 0, A > 0) from the spectral radius."""
+    with mp.workdps(DPS):
+        w = mp.sqrt(mp.mpf(k) * mp.mpf(A))
+        if w == 0:
+            raise InputError("k", "the spectral route needs k A > 0")
+        z = mp.mpf(c) * mp.mpf(A) / (2 * w)
+        t = tau_crit(integrator, z)
+        dt = float(mp.mpf(t) / w) if math.isfinite(t) else math.inf
+    if math.isinf(dt) and math.isfinite(t):
+        raise InputError("k", "the critical step lies beyond the float64 range; rescale the units and retry")
+    return dt
