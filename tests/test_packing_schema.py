@@ -46,3 +46,18 @@ def test_the_schema_rejects_what_it_should(capsys):
     del bad["units"]["dt_crit"]
     with pytest.raises(jsonschema.ValidationError):
         jsonschema.validate(bad, SCHEMA)
+
+
+def test_certificate_and_bracket_keys(capsys):
+    """The certificate and the bracket are in the JSON and hold together: a certified lower end
+    2/sqrt(sigma) below dt_crit, and dt_safe (a rigorous lower bound) below both."""
+    doc = _doc(capsys, CASES["random"])
+    jsonschema.validate(doc, SCHEMA)
+    cert, br = doc["certificate"], doc["dt_bracket"]
+    assert cert["certified"] is True and cert["sigma"] > doc["omega_max"] ** 2
+    assert br["lower_from"] == "certificate" and br["upper"] == doc["dt_crit"]
+    assert doc["dt_safe"] <= br["lower"] <= br["upper"]
+    doc = _doc(capsys, CASES["lattice"] + ["--certify", "no", "--route", "matrix-free"])
+    jsonschema.validate(doc, SCHEMA)
+    assert doc["route"] == "matrix-free" and doc["certificate"]["certified"] is False
+    assert doc["dt_bracket"]["lower_from"] == "dt_safe" and doc["dt_bracket"]["lower"] == doc["dt_safe"]

@@ -46,6 +46,11 @@ def add_parser(subparsers) -> None:
     run.add_argument("--integrator", default="velocity-verlet", help="integrator for the damped bound (default velocity-verlet)")
     run.add_argument("--damping-ratio", type=float, default=0.0, help="modal damping ratio of the highest mode")
     run.add_argument("--solver", choices=("auto", "dense", "eigsh", "lobpcg"), default="auto")
+    run.add_argument("--route", choices=("auto", "assembled", "matrix-free"), default="auto",
+                     help="assembled sparse K, or K applied matrix-free from the contact list (auto: by size)")
+    run.add_argument("--certify", choices=("auto", "yes", "no"), default="auto",
+                     help="certify that no mode lies above omega_max^2 (1 + 1e-6) by an LDL^T inertia count "
+                          "(auto: up to 25k DOFs; yes: up to 1e5)")
     run.add_argument("--json", action="store_true", help="print the report as JSON")
     run.add_argument("--write-dump", metavar="PATH", help="also write the analysed sphere packing as a dump file")
     run.add_argument("--scale", metavar="SIZES", help="run the scale benchmark, e.g. 1e3,1e4,1e5")
@@ -102,7 +107,9 @@ def run_command(args) -> int:
         check_output_file(args.write_dump, "--write-dump")
     law = _law(args)
     packing = _packing(args)
-    report = analyse(packing, law, integrator=args.integrator, damping_ratio=args.damping_ratio, method=args.solver)
+    certify = {"auto": "auto", "yes": True, "no": False}[args.certify]
+    report = analyse(packing, law, integrator=args.integrator, damping_ratio=args.damping_ratio, method=args.solver,
+                     route=args.route, certify_step=certify)
     if report.n_contacts == 0:
         raise ValueError("packing: no two particles touch: no contact limits the step (nothing to analyse)")
     if not report.omega_max > 0:

@@ -55,6 +55,7 @@ from dtcrit.packing.assembly import damping_matrix, mass_diagonal, scale_symmetr
 from dtcrit.packing.eigen import largest_mode
 from dtcrit.packing.estimates import block_diagonal, gershgorin
 from dtcrit.packing.model import Contacts, Packing
+from dtcrit.packing.operator import CombinedOperator, damping_operator, stiffness_operator
 
 
 LAGGED = ("leapfrog", "symplectic-euler", "velocity-verlet")
@@ -77,9 +78,25 @@ class DampedStep:
     solves: int
 
 
-def scaled_matrices(packing: Packing, contacts: Contacts):
-    """``(K~, C~)`` in the symmetric mass-scaled form (module docstring)."""
+def use_operator(packing: Packing, route: str = "auto") -> bool:
+    """Whether ``route`` (``"auto"``, ``"assembled"``, ``"matrix-free"``) means matrix-free here: ``"auto"``
+    follows ``dtcrit.packing.report``'s measured threshold."""
+    import dtcrit.packing.operator_kernels as operator_kernels
+    from dtcrit.packing.report import NUMPY_OPERATOR_DOFS, OPERATOR_DOFS
+
+    if route == "auto":
+        return packing.dofs > (OPERATOR_DOFS if operator_kernels.available() else NUMPY_OPERATOR_DOFS)
+    if route not in ("assembled", "matrix-free"):
+        raise InputError("route", f"unknown route {route!r}; choose one of auto, assembled, matrix-free")
+    return route == "matrix-free"
+
+
+def scaled_matrices(packing: Packing, contacts: Contacts, route: str = "assembled"):
+    """``(K~, C~)`` in the symmetric mass-scaled form (module docstring), assembled or, with
+    ``route="matrix-free"`` (or ``"auto"`` above the threshold), as ``dtcrit.packing.operator``s."""
     d = mass_diagonal(packing)
+    if use_operator(packing, route):
+        return (stiffness_operator(packing, contacts, mass_diag=d), damping_operator(packing, contacts, mass_diag=d))
     k = scale_symmetric(stiffness_matrix(packing, contacts), d, inplace=True)
     c = scale_symmetric(damping_matrix(packing, contacts), d, inplace=True)
     return k, c
@@ -94,7 +111,8 @@ def lagged_lower_bound(k, c) -> float:
     positive semi-definite element by element (springs only: no pre-load term)."""
     ones = np.ones(k.shape[0])
     alpha = _upper_bound(k, ones)
-    beta = _upper_bound(c, ones) if c.nnz else 0.0
+    zero = c.is_zero if hasattr(c, "is_zero") else c.nnz == 0
+    beta = _upper_bound(c, ones) if not zero else 0.0
     if alpha <= 0:
         return math.inf
     return 4.0 / (beta + math.sqrt(beta * beta + 4.0 * alpha))
@@ -103,10 +121,13 @@ def lagged_lower_bound(k, c) -> float:
 def _lagged_root(k, c, omega2: float, method: str):
     """Newton's method on ``g(h)`` from ``h = 2/omega_max`` (module docstring)."""
     h = 2.0 / math.sqrt(omega2)
-    k, c = k.tocsr(), c.tocsr()
+    operator = isinstance(k, spla.LinearOperator)
+    if not operator:
+        k, c = k.tocsr(), c.tocsr()
     solves, v = 0, None
     for _ in range(60):
-        top = largest_mode((2.0 * h) * c + (h * h) * k, method)
+        a = CombinedOperator(c, 2.0 * h, k, h * h) if operator else (2.0 * h) * c + (h * h) * k
+        top = largest_mode(a, method)
         solves += 1
         v = top.vector
         slope = float(v @ (2.0 * (c @ v) + 2.0 * h * (k @ v)))
@@ -123,11 +144,12 @@ def _lagged_root(k, c, omega2: float, method: str):
 
 
 def damped_critical_dt(packing: Packing, contacts: Contacts, integrator: str = "velocity-verlet", *,
-                       method: str = "auto") -> DampedStep:
-    """The exact critical step of ``integrator`` on the packing with its contact dashpots."""
+                       method: str = "auto", route: str = "auto") -> DampedStep:
+    """The exact critical step of ``integrator`` on the packing with its contact dashpots (``route``:
+    assembled or matrix-free ``K~``, ``C~``, see ``scaled_matrices``)."""
     if integrator not in INTEGRATORS:
         raise InputError("integrator", f"unknown integrator {integrator!r}")
-    k, c = scaled_matrices(packing, contacts)
+    k, c = scaled_matrices(packing, contacts, route)
     top = largest_mode(k, method)
     if top.value <= 0:
         raise InputError("contacts", "the packing has no stiffness: no vibrating mode")
@@ -139,10 +161,12 @@ def damped_critical_dt(packing: Packing, contacts: Contacts, integrator: str = "
         if contacts.force_n is None or not np.any(contacts.force_n > 0):
             return lagged_lower_bound(k, c_part)
         tensile = replace(contacts, force_n=np.minimum(contacts.force_n, 0.0))
-        return lagged_lower_bound(scaled_matrices(packing, tensile)[0], c_part)
+        return lagged_lower_bound(scaled_matrices(packing, tensile, route)[0], c_part)
 
     if integrator in CENTRED or (integrator in LAGGED and not contacts.damped):
-        return DampedStep(dt_undamped, min(bound(c.multiply(0.0)), dt_undamped), dt_undamped,
+        undamped_c = c.multiply(0.0) if not isinstance(c, spla.LinearOperator) else damping_operator(
+            packing, replace(contacts, cn=None, cs=None, cr=None, ctw=None))
+        return DampedStep(dt_undamped, min(bound(undamped_c), dt_undamped), dt_undamped,
                           "2/omega_max (4M - h^2 K > 0)", top.vector, 1)
     if integrator in LAGGED:
         h, v, solves = _lagged_root(k, c, top.value, method)

@@ -55,6 +55,8 @@ class Estimate:
 
 def _abs_row_sums(a, weights=None, chunk: int = 1 << 18) -> np.ndarray:
     """``|A| w`` (``w`` = ones by default), block by block for a BSR matrix (no copy of ``|A|``)."""
+    if hasattr(a, "abs_row_sums"):  # matrix-free operator (dtcrit.packing.operator)
+        return a.abs_row_sums(weights)
     w = np.ones(a.shape[0]) if weights is None else np.asarray(weights, float)
     if not (hasattr(a, "blocksize") and a.blocksize == (6, 6)):
         return np.asarray(abs(a) @ w).reshape(-1)
@@ -97,7 +99,9 @@ def diagonal_stiffness(a, particle_id=_one_based) -> Estimate:
 def block_diagonal(a, particle_id=_one_based) -> Estimate:
     """Rigorous per-body bound ``omega^2 <= 2 max_p lambda_max(A_pp)`` (module docstring)."""
     n = a.shape[0] // 6
-    if hasattr(a, "blocksize") and a.blocksize == (6, 6):
+    if hasattr(a, "diagonal_blocks"):  # matrix-free operator (dtcrit.packing.operator)
+        blocks = a.diagonal_blocks()
+    elif hasattr(a, "blocksize") and a.blocksize == (6, 6):
         rows = np.repeat(np.arange(n), np.diff(a.indptr))
         on_diag = a.indices == rows
         blocks = np.zeros((n, 6, 6))
