@@ -11,7 +11,10 @@ from dtcrit.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
 SCHEMA = json.loads((ROOT / "src" / "dtcrit" / "schemas" / "dtcrit-codegen-1.json").read_text())
-EXAMPLES = sorted(p.name for p in (ROOT / "examples").glob("*.toml"))
+REFUSED = {"bonded_pair.toml", "rolling_resistance.toml"}
+"""Scenes with rotational springs or bonds, which the kernel does not carry: codegen refuses them
+(tests/test_codegen_cli.py::test_scenes_whose_springs_the_kernel_lacks_are_refused)."""
+EXAMPLES = sorted(p.name for p in (ROOT / "examples").glob("*.toml") if p.name not in REFUSED)
 
 
 def _doc(capsys, scene, lang):

@@ -65,7 +65,7 @@ def _build(args):
     from dtcrit.packing.contact_tables import read_contact_table, read_local_dump
     from dtcrit.packing.engines import engine_convention, engine_sphere_contacts, overlaps_of_pairs, with_arms
     from dtcrit.packing.pair_styles import apply_terms, parse_pair_style
-    from dtcrit.packing.yade_export_io import read_yade_export
+    from dtcrit.packing.yade_export_io import read_yade_audit
 
     yade_file = _is_yade_export(args.snapshot)
     convention = engine_convention(args.engine or ("yade" if yade_file else "lammps"))
@@ -76,8 +76,8 @@ def _build(args):
         if args.pair_style or args.local or args.contacts:
             raise ValueError("--engine: a YADE export carries its own contacts; --pair-style, --local and --contacts "
                              "do not apply")
-        packing, contacts, meta = read_yade_export(args.snapshot)
-        return packing, with_arms(packing, contacts, convention.arm), convention, "YADE's per-contact kn, ks (export)", meta
+        packing, contacts, meta = read_yade_audit(args.snapshot)  # YADE's kinematics (clumps too) applied on reading
+        return packing, contacts, convention, "YADE's per-contact kn, ks (export)", meta
     style = parse_pair_style(args.pair_style) if args.pair_style else None
     if args.contacts and (style or args.local):
         raise ValueError("--contacts: a contact table already gives each contact's stiffness; "

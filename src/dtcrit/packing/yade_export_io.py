@@ -4,8 +4,17 @@ with YADE's own per-contact ``kn``, ``ks`` (and ``kr``, ``ktw``, ``cn``, ``cs`` 
 
 A fixed body (all degrees of freedom blocked) is a wall to the others: it enters with an inertia
 ``FIXED_INERTIA`` times the largest free one, which leaves the free bodies' frequencies unchanged to
-~1e-150 relative.  Clumps are not analysed yet (refused with a line saying so).  The periodic cell
-must be orthogonal.
+~1e-150 relative.  The periodic cell must be orthogonal.
+
+Two readers:
+
+* ``read_yade_export`` -- spheres only: the packing and the exported contacts with centre-line arms,
+  for ``dtcrit.packing.engines.with_arms(..., "yade")`` to apply YADE's kinematics;
+* ``read_yade_audit`` -- any export, clumps included (``dtcrit.packing.yade_clumps``): each clump one
+  rigid body, the contacts already carrying YADE's kinematics (arms from each body's centre of
+  mass, ``alpha k_s``); for a sphere-only export with ``avoidGranularRatcheting`` on (YADE's default)
+  it gives what ``with_arms`` gives on ``read_yade_export``'s contacts, and it also follows the
+  export's ``avoid_granular_ratcheting`` when that is off.
 """
 from __future__ import annotations
 
@@ -55,9 +64,7 @@ def _box(doc: dict, path: Path) -> Box | None:
     return Box(np.zeros(3), np.diag(cell).copy(), (True, True, True))
 
 
-def read_yade_export(path) -> tuple[Packing, Contacts, dict]:
-    """``(packing, contacts with YADE's terms, metadata)`` from an export file."""
-    path = Path(path)
+def _load(path: Path) -> tuple[dict, list, list]:
     try:
         doc = json.loads(path.read_text(encoding="utf-8-sig"))
     except OSError as exc:
@@ -70,13 +77,57 @@ def read_yade_export(path) -> tuple[Packing, Contacts, dict]:
     bodies, inters = doc.get("bodies"), doc.get("interactions")
     if not isinstance(bodies, list) or not bodies or not isinstance(inters, list):
         raise InputError(f"{path}: bodies", "the export needs a non-empty 'bodies' list and an 'interactions' list")
+    return doc, bodies, inters
+
+
+def _meta(doc: dict) -> dict:
+    return {"dt": doc.get("dt"), "iter": doc.get("iter"), "yade_version": doc.get("yade_version"),
+            "newton_damping": doc.get("newton_damping")}
+
+
+def _label(path: Path, doc: dict, clumps: int = 0) -> str:
+    extra = f", {clumps} clumps as rigid bodies" if clumps else ""
+    return f"{path.name}, YADE iteration {doc.get('iter', '?')}{extra}"
+
+
+def read_yade_audit(path) -> tuple[Packing, Contacts, dict]:
+    """``(packing, contacts with YADE's terms and kinematics, metadata)`` from any export, clumps
+    included (module docstring; ``dtcrit.packing.yade_clumps``).  The packing's ``radii`` are bounding
+    radii and ``orientations`` the clumps' (identity for spheres)."""
+    from dtcrit.packing.yade_clumps import rigid_bodies, yade_contacts
+
+    path = Path(path)
+    doc, bodies, inters = _load(path)
+    rb = rigid_bodies(bodies, path)
+    masses, inertia = rb.masses.copy(), rb.inertia.copy()
+    if rb.fixed.all():
+        raise InputError(f"{path}: bodies", "every body is fixed: nothing moves")
+    if rb.fixed.any():
+        masses[rb.fixed] = FIXED_INERTIA * masses[~rb.fixed].max()
+        inertia[rb.fixed] = FIXED_INERTIA * inertia[~rb.fixed].max()
+    box = _box(doc, path)
+    x = rb.positions if box is None else np.mod(rb.positions, box.lengths)
+    packing = Packing(x, masses, inertia, rb.radii, box=box, orientations=rb.rotations if rb.clumps else None,
+                      half_lengths=np.repeat(rb.radii[:, None], 3, 1), label=_label(path, doc, rb.clumps), ids=rb.ids)
+    ratcheting = doc.get("avoid_granular_ratcheting")
+    contacts = yade_contacts(rb, inters, path, box=box, wrapped=x, ratcheting=ratcheting is not False)
+    return packing, contacts, {**_meta(doc), "clumps": rb.clumps}
+
+
+def read_yade_export(path) -> tuple[Packing, Contacts, dict]:
+    """``(packing, contacts with YADE's terms, metadata)`` from a sphere-only export; arms along the
+    centre line, to be given YADE's kinematics by ``with_arms`` (an export with clumps: use
+    ``read_yade_audit``)."""
+    path = Path(path)
+    doc, bodies, inters = _load(path)
     ids, x, radii, masses, inertia, fixed = [], [], [], [], [], []
     for k, b in enumerate(bodies):
         where = f"{path}: bodies[{k}]"
         if not isinstance(b, dict):
             raise InputError(where, "expected an object")
         if b.get("is_clump") or b.get("clump_id") is not None:
-            raise InputError(where, "clumps are not analysed by dtcrit audit yet")
+            raise InputError(where, "a clump: this reader takes spheres only (clump exports are read by "
+                                    "dtcrit.packing.yade_export_io.read_yade_audit)")
         if b.get("radius") is None:
             raise InputError(where, "only spheres are analysed (this body has no radius)")
         ids.append(int(_number(f"{where}.id", b.get("id"))))
@@ -96,7 +147,7 @@ def read_yade_export(path) -> tuple[Packing, Contacts, dict]:
     if box is not None:
         x = np.mod(x, box.lengths)
     packing = Packing(x, masses, inertia, np.array(radii), box=box, half_lengths=np.repeat(np.array(radii)[:, None], 3, 1),
-                      label=f"{path.name}, YADE iteration {doc.get('iter', '?')}", ids=np.array(ids))
+                      label=_label(path, doc), ids=np.array(ids))
     lookup = {v: k for k, v in enumerate(ids)}
     pairs, terms = [], {key: [] for key in ("kn", "ks", "kr", "ktw", "cn", "cs", "fn")}
     for k, it in enumerate(inters):
@@ -123,6 +174,4 @@ def read_yade_export(path) -> tuple[Packing, Contacts, dict]:
         raise InputError(f"{path}: interactions", "negative stiffness")
     contacts = contacts.with_stiffness(col["kn"], col["ks"], col["kr"], col["ktw"])
     contacts = contacts.with_damping(col["cn"], col["cs"]).with_normal_force(col["fn"])
-    meta = {"dt": doc.get("dt"), "iter": doc.get("iter"), "yade_version": doc.get("yade_version"),
-            "newton_damping": doc.get("newton_damping")}
-    return packing, contacts, meta
+    return packing, contacts, _meta(doc)

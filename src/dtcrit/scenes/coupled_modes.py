@@ -20,7 +20,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from dtcrit.integrators.schemes import INTEGRATORS
 from dtcrit.integrators.stability import mode_dt
@@ -114,6 +113,8 @@ def block_step(integrator: str, a_ss: float, a_sr: float, a_rr: float, a_det: fl
         hi = 2.0 / math.sqrt(omega2) if omega2 > 0 else 2.0 / lam_c
         while g(hi) < 0:
             hi *= 2.0
+        from scipy.optimize import brentq  # SciPy only when a damped coupled mode needs the root (start-up)
+
         dt = brentq(g, 0.0, hi, xtol=1e-300, rtol=4.0 * np.finfo(float).eps, maxiter=200)
         return BlockStep(dt, omega2, zeta, "root of lambda_max(2 h C~ + h^2 K~) = 4 (exact for the lagged schemes)")
     h0 = 2.0 / math.sqrt(omega2) if omega2 > 0 else 2.0 / lam_c

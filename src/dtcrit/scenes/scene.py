@@ -284,14 +284,30 @@ def _bond_contact(prefix: str, table: dict, particles: list[Particle], out_warni
 # ----------------------------------------------------------------------------------------------
 # Entry points
 # ----------------------------------------------------------------------------------------------
-def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
-    """Validate a parsed TOML document (a dict) and build the :class:`Scene`."""
+def _integrator(value) -> tuple[str, str]:
+    """(scheme key, note) of the ``integrator`` entry: a scheme key, a DEM code's name (resolved by
+    ``dtcrit.integrators.engines``: the note says which scheme it means), or an ``[integrator]`` table
+    of update rules (``dtcrit.integrators.user_rules``: parsed from an allow-listed AST, never evaluated,
+    and registered for this run)."""
+    from dtcrit.integrators.engines import resolve_integrator
     from dtcrit.integrators.stability import check_integrator
 
+    if isinstance(value, dict):
+        from dtcrit.integrators.user_rules import parse_integrator, register
+
+        name = register(parse_integrator(value, "integrator"))
+        return name, (f"note: user-written scheme '{name}': its step is the exact stability boundary of the "
+                      "amplification matrix its rules define")
+    scheme, note = resolve_integrator(_string("integrator", value))
+    return check_integrator(scheme), (f"note: {note}" if note else "")
+
+
+def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
+    """Validate a parsed TOML document (a dict) and build the :class:`Scene`."""
     if not isinstance(doc, dict):
         raise InputError("scene", "must be a TOML table")
     _check_keys("", doc, TOP_KEYS, TOP_KEYS, "at the top level")
-    integrator = check_integrator(_string("integrator", _required("", doc, "integrator", "the integrator name")))
+    integrator, integrator_note = _integrator(_required("", doc, "integrator", "the integrator name (or a table)"))
     omega_max = _number("omega_max", doc["omega_max"]) if "omega_max" in doc else None
     safety = _number("safety", doc["safety"], hi=1.0) if "safety" in doc else 1.0
     if safety < MIN_SAFETY:
@@ -323,7 +339,7 @@ def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
     particles = [_particle(n + 1, t) for n, t in enumerate(tables)]
     if "pairs" in doc and len(particles) == 1 and pairs != "all":
         raise InputError("pairs", "'unlike' needs two or more [[particle]] tables")
-    found: list[tuple[str, str]] = []
+    found: list[tuple[str, str]] = [("integrator", integrator_note)] if integrator_note else []
     walls = parse_walls(doc["wall"], len(particles), found) if "wall" in doc else ()
 
     law, particles = _contact(_required("", doc, "contact", "the [contact] table"), particles, found)

@@ -82,7 +82,9 @@ class StepResult:
     def formula(self) -> str:
         from dtcrit._generated.critical_steps import FORMULAS
 
-        return FORMULAS[self.scene.integrator]
+        return FORMULAS.get(self.scene.integrator,
+                            "exact stability boundary of the amplification matrix of the user-written rules "
+                            "(50-digit spectral radius, bisection)")
 
     def to_json(self) -> dict:
         """The documented JSON form (schema ``dtcrit-step/1``; see README.md, section Scene files)."""
