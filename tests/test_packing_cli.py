@@ -118,3 +118,22 @@ def test_scaling_helpers():
     assert row["n"] == 108 and row["dense_rel_diff"] < 1e-7
     assert row["estimates"]["block_diagonal"] >= row["omega2"] * (1 - 1e-9)  # omega^2 bounds: above
     assert row["estimates"]["rayleigh"] <= row["omega2"] * (1 + 1e-9)
+
+
+def test_a_packing_too_big_for_the_memory_is_refused_before_any_work(capsys, monkeypatch):
+    """fcc --cells 200 is 32 million spheres: refused at once with the estimate, not a MemoryError after
+    a minute (the estimate is per sphere as measured by the scale benchmark)."""
+    import time
+
+    import dtcrit.packing.memory as memory
+
+    monkeypatch.setattr(memory, "available_bytes", lambda: 24.0 * 2**30)
+    start = time.perf_counter()
+    assert main(["packing", "--lattice", "fcc", "--cells", "200", "--kn", "1"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.splitlines()) == 1 and "32,000,000 spheres need about" in err and "GiB available" in err
+    assert time.perf_counter() - start < 5.0
+    assert main(["packing", "--random", "100000000", "--kn", "1"]) == 2
+    assert "100,000,000 spheres" in capsys.readouterr().err
+    # a packing that fits is not refused, and the estimate grows with the size
+    assert memory.estimated_bytes(10**6, 12) < 24.0 * 2**30 < memory.estimated_bytes(32 * 10**6, 12)

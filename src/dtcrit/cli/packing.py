@@ -83,9 +83,17 @@ def _packing(args):
                          + (f" (got {', '.join(chosen)})" if chosen else ""))
     if args.file is not None:
         return read_dump(args.file, density=args.density, snapshot=args.snapshot)
+    from dtcrit.packing.lattices import COORDINATION, _BASIS
+    from dtcrit.packing.memory import check_fits
+
     density = DEFAULT_DENSITY if args.density is None else args.density
     if args.lattice is not None:
+        if isinstance(args.cells, int) and args.cells > 0:
+            check_fits(len(_BASIS[args.lattice][0]) * args.cells**3, COORDINATION[args.lattice], args.route,
+                       key="--cells")
         return lattice(args.lattice, args.cells, radius=args.radius, density=density)
+    if isinstance(args.random, int) and args.random > 0:
+        check_fits(args.random, args.cn if math.isfinite(args.cn) else 12.0, args.route, key="--random")
     return random_packing(args.random, cn=args.cn, sizes=args.sizes, radius=args.radius, spread=args.spread,
                           density=density, seed=args.seed)
 
