@@ -16,6 +16,10 @@ from dtcrit.integrators.schemes import INTEGRATORS, USER_INTEGRATORS
 ENGINES: dict[str, tuple[str, str, str]] = {
     "lammps": ("velocity-verlet", "v_{n+1/2}", "LAMMPS fix nve/sphere (fix_nve_sphere.cpp), pair gran/*"),
     "liggghts": ("velocity-verlet", "v_{n+1/2}", "LIGGGHTS fix nve/sphere (fix_nve_sphere.cpp)"),
+    "liggghts-superquadric": ("velocity-verlet", "v_{n+1/2}",
+                              "LIGGGHTS fix nve/superquadric (fix_nve_asphere_base.cpp): v and the angular momentum "
+                              "get half kicks around the drift for every integration_scheme 0-4; the schemes differ "
+                              "only in the orientation (quaternion) update, which the linear step does not see"),
     "pfc": ("velocity-verlet", "v_{n+1/2}", "PFC documentation: velocities half a step out of phase"),
     "mercurydpm": ("velocity-verlet", "v_{n+1/2}", "MercuryDPM DPMBase::computeOneTimeStep (velocity Verlet)"),
     "yade": ("leapfrog", "v_{n-1/2}", "YADE NewtonIntegrator (leapfrog; velocities at half steps)"),
