@@ -1,12 +1,15 @@
 """``dtcrit packing``: global eigenmode analysis of a packing (Otsubo et al. 2017).
 
     dtcrit packing FILE [--density RHO]                    a LAMMPS / LIGGGHTS dump file
+    dtcrit packing BODIES.json                             non-spherical bodies (dtcrit-bodies/1)
     dtcrit packing --lattice fcc --cells 4 [--radius R]    a periodic lattice
     dtcrit packing --random 500 --cn 6 [--sizes lognormal --spread 0.3] [--seed 1]
     dtcrit packing --scale 1e3,1e4,1e5                     the scale benchmark (table)
 
 Contact law (required: the step scales with it): ``--kn/--ks`` linear springs (``--ks`` defaults to
 ``--kn``) or ``--youngs/--poisson`` for Hertz-Mindlin tangent stiffness at each contact's overlap.
+A FILE whose first character is ``{`` is a bodies file (``dtcrit.packing.bodies_file``); its own
+``contacts`` list, when given, replaces the command-line law.
 """
 from __future__ import annotations
 
@@ -23,7 +26,8 @@ def add_parser(subparsers) -> None:
         "packing", help="critical time step of a whole packing from its largest eigenfrequency",
         description="Global eigenmode analysis of a DEM packing (Otsubo, O'Sullivan & Shire 2017): "
                     "dt_crit = 2/omega_max beside the cheap estimates.")
-    p.add_argument("file", nargs="?", help="LAMMPS/LIGGGHTS text dump (ITEM: ATOMS id type x y z radius [mass])")
+    p.add_argument("file", nargs="?", help="LAMMPS/LIGGGHTS text dump (ITEM: ATOMS id type x y z radius [mass]), "
+                                           "or a dtcrit-bodies/1 JSON file of non-spherical bodies")
     src = p.add_argument_group("generated packings")
     src.add_argument("--lattice", choices=("sc", "bcc", "fcc", "hcp"), help="periodic lattice")
     src.add_argument("--cells", type=int, default=2, help="lattice cells along each axis (default 2)")
@@ -71,6 +75,21 @@ def _law(args):
     return LinearLaw(args.kn, args.kn if args.ks is None else args.ks)
 
 
+def _bodies(args):
+    """The ``dtcrit-bodies/1`` file FILE names, or None when FILE is not one (then it is a dump)."""
+    from dtcrit.packing.bodies_file import is_bodies_file, read_bodies_file
+
+    if args.file is None or args.lattice is not None or args.random is not None or not is_bodies_file(args.file):
+        return None
+    for flag, value in (("--density", args.density), ("--write-dump", args.write_dump)):
+        if value is not None:
+            raise ValueError(f"{flag}: not used with a bodies file (each body's shape gives its density or mass; "
+                             "a dump holds spheres only)")
+    from dtcrit.scenes.scene import parse_particle  # the scenes' [[particle]] parser
+
+    return read_bodies_file(args.file, parse_particle)
+
+
 def _packing(args):
     from dtcrit.packing.dump_io import read_dump
     from dtcrit.packing.lattices import lattice
@@ -113,10 +132,17 @@ def run_command(args) -> int:
         from dtcrit.cli.outputs import check_output_file
 
         check_output_file(args.write_dump, "--write-dump")
-    law = _law(args)
-    packing = _packing(args)
+    bodies = _bodies(args)
+    if bodies is not None and bodies.stiffness_given:
+        if args.kn is not None or args.ks is not None or args.youngs is not None:
+            raise ValueError(f"kn: {args.file} lists each contact's kn and ks; drop --kn/--ks/--youngs")
+        law = None
+    else:
+        law = _law(args)
+    packing = _packing(args) if bodies is None else bodies.packing
+    contacts = None if bodies is None else bodies.contacts
     certify = {"auto": "auto", "yes": True, "no": False}[args.certify]
-    report = analyse(packing, law, integrator=args.integrator, damping_ratio=args.damping_ratio, method=args.solver,
+    report = analyse(packing, law, contacts, integrator=args.integrator, damping_ratio=args.damping_ratio, method=args.solver,
                      route=args.route, certify_step=certify)
     if report.n_contacts == 0:
         raise ValueError("packing: no two particles touch: no contact limits the step (nothing to analyse)")

@@ -164,7 +164,8 @@ def two_particle_amax(packing: Packing, contacts: Contacts) -> Estimate:
     w = np.maximum(contacts.kn, contacts.ks) * peng_a_max(packing, contacts)
     c = int(np.argmax(w))
     return Estimate("two_particle_amax", float(w[c]), "heuristic",
-                    f"Eq. (48) at contact {c} (particles {int(contacts.i[c])}-{int(contacts.j[c])})")
+                    f"Eq. (48) at the contact of particles {packing.particle_id(contacts.i[c])} and "
+                    f"{packing.particle_id(contacts.j[c])}")
 
 
 def two_particle_exact(packing: Packing, contacts: Contacts, omega2_c: np.ndarray | None = None) -> Estimate:
@@ -174,7 +175,7 @@ def two_particle_exact(packing: Packing, contacts: Contacts, omega2_c: np.ndarra
     w = single_contact_frequencies(packing, contacts) if omega2_c is None else omega2_c
     c = int(np.argmax(w))
     return Estimate("two_particle_exact", float(w[c]), "upper bound on dt",
-                    f"contact {c} (particles {int(contacts.i[c])}-{int(contacts.j[c])}) alone")
+                    f"the contact of particles {packing.particle_id(contacts.i[c])} and {packing.particle_id(contacts.j[c])} alone")
 
 
 def contact_mode(packing: Packing, contacts: Contacts, c: int) -> np.ndarray:

@@ -165,6 +165,12 @@ def _particle(number: int, table: Any) -> Particle:
 # ----------------------------------------------------------------------------------------------
 # Contact law
 # ----------------------------------------------------------------------------------------------
+parse_particle = _particle
+"""The scenes' ``[[particle]]`` table parser, ``parse_particle(number, table) -> Particle`` (also read
+by ``dtcrit.packing.bodies_file`` through the command line, which passes it in: the packing layer
+comes before the scenes)."""
+
+
 def _per_particle(key: str, value: Any, n: int, **limits) -> tuple[float, ...]:
     """A scalar (all particle types) or an array with one entry per particle type."""
     if isinstance(value, list):

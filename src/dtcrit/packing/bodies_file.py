@@ -1,0 +1,357 @@
+"""Packings of non-spherical bodies from a JSON file, schema ``dtcrit-bodies/1``.
+
+The file (UTF-8 JSON, one object)::
+
+    {"schema": "dtcrit-bodies/1",
+     "box": {"lo": [x, y, z], "hi": [x, y, z], "periodic": [true, true, false]},   (or null: no box)
+     "bodies": [
+       {"id": 1,
+        "shape": {"shape": "ellipsoid", "semi_axes": [a, b, c], "density": 2650.0},
+        "position": [x, y, z],
+        "orientation": [qw, qx, qy, qz]},
+       ...],
+     "contacts": [{"id1": 1, "id2": 2, "kn": 1e5, "ks": 8e4}, ...]}               (optional)
+
+* ``shape`` holds the keys of a scene's ``[[particle]]`` table (README, Scene files) and is read by
+  the scenes' own parser: ``shape`` is one of ``sphere`` (``radius``), ``ellipsoid`` (``semi_axes``,
+  largest first), ``superquadric`` (``semi_axes``, ``exponents``), ``box`` (``half_lengths``),
+  ``polyhedron`` (``vertices``), ``clump`` (``spheres`` ``[[x, y, z, r], ...]``), with exactly one
+  of ``density`` [kg/m^3] or ``mass`` [kg].  A body is one particle: size distributions (``radii``,
+  ``lognormal``) and the elastic constants (the contact law comes from ``contacts`` or the command
+  line) are refused.
+* ``position`` [m] places the origin of the frame the shape's dimensions are given in: the centre
+  of a sphere, ellipsoid, superquadric or box; the origin of a polyhedron's ``vertices`` or a
+  clump's ``spheres``, whose centre of mass is then at ``position + R(q) c`` (``c`` the centroid in
+  that frame, ``ConvexPolyhedron.centroid``, ``Clump.centre_of_mass``).
+* ``orientation`` (optional, default ``[1, 0, 0, 0]``) is the unit quaternion of the body's
+  orientation, body to world, ``v_world = R(q) v_body`` (README, One rotation convention; Peng et
+  al. 2020, Eq. (7)); it must have unit length to 1e-6 and is then normalised.  Polyhedra and
+  clumps are analysed in their principal frame, ``R(q)`` times the shape's own frame rotation.
+* ``id`` distinct integers, the names bodies carry in messages and contacts.
+* ``contacts`` (optional) gives each touching pair its springs ``kn``, ``ks`` [N/m].  Contact
+  points and normals always come from the geometry (below); every listed pair must touch, and
+  every touching pair must be listed (``kn = ks = 0`` leaves one out).  Without the list the
+  command line's ``--kn/--ks`` (or ``--youngs`` for sphere and clump-member contacts) applies.
+
+Contacts (:func:`find_body_contacts`): convex bodies by their support-function penetration
+(``dtcrit.packing.contacts.find_convex_contacts``: normal along the minimum-translation
+direction, contact point halfway between the two deepest support points).  A clump is its member
+spheres: members of different bodies meet like convex bodies, the arms are measured from the
+clump's centre of mass (issue 16: contacts sit at member surfaces), and members of one clump never
+touch each other.  Periodic axes use the box's images as for spheres.
+
+Bad input raises one ``InputError`` whose key names the file and the entry,
+``FILE: bodies[3].shape.semi_axes``: arrays of the file count from 0, as JSON does; entries inside
+a shape table count from 1, as in scene files.
+"""
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from dtcrit.errors import InputError
+from dtcrit.packing.contacts import find_convex_contacts, wrap_positions
+from dtcrit.packing.model import Box, Contacts, Packing
+from dtcrit.packing.yade_clumps import rotation_from_quaternion
+
+SCHEMA = "dtcrit-bodies/1"
+TOP_KEYS = ("schema", "box", "bodies", "contacts")
+BOX_KEYS = ("lo", "hi", "periodic")
+BODY_KEYS = ("id", "shape", "position", "orientation")
+CONTACT_KEYS = ("id1", "id2", "kn", "ks")
+REFUSED_SHAPE_KEYS = {
+    "radii": "a body is one sphere: give its radius",
+    "fractions": "a body is one sphere: give its radius",
+    "lognormal": "a body is one sphere: give its radius",
+    "youngs_modulus": "not used in a bodies file: the contact law comes from 'contacts' or --kn/--ks/--youngs",
+    "poisson_ratio": "not used in a bodies file: the contact law comes from 'contacts' or --kn/--ks/--youngs",
+}
+UNIT_TOLERANCE = 1e-6
+"""Largest accepted ``| |q| - 1 |`` of an orientation (eight digits of 0.70710678 pass)."""
+MAX_BYTES = 64 << 20
+
+ParticleTable = Callable[[int, dict], object]
+"""``(number, table) -> particle`` with ``.shape`` (a ``dtcrit.bodies`` object), raising ``InputError``
+keyed ``particle[number].<key>``: the scenes' parser ``dtcrit.scenes.scene._particle``.  The packing
+layer sits below the scenes, so the caller hands the parser in (``dtcrit.cli.packing`` does)."""
+
+
+@dataclass(frozen=True)
+class BodiesFile:
+    """A read ``dtcrit-bodies/1`` file: the ``packing`` (``Packing.from_shapes`` with the file's ids),
+    its geometric ``contacts`` (with the file's ``kn``/``ks`` when ``stiffness_given``) and the
+    number of bodies of each shape ``kinds``."""
+
+    packing: Packing
+    contacts: Contacts
+    stiffness_given: bool
+    kinds: dict
+
+
+def is_bodies_file(path) -> bool:
+    """Whether ``path`` starts (after blanks and a byte-order mark) with ``{``; unreadable: False."""
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(4096)
+    except (OSError, ValueError):
+        return False
+    return head.removeprefix(b"\xef\xbb\xbf").lstrip().startswith(b"{")
+
+
+def _fail(where: str, reason: str) -> InputError:
+    return InputError(where, reason)
+
+
+def _keys(where: str, table: dict, allowed: tuple[str, ...]) -> None:
+    for key in table:
+        if key not in allowed:
+            raise _fail(f"{where}.{key}" if where else str(key),
+                        f"unknown key; valid keys here: {', '.join(allowed)}")
+
+
+def _numbers(where: str, value, size: int) -> np.ndarray:
+    ok = isinstance(value, list) and len(value) == size and all(
+        isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in value)
+    if not ok:
+        raise _fail(where, f"expected an array of {size} finite numbers, found {_short(value)}")
+    return np.array(value, dtype=float)
+
+
+def _short(value, limit: int = 60) -> str:
+    text = " ".join(repr(value).split())
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def _integer(where: str, value) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or abs(value) >= 2**63:
+        raise _fail(where, f"expected an integer id, found {_short(value)}")
+    return value
+
+
+def _stiffness(where: str, value) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0:
+        raise _fail(where, f"expected a finite stiffness >= 0 [N/m], found {_short(value)}")
+    return float(value)
+
+
+def _load(path: Path) -> dict:
+    try:
+        with path.open("rb") as handle:
+            data = handle.read(MAX_BYTES + 1)
+    except OSError as exc:
+        raise _fail(str(path), f"cannot read: {exc.strerror or exc}") from None
+    if len(data) > MAX_BYTES:
+        raise _fail(str(path), f"more than {MAX_BYTES} bytes: larger than a bodies file can be")
+    try:
+        doc = json.loads(data.decode("utf-8-sig"))
+    except UnicodeDecodeError as exc:
+        raise _fail(str(path), f"not UTF-8 text (byte {exc.start}); a bodies file is JSON") from None
+    except json.JSONDecodeError as exc:
+        raise _fail(f"{path}:{exc.lineno}", f"not valid JSON: {exc.msg}") from None
+    except RecursionError:
+        raise _fail(str(path), "not a bodies file: arrays nested too deeply") from None
+    if not isinstance(doc, dict):
+        raise _fail(str(path), f"a {SCHEMA} file is one JSON object")
+    return doc
+
+
+def _box(where: str, value) -> Box | None:
+    if value is None:
+        return None
+    if not isinstance(value, dict):
+        raise _fail(where, f"expected an object with lo, hi and periodic, or null; found {_short(value)}")
+    _keys(where, value, BOX_KEYS)
+    for key in BOX_KEYS:
+        if key not in value:
+            raise _fail(f"{where}.{key}", "missing: a box needs lo, hi and periodic")
+    lo, hi = _numbers(f"{where}.lo", value["lo"], 3), _numbers(f"{where}.hi", value["hi"], 3)
+    periodic = value["periodic"]
+    if not (isinstance(periodic, list) and len(periodic) == 3 and all(isinstance(p, bool) for p in periodic)):
+        raise _fail(f"{where}.periodic", f"expected three booleans, found {_short(periodic)}")
+    if np.any(hi <= lo):
+        raise _fail(f"{where}.hi", f"each upper bound must exceed its lower bound (lo = {lo.tolist()}, hi = {hi.tolist()})")
+    return Box(lo, hi, tuple(periodic))
+
+
+def _shape(where: str, table, particle_table: ParticleTable):
+    if not isinstance(table, dict):
+        raise _fail(where, f"expected an object with the keys of a scene's [[particle]] table, found {_short(table)}")
+    for key, why in REFUSED_SHAPE_KEYS.items():
+        if key in table:
+            raise _fail(f"{where}.{key}", why)
+    try:
+        return particle_table(1, table).shape
+    except InputError as exc:
+        tail = exc.key.removeprefix("particle[1]")
+        raise _fail(where + tail, exc.reason) from None
+
+
+def _orientation(where: str, value) -> np.ndarray:
+    if value is None:
+        return np.eye(3)
+    q = _numbers(where, value, 4)
+    norm = float(np.linalg.norm(q))
+    if abs(norm - 1.0) > UNIT_TOLERANCE:
+        raise _fail(where, f"not a unit quaternion (|q| = {norm:.9g}); give [qw, qx, qy, qz] with unit length")
+    return rotation_from_quaternion(where, list(q / norm))
+
+
+def _frame(shape) -> tuple[np.ndarray, np.ndarray]:
+    """``(G, c)`` with ``given = G principal + c`` for the shape's given frame (module docstring)."""
+    if hasattr(shape, "frame_rotation"):  # clump: x_given = Q x_principal + centre
+        return np.asarray(shape.frame_rotation, float), np.asarray(shape.centre_of_mass, float)
+    if hasattr(shape, "centroid") and hasattr(shape, "rotation"):  # polyhedron: local = rot (input - centroid)
+        return np.asarray(shape.rotation, float).T, np.asarray(shape.centroid, float)
+    return np.eye(3), np.zeros(3)
+
+
+def _bodies(path, doc: dict, particle_table: ParticleTable, box: Box | None):
+    bodies = doc.get("bodies")
+    if not isinstance(bodies, list) or not bodies:
+        raise _fail(f"{path}: bodies", "missing: a non-empty array of bodies")
+    ids, shapes, centres, rotations, seen = [], [], [], [], {}
+    for k, body in enumerate(bodies):
+        where = f"{path}: bodies[{k}]"
+        if not isinstance(body, dict):
+            raise _fail(where, f"expected an object with id, shape, position (and orientation), found {_short(body)}")
+        _keys(where, body, BODY_KEYS)
+        for key in ("id", "shape", "position"):
+            if key not in body:
+                raise _fail(f"{where}.{key}", "missing: a body needs id, shape and position")
+        bid = _integer(f"{where}.id", body["id"])
+        if bid in seen:
+            raise _fail(f"{where}.id", f"id {bid} is already used by bodies[{seen[bid]}]")
+        seen[bid] = k
+        shape = _shape(f"{where}.shape", body["shape"], particle_table)
+        position = _numbers(f"{where}.position", body["position"], 3)
+        rot = _orientation(f"{where}.orientation", body.get("orientation"))
+        g, c = _frame(shape)
+        ids.append(bid)
+        shapes.append(shape)
+        centres.append(position + rot @ c)
+        rotations.append(rot @ g)
+    x = wrap_positions(np.array(centres), box)
+    packing = Packing.from_shapes(shapes, x, np.array(rotations), box=box)
+    kinds: dict = {}
+    for s in shapes:
+        kinds[s.kind] = kinds.get(s.kind, 0) + 1
+    text = ", ".join(f"{n} {kind}{'s' if n > 1 else ''}" for kind, n in kinds.items())
+    label = f"{Path(path).name}: {text}" + (", periodic" if box is not None and any(box.periodic) else "")
+    return replace(packing, ids=np.array(ids, dtype=np.int64), label=label), kinds
+
+
+def _parts(packing: Packing):
+    """Convex parts: a convex body is one part, a clump one ``Sphere`` per member (module docstring).
+    Returns ``(owner, offset, shapes)`` with ``offset`` the part's centre from its body's, world frame."""
+    from dtcrit.bodies import Clump, Sphere
+
+    owner, offset, parts = [], [], []
+    for b, shape in enumerate(packing.shapes):
+        if isinstance(shape, Clump):
+            for cx, cy, cz, r in shape.spheres:
+                owner.append(b)
+                offset.append(packing.orientations[b] @ np.array([cx, cy, cz]))
+                parts.append(Sphere(float(r), mass=1.0))
+        else:
+            owner.append(b)
+            offset.append(np.zeros(3))
+            parts.append(shape)
+    return np.array(owner, dtype=np.int64), np.array(offset), parts
+
+
+def _sphere_radius(shape) -> float:
+    from dtcrit.bodies import Sphere
+
+    return float(shape.radius) if isinstance(shape, Sphere) else math.nan
+
+
+def find_body_contacts(packing: Packing, tolerance: float = 1e-9) -> Contacts:
+    """Contacts of a packing of convex bodies and clumps (module docstring), arms from each body's
+    centre of mass; ``radius_eff = R_1 R_2 / (R_1 + R_2)`` where two spheres (or clump members) meet."""
+    owner, offset, parts = _parts(packing)
+    rot = packing.orientations
+    x = wrap_positions(packing.positions, packing.box)
+    parts_packing = Packing.from_shapes(parts, x[owner] + offset, rot[owner], box=packing.box)
+    pc = find_convex_contacts(parts_packing, tolerance)
+    if pc.count == 0:
+        return pc
+    lengths = np.ones(3) if packing.box is None else packing.box.lengths
+    periodic = np.zeros(3, bool) if packing.box is None else np.array(packing.box.periodic)
+    xp = wrap_positions(parts_packing.positions, packing.box)
+    sep = xp[pc.j] + pc.image * lengths - xp[pc.i]
+    i, j = owner[pc.i], owner[pc.j]
+    # body j's image: x_j + S L = x_i + offset_a + sep - offset_b
+    image = np.where(periodic, np.rint((x[i] - x[j] + offset[pc.i] - offset[pc.j] + sep) / lengths), 0).astype(np.int64)
+    keep = (i != j) | np.any(image != 0, axis=1)  # members of one clump are one rigid body
+    r = np.array([_sphere_radius(s) for s in parts])
+    ra, rb = r[pc.i], r[pc.j]
+    contacts = Contacts(i=i, j=j, normal=pc.normal, arm_i=offset[pc.i] + pc.arm_i, arm_j=offset[pc.j] + pc.arm_j,
+                        overlap=pc.overlap, image=image, radius_eff=ra * rb / (ra + rb))
+    return contacts.subset(keep)
+
+
+def _listed_stiffness(path, doc: dict, packing: Packing, contacts: Contacts) -> Contacts:
+    rows = doc["contacts"]
+    if not isinstance(rows, list):
+        raise _fail(f"{path}: contacts", f"expected an array of {{id1, id2, kn, ks}} objects, found {_short(rows)}")
+    index = {int(b): k for k, b in enumerate(packing.ids)}
+    pairs = [frozenset((int(packing.ids[a]), int(packing.ids[b]))) for a, b in zip(contacts.i, contacts.j)]
+    springs: dict = {}
+    for k, row in enumerate(rows):
+        where = f"{path}: contacts[{k}]"
+        if not isinstance(row, dict):
+            raise _fail(where, f"expected an object with id1, id2, kn and ks, found {_short(row)}")
+        _keys(where, row, CONTACT_KEYS)
+        for key in CONTACT_KEYS:
+            if key not in row:
+                raise _fail(f"{where}.{key}", "missing: a contact needs id1, id2, kn and ks")
+        ids = []
+        for key in ("id1", "id2"):
+            bid = _integer(f"{where}.{key}", row[key])
+            if bid not in index:
+                raise _fail(f"{where}.{key}", f"no body has id {bid}")
+            ids.append(bid)
+        pair = frozenset(ids)
+        if pair in springs:
+            raise _fail(where, f"bodies {ids[0]} and {ids[1]} are already listed in contacts[{springs[pair][0]}]")
+        if pair not in pairs:
+            raise _fail(where, f"bodies {ids[0]} and {ids[1]} do not touch (no penetration between their surfaces)")
+        springs[pair] = (k, _stiffness(f"{where}.kn", row["kn"]), _stiffness(f"{where}.ks", row["ks"]))
+    missing = [p for p in pairs if p not in springs]
+    if missing:
+        a, b = (sorted(missing[0]) * 2)[:2] if len(missing[0]) == 1 else sorted(missing[0])
+        raise _fail(f"{path}: contacts", f"bodies {a} and {b} touch but are not listed; list every touching pair "
+                    "(kn = ks = 0 leaves one out)")
+    kn = np.array([springs[p][1] for p in pairs])
+    ks = np.array([springs[p][2] for p in pairs])
+    return contacts.with_stiffness(kn, ks)
+
+
+def load_bodies(doc, path, particle_table: ParticleTable, tolerance: float = 1e-9) -> BodiesFile:
+    """Validate a parsed ``dtcrit-bodies/1`` document (``path`` names it in messages) and build it."""
+    if not isinstance(doc, dict):
+        raise _fail(str(path), f"a {SCHEMA} file is one JSON object")
+    if doc.get("schema") != SCHEMA:
+        raise _fail(f"{path}: schema", f"expected {SCHEMA!r}, found {_short(doc.get('schema'))}")
+    for key in doc:
+        if key not in TOP_KEYS:
+            raise _fail(f"{path}: {key}", f"unknown key; valid keys here: {', '.join(TOP_KEYS)}")
+    if "box" not in doc:
+        raise _fail(f"{path}: box", "missing: give the box object, or null for none")
+    box = _box(f"{path}: box", doc["box"])
+    packing, kinds = _bodies(path, doc, particle_table, box)
+    contacts = find_body_contacts(packing, tolerance)
+    given = doc.get("contacts") is not None
+    if given:
+        contacts = _listed_stiffness(path, doc, packing, contacts)
+    return BodiesFile(packing, contacts, given, kinds)
+
+
+def read_bodies_file(path, particle_table: ParticleTable, tolerance: float = 1e-9) -> BodiesFile:
+    """Read and validate a ``dtcrit-bodies/1`` file (module docstring)."""
+    return load_bodies(_load(Path(path)), path, particle_table, tolerance)

@@ -1,0 +1,265 @@
+"""``dtcrit packing BODIES.json``: packings of non-spherical bodies from a ``dtcrit-bodies/1`` file
+(``dtcrit.packing.bodies_file``), against eigen-solves assembled here and the Python route."""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import jsonschema
+import numpy as np
+import pytest
+from scipy.linalg import eigh
+from scipy.spatial.transform import Rotation
+
+from dtcrit.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+SCHEMA = json.loads((ROOT / "src" / "dtcrit" / "schemas" / "dtcrit-packing-1.json").read_text())
+EXAMPLE = ROOT / "examples" / "packings" / "ellipsoids.json"
+RHO = 2650.0
+
+
+def _write(tmp_path, doc, name="bodies.json") -> str:
+    path = tmp_path / name
+    path.write_text(json.dumps(doc, indent=1))
+    return str(path)
+
+
+def _run(capsys, argv) -> dict:
+    assert main(["packing", *argv, "--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def _cross(r) -> np.ndarray:
+    return np.array([[0, -r[2], r[1]], [r[2], 0, -r[0]], [-r[1], r[0], 0]], float)
+
+
+def _pair_omega_max(m1, j1, r1, m2, j2, r2, n, kn, ks) -> float:
+    """Largest omega of two rigid bodies joined by one spring at arms ``r1``, ``r2`` (world frame):
+    DOFs (u1, theta1, u2, theta2); the contact points move by ``u + theta x r``; ``K = B^T C B``,
+    ``C = kn n n^T + ks (1 - n n^T)``; ``M = diag(m1, J1, m2, J2)``; dense generalized eigen-solve."""
+    b = np.hstack([-np.eye(3), _cross(r1), np.eye(3), -_cross(r2)])  # theta x r = -[r]x theta
+    c = kn * np.outer(n, n) + ks * (np.eye(3) - np.outer(n, n))
+    m = np.zeros((12, 12))
+    m[0:3, 0:3], m[3:6, 3:6], m[6:9, 6:9], m[9:12, 9:12] = m1 * np.eye(3), j1, m2 * np.eye(3), j2
+    return math.sqrt(eigh(b.T @ c @ b, m, eigvals_only=True).max())
+
+
+def _ellipsoid_mass_inertia(a, b, c, rho):
+    m = 4.0 / 3.0 * math.pi * a * b * c * rho
+    return m, np.diag([m * (b * b + c * c) / 5, m * (a * a + c * c) / 5, m * (a * a + b * b) / 5])
+
+
+def _quat(rotation: Rotation) -> list[float]:
+    x, y, z, w = rotation.as_quat()  # SciPy is scalar-last; the file is [qw, qx, qy, qz]
+    return [float(w), float(x), float(y), float(z)]
+
+
+# ---------------------------------------------------------------- (a) tip-to-tip ellipsoid pair
+
+def test_ellipsoid_pair_tip_to_tip_matches_a_dense_12_dof_solve(tmp_path, capsys):
+    a1, b1, c1 = 3.0e-3, 2.0e-3, 1.0e-3
+    a2, b2, c2 = 2.0e-3, 1.5e-3, 1.0e-3
+    mass2, delta, kn, ks = 3.0e-5, 1.0e-5, 1.0e5, 7.0e4
+    q1 = Rotation.from_euler("z", 180, degrees=True)  # long axis still along x
+    q2 = Rotation.from_euler("x", 30, degrees=True)
+    doc = {"schema": "dtcrit-bodies/1", "box": None, "bodies": [
+        {"id": 7, "shape": {"shape": "ellipsoid", "semi_axes": [a1, b1, c1], "density": RHO},
+         "position": [0.0, 0.0, 0.0], "orientation": _quat(q1)},
+        {"id": 9, "shape": {"shape": "ellipsoid", "semi_axes": [a2, b2, c2], "mass": mass2},
+         "position": [a1 + a2 - delta, 0.0, 0.0], "orientation": _quat(q2)}]}
+    out = _run(capsys, [_write(tmp_path, doc), "--kn", str(kn), "--ks", str(ks)])
+    m1, i1 = _ellipsoid_mass_inertia(a1, b1, c1, RHO)
+    _, i2 = _ellipsoid_mass_inertia(a2, b2, c2, 1.0)
+    i2 = i2 * mass2 / (4.0 / 3.0 * math.pi * a2 * b2 * c2)
+    j1 = q1.as_matrix() @ i1 @ q1.as_matrix().T
+    j2 = q2.as_matrix() @ i2 @ q2.as_matrix().T
+    # the contact point sits halfway through the overlap on the x axis, at x = a1 - delta/2
+    r1 = np.array([a1 - delta / 2, 0.0, 0.0])
+    r2 = r1 - np.array([a1 + a2 - delta, 0.0, 0.0])
+    expected = _pair_omega_max(m1, j1, r1, mass2, j2, r2, np.array([1.0, 0.0, 0.0]), kn, ks)
+    assert out["n_contacts"] == 1 and out["n_particles"] == 2
+    assert out["omega_max"] == pytest.approx(expected, rel=1e-9)
+
+
+def test_clump_pair_from_a_file_matches_a_dense_12_dof_solve(tmp_path, capsys):
+    """Two dumbbells of touching spheres (no overlap inside a clump: mass and inertia in closed
+    form).  Clump 1 is given along y and turned onto x; clump 2's spheres sit off its frame origin."""
+    r, delta, kn, ks = 1.0e-3, 2.0e-6, 2.0e5, 1.5e5
+    m_s = 4.0 / 3.0 * math.pi * r**3 * RHO
+    doc = {"schema": "dtcrit-bodies/1", "box": None, "bodies": [
+        {"id": 1, "shape": {"shape": "clump", "spheres": [[0, -r, 0, r], [0, r, 0, r]], "density": RHO},
+         "position": [0.0, 0.0, 0.0], "orientation": _quat(Rotation.from_euler("z", 90, degrees=True))},
+        {"id": 2, "shape": {"shape": "clump", "spheres": [[r, 0, 0, r], [3 * r, 0, 0, r]], "density": RHO},
+         "position": [2 * r - delta, 0.0, 0.0]}]}
+    out = _run(capsys, [_write(tmp_path, doc), "--kn", str(kn), "--ks", str(ks)])
+    m = 2 * m_s
+    j = np.diag([2 * 0.4 * m_s * r**2] + [2 * (0.4 * m_s * r**2 + m_s * r**2)] * 2)  # axis along x
+    r1 = np.array([2 * r - delta / 2, 0.0, 0.0])  # clump 2's centre is at 4 r - delta
+    r2 = r1 - np.array([4 * r - delta, 0.0, 0.0])
+    expected = _pair_omega_max(m, j, r1, m, j, r2, np.array([1.0, 0.0, 0.0]), kn, ks)
+    assert out["n_contacts"] == 1
+    assert out["omega_max"] == pytest.approx(expected, rel=1e-9)
+
+
+# ---------------------------------------------------------------- (b) periodic lattice, file vs Python
+
+def _lattice(rotation: Rotation, semi_axes, cells=2):
+    """Identical rotated ellipsoids on a simple orthorhombic lattice, each axis spaced at 0.999 of
+    twice the radial distance 2 rho(e) = 2 / |A^-1 R^T e| (translates of a centrally symmetric
+    body overlap iff half the translation lies inside it): every axis neighbour overlaps."""
+    rot = rotation.as_matrix()
+    radial = np.array([1.0 / np.linalg.norm((rot.T @ e) / np.array(semi_axes)) for e in np.eye(3)])
+    spacing = 0.999 * 2 * radial
+    x = np.array([[i, j, k] for i in range(cells) for j in range(cells) for k in range(cells)], float) * spacing
+    return x, spacing * cells
+
+
+def test_periodic_lattice_file_equals_python_from_shapes(tmp_path, capsys):
+    from dtcrit.bodies import Ellipsoid
+    from dtcrit.packing.contacts import find_convex_contacts
+    from dtcrit.packing.model import Box, LinearLaw, Packing
+    from dtcrit.packing.report import analyse
+
+    axes, kn, ks = (2.0e-3, 1.2e-3, 0.8e-3), 1.0e5, 6.0e4
+    rotation = Rotation.from_rotvec([0.3, -0.5, 0.2])
+    x, length = _lattice(rotation, axes)
+    doc = {"schema": "dtcrit-bodies/1",
+           "box": {"lo": [0.0, 0.0, 0.0], "hi": length.tolist(), "periodic": [True, True, True]},
+           "bodies": [{"id": 100 + k, "shape": {"shape": "ellipsoid", "semi_axes": list(axes), "density": RHO},
+                       "position": p.tolist(), "orientation": _quat(rotation)} for k, p in enumerate(x)]}
+    out = _run(capsys, [_write(tmp_path, doc), "--kn", str(kn), "--ks", str(ks)])
+    shape = Ellipsoid(*axes, density=RHO)
+    packing = Packing.from_shapes([shape] * len(x), x, np.repeat(rotation.as_matrix()[None], len(x), 0),
+                                  box=Box(np.zeros(3), length, (True, True, True)))
+    contacts = find_convex_contacts(packing)
+    ref = analyse(packing, LinearLaw(kn, ks), contacts)
+    assert contacts.count >= 3 * len(x)  # both images along each axis of a 2-cell box, and some diagonals
+    assert out["n_contacts"] == contacts.count and out["n_particles"] == 8
+    assert out["omega_max"] == pytest.approx(ref.omega_max, rel=1e-9)
+    assert out["cn_mean"] == pytest.approx(2 * contacts.count / 8)
+
+
+def test_listed_contacts_replace_the_command_line_law(tmp_path, capsys):
+    """Per-contact kn/ks from the file: equal springs everywhere reproduce the --kn/--ks run; a
+    different spring on one contact changes the result; the Python reader agrees."""
+    from dtcrit.packing.bodies_file import read_bodies_file
+    from dtcrit.packing.report import analyse
+    from dtcrit.scenes.scene import parse_particle
+
+    doc = json.loads(EXAMPLE.read_text())
+    base = _run(capsys, [str(EXAMPLE), "--kn", "1e5", "--ks", "8e4"])
+    pairs = [(1, 2), (2, 3), (3, 4), (4, 1)]
+    doc["contacts"] = [{"id1": a, "id2": b, "kn": 1e5, "ks": 8e4} for a, b in pairs]
+    same = _run(capsys, [_write(tmp_path, doc)])
+    assert same["omega_max"] == pytest.approx(base["omega_max"], rel=1e-12)
+    doc["contacts"][2]["ks"] = 3.2e5  # the top mode is rotational: carried by the shear springs
+    path = _write(tmp_path, doc, "stiffer.json")
+    stiffer = _run(capsys, [path])
+    assert stiffer["omega_max"] > base["omega_max"] * 1.01
+    read = read_bodies_file(path, parse_particle)
+    assert read.stiffness_given and read.kinds == {"ellipsoid": 4}
+    assert analyse(read.packing, None, read.contacts).omega_max == pytest.approx(stiffer["omega_max"], rel=1e-12)
+
+
+# ---------------------------------------------------------------- (c) bad input
+
+def _good() -> dict:
+    return json.loads(EXAMPLE.read_text())
+
+
+def _edit(change):
+    def make():
+        doc = _good()
+        change(doc)
+        return doc
+    return make
+
+
+BAD = {
+    "missing position": (_edit(lambda d: d["bodies"][1].pop("position")), "bodies[1].position", "missing"),
+    "missing shape key": (_edit(lambda d: d["bodies"][2]["shape"].pop("semi_axes")), "bodies[2].shape.semi_axes", "missing"),
+    "unknown shape": (_edit(lambda d: d["bodies"][0]["shape"].update(shape="ellipse")), "bodies[0].shape.shape", "ellipsoid"),
+    "semi-axes length": (_edit(lambda d: d["bodies"][3]["shape"].update(semi_axes=[1e-3, 1e-3])), "bodies[3].shape.semi_axes",
+                         "3 entries"),
+    "two densities": (_edit(lambda d: d["bodies"][0]["shape"].update(mass=1.0)), "bodies[0].shape.mass", "not both"),
+    "size distribution": (_edit(lambda d: d["bodies"][0].update(shape={"shape": "sphere", "radii": [1e-3, 2e-3],
+                                                                       "density": 1.0})), "bodies[0].shape.radii", "one sphere"),
+    "non-unit quaternion": (_edit(lambda d: d["bodies"][1].update(orientation=[1.0, 0.1, 0.0, 0.0])), "bodies[1].orientation",
+                            "unit quaternion"),
+    "duplicate id": (_edit(lambda d: d["bodies"][3].update(id=2)), "bodies[3].id", "already used by bodies[1]"),
+    "unknown body key": (_edit(lambda d: d["bodies"][0].update(velocity=[0, 0, 0])), "bodies[0].velocity", "unknown key"),
+    "wrong schema": (_edit(lambda d: d.update(schema="dtcrit-yade-export/1")), "schema", "dtcrit-bodies/1"),
+    "box periodic": (_edit(lambda d: d["box"].update(periodic=[1, 0, 0])), "box.periodic", "three booleans"),
+    "no bodies": (_edit(lambda d: d.update(bodies=[])), "bodies", "non-empty"),
+    "contact id": (_edit(lambda d: d.update(contacts=[{"id1": 1, "id2": 17, "kn": 1.0, "ks": 1.0}])), "contacts[0].id2",
+                   "no body has id 17"),
+    "contact kn": (_edit(lambda d: d.update(contacts=[{"id1": 1, "id2": 2, "kn": -1.0, "ks": 1.0}])), "contacts[0].kn",
+                   ">= 0"),
+    "not touching": (_edit(lambda d: d.update(contacts=[{"id1": 1, "id2": 3, "kn": 1.0, "ks": 1.0}])), "contacts[0]",
+                     "do not touch"),
+    "touching, unlisted": (_edit(lambda d: d.update(contacts=[{"id1": 1, "id2": 2, "kn": 1.0, "ks": 1.0}])), "contacts",
+                           "touch but are not listed"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(BAD))
+def test_bad_input_is_one_line_naming_the_entry(name, tmp_path, capsys):
+    make, key, words = BAD[name]
+    path = _write(tmp_path, make())
+    assert main(["packing", path, "--kn", "1e5"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert f"{path}: {key}:" in err and words in err
+
+
+@pytest.mark.parametrize("argv,words", [
+    (["--kn", "1e5", "--density", "1000"], "--density: not used with a bodies file"),
+    ([], "kn: give the contact stiffness"),
+    (["--youngs", "7e10"], "Hertz-Mindlin law needs sphere contacts"),
+])
+def test_bad_command_lines_with_a_bodies_file(argv, words, capsys):
+    assert main(["packing", str(EXAMPLE), *argv]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and words in err
+
+
+def test_file_stiffness_and_command_line_law_clash(tmp_path, capsys):
+    doc = _good()
+    doc["contacts"] = [{"id1": a, "id2": b, "kn": 1e5, "ks": 8e4} for a, b in ((1, 2), (2, 3), (3, 4), (4, 1))]
+    assert main(["packing", _write(tmp_path, doc), "--kn", "1e5"]) == 2
+    assert "lists each contact's kn and ks" in capsys.readouterr().err
+
+
+def test_broken_json_names_the_line(tmp_path, capsys):
+    path = tmp_path / "broken.json"
+    path.write_text('{"schema": "dtcrit-bodies/1",\n "box": null,\n "bodies": [,]}\n')
+    assert main(["packing", str(path), "--kn", "1"]) == 2
+    err = capsys.readouterr().err
+    assert f"{path}:3: not valid JSON" in err and err.count("\n") == 1
+
+
+# ---------------------------------------------------------------- (d) schema
+
+@pytest.mark.parametrize("argv", [[str(EXAMPLE), "--kn", "1e5", "--ks", "8e4"], [str(EXAMPLE), "--kn", "1e5", "--certify", "no"]])
+def test_json_validates_against_the_packing_schema(argv, capsys):
+    doc = _run(capsys, argv)
+    jsonschema.validate(doc, SCHEMA)
+    assert doc["schema"] == "dtcrit-packing/1" and doc["n_particles"] == 4 and doc["n_contacts"] == 4
+
+
+def test_sphere_bodies_take_hertz_and_match_the_sphere_route(tmp_path, capsys):
+    """Sphere bodies carry R* = R1 R2/(R1 + R2): --youngs works and equals the sphere packing's result."""
+    from dtcrit.packing.model import HertzMindlinLaw, Packing
+    from dtcrit.packing.report import analyse
+
+    x = [[0.0, 0.0, 0.0], [1.998e-3, 0.0, 0.0], [1.998e-3, 1.4985e-3, 0.0]]
+    radii = [1.0e-3, 1.0e-3, 0.5e-3]
+    doc = {"schema": "dtcrit-bodies/1", "box": None, "bodies": [
+        {"id": k + 1, "shape": {"shape": "sphere", "radius": r, "density": RHO}, "position": p}
+        for k, (p, r) in enumerate(zip(x, radii))]}
+    out = _run(capsys, [_write(tmp_path, doc), "--youngs", "7e10", "--poisson", "0.2"])
+    ref = analyse(Packing.spheres(x, radii, density=RHO), HertzMindlinLaw(7e10, 0.2))
+    assert out["n_contacts"] == 2
+    assert out["omega_max"] == pytest.approx(ref.omega_max, rel=1e-7)
