@@ -19,6 +19,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 
 from dtcrit.bench import reference as ref
 from dtcrit.bench.suite import SUITE
@@ -98,6 +100,20 @@ def test_whole_extreme_suite_within_4_ulp(lang, integrator):
             bad.append((case.name, got, f"{kind}: 0 expected"))
     assert not bad, (lang, integrator, bad)
     assert worst <= 4
+
+
+@settings(max_examples=60, deadline=None)
+@given(log_k=st.floats(-300, 300), log_A=st.floats(-300, 300), log_zeta=st.floats(-480, -3), lang=st.sampled_from(sorted(LANGS)))
+def test_adams_bashforth_2_tiny_damping_within_4_ulp(log_k, log_A, log_zeta, lang):
+    """The cubic whose undamped form is tau^3: omega dt ~ 2 zeta^(1/3), so the step stays in float64 while
+    zeta (and c/k) underflow; across the leading-order branch (zeta <= 2^-94) and the root of the cubic."""
+    k, A = 10.0**log_k, 10.0**log_A
+    c = 2.0 * math.sqrt(k) * (10.0 ** (log_zeta / 2)) * (10.0 ** (log_zeta / 2)) / math.sqrt(A)
+    assume(0.0 < c < math.inf)
+    r = ref.dt_reference("adams-bashforth-2", k, c, A)
+    assume(expected_outcome(r) == "value")
+    got = step_function(lang, "adams-bashforth-2")(k, c, A)
+    assert ulps(got, r) <= 4, (lang, k, c, A, got, float(r))
 
 
 BAD_INPUTS = [(math.nan, 1.0, 1.0), (1.0, math.nan, 1.0), (1.0, 1.0, math.nan), (-1.0, 1.0, 1.0), (1.0, -1.0, 1.0),

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
+import dtcrit.integrators.precise_onstep as onstep
 from dtcrit.integrators.precise import fast_steps, scaled_closed_form
 from dtcrit.integrators.stability import check_integrator, refuse_unrepresentable
 
@@ -76,6 +77,8 @@ def critical_dt_fused(integrator: str, k, c, A, chunk: int = CHUNK) -> np.ndarra
     if name in ("paper-eq40", "forward-euler"):  # the runtime's chunked forms (dtcrit.integrators.precise)
         dt, checked = fast_steps(name, k, c, A, chunk)
         return dt if checked else refuse_unrepresentable(name, dt, k, c, A)
+    if name in onstep.SCHEMES:  # the on-step schemes' own careful forms (dtcrit.integrators.precise_onstep)
+        return refuse_unrepresentable(name, onstep.steps(name, k, c, A), k, c, A)
     if name not in FUSED:
         return refuse_unrepresentable(name, scaled_closed_form(name, k, c, A), k, c, A)
     if name == "leapfrog-centred":

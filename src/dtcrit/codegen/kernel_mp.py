@@ -16,15 +16,22 @@ from dtcrit.codegen.kernel import ContactKernel
 # ----------------------------------------------------------------------------------------------
 def mp_cubic_positive_root(a2, a1, a0, largest) -> mp.mpf:
     """Smallest (largest if ``largest``) positive real root of t^3 + a2 t^2 + a1 t + a0, at the
-    working precision (mpmath ``polyroots`` with extra precision, then Newton steps at twice the
-    precision); 0 if none."""
+    working precision (mpmath ``polyroots`` with extra precision on the cubic with its exact roots at 0
+    deflated, then Newton steps at twice the precision); 0 if none."""
     dps = mp.mp.dps
     coeffs = [mp.mpf(1), mp.mpf(a2), mp.mpf(a1), mp.mpf(a0)]
+    poly = list(coeffs)
+    while len(poly) > 1 and poly[-1] == 0:
+        # an exact root at 0 is not positive: deflate it (adams-bashforth-2 undamped is t^3, whose
+        # clustered polyroots values would otherwise pass as a positive root of size 1e-143)
+        poly.pop()
+    if len(poly) == 1:
+        return mp.mpf(0)
     nonzero = [abs(c) for c in coeffs if c != 0]
     spread_bits = int(mp.log(max(nonzero) / min(nonzero), 2)) if len(nonzero) > 1 else 0
     extra = min(spread_bits, 256)  # widely spread coefficients: more bits for the root iteration
     with mp.workdps(2 * dps + 20):
-        roots = mp.polyroots(coeffs, maxsteps=2000, extraprec=8 * dps + 4 * extra)
+        roots = mp.polyroots(poly, maxsteps=2000, extraprec=8 * dps + 4 * extra)
         scale = 1 + max(abs(r) for r in roots)
         good = [mp.re(r) for r in roots if abs(mp.im(r)) <= mp.mpf(10) ** (-dps) * scale and mp.re(r) > 0]
         if not good:

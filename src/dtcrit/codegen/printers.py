@@ -169,6 +169,13 @@ class FortranPrinter(_CompiledCalls, FCodePrinter):
     def _print_Max(self, expr):
         return self._extremum("max", expr)
 
+    def _print_cubic_positive_root(self, expr):
+        # the helper's coefficients are real(c_double) dummies: an integer literal coefficient (the y-cubic
+        # of adams-bashforth-2 has a2 = 1) must be passed as a real one, or gfortran refuses the call
+        *coeffs, largest = expr.args
+        args = [self._real(int(a)) if a.is_Integer else self._print(a) for a in coeffs]
+        return f"{self.helper_name}({', '.join(args)}, {self.LOGICAL[1 if largest else 0]})"
+
     def _print_Min(self, expr):
         return self._extremum("min", expr)
 
@@ -213,6 +220,8 @@ class NumPyPrinter(_Primitives, _NumPyBase):
         base, exp = expr.args
         if exp == -1:
             return f"(1/{self.parenthesize(base, sp.printing.precedence.PRECEDENCE['Mul'], strict=True)})"
+        if exp == sp.Rational(1, 3):  # x**(1/3) would raise x to the rounded 1/3
+            return f"np.cbrt({self._print(base)})"
         return super()._print_Pow(expr, rational=rational)
 
     def _nested(self, fn, args):

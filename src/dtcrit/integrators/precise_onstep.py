@@ -24,6 +24,7 @@ from dtcrit._generated import critical_steps as _gen
 
 SCHEMES = ("extended-taylor", "adams-bashforth-2")
 _AB2_SWITCH = np.sqrt(3.0) / 6.0
+_AB2_TINY = 2.0**-94
 
 
 def _split(k, c, A):
@@ -55,6 +56,14 @@ def adams_bashforth_2(k, c, A) -> np.ndarray:
         lead = np.ldexp(4.0 * mc / mk, ec - ek)
         cubic = lead / ((t - 4.0 * zs) * (t + 2.0 * zs))
         out = np.where(z < _AB2_SWITCH, cubic, dashpot)
+        # tiny zeta (down to zeta underflowing): the leading order of the same cubic, tau^3 = 8 zeta, i.e.
+        # dt = (4 c / (k^2 A))^(1/3), from the mantissas and a whole multiple of 3 in the exponent;
+        # below zeta = 2^-94 the neglected terms are under 2^-64 relative (symbolic.careful_forms'
+        # small-zeta branch, checked in tests/test_kernels_careful_forms.py)
+        big_e = ec - 2 * ek - eA
+        q = np.floor_divide(big_e, 3)
+        small = np.ldexp(np.cbrt(np.ldexp(4.0 * mc / (mk * mk * mA), big_e - 3 * q)), q)
+        out = np.where(z <= _AB2_TINY, small, out)
         return np.where(mc > 0, out, 0.0)
 
 

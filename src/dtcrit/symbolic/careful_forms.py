@@ -146,6 +146,29 @@ def cubic_identity(cp) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
     return P0, h, q0
 
 
+def cubic_small_zeta(cp) -> tuple[sp.Expr, int] | None:
+    """(p1, E) for a cubic piece whose undamped cubic is tau^3 (Adams-Bashforth 2), else None.
+
+    There P = tau^3 + O(zeta) with P(0) = -p1 zeta + O(zeta^2), so tau* = (p1 zeta)^(1/3) (1 + delta) with
+    delta = O(zeta^(j/3)) from the linearised correction delta ~ -(P(T0 u) - T0^3 u^3 + p1 u^3)/(3 T0^3 u^3),
+    u = zeta^(1/3), T0 = p1^(1/3); E is the largest whole number with |delta| <= 2^-64 for zeta <= 2^E
+    (a margin of 2^-11 ulp on the leading term).  Then dt = tau*/omega = (p1 c / (2 k^2 A))^(1/3).
+    """
+    if cp.piece.zeta_lo != 0 or any(co.subs(zeta, 0) != 0 for co in cp.cubic):
+        return None
+    p1 = sp.nsimplify(-sp.diff(cp.cubic[2], zeta).subs(zeta, 0))
+    if not p1.is_positive:
+        return None
+    u = sp.Symbol("u", positive=True)
+    t0 = sp.cbrt(p1)
+    P = t0**3 * u**3 + sum(co.subs(zeta, u**3) * (t0 * u) ** (2 - i) for i, co in enumerate(cp.cubic))
+    delta = sp.expand(sp.cancel((P + p1 * u**3 - t0**3 * u**3) / (3 * t0**3 * u**3)))
+    lead = sp.series(delta, u, 0, 12).removeO().as_leading_term(u)
+    coef, j = lead.as_coeff_exponent(u)
+    u_max = (sp.Integer(2) ** -64 / sp.Abs(coef)) ** (1 / j)
+    return p1, int(sp.floor(3 * sp.log(u_max, 2).evalf(30)))
+
+
 def _scaled_closed_form(name, steps, mk, ek, mc, ec, mA, eA):
     """dt = 2^-s kernel(omega 2^-s, gamma 2^-s), s from the larger rate (``precise.scaled_closed_form``)."""
     w, sw = _omega_scaled(steps, mk, ek, mA, eA)
@@ -159,6 +182,18 @@ def _scaled_closed_form(name, steps, mk, ek, mc, ec, mA, eA):
     steps += [(w1, ldexp(w, sw - s)), (g1, ldexp(gm, sg - s))]
     kern = kernel_expr(name).xreplace({omega: w1, gamma: g1})
     return ldexp(kern, -s), w, sw, gm, sg
+
+
+def _small_zeta_step(steps, body, small, sw, sg, mk, ek, mc, ec, mA, eA) -> sp.Expr:
+    """``cubic_small_zeta``'s leading order dt = (p1 c / (2 k^2 A))^(1/3) where zeta <= 2^E, written as
+    2^q (x 2^r)^(1/3), x = (p1/2) mc / (mk^2 mA) and ec - 2 ek - eA = 3q + r (no k^2, c A or zeta is formed:
+    at k = 1e300, c = 5e-324 zeta is 2.5e-474 while dt = 2.7e-308).  zeta < 2^(s_gamma - s_omega) since
+    gamma's and omega's mantissa ratio is below 1; finite c, k and A only (their mantissas are below 1)."""
+    p1, e_max = small
+    e3, q3, x3 = _r("e_small"), _r("q_small"), _r("x_small")
+    steps += [(e3, ec - 2 * ek - eA), (q3, sp.floor(e3 / 3)), (x3, ldexp((p1 / 2) * mc / (mk * mk * mA), e3 - 3 * q3))]
+    cond = sp.And(sp.Le(sg - sw, e_max), sp.Gt(mc, 0), sp.Lt(mc, 1), sp.Lt(mk, 1), sp.Lt(mA, 1))
+    return sp.Piecewise((ldexp(sp.cbrt(x3), q3), cond), (body, True))
 
 
 def _forward_euler(steps, mk, ek, mc, ec, mA, eA) -> sp.Expr:
@@ -244,9 +279,16 @@ def careful_chain(name: str, damped: bool = True) -> Chain:
             steps.append((lead, ldexp(mc / mk, ec - ek) * sp.simplify(-P0 / (2 * zeta))))
             ident = lead / (d * d + q0.subs(zeta, z))
             z_hi = sp.Min(1, cp.piece.zeta_hi)  # the identity holds where the cubic piece governs
-            body = sp.Piecewise((ident, sp.And(sp.Le(z, z_hi), sp.Gt(mc, 0))), (body, True))
+            # z > 0: where zeta itself underflows (c A subnormal against omega) the identity is 0/0 for a
+            # cubic whose q0 vanishes with zeta (Adams-Bashforth 2); the scaled closed form gives its limit
+            body = sp.Piecewise((ident, sp.And(sp.Le(z, z_hi), sp.Gt(z, 0), sp.Gt(mc, 0))), (body, True))
             eqs.append(f"zeta <= 1: dt = (c/k) / ((tau - {sp.sstr(h)})^2 + {sp.sstr(q0)}), tau the root of the cubic "
                        "(the cubic is tau ((tau - h)^2 + q0) - 2 zeta)")
+            small = cubic_small_zeta(cp)
+            if small is not None:
+                body = _small_zeta_step(steps, body, small, sw, sg, mk, ek, mc, ec, mA, eA)
+                eqs.append(f"zeta <= 2^{small[1]}: dt = ({sp.sstr(small[0] / 2)} c / (k^2 A))^(1/3) from the mantissas "
+                           "and exponents (the leading order; zeta itself may underflow)")
     raw, dt = _r("dt_raw"), _r("dt")
     steps.append((raw, body))
     bad = sp.Or(is_nan(K), is_nan(C), is_nan(A), sp.Lt(K, 0), sp.Lt(C, 0), sp.Lt(A, 0))

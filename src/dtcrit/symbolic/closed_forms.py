@@ -170,10 +170,16 @@ def _cubic_tau_mp(cp: ClosedPiece, z, dps: int):
 
     if z == 0:
         coeffs = [mp.mpf(1)] + [mp.mpf(sp.N(c.subs(zeta, 0), dps)) for c in cp.cubic]
+        while len(coeffs) > 1 and coeffs[-1] == 0:
+            coeffs.pop()  # an exact root at 0 is not positive (adams-bashforth-2's undamped cubic is tau^3)
+        if len(coeffs) == 1:
+            return mp.mpf(0)
         t = positive_real(coeffs, min)
         return t if t is not None else mp.mpf(0)
     if z < mp.mpf(10) ** -6:
-        t = z  # tiny damping: a single simple real root near zeta; Newton below converges from here
+        # tiny damping: the wanted root scales like a power of zeta (zeta itself for most schemes,
+        # 2 zeta^(1/3) for adams-bashforth-2, whose undamped cubic is tau^3)
+        return _tiny_zeta_root(cp, z, dps)
     elif z < 1:
         t = positive_real([mp.mpf(1)] + [sp.lambdify(zeta, c, modules="mpmath")(z) for c in cp.cubic], min)
     else:
@@ -187,6 +193,35 @@ def _cubic_tau_mp(cp: ClosedPiece, z, dps: int):
         a2, a1, a0 = (f(z) for f in fs)
         t = mp.findroot(lambda u: ((u + a2) * u + a1) * u + a0, t)
     return +t
+
+
+def _tiny_zeta_root(cp: ClosedPiece, z, dps: int):
+    """Smallest positive root of the cubic in tau for zeta < 1e-6 (0 when it has none).
+
+    Every root of u^3 + a2 u^2 + a1 u + a0 has, to leading order, the size s of a two-term balance
+    |a_i| s^i = |a_j| s^j (its Newton polygon).  For each such s, Newton at 2*dps digits on the cubic in
+    w = u/s started from w = 1: in w the roots are O(1), so findroot's absolute tolerance is a relative
+    one in u (roots near 1e-100 are met at adams-bashforth-2's zeta = 1e-300).  A root is kept when its
+    residual is small against the largest term of the cubic there.
+    """
+    with mp.workdps(2 * dps):
+        a = [mp.mpf(1)] + [sp.lambdify(zeta, c, modules="mpmath")(z) for c in cp.cubic]  # a[i] multiplies u^(3-i)
+        found = []
+        for i in range(4):
+            for j in range(i + 1, 4):
+                if a[i] == 0 or a[j] == 0:
+                    continue
+                s = abs(a[j] / a[i]) ** (mp.mpf(1) / (j - i))
+                b = [a[m] / s**m for m in range(4)]  # the cubic in w = u/s, monic
+                cubic = lambda w: ((w + b[1]) * w + b[2]) * w + b[3]  # noqa: E731
+                try:
+                    w = mp.findroot(cubic, mp.mpf(1))
+                except (ValueError, ZeroDivisionError):
+                    continue
+                size = abs(w) ** 3 + abs(b[1] * w * w) + abs(b[2] * w) + abs(b[3])
+                if mp.im(w) == 0 and w > 0 and abs(cubic(w)) <= mp.mpf(10) ** (-dps) * size:
+                    found.append(s * mp.re(w))
+    return +min(found) if found else mp.mpf(0)
 
 
 def dt_crit_mp(name: str, k, c, A, dps: int = 50):
