@@ -21,7 +21,8 @@ PACKAGE = SRC / "dtcrit"
 LAYERS = (
     ("dtcrit", 0),  # the lazy public namespace: names modules in strings only
     ("dtcrit.errors", 0),
-    ("dtcrit.json_meta", 0),  # the JSON envelope: reads generated headers as text, imports nothing
+    ("dtcrit.json_meta", 0),
+    ("dtcrit.mp_roots", 0),  # mpmath-only cubic roots shared by the 50-digit references  # the JSON envelope: reads generated headers as text, imports nothing
     ("dtcrit.integrators.schemes", 1),  # update rules: plain arithmetic, read by SymPy and the runtime
     ("dtcrit.symbolic", 2),
     ("dtcrit._generated", 3),

@@ -4,7 +4,7 @@
   ``dps`` (>= 50) digits: the closed form of ``dtcrit.symbolic.closed_forms`` evaluated in
   mpmath, as ``dtcrit.symbolic.closed_forms.dt_crit_mp`` does, with the SymPy-to-mpmath
   functions built once per integrator instead of once per call (the bench needs thousands of
-  references).  ``tests/test_bench_reference.py`` checks it against ``dt_crit_mp`` and against
+  references).  ``tests/test_bench_kernels.py`` checks it against ``dt_crit_mp`` and against
   the exact Jury boundary ``dtcrit.symbolic.boundary.tau_crit_mp``.
 * ``paper_form_reference(form, scene)`` -- each printed formula of the paper (and the CFL note)
   evaluated in mpmath at ``dps`` digits, transcribed from the seed text; the float64 evaluation
@@ -21,6 +21,8 @@ from functools import lru_cache
 
 import mpmath as mp
 import numpy as np
+
+from dtcrit.mp_roots import balance_roots
 
 DPS = 50
 FLOAT_MAX_EXP = 1024  # a value >= 2**1024 is beyond float64
@@ -79,33 +81,6 @@ def _smallest_positive_verified(a2, a1, a0, t, dps) -> bool:
     return all(not (0 < r < t - tol) for r in ((-b1 - s) / 2, (-b1 + s) / 2))
 
 
-def _balance_roots(coeffs, dps):
-    """Positive real roots of u^3 + a2 u^2 + a1 u + a0 (``coeffs`` = [a2, a1, a0]) reached from the
-    two-term balances |a_i| s^i = |a_j| s^j (each root's leading-order size, its Newton polygon).
-
-    Newton runs on the cubic in w = u/s from w = 1, where the roots are O(1): findroot's tolerance is
-    absolute, so in u it would accept a root near 1e-100 (adams-bashforth-2 at zeta = 1e-300) after one
-    step.  A root is kept when its residual is small against the cubic's largest term there.
-    """
-    a = [mp.mpf(1)] + [mp.mpf(c) for c in coeffs]  # a[i] multiplies u^(3-i)
-    found = []
-    for i in range(4):
-        for j in range(i + 1, 4):
-            if a[i] == 0 or a[j] == 0:
-                continue
-            s = abs(a[j] / a[i]) ** (mp.mpf(1) / (j - i))
-            b = [a[m] / s**m for m in range(4)]
-            cubic = lambda w: ((w + b[1]) * w + b[2]) * w + b[3]  # noqa: E731
-            try:
-                w = mp.findroot(cubic, mp.mpf(1))
-            except (ValueError, ZeroDivisionError):
-                continue
-            size = abs(w) ** 3 + abs(b[1] * w * w) + abs(b[2] * w) + abs(b[3])
-            if mp.im(w) == 0 and w > 0 and abs(cubic(w)) <= mp.mpf(10) ** (-dps) * size:
-                found.append(s * mp.re(w))
-    return found
-
-
 def _cubic_tau(funcs, z, dps):
     """Smallest positive root of the governing cubic in tau (as ``closed_forms._cubic_tau_mp``).
 
@@ -113,7 +88,7 @@ def _cubic_tau(funcs, z, dps):
     y = 1/(zeta tau) for zeta >= 1, whose coefficients stay bounded), falling back to mpmath's
     ``polyroots``; polished by Newton at ``2 dps`` digits on the cubic in tau, and verified to be
     the *smallest* positive root by deflation.  Below zeta = 1e-6 the root is reached from the
-    cubic's two-term balances instead (``_balance_roots``).  ``tests/test_bench_reference.py`` checks it
+    cubic's two-term balances instead (``dtcrit.mp_roots.balance_roots``).  ``tests/test_bench_kernels.py`` checks it
     against ``dtcrit.symbolic.closed_forms.dt_crit_mp``.
     """
     small, large = funcs
@@ -124,10 +99,10 @@ def _cubic_tau(funcs, z, dps):
     candidates = []
     if z < mp.mpf(10) ** -6:
         # tiny damping: the wanted root scales like a power of zeta (zeta for most schemes, 2 zeta^(1/3)
-        # for adams-bashforth-2, whose undamped cubic is tau^3); located by scaled Newton (_balance_roots)
+        # for adams-bashforth-2, whose undamped cubic is tau^3); located by scaled Newton (dtcrit.mp_roots.balance_roots)
         with mp.workdps(2 * dps):
             coeffs = [f(mp.mpf(z)) for f in small]
-            found = _balance_roots(coeffs, dps)
+            found = balance_roots(coeffs, dps)
             if found and _smallest_positive_verified(*coeffs, min(found), dps):
                 return +min(found)
     elif z < 1:

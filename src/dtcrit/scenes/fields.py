@@ -82,24 +82,26 @@ def _vertices(key: str, value: Any) -> list[list[float]]:
         raise InputError(key, f"must be an array of [x, y, z] points (got {_type_name(value)}: {_short(value)})")
     if len(value) < 4:
         raise InputError(key, f"needs at least 4 points (got {len(value)})")
-    out = []
-    for n, point in enumerate(value):
-        k = f"{key}[{n + 1}]"
-        if not isinstance(point, list) or len(point) != 3:
-            raise InputError(k, f"must be an [x, y, z] array of 3 numbers (got {_short(point)})")
-        coords = []
-        for m, v in enumerate(point):
-            if isinstance(v, bool) or not isinstance(v, (int, float)):
-                raise InputError(f"{k}[{m + 1}]", f"must be a number (got {_type_name(v)}: {_short(v)})")
-            try:
-                x = float(v)
-            except OverflowError:
-                raise InputError(f"{k}[{m + 1}]", "must be a finite number") from None
-            if not math.isfinite(x):
-                raise InputError(f"{k}[{m + 1}]", f"must be finite (got {x})")
-            coords.append(x)
-        out.append(coords)
-    return out
+    return [_finite_row(f"{key}[{n + 1}]", point, "[x, y, z]") for n, point in enumerate(value)]
+
+
+def _finite_row(key: str, row: Any, form: str) -> list[float]:
+    """A row of ``len(form)`` finite numbers (``form`` such as ``"[x, y, z]"``; entries counted from 1)."""
+    width = form.count(",") + 1
+    if not isinstance(row, list) or len(row) != width:
+        raise InputError(key, f"must be an {form} array of {width} numbers (got {_short(row)})")
+    nums = []
+    for m, v in enumerate(row):
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            raise InputError(f"{key}[{m + 1}]", f"must be a number (got {_type_name(v)}: {_short(v)})")
+        try:
+            x = float(v)
+        except OverflowError:
+            raise InputError(f"{key}[{m + 1}]", "must be a finite number") from None
+        if not math.isfinite(x):
+            raise InputError(f"{key}[{m + 1}]", f"must be finite (got {x})")
+        nums.append(x)
+    return nums
 
 
 def _clump_spheres(key: str, value: Any) -> list[list[float]]:
@@ -109,19 +111,7 @@ def _clump_spheres(key: str, value: Any) -> list[list[float]]:
     out = []
     for n, row in enumerate(value):
         k = f"{key}[{n + 1}]"
-        if not isinstance(row, list) or len(row) != 4:
-            raise InputError(k, f"must be an [x, y, z, r] array of 4 numbers (got {_short(row)})")
-        nums = []
-        for m, v in enumerate(row):
-            if isinstance(v, bool) or not isinstance(v, (int, float)):
-                raise InputError(f"{k}[{m + 1}]", f"must be a number (got {_type_name(v)}: {_short(v)})")
-            try:
-                x = float(v)
-            except OverflowError:
-                raise InputError(f"{k}[{m + 1}]", "must be a finite number") from None
-            if not math.isfinite(x):
-                raise InputError(f"{k}[{m + 1}]", f"must be finite (got {x})")
-            nums.append(x)
+        nums = _finite_row(k, row, "[x, y, z, r]")
         if nums[3] <= 0:
             raise InputError(f"{k}[4]", f"the radius must be positive (got {nums[3]:g})")
         out.append(nums)

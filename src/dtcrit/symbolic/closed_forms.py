@@ -22,6 +22,7 @@ from functools import lru_cache
 import mpmath as mp
 import sympy as sp
 
+from dtcrit.mp_roots import balance_roots
 from dtcrit.symbolic.boundary import Piece, active_pieces, tau_crit_mp
 from dtcrit.symbolic.integrators import tau, zeta
 
@@ -196,31 +197,10 @@ def _cubic_tau_mp(cp: ClosedPiece, z, dps: int):
 
 
 def _tiny_zeta_root(cp: ClosedPiece, z, dps: int):
-    """Smallest positive root of the cubic in tau for zeta < 1e-6 (0 when it has none).
-
-    Every root of u^3 + a2 u^2 + a1 u + a0 has, to leading order, the size s of a two-term balance
-    |a_i| s^i = |a_j| s^j (its Newton polygon).  For each such s, Newton at 2*dps digits on the cubic in
-    w = u/s started from w = 1: in w the roots are O(1), so findroot's absolute tolerance is a relative
-    one in u (roots near 1e-100 are met at adams-bashforth-2's zeta = 1e-300).  A root is kept when its
-    residual is small against the largest term of the cubic there.
-    """
+    """Smallest positive root of the cubic in tau for zeta < 1e-6 (0 when it has none), from the cubic's
+    two-term balances (``dtcrit.mp_roots.balance_roots``) at ``2 dps`` digits."""
     with mp.workdps(2 * dps):
-        a = [mp.mpf(1)] + [sp.lambdify(zeta, c, modules="mpmath")(z) for c in cp.cubic]  # a[i] multiplies u^(3-i)
-        found = []
-        for i in range(4):
-            for j in range(i + 1, 4):
-                if a[i] == 0 or a[j] == 0:
-                    continue
-                s = abs(a[j] / a[i]) ** (mp.mpf(1) / (j - i))
-                b = [a[m] / s**m for m in range(4)]  # the cubic in w = u/s, monic
-                cubic = lambda w: ((w + b[1]) * w + b[2]) * w + b[3]  # noqa: E731
-                try:
-                    w = mp.findroot(cubic, mp.mpf(1))
-                except (ValueError, ZeroDivisionError):
-                    continue
-                size = abs(w) ** 3 + abs(b[1] * w * w) + abs(b[2] * w) + abs(b[3])
-                if mp.im(w) == 0 and w > 0 and abs(cubic(w)) <= mp.mpf(10) ** (-dps) * size:
-                    found.append(s * mp.re(w))
+        found = balance_roots([sp.lambdify(zeta, c, modules="mpmath")(z) for c in cp.cubic], dps)
     return +min(found) if found else mp.mpf(0)
 
 
