@@ -34,26 +34,55 @@ def wrap_positions(positions: np.ndarray, box: Box | None) -> np.ndarray:
     return x
 
 
-def _candidate_pairs(x: np.ndarray, cutoff: float, box: Box | None):
-    """Pairs ``(i, j, image)`` with centre distance < cutoff, each physical pair once."""
+DETECT_CHUNK = 1 << 18
+"""Particles whose neighbours one pass of the chunked sphere detection gathers: its temporaries
+(pairs, separations, sort keys) are O(chunk x coordination), not O(contacts)."""
+
+
+def _search_frame(x: np.ndarray, cutoff: float, box: Box | None):
+    """``(y, boxsize)`` for ``cKDTree``: positions shifted so that periodic axes are a torus of the
+    box lengths (``cKDTree`` wants data strictly inside ``[0, L)``) and non-periodic ones a box too
+    wide to wrap; ``(x, None)`` without periodic axes.  ``None`` as ``y`` when some periodic axis is
+    narrower than twice the cutoff (no unique minimum image)."""
     periodic = np.zeros(3, bool) if box is None else np.array(box.periodic)
-    lengths = np.ones(3) if box is None else box.lengths
     if not periodic.any():
-        pairs = cKDTree(x).query_pairs(cutoff, output_type="ndarray")
-        return pairs[:, 0], pairs[:, 1], np.zeros((len(pairs), 3), dtype=np.int64)
-    if np.all(lengths[periodic] > 2.0 * cutoff):
-        # unique minimum image: a toroidal tree; non-periodic axes get a box too wide to wrap
-        shift = x.min(axis=0)
-        y = x - np.where(periodic, box.lo, shift)
-        size = np.where(periodic, lengths, (x.max(axis=0) - shift) + 4.0 * cutoff + 1.0)
-        y = np.minimum(y, np.nextafter(size, 0))  # cKDTree wants data strictly inside [0, L)
-        pairs = cKDTree(y, boxsize=size).query_pairs(cutoff, output_type="ndarray")
-        i, j = pairs[:, 0], pairs[:, 1]
-        sep = x[j] - x[i]
-        image = np.zeros((len(i), 3), dtype=np.int64)
-        image[:, periodic] = -np.rint(sep[:, periodic] / lengths[periodic]).astype(np.int64)
-        return i, j, image
-    # narrow periodic box: search every image within range explicitly
+        return x, None
+    lengths = box.lengths
+    if not np.all(lengths[periodic] > 2.0 * cutoff):
+        return None, None
+    shift = x.min(axis=0)
+    y = x - np.where(periodic, box.lo, shift)
+    size = np.where(periodic, lengths, (x.max(axis=0) - shift) + 4.0 * cutoff + 1.0)
+    return np.minimum(y, np.nextafter(size, 0)), size
+
+
+def _image_of(sep: np.ndarray, box: Box | None) -> np.ndarray:
+    """Integer periodic shift of ``j`` that brings it nearest to ``i`` (int8: |shift| <= 1 here)."""
+    image = np.zeros((len(sep), 3), dtype=np.int8)
+    if box is not None:
+        periodic = np.array(box.periodic)
+        image[:, periodic] = -np.rint(sep[:, periodic] / box.lengths[periodic]).astype(np.int8)
+    return image
+
+
+def _chunk_pairs(tree: cKDTree, y: np.ndarray, size, lo: int, hi: int, cutoff: float):
+    """Pairs ``(i, j)``, ``lo <= i < hi``, ``i < j``, with (minimum-image) distance within
+    ``cutoff``, sorted by ``(i, j)``: a dual-tree search of the chunk against all particles."""
+    part = cKDTree(y[lo:hi], boxsize=size)
+    found = part.sparse_distance_matrix(tree, cutoff, output_type="ndarray")
+    i = found["i"].astype(np.int64) + lo
+    j = found["j"].astype(np.int64)
+    keep = i < j
+    i, j = i[keep], j[keep]
+    order = np.argsort(i * np.int64(len(y)) + j, kind="stable")
+    return i[order], j[order]
+
+
+def _narrow_box_pairs(x: np.ndarray, cutoff: float, box: Box):
+    """``(i, j, image)`` of a periodic box narrower than twice the cutoff: every image in range is
+    searched explicitly, so a particle may touch its own image or a neighbour through several."""
+    lengths = box.lengths
+    periodic = np.array(box.periodic)
     reach = [int(np.ceil(cutoff / lengths[a])) if periodic[a] else 0 for a in range(3)]
     tree = cKDTree(x)
     out_i, out_j, out_s = [], [], []
@@ -70,17 +99,23 @@ def _candidate_pairs(x: np.ndarray, cutoff: float, box: Box | None):
     return np.concatenate(out_i), np.concatenate(out_j), np.concatenate(out_s)
 
 
-def find_sphere_contacts(packing: Packing, tolerance: float = 1e-9) -> Contacts:
-    """Every touching or overlapping pair of spheres of ``packing`` (periodic images included)."""
-    if not packing.is_spheres:
-        raise InputError("packing", "find_sphere_contacts needs a sphere packing; use find_convex_contacts")
-    if not np.isfinite(tolerance) or tolerance < 0:
-        raise InputError("tolerance", f"must be a finite number >= 0, got {tolerance}")
-    box = packing.box
-    x = wrap_positions(packing.positions, box)
+def _candidate_pairs(x: np.ndarray, cutoff: float, box: Box | None, chunk: int = DETECT_CHUNK):
+    """Pairs ``(i, j, image)`` with centre distance within ``cutoff``, each physical pair once
+    (the chunked search of ``find_sphere_contacts``, all pairs at once)."""
+    y, size = _search_frame(x, cutoff, box)
+    if y is None:
+        return _narrow_box_pairs(x, cutoff, box)
+    tree = cKDTree(y, boxsize=size)
+    pairs = [_chunk_pairs(tree, y, size, lo, min(lo + chunk, len(x)), cutoff) for lo in range(0, len(x), chunk)]
+    i = np.concatenate([p[0] for p in pairs]) if pairs else np.zeros(0, np.int64)
+    j = np.concatenate([p[1] for p in pairs]) if pairs else np.zeros(0, np.int64)
+    return i, j, _image_of(x[j] - x[i], box if size is not None else None).astype(np.int64)
+
+
+def _touching(packing: Packing, x, i, j, image, tolerance):
+    """The contacts among candidate pairs ``(i, j, image)``: field arrays of ``Contacts``."""
     r = packing.radii
-    cutoff = 2.0 * r.max() * (1.0 + tolerance)
-    i, j, image = _candidate_pairs(x, cutoff, box)
+    box = packing.box
     lengths = np.zeros(3) if box is None else box.lengths
     sep = x[j] + image * lengths - x[i]
     d = np.sqrt(np.einsum("ij,ij->i", sep, sep))
@@ -90,16 +125,48 @@ def find_sphere_contacts(packing: Packing, tolerance: float = 1e-9) -> Contacts:
         k = int(np.argmax(d <= 0))
         raise InputError("positions", f"particles {packing.particle_id(i[k])} and {packing.particle_id(j[k])} "
                                       "have coincident centres")
-    order = np.lexsort((image[:, 2], image[:, 1], image[:, 0], j, i))
-    i, j, image, sep, d = i[order], j[order], image[order], sep[order], d[order]
     n = sep / d[:, None]
     overlap = np.maximum(r[i] + r[j] - d, 0.0)
-    arm_len_i = r[i] - 0.5 * overlap
-    arm_len_j = r[j] - 0.5 * overlap
-    return Contacts(
-        i=i, j=j, normal=n, arm_i=arm_len_i[:, None] * n, arm_j=-arm_len_j[:, None] * n,
-        overlap=overlap, image=image, radius_eff=r[i] * r[j] / (r[i] + r[j]),
-    )
+    return dict(i=i, j=j, normal=n, arm_i=(r[i] - 0.5 * overlap)[:, None] * n,
+                arm_j=-(r[j] - 0.5 * overlap)[:, None] * n, overlap=overlap, image=image,
+                radius_eff=r[i] * r[j] / (r[i] + r[j]))
+
+
+def _joined(parts: list[dict]) -> Contacts:
+    """One ``Contacts`` from per-chunk field arrays, joined one field at a time (each field's
+    pieces are released as it is joined, so the peak is the result plus one field)."""
+    if not parts:
+        return Contacts.empty()
+    fields = {}
+    for name in list(parts[0]):
+        fields[name] = np.concatenate([p.pop(name) for p in parts])
+    return Contacts(**fields)
+
+
+def find_sphere_contacts(packing: Packing, tolerance: float = 1e-9, chunk: int = DETECT_CHUNK) -> Contacts:
+    """Every touching or overlapping pair of spheres of ``packing`` (periodic images included),
+    sorted by ``(i, j, image)``.  Without periodic axes, or with a unique minimum image, the search
+    runs over chunks of ``chunk`` particles against one ``cKDTree`` of all (toroidal along periodic
+    axes: ``boxsize``), so its temporaries stay O(chunk); narrower periodic boxes search every image."""
+    if not packing.is_spheres:
+        raise InputError("packing", "find_sphere_contacts needs a sphere packing; use find_convex_contacts")
+    if not np.isfinite(tolerance) or tolerance < 0:
+        raise InputError("tolerance", f"must be a finite number >= 0, got {tolerance}")
+    box = packing.box
+    x = wrap_positions(packing.positions, box)
+    cutoff = 2.0 * packing.radii.max() * (1.0 + tolerance)
+    y, size = _search_frame(x, cutoff, box)
+    if y is None:
+        i, j, image = _narrow_box_pairs(x, cutoff, box)
+        order = np.lexsort((image[:, 2], image[:, 1], image[:, 0], j, i))
+        return _joined([_touching(packing, x, i[order], j[order], image[order], tolerance)])
+    tree = cKDTree(y, boxsize=size)
+    parts = []
+    for lo in range(0, packing.n, max(1, int(chunk))):
+        i, j = _chunk_pairs(tree, y, size, lo, min(lo + int(chunk), packing.n), cutoff)
+        image = _image_of(x[j] - x[i], box if size is not None else None)
+        parts.append(_touching(packing, x, i, j, image, tolerance))
+    return _joined(parts)
 
 
 # --------------------------------------------------------------------------- convex shapes

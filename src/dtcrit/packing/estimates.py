@@ -109,7 +109,10 @@ def block_diagonal(a, particle_id=_one_based) -> Estimate:
     else:
         dense = a.toarray() if hasattr(a, "toarray") else np.asarray(a)
         blocks = np.stack([dense[6 * p:6 * p + 6, 6 * p:6 * p + 6] for p in range(n)])
-    top = np.linalg.eigvalsh(0.5 * (blocks + np.swapaxes(blocks, 1, 2)))[:, -1]
+    top = np.empty(n)
+    for lo in range(0, n, 1 << 16):  # in chunks: the (N, 6, 6) blocks are 2.9 GB at 1e7 particles
+        part = blocks[lo:lo + (1 << 16)]
+        top[lo:lo + (1 << 16)] = np.linalg.eigvalsh(0.5 * (part + np.swapaxes(part, 1, 2)))[:, -1]
     p = int(np.argmax(top))
     return Estimate("block_diagonal", float(2.0 * top[p]), "lower bound on dt",
                     f"sqrt(2) / sqrt(lambda_max of the 6x6 block) of particle {particle_id(p)}")
@@ -135,8 +138,15 @@ def _sqrt_contact_stiffness(contacts: Contacts, sl) -> np.ndarray:
     return contact_stiffness_tensor(contacts.normal[sl], np.sqrt(contacts.kn[sl]), np.sqrt(contacts.ks[sl]))
 
 
-def single_contact_frequencies(packing: Packing, contacts: Contacts, chunk: int = 1 << 17) -> np.ndarray:
-    """``omega_c^2`` of every contact alone between its two free bodies (real arms)."""
+def single_contact_frequencies(packing: Packing, contacts: Contacts, chunk: int = 1 << 17,
+                               compiled: bool | None = None) -> np.ndarray:
+    """``omega_c^2`` of every contact alone between its two free bodies (real arms): the compiled
+    loop of ``estimate_kernels`` when Numba is installed (``compiled``, default), else batched
+    ``numpy.linalg.eigvalsh`` of ``K_c^(1/2) W K_c^(1/2)`` in chunks."""
+    from dtcrit.packing import estimate_kernels
+
+    if (estimate_kernels.available() if compiled is None else compiled) and contacts.count:
+        return estimate_kernels.contact_frequencies(packing, contacts)
     out = np.empty(contacts.count)
     for start in range(0, contacts.count, chunk):
         sl = slice(start, min(start + chunk, contacts.count))
@@ -207,13 +217,23 @@ def co_rotation(packing: Packing, axis: int) -> np.ndarray:
     return vec.reshape(-1)
 
 
+def _stiffest(w: np.ndarray, k: int) -> np.ndarray:
+    """Indices of the ``k`` largest ``w``, largest first, ties to the lower index (as a stable
+    ``argsort(-w)[:k]``), by ``argpartition`` (O(n), not a full sort)."""
+    if w.size <= k:
+        return np.argsort(-w, kind="stable")
+    cut = np.partition(w, w.size - k)[w.size - k]
+    pick = np.flatnonzero(w >= cut)
+    return pick[np.argsort(-w[pick], kind="stable")][:k]
+
+
 def rayleigh(a, packing: Packing, contacts: Contacts, omega2_c: np.ndarray | None = None,
              n_contacts: int = 8) -> Estimate:
     """Best Rayleigh quotient over the trial modes of the module docstring (upper bound on ``dt``)."""
     trials: list[tuple[str, np.ndarray]] = [(f"co-rotation about {'xyz'[k]}", co_rotation(packing, k)) for k in range(3)]
     if contacts.count:
         w = single_contact_frequencies(packing, contacts) if omega2_c is None else omega2_c
-        top = np.argsort(-w, kind="stable")[:n_contacts]  # stable: ties go to the lower contact index
+        top = _stiffest(w, n_contacts)
         trials += [(f"mode of the contact of particles {packing.particle_id(contacts.i[c])} and "
                     f"{packing.particle_id(contacts.j[c])} alone", contact_mode(packing, contacts, int(c))) for c in top]
     d = np.asarray(a.diagonal())

@@ -143,10 +143,10 @@ def _tmul(a, b, out):
 def _element_pass(ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags, scale, weights, diag, rows):
     """Accumulate the unscaled diagonal blocks ``diag`` (N, 6, 6) and, when ``rows`` is not empty,
     the weighted absolute row sums ``sum_q |A_pq| w_q`` of the scaled coupling blocks, one set
-    ``rows[:, :, k]`` (N, 6, K) per weight vector ``weights[k]`` (K, N, 6) (module docstring)."""
+    ``rows[:, :, k]`` (N, 6, K) per weight vector ``weights[:, :, k]`` (N, 6, K) (module docstring)."""
     trans, rotl, pre, orient = flags[0], flags[1], flags[2], flags[3]
     want_rows = rows.shape[0] > 0
-    nw = weights.shape[0]
+    nw = weights.shape[2]
     t = np.zeros((3, 3))
     tr = np.zeros((3, 3))
     x = np.zeros((3, 3))
@@ -239,11 +239,12 @@ def _element_pass(ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags, sca
                 diag[j, a, b] += jj[a, b]
         if want_rows:
             for a in range(6):
+                sia = scale[i, a]
                 for b in range(6):
-                    v = abs(ij[a, b] * scale[i, a] * scale[j, b])
+                    v = abs(ij[a, b] * sia * scale[j, b])
                     for k in range(nw):
-                        rows[i, a, k] += v * weights[k, j, b]
-                        rows[j, b, k] += v * weights[k, i, a]
+                        rows[i, a, k] += v * weights[j, b, k]
+                        rows[j, b, k] += v * weights[i, a, k]
 
 
 if numba is not None:
