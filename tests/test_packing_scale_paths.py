@@ -157,3 +157,30 @@ def test_chebyshev_start_raises_the_rayleigh_quotient_and_survives_a_zero_operat
     zero = np.zeros((30, 30))
     u = chebyshev_start(zero, np.ones(30))
     assert np.all(np.isfinite(u)) and abs(np.linalg.norm(u) - 1) < 1e-15
+
+
+def test_the_lean_polish_of_very_large_operators_equals_the_dense_solve(monkeypatch):
+    """Above ``LEAN_DOFS`` the Chebyshev start is polished by ARPACK on 4 Lanczos vectors."""
+    from dtcrit.packing import eigen
+
+    op, a = _lattice_operator()
+    monkeypatch.setattr(eigen, "LEAN_DOFS", 10)
+    top = eigen.largest_mode(op)
+    dense = sla.eigvalsh(a.toarray())[-1]
+    assert top.method == "eigsh" and abs(top.value - dense) / dense < 1e-10
+
+
+def test_the_sphere_loop_equals_the_general_loop_and_is_chosen_only_for_sphere_contacts():
+    from dtcrit.packing import operator_kernels
+
+    if not operator_kernels.available():
+        pytest.skip("the compiled loops need Numba")
+    op, a = _lattice_operator()
+    assert op._sphere_args is not None
+    q = np.random.default_rng(2).standard_normal((op.packing.n, 6))
+    fast, general = np.zeros_like(q), np.zeros_like(q)
+    operator_kernels.apply_sphere_contacts(q, fast, *op._sphere_args)
+    operator_kernels.apply_contacts(q, general, *op._kernel_args)
+    assert np.max(np.abs(fast - general)) <= 1e-14 * np.max(np.abs(general))
+    p, c = _varied(1)[0]  # rotated bodies: the general loop
+    assert stiffness_operator(p, c)._sphere_args is None

@@ -230,19 +230,22 @@ def _stiffest(w: np.ndarray, k: int) -> np.ndarray:
 def rayleigh(a, packing: Packing, contacts: Contacts, omega2_c: np.ndarray | None = None,
              n_contacts: int = 8) -> Estimate:
     """Best Rayleigh quotient over the trial modes of the module docstring (upper bound on ``dt``)."""
-    trials: list[tuple[str, np.ndarray]] = [(f"co-rotation about {'xyz'[k]}", co_rotation(packing, k)) for k in range(3)]
-    if contacts.count:
-        w = single_contact_frequencies(packing, contacts) if omega2_c is None else omega2_c
-        top = _stiffest(w, n_contacts)
-        trials += [(f"mode of the contact of particles {packing.particle_id(contacts.i[c])} and "
-                    f"{packing.particle_id(contacts.j[c])} alone", contact_mode(packing, contacts, int(c))) for c in top]
-    d = np.asarray(a.diagonal())
-    k = int(np.argmax(d))
-    unit = np.zeros(a.shape[0])
-    unit[k] = 1.0
-    trials.append((f"DOF {k % 6} of particle {packing.particle_id(k // 6)} alone", unit))
+    def trials():  # one at a time: at 1e7 particles each trial vector is 480 MB
+        for k in range(3):
+            yield f"co-rotation about {'xyz'[k]}", co_rotation(packing, k)
+        if contacts.count:
+            w = single_contact_frequencies(packing, contacts) if omega2_c is None else omega2_c
+            for c in _stiffest(w, n_contacts):
+                yield (f"mode of the contact of particles {packing.particle_id(contacts.i[c])} and "
+                       f"{packing.particle_id(contacts.j[c])} alone", contact_mode(packing, contacts, int(c)))
+        d = np.asarray(a.diagonal())
+        k = int(np.argmax(d))
+        unit = np.zeros(a.shape[0])
+        unit[k] = 1.0
+        yield f"DOF {k % 6} of particle {packing.particle_id(k // 6)} alone", unit
+
     best, name = 0.0, "none"
-    for label, v in trials:
+    for label, v in trials():
         norm = float(v @ v)
         if norm == 0:
             continue

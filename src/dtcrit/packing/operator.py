@@ -96,6 +96,7 @@ class ContactOperator(spla.LinearOperator):
             raise InputError("compiled", "the compiled operator needs Numba (pip install numba)")
         if self.compiled:
             self._kernel_args = self._pack_kernel_args()
+            self._sphere_args = self._pack_sphere_args()
 
     def _pack_kernel_args(self):
         """Contiguous arrays for the compiled loops (no copy where the contacts already are)."""
@@ -119,6 +120,29 @@ class ContactOperator(spla.LinearOperator):
                 arr(self.along, arms), arr(self.across, arms), arr(self.twist, self.rotational),
                 arr(self.roll, self.rotational), arr(self.preload, self.preload is not None), rot, flags)
 
+    def _pack_sphere_args(self):
+        """Arguments of ``operator_kernels.apply_sphere_contacts`` when every contact is a sphere
+        contact (arms along the normal: ``a_i = l_i n``, ``a_j = -l_j n`` to 4 ulps), with springs
+        (and pre-load) only and no body rotations; otherwise ``None`` (the general loop)."""
+        c = self.contacts
+        if (not self.translational or self.rotational or self.orientations is not None or c.count == 0
+                or self.along is None or self.across is None):
+            return None
+        li, lj = np.empty(c.count), np.empty(c.count)
+        for lo in range(0, c.count, self.chunk):
+            sl = slice(lo, min(lo + self.chunk, c.count))
+            n = c.normal[sl]
+            for arm, out, sign in ((c.arm_i[sl], li, 1.0), (c.arm_j[sl], lj, -1.0)):
+                length = sign * _rows(arm, n)[:, 0]
+                off = np.abs(arm - sign * length[:, None] * n).max(axis=1)
+                if np.any(off > 4 * np.finfo(float).eps * np.abs(arm).max(axis=1)):
+                    return None
+                out[sl] = length
+        pre = self.preload is not None
+        c_args = self._kernel_args
+        return (c_args[0], c_args[1], c_args[2], li, lj, c_args[5], c_args[6],
+                c_args[9] if pre else np.zeros(0), pre)
+
     # -- the product -------------------------------------------------------------------------------
     def _scatter(self, out: np.ndarray, idx: np.ndarray, values: np.ndarray) -> None:
         """``out[idx[c]] += values[c]`` for rows of ``values`` (repeated indices summed)."""
@@ -126,13 +150,31 @@ class ContactOperator(spla.LinearOperator):
         flat = (idx[:, None] * w + np.arange(w)).reshape(-1)
         np.add.at(out.reshape(-1), flat, values.reshape(-1))
 
+    def apply_into(self, x: np.ndarray, out: np.ndarray) -> np.ndarray:
+        """``out = A x`` into a given (6N,) array, with no array allocated on the compiled path
+        (``eigen.chebyshev_start`` calls it: at 1e6 particles a fresh vector costs as much time
+        as a third of the product)."""
+        if not self.compiled:
+            out[:] = self._matvec(x)
+            return out
+        self.applications += 1
+        work = getattr(self, "_work", None)
+        if work is None or work.shape != self.scale6.shape:
+            work = self._work = np.empty_like(self.scale6)
+        np.multiply(np.asarray(x, float).reshape(-1, 6), self.scale6, out=work)
+        y = out.reshape(-1, 6)
+        y[:] = 0.0
+        self._compiled_product(work, y)
+        y *= self.scale6
+        return out
+
     def _matvec(self, x):
         x = np.asarray(x, float).reshape(-1)
         self.applications += 1
         q = x.reshape(-1, 6) * self.scale6
         y = np.zeros_like(q)
         if self.compiled:
-            kernels.apply_contacts(q, y, *self._kernel_args)
+            self._compiled_product(q, y)
             y *= self.scale6
             return y.reshape(-1)
         nc = self.contacts.count
@@ -143,6 +185,12 @@ class ContactOperator(spla.LinearOperator):
             self._scatter(y, self.contacts.j[sl], oj)
         y *= self.scale6
         return y.reshape(-1)
+
+    def _compiled_product(self, q: np.ndarray, y: np.ndarray) -> None:
+        if self._sphere_args is not None:
+            kernels.apply_sphere_contacts(q, y, *self._sphere_args)
+        else:
+            kernels.apply_contacts(q, y, *self._kernel_args)
 
     def _matmat(self, xs):
         xs = np.asarray(xs, float)
@@ -283,6 +331,8 @@ class ContactOperator(spla.LinearOperator):
         """Bytes of the contact arrays one application reads (the bandwidth floor's pass)."""
         c = self.contacts
         arrays = [c.i, c.j, c.normal]
+        if getattr(self, "_sphere_args", None) is not None:
+            return int(sum(a.nbytes for a in arrays + list(self._sphere_args[3:8])))
         if self.translational:
             arrays += [c.arm_i, c.arm_j] + [a for a in (self.along, self.across) if a is not None]
         if self.rotational:

@@ -126,6 +126,58 @@ def _apply(q, y, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags):
             y[j, 5] += mjz
 
 
+def _apply_spheres(q, y, ci, cj, nrm, li, lj, kn, ks, g, pre):
+    """``_apply`` for sphere contacts with springs (and pre-load) only and no body rotations: the
+    arms are ``a_i = l_i n``, ``a_j = -l_j n``, so with ``d = u_j - u_i``
+
+        delta = d + n x (l_i theta_i + l_j theta_j),   f = k_s delta + (k_n - k_s)(n . d) n,
+        i: (-f, -l_i k_s n x delta),   j: (f, -l_j k_s n x delta)
+
+    (``n . (n x w) = 0``, ``n x n = 0``): half the arithmetic of ``_apply`` and 48 bytes fewer per
+    contact to read.  The tests compare it with ``_apply`` and the assembled matrix."""
+    for c in range(ci.shape[0]):
+        i = ci[c]
+        j = cj[c]
+        nx, ny, nz = nrm[c, 0], nrm[c, 1], nrm[c, 2]
+        a = li[c]
+        b = lj[c]
+        wx = a * q[i, 3] + b * q[j, 3]
+        wy = a * q[i, 4] + b * q[j, 4]
+        wz = a * q[i, 5] + b * q[j, 5]
+        dx = q[j, 0] - q[i, 0]
+        dy = q[j, 1] - q[i, 1]
+        dz = q[j, 2] - q[i, 2]
+        ex = dx + (ny * wz - nz * wy)
+        ey = dy + (nz * wx - nx * wz)
+        ez = dz + (nx * wy - ny * wx)
+        s = ks[c]
+        dn = nx * dx + ny * dy + nz * dz
+        t = (kn[c] - s) * dn
+        fx = s * ex + t * nx
+        fy = s * ey + t * ny
+        fz = s * ez + t * nz
+        if pre:
+            gc = g[c]
+            fx -= gc * (dx - dn * nx)
+            fy -= gc * (dy - dn * ny)
+            fz -= gc * (dz - dn * nz)
+        mx = -s * (ny * ez - nz * ey)
+        my = -s * (nz * ex - nx * ez)
+        mz = -s * (nx * ey - ny * ex)
+        y[i, 0] -= fx
+        y[i, 1] -= fy
+        y[i, 2] -= fz
+        y[i, 3] += a * mx
+        y[i, 4] += a * my
+        y[i, 5] += a * mz
+        y[j, 0] += fx
+        y[j, 1] += fy
+        y[j, 2] += fz
+        y[j, 3] += b * mx
+        y[j, 4] += b * my
+        y[j, 5] += b * mz
+
+
 def _mul(a, b, out):
     """``out = a b`` for 3 x 3 arrays."""
     for r in range(3):
@@ -251,6 +303,7 @@ if numba is not None:
     _mul = _jit(_mul)
     _tmul = _jit(_tmul)
     apply_contacts = _jit(_apply)
+    apply_sphere_contacts = _jit(_apply_spheres)
     element_pass = _jit(_element_pass)
 else:  # pragma: no cover
-    apply_contacts = element_pass = None
+    apply_contacts = apply_sphere_contacts = element_pass = None
