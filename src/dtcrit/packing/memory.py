@@ -1,17 +1,19 @@
 """Refuse, before any work, a packing that cannot fit in this machine's memory.
 
 Peak memory per sphere, measured by ``dtcrit packing --scale`` (jittered FCC, coordination 12, one run
-on a 2-core machine): about 10 KiB with the assembled stiffness matrix (952 MiB at 97,556 spheres)
-and 2.6 KiB matrix-free (2.5 GiB at 1,000,188).  The estimate scales these by coordination / 12 and
-adds a safety margin of 1.25; it is compared with the memory the kernel says is available.
+on a 2-core machine): about 10 KiB with the assembled stiffness matrix (915 MiB at 97,556 spheres)
+and 1.6 KiB matrix-free (16,029 MiB at 10,061,824; 2,014 MiB at 1,000,188 with the interpreter's
+fixed ~150 MiB).  The estimate scales these by coordination / 12, adds the fixed part and a safety
+margin of 1.15, and is compared with the memory the kernel says is available.
 """
 from __future__ import annotations
 
 
 from dtcrit.errors import InputError
 
-BYTES_PER_SPHERE = {"assembled": 10 * 1024, "matrix-free": 2.6 * 1024}
-MARGIN = 1.25
+BYTES_PER_SPHERE = {"assembled": 10 * 1024, "matrix-free": 1.6 * 1024}
+FIXED_BYTES = 150 * 2**20  # the interpreter with NumPy, SciPy and Numba loaded
+MARGIN = 1.15
 MATRIX_FREE_DOFS = 200_000  # the automatic route switches to matrix-free above this (dtcrit.packing.report)
 
 
@@ -30,7 +32,7 @@ def available_bytes() -> float | None:
 def estimated_bytes(n_spheres: int, coordination: float, route: str = "auto") -> float:
     if route == "auto":
         route = "matrix-free" if 6 * n_spheres > MATRIX_FREE_DOFS else "assembled"
-    return MARGIN * BYTES_PER_SPHERE[route] * n_spheres * max(coordination, 1.0) / 12.0
+    return MARGIN * (FIXED_BYTES + BYTES_PER_SPHERE[route] * n_spheres * max(coordination, 1.0) / 12.0)
 
 
 def check_fits(n_spheres: int, coordination: float, route: str = "auto", key: str = "packing",

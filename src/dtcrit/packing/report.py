@@ -154,9 +154,10 @@ def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, int
         a = stiffness_operator(packing, contacts, mass_diag=md)
     else:
         a = scale_symmetric(stiffness_matrix(packing, contacts), md, inplace=True)
-    hint = est.co_rotation(packing, 0) + est.co_rotation(packing, 1) + est.co_rotation(packing, 2)
+    def hint():  # all particles co-rotating: built inside the solver, released after its start
+        return est.co_rotation(packing, 0) + est.co_rotation(packing, 1) + est.co_rotation(packing, 2)
+
     top: TopMode = largest_mode(a, method, tol=tolerance, hint=hint)
-    del hint  # one vector of 6N: 0.5 GB at 1e7 spheres
     omega = top.omega
     dt = 2.0 / omega if omega > 0 else math.inf
     cn = contacts.coordination(packing.n)
