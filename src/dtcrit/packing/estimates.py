@@ -143,7 +143,7 @@ def single_contact_frequencies(packing: Packing, contacts: Contacts, chunk: int 
     """``omega_c^2`` of every contact alone between its two free bodies (real arms): the compiled
     loop of ``estimate_kernels`` when Numba is installed (``compiled``, default), else batched
     ``numpy.linalg.eigvalsh`` of ``K_c^(1/2) W K_c^(1/2)`` in chunks."""
-    from dtcrit.packing import estimate_kernels
+    import dtcrit.packing.estimate_kernels as estimate_kernels
 
     if (estimate_kernels.available() if compiled is None else compiled) and contacts.count:
         return estimate_kernels.contact_frequencies(packing, contacts)
