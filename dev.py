@@ -4,6 +4,7 @@
     python3 dev.py demo       create .venv if missing, install dtcrit (runtime dependencies only), run the main job
     python3 dev.py test       the same set-up with the test extras (pytest, hypothesis, Jupyter, ...), then the suite
     python3 dev.py generate   regenerate the committed generated code and derivation records (test extras)
+    python3 dev.py mpi-env    create .venv-mpi, the environment of ``dtcrit packing --backend slepc`` (below)
 
 Every task creates the virtual environment ``.venv`` beside this file when it is missing,
 (re)installs the package whenever ``pyproject.toml`` or ``constraints.txt`` (the pinned versions)
@@ -15,6 +16,15 @@ module for the system's ``python3``) and YADE (``yade``) with ``apt-get`` when t
 are root, so the emitted Fortran is compiled and the engine cases and hooks run (never fatal here:
 without them those tests skip, except under ``CI=true``, where the engine tests fail;
 ``DTCRIT_NO_APT=1`` opts out).
+
+``mpi-env`` (and ``test``, before the suite) builds ``.venv-mpi`` for the PETSc/SLEPc back-end: Debian's
+petsc4py and slepc4py (``python3-petsc4py-real``, ``python3-slepc4py-real``, with ``openmpi-bin``;
+installed with ``apt-get`` when missing and we are root, ``DTCRIT_NO_APT=1`` opts out) are built for
+Debian's ``python3`` and a NumPy 1.x ABI, which ``.venv`` (NumPy 2) cannot load.  So ``.venv-mpi`` is a
+virtual environment of that ``python3`` with ``--system-site-packages``, a ``.pth`` file naming the
+real-number builds' module folders, NumPy ``>=1.26,<2`` (a newer 1.x keeps the ABI the modules were
+built against), the other runtime dependencies at the pinned versions, and dtcrit itself (editable,
+``--no-deps``).  It is used only for ``mpirun -n P .venv-mpi/bin/dtcrit packing ... --backend slepc``.
 """
 from __future__ import annotations
 
@@ -39,7 +49,7 @@ def run(*cmd: str | os.PathLike, env: dict | None = None) -> int:
     return subprocess.call([str(c) for c in cmd], cwd=ROOT, env=env)
 
 
-EXTRAS = {"demo": (), "test": ("test",), "generate": ("test",)}
+EXTRAS = {"demo": (), "test": ("test",), "generate": ("test",), "mpi-env": ()}
 """The optional dependency groups of pyproject.toml each task installs: the demo runs on the runtime
 dependencies alone; the tests (and the derivation scripts behind ``generate``) need the ``test`` extra."""
 
@@ -128,6 +138,59 @@ def ensure_apt_tools() -> None:
     print(f"installing {', '.join(missing)} failed (not fatal): the tests that need them will skip", flush=True)
 
 
+MPI_VENV = ROOT / ".venv-mpi"
+MPI_PY = MPI_VENV / "bin" / "python"
+MPI_APT = {"python3-petsc4py-real": "usr/lib/petscdir/petsc3.*/*-real/lib/python3/dist-packages/petsc4py",
+           "python3-slepc4py-real": "usr/lib/slepcdir/slepc3.*/*-real/lib/python3/dist-packages/slepc4py",
+           "openmpi-bin": None}
+"""Debian packages of the PETSc/SLEPc back-end -> where their module lands (Debian's layout: the
+real-number builds with 32-bit indices, on no interpreter's path by default); ``None``: the package
+gives ``mpirun``."""
+MPI_RUNTIME = ("scipy", "sympy", "mpmath", "tqdm")  # at their constraints.txt pins; NumPy stays 1.x
+
+
+def ensure_mpi_env() -> str | None:
+    """Build or update ``.venv-mpi`` (module docstring); ``None`` when it is ready, else why not."""
+    def found(where):
+        return shutil.which("mpirun") if where is None else next(Path("/").glob(where), None)
+
+    missing = [pkg for pkg, where in MPI_APT.items() if not found(where)]
+    apt = shutil.which("apt-get")
+    if missing and os.environ.get("DTCRIT_NO_APT") != "1" and apt and hasattr(os, "geteuid") and os.geteuid() == 0:
+        print(f"installing {', '.join(missing)} with apt-get for the PETSc/SLEPc back-end (DTCRIT_NO_APT=1 opts out)",
+              flush=True)
+        env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
+        install = (apt, "install", "-y", "-q", "--no-install-recommends", *missing)
+        if run(*install, env=env) != 0 and run(apt, "update", "-q", env=env) == 0:
+            run(*install, env=env)
+    if not all(found(where) for where in MPI_APT.values()):
+        return "needs apt-get install python3-slepc4py-real python3-petsc4py-real openmpi-bin (as root)"
+    dirs = [str(found(where).parent) for where in MPI_APT.values() if where]
+    digest = hashlib.sha256((ROOT / "pyproject.toml").read_bytes() + (ROOT / "constraints.txt").read_bytes()
+                            + " ".join(dirs).encode()).hexdigest()
+    stamp = MPI_VENV / ".dtcrit-installed"
+    if MPI_PY.exists() and stamp.exists() and stamp.read_text().strip() == digest:
+        return None
+    system_python = shutil.which("python3", path=os.defpath)  # Debian's, the one its modules are built for
+    if not MPI_PY.exists() and (system_python is None
+                                or run(system_python, "-m", "venv", "--system-site-packages", MPI_VENV) != 0):
+        return "could not create .venv-mpi from the system's python3"
+    site = subprocess.run([str(MPI_PY), "-c", "import sysconfig; print(sysconfig.get_path('purelib'))"],
+                          capture_output=True, text=True).stdout.strip()
+    if not site:
+        return ".venv-mpi has no working python (delete it and run again)"
+    Path(site, "dtcrit-petsc-slepc.pth").write_text("".join(f"{d}\n" for d in dirs))
+    pins = [line.split("#")[0].strip() for line in (ROOT / "constraints.txt").read_text().splitlines()]
+    pins = [pin for pin in pins if pin.split("==")[0] in MPI_RUNTIME]
+    quiet = ["-q"] if os.environ.get("CI") else []
+    check = "from petsc4py import PETSc; from slepc4py import SLEPc; import dtcrit.packing.slepc_backend"
+    if (run(MPI_PY, "-m", "pip", "install", *quiet, "numpy>=1.26,<2", *pins)
+            or run(MPI_PY, "-m", "pip", "install", *quiet, "--no-deps", "-e", ".") or run(MPI_PY, "-c", check)):
+        return "installing dtcrit's runtime into .venv-mpi, or importing petsc4py and slepc4py there, failed"
+    stamp.write_text(digest)
+    return None
+
+
 def child_env() -> dict:
     env = dict(os.environ)
     env.setdefault("MPLBACKEND", "Agg")
@@ -139,8 +202,20 @@ def demo() -> int:
     return run(PY, "-m", "dtcrit", "step", DEMO_SCENE, env=child_env())
 
 
+def mpi_env() -> int:
+    why = ensure_mpi_env()
+    if why:
+        print(f".venv-mpi: {why}", file=sys.stderr)
+        return 1
+    print(".venv-mpi ready: mpirun -n P .venv-mpi/bin/dtcrit packing ... --backend slepc", flush=True)
+    return 0
+
+
 def test() -> int:
     ensure_apt_tools()
+    why = ensure_mpi_env()
+    if why:  # not fatal here: the PETSc/SLEPc tests skip, or fail under CI=true
+        print(f".venv-mpi not built ({why}): the PETSc/SLEPc back-end tests will skip", flush=True)
     env = child_env()
     env.setdefault("HYPOTHESIS_PROFILE", "ci")
     # two pytest workers on two cores: BLAS's own threads would only compete with them
@@ -156,7 +231,7 @@ def generate() -> int:
     return run(PY, "-m", "dtcrit.symbolic.regenerate", env=env) or run(PY, "derivations/run_all.py", *sys.argv[2:], env=env)
 
 
-TASKS = {"demo": demo, "test": test, "generate": generate}
+TASKS = {"demo": demo, "test": test, "generate": generate, "mpi-env": mpi_env}
 
 if __name__ == "__main__":
     if len(sys.argv) < 2 or sys.argv[1] not in TASKS:

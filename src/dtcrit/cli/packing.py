@@ -5,17 +5,26 @@
     dtcrit packing --lattice fcc --cells 4 [--radius R]    a periodic lattice
     dtcrit packing --random 500 --cn 6 [--sizes lognormal --spread 0.3] [--seed 1]
     dtcrit packing --scale 1e3,1e4,1e5                     the scale benchmark (table)
+    mpirun -n P .venv-mpi/bin/dtcrit packing ... --backend slepc   PETSc/SLEPc on P processes
 
 Contact law (required: the step scales with it): ``--kn/--ks`` linear springs (``--ks`` defaults to
 ``--kn``) or ``--youngs/--poisson`` for Hertz-Mindlin tangent stiffness at each contact's overlap.
 A FILE whose first character is ``{`` is a bodies file (``dtcrit.packing.bodies_file``); its own
 ``contacts`` list, when given, replaces the command-line law.
+
+``--backend slepc`` (``dtcrit.packing.slepc_backend``) finds ``omega_max`` with PETSc and SLEPc on the
+processes of an MPI launcher (one process without a launcher is a one-rank run); it needs petsc4py and
+slepc4py (the environment ``.venv-mpi`` of ``python3 dev.py mpi-env``), else one line says what to
+install (exit 2).  It reports ``omega_max``, ``dt_crit``, the Gershgorin lower bound and the solver's
+figures, not the serial report's estimates and certificate.  Only rank 0 prints.
 """
 from __future__ import annotations
 
 import json
 import math
+import os
 import sys
+import time
 
 DEFAULT_DENSITY = 2650.0  # kg/m^3 (quartz), for generated packings
 DEFAULT_RADIUS = 1.0e-3  # m
@@ -59,6 +68,9 @@ def add_parser(subparsers) -> None:
     run.add_argument("--write-dump", metavar="PATH", help="also write the analysed sphere packing as a dump file")
     run.add_argument("--scale", metavar="SIZES", help="run the scale benchmark, e.g. 1e3,1e4,1e5")
     run.add_argument("--scale-packing", choices=("fcc", "random"), default="fcc")
+    run.add_argument("--backend", choices=("serial", "slepc"), default="serial",
+                     help="serial (this process), or slepc: PETSc/SLEPc Krylov-Schur on the processes of "
+                          "mpirun -n P .venv-mpi/bin/dtcrit packing ... (python3 dev.py mpi-env builds .venv-mpi)")
     p.set_defaults(run=run_command)
 
 
@@ -90,7 +102,7 @@ def _bodies(args):
     return read_bodies_file(args.file, parse_particle)
 
 
-def _packing(args):
+def _packing(args, check_memory: bool = True):
     from dtcrit.packing.dump_io import read_dump
     from dtcrit.packing.lattices import lattice
     from dtcrit.packing.random_packing import random_packing
@@ -107,17 +119,19 @@ def _packing(args):
 
     density = DEFAULT_DENSITY if args.density is None else args.density
     if args.lattice is not None:
-        if isinstance(args.cells, int) and args.cells > 0:
+        if check_memory and isinstance(args.cells, int) and args.cells > 0:
             check_fits(len(_BASIS[args.lattice][0]) * args.cells**3, COORDINATION[args.lattice], args.route,
                        key="--cells")
         return lattice(args.lattice, args.cells, radius=args.radius, density=density)
-    if isinstance(args.random, int) and args.random > 0:
+    if check_memory and isinstance(args.random, int) and args.random > 0:
         check_fits(args.random, args.cn if math.isfinite(args.cn) else 12.0, args.route, key="--random")
     return random_packing(args.random, cn=args.cn, sizes=args.sizes, radius=args.radius, spread=args.spread,
                           density=density, seed=args.seed)
 
 
 def run_command(args) -> int:
+    if args.backend == "slepc":
+        return _run_slepc(args)
     if args.scale:
         from dtcrit.packing.scaling import parse_sizes, run_sizes
 
@@ -162,4 +176,74 @@ def run_command(args) -> int:
         sys.stdout.write("\n")
     else:
         print(format_report(report))
+    return 0
+
+
+SLEPC_UNUSED = (("--scale", "scale", None), ("--write-dump", "write_dump", None), ("--solver", "solver", "auto"),
+                ("--route", "route", "auto"), ("--certify", "certify", "auto"))
+LAUNCHER_RANK = ("OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK")
+QUIET_EXIT_DELAY = 1.0
+"""Seconds a silent rank waits before exiting on bad input: the launcher stops the whole job when a
+rank exits with status 2, and rank 0 is then still writing the one line."""
+
+
+def _run_slepc(args) -> int:
+    """``--backend slepc``: every rank builds the packing and its share of the contacts; rank 0 prints.
+    Bad input is one line from rank 0 (the same on every rank) or from the lowest rank that met it
+    alone (``slepc_backend.agree``); the other ranks exit with status 2 silently."""
+    rank = int(next((os.environ[k] for k in LAUNCHER_RANK if os.environ.get(k, "").isdigit()), "0"))
+    try:
+        from dtcrit.packing import slepc_backend as sb
+        from dtcrit.packing.mpi_support import world
+
+        _, rank, _ = world()
+        return _slepc_report(args, sb, rank)
+    except (ValueError, SystemExit) as exc:
+        if isinstance(exc, SystemExit) or (rank != 0 and not getattr(exc, "report_here", False)):
+            time.sleep(QUIET_EXIT_DELAY)
+            raise SystemExit(2) from None
+        raise
+
+
+def _slepc_report(args, sb, rank: int) -> int:
+    from dtcrit.packing.damping import integrator_dt
+
+    for flag, key, default in SLEPC_UNUSED:
+        if getattr(args, key) != default:
+            raise ValueError(f"{flag[2:]}: not used with --backend slepc (it reports omega_max, dt_crit and "
+                             "dt_safe; the serial backend has the estimates, routes and certificate)")
+    integrator_dt(1.0, args.integrator, args.damping_ratio)  # bad names and ratios fail before the work
+    clock = time.perf_counter()
+    bodies = _bodies(args)
+    if bodies is not None and bodies.stiffness_given:
+        if args.kn is not None or args.ks is not None or args.youngs is not None:
+            raise ValueError(f"kn: {args.file} lists each contact's kn and ks; drop --kn/--ks/--youngs")
+        law = None
+    else:
+        law = _law(args)
+    packing = _packing(args, check_memory=False) if bodies is None else bodies.packing
+    contacts = None if bodies is None else bodies.contacts
+    share = sb.distribute(packing, law, contacts, t_input=time.perf_counter() - clock)
+    del packing, contacts, bodies  # the O(N) input is not needed by the matrix and the solve
+    result = sb.analyse_share(share)
+    del share
+    if result.n_contacts == 0:
+        raise ValueError("packing: no two particles touch: no contact limits the step (nothing to analyse)")
+    if not result.omega_max > 0:
+        raise ValueError("packing: every contact has zero stiffness: no vibrating mode, no critical step")
+    dt_int, formula = integrator_dt(result.omega_max, args.integrator, args.damping_ratio)
+    if rank != 0:
+        return 0
+    if args.json:
+        from dtcrit.json_meta import envelope
+
+        doc = envelope(sb.JSON_SCHEMA, sb.UNITS)
+        doc.update(result.to_dict(), integrator=args.integrator, damping_ratio=float(args.damping_ratio),
+                   dt_integrator=dt_int, integrator_formula=formula)
+        json.dump(doc, sys.stdout, indent=2)
+        sys.stdout.write("\n")
+    else:
+        print(sb.format_result(result))
+        print(f"{args.integrator}, modal damping ratio {args.damping_ratio:g}: dt = {dt_int:.6g} s"
+              + ("  (no step is stable)" if dt_int == 0 else ""))
     return 0
