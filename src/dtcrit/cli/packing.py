@@ -102,6 +102,16 @@ def _bodies(args):
     return read_bodies_file(args.file, parse_particle)
 
 
+def _bodies_and_law(args):
+    """The bodies file (or None) and the contact law (None when the file lists each contact's)."""
+    bodies = _bodies(args)
+    if bodies is not None and bodies.stiffness_given:
+        if args.kn is not None or args.ks is not None or args.youngs is not None:
+            raise ValueError(f"kn: {args.file} lists each contact's kn and ks; drop --kn/--ks/--youngs")
+        return bodies, None
+    return bodies, _law(args)
+
+
 def _packing(args, check_memory: bool = True):
     from dtcrit.packing.dump_io import read_dump
     from dtcrit.packing.lattices import lattice
@@ -146,13 +156,7 @@ def run_command(args) -> int:
         from dtcrit.cli.outputs import check_output_file
 
         check_output_file(args.write_dump, "--write-dump")
-    bodies = _bodies(args)
-    if bodies is not None and bodies.stiffness_given:
-        if args.kn is not None or args.ks is not None or args.youngs is not None:
-            raise ValueError(f"kn: {args.file} lists each contact's kn and ks; drop --kn/--ks/--youngs")
-        law = None
-    else:
-        law = _law(args)
+    bodies, law = _bodies_and_law(args)
     packing = _packing(args) if bodies is None else bodies.packing
     contacts = None if bodies is None else bodies.contacts
     certify = {"auto": "auto", "yes": True, "no": False}[args.certify]
@@ -214,13 +218,7 @@ def _slepc_report(args, sb, rank: int) -> int:
                              "dt_safe; the serial backend has the estimates, routes and certificate)")
     integrator_dt(1.0, args.integrator, args.damping_ratio)  # bad names and ratios fail before the work
     clock = time.perf_counter()
-    bodies = _bodies(args)
-    if bodies is not None and bodies.stiffness_given:
-        if args.kn is not None or args.ks is not None or args.youngs is not None:
-            raise ValueError(f"kn: {args.file} lists each contact's kn and ks; drop --kn/--ks/--youngs")
-        law = None
-    else:
-        law = _law(args)
+    bodies, law = _bodies_and_law(args)
     packing = _packing(args, check_memory=False) if bodies is None else bodies.packing
     contacts = None if bodies is None else bodies.contacts
     share = sb.distribute(packing, law, contacts, t_input=time.perf_counter() - clock)
