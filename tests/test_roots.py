@@ -78,6 +78,7 @@ def match_error(got, ref):
 @example(name="symplectic-euler", t=1.0, z=0.5)  # double eigenvalue 0 (b = c = 0)
 @example(name="leapfrog-centred", t=2.0, z=0.0)  # double eigenvalue -1
 @example(name="forward-euler", t=0.3, z=1.0)  # critically damped: double eigenvalue
+@example(name="forward-euler", t=10.0 ** 0.0078125, z=1.0)  # c = (1 - tau)^2 cancels as written
 def test_sound_kernels_match_mpmath_eig(name, t, z):
     """Every root, complex pairs included, within SOUND_TOL of a 50-digit eigen-solve; never NaN."""
     got = gen.EIGENVALUE_KERNELS[name](t, z)

@@ -257,7 +257,9 @@ def kernel_expr(name: str) -> sp.Expr:
     disc, sad = discriminant_numeric(name)
     if R.degree(name) == 2:
         a, b, c = R.coefficients(name)
-        return QUADRATIC(a, b, c, disc, sad)
+        # b and c in double-double: as written they cancel where a root is small (forward Euler's
+        # c = tau^2 - 2 tau zeta + 1 = (1 - tau)^2 at zeta = 1, tau near 1)
+        return QUADRATIC(a, dd_rational(b), dd_rational(c), disc, sad)
     if R.degree(name) == 3:
         a2, a1, a0 = R.monic_coefficients(name)
         _shift, p, q = R.depressed(name)
