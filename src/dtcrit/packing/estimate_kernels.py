@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-from dtcrit.packing.operator_kernels import _jit, available
+from dtcrit.packing.operator_kernels import _jit, available, cross_rotation
 
 __all__ = ["available", "contact_frequencies"]
 
@@ -67,6 +67,8 @@ def _frequencies(ci, cj, nrm, arm_i, arm_j, kn, ks, rot, inv_mass, oriented, out
     root = np.zeros((3, 3))
     rw = np.zeros((3, 3))
     s = np.zeros((3, 3))
+    xi = np.zeros((3, 3))
+    yj = np.zeros((3, 3))
     ri = np.eye(3)
     rj = np.eye(3)
     for c in range(ci.shape[0]):
@@ -75,17 +77,10 @@ def _frequencies(ci, cj, nrm, arm_i, arm_j, kn, ks, rot, inv_mass, oriented, out
         if oriented:
             ri = rot[i]
             rj = rot[j]
-        a = arm_i[c]
-        b = arm_j[c]
-        for col in range(3):  # [a]_x R e_col = a x (R e_col)
-            rx, ry, rz = ri[0, col], ri[1, col], ri[2, col]
-            bi[0, 3 + col] = a[1] * rz - a[2] * ry
-            bi[1, 3 + col] = a[2] * rx - a[0] * rz
-            bi[2, 3 + col] = a[0] * ry - a[1] * rx
-            rx, ry, rz = rj[0, col], rj[1, col], rj[2, col]
-            bj[0, 3 + col] = -(b[1] * rz - b[2] * ry)
-            bj[1, 3 + col] = -(b[2] * rx - b[0] * rz)
-            bj[2, 3 + col] = -(b[0] * ry - b[1] * rx)
+        cross_rotation(arm_i[c], ri, 1.0, xi)  # [a_i]_x R_i
+        cross_rotation(arm_j[c], rj, -1.0, yj)  # -[a_j]_x R_j
+        bi[:, 3:] = xi
+        bj[:, 3:] = yj
         for r in range(3):
             for col in range(3):
                 bi[r, col] = -1.0 if r == col else 0.0

@@ -178,6 +178,14 @@ def _apply_spheres(q, y, ci, cj, nrm, li, lj, kn, ks, g, pre):
         y[j, 5] += b * mz
 
 
+def _cross_rotation(arm, rot, sign, out):
+    """``out = sign [arm]_x rot`` for a 3-vector and a 3 x 3 array (column ``b``: ``arm x rot e_b``)."""
+    for b in range(3):
+        out[0, b] = sign * (arm[1] * rot[2, b] - arm[2] * rot[1, b])
+        out[1, b] = sign * (arm[2] * rot[0, b] - arm[0] * rot[2, b])
+        out[2, b] = sign * (arm[0] * rot[1, b] - arm[1] * rot[0, b])
+
+
 def _mul(a, b, out):
     """``out = a b`` for 3 x 3 arrays."""
     for r in range(3):
@@ -232,14 +240,8 @@ def _element_pass(ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags, sca
                     t[a, b] = (kn[c] - ks[c]) * n[a] * n[b] + (ks[c] if a == b else 0.0)
             ai = arm_i[c]
             aj = arm_j[c]
-            # X = [a_i]_x R_i, Y = -[a_j]_x R_j
-            for b in range(3):
-                x[0, b] = -ai[2] * ri[1, b] + ai[1] * ri[2, b]
-                x[1, b] = ai[2] * ri[0, b] - ai[0] * ri[2, b]
-                x[2, b] = -ai[1] * ri[0, b] + ai[0] * ri[1, b]
-                yj[0, b] = -(-aj[2] * rj[1, b] + aj[1] * rj[2, b])
-                yj[1, b] = -(aj[2] * rj[0, b] - aj[0] * rj[2, b])
-                yj[2, b] = -(-aj[1] * rj[0, b] + aj[0] * rj[1, b])
+            cross_rotation(ai, ri, 1.0, x)  # X = [a_i]_x R_i
+            cross_rotation(aj, rj, -1.0, yj)  # Y = -[a_j]_x R_j
             _mul(t, x, tx)
             _mul(t, yj, ty)
             _tmul(x, tx, xtx)
@@ -300,10 +302,12 @@ def _element_pass(ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags, sca
 
 
 if numba is not None:
+    cross_rotation = _jit(_cross_rotation)
     _mul = _jit(_mul)
     _tmul = _jit(_tmul)
     apply_contacts = _jit(_apply)
     apply_sphere_contacts = _jit(_apply_spheres)
     element_pass = _jit(_element_pass)
 else:  # pragma: no cover
+    cross_rotation = _cross_rotation
     apply_contacts = apply_sphere_contacts = element_pass = None
