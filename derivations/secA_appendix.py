@@ -33,6 +33,13 @@ def _v(v, digits: int = 4) -> str:
     return "(" + ", ".join(_n(0.0 if abs(float(x)) < 5e-7 else x, digits) for x in v) + ")"
 
 
+def _angle(deg) -> str:
+    """An angle from ``acos`` of a unit vector's component, to 1e-4 degrees: near 0 one rounding of
+    the component (2.2e-16) moves ``acos`` by sqrt(2 x 2.2e-16) rad = 1.2e-6 degrees, so digits below
+    that are the processor's, not the configuration's."""
+    return _n(round(float(deg), 4) + 0.0, 4)
+
+
 # ----------------------------------------------------------------------------- exact references
 def _exact_ellipsoid():
     """Unit-density a=3, b=2, c=1 ellipsoid: mass and principal moments by SymPy integration."""
@@ -242,7 +249,7 @@ def build() -> str:
             f"Eqs. (1)-(19) re-evaluated from the rounded configuration: $|\\ddot x_c|$ = {_n(np.linalg.norm(chain), 5)}.",
             f"* normal of 1 {_v(cfg['normal_1'])}, contact point {_v(cfg['contact_point'])}, $r_2$ {_v(cfg['r2'])}, "
             f"centre of 2 {_v(cfg['centre_2'])}, quaternion of 2 (w, x, y, z) {_v(cfg['quaternion_2_body_to_world_wxyz'])}, "
-            f"long axis of 2 {_v(cfg['long_axis_2'])} ({_n(cfg['angle_between_long_axes_deg'], 4)} degrees from "
+            f"long axis of 2 {_v(cfg['long_axis_2'])} ({_angle(cfg['angle_between_long_axes_deg'])} degrees from "
             "that of 1).",
             "",
         ]

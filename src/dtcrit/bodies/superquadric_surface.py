@@ -117,6 +117,13 @@ def superquadric_max_arm(a: float, b: float, c: float, eps1: float, eps2: float)
     return _superellipse_max_radius(_superellipse_max_radius(a, b, eps2), c, eps1)
 
 
+def _half_offset_grid(half_length: float, delta: float) -> np.ndarray:
+    """``(k + 1/2) delta`` for every integer ``k`` with ``|(k + 1/2) delta| <= half_length``
+    (symmetric about 0, which it never contains)."""
+    m = math.floor(half_length / delta - 0.5)
+    return (np.arange(-m - 1, m + 1) + 0.5) * delta
+
+
 def _superquadric_ray_hits(axes: np.ndarray, e1: float, e2: float, delta: float):
     """Surface points hit by rays parallel to each axis through a square grid of spacing ``delta``.
 
@@ -124,6 +131,11 @@ def _superquadric_ray_hits(axes: np.ndarray, e1: float, e2: float, delta: float)
     ``|z/c|^(2/eps1) = 1 - (|x/a|^(2/eps2) + |y/b|^(2/eps2))^(eps2/eps1)``.  Near a surface point with
     unit normal n the family along the axis of largest |n_k| >= 1/sqrt(3) leaves gaps of at most
     sqrt(3) delta, so the union covers the surface with no parametrisation distortion.
+
+    The grid is offset by half a spacing (:func:`_half_offset_grid`): with ``delta = h/4`` a grid
+    through the origin would put half the hits exactly on the faces of the thinning cubes
+    (:func:`_voxel_thin`), where the last bit of ``p/h`` decides the cube and with it the count, so
+    the samples would change with the processor's SIMD loops.
 
     Returns ``(points, dominant_area)``: all hits, and for each hit the area it stands for if its
     ray family is the one of largest |n_k| there (``delta^2 / |n_k|``), else 0; the sum estimates
@@ -133,8 +145,8 @@ def _superquadric_ray_hits(axes: np.ndarray, e1: float, e2: float, delta: float)
     out, area = [], []
     for k in range(3):
         i, j = [m for m in range(3) if m != k]
-        gi = np.arange(-math.floor(axes[i] / delta), math.floor(axes[i] / delta) + 1) * delta
-        gj = np.arange(-math.floor(axes[j] / delta), math.floor(axes[j] / delta) + 1) * delta
+        gi = _half_offset_grid(axes[i], delta)
+        gj = _half_offset_grid(axes[j], delta)
         ui, uj = np.meshgrid(np.abs(gi) / axes[i], np.abs(gj) / axes[j], indexing="ij")
         si, sj = np.meshgrid(gi, gj, indexing="ij")
         ui, uj, si, sj = ui.ravel(), uj.ravel(), si.ravel(), sj.ravel()

@@ -27,7 +27,9 @@ and are stated for the undamped central-difference family, ``dt = 2 / omega``.
   *upper* bound on ``dt``.
 * ``rayleigh`` -- ``w^T A w / w^T w <= lambda_max(A)`` for any trial vector ``w``: a rigorous *upper*
   bound on ``dt``.  Trials: all particles co-rotating about x, y or z; the single-contact modes of
-  the stiffest contacts embedded in the packing; the single stiffest DOF.
+  the stiffest contacts embedded in the packing (the best quotient over each contact's top
+  eigenspace, Rayleigh-Ritz, so a degenerate pair does not depend on which eigenvector LAPACK
+  returns); the single stiffest DOF.
 """
 from __future__ import annotations
 
@@ -190,19 +192,58 @@ def two_particle_exact(packing: Packing, contacts: Contacts, omega2_c: np.ndarra
 
 def contact_mode(packing: Packing, contacts: Contacts, c: int) -> np.ndarray:
     """Mass-scaled global vector of contact ``c``'s own highest mode (zero away from its pair)."""
+    return contact_modes(packing, contacts, c, rtol=0.0)[0]
+
+
+def contact_modes(packing: Packing, contacts: Contacts, c: int, rtol: float = 1e-8) -> list[np.ndarray]:
+    """Mass-scaled global vectors of contact ``c``'s top eigenspace (zero away from its pair).
+
+    Every eigenvector of ``K_c^(1/2) W K_c^(1/2)`` whose eigenvalue is within the relative ``rtol``
+    of the largest, embedded as in :func:`contact_mode`.  Two spheres' tangential pair is exactly
+    degenerate, and which member of that plane LAPACK returns depends on the last bits of the
+    input; the *span* does not, so :func:`rayleigh` uses the best quotient over the span.
+    """
     sl = slice(c, c + 1)
     root = _sqrt_contact_stiffness(contacts, sl)[0]
     w = _compliance(packing, contacts, sl)[0]
-    _, vecs = np.linalg.eigh(root @ w @ root)
-    force = root @ vecs[:, -1]
+    vals, vecs = np.linalg.eigh(root @ w @ root)
     bi, bj = contact_kinematics(packing, contacts, sl)
     rows = _mass_rows(packing)
-    vec = np.zeros(packing.dofs)
     i, j = int(contacts.i[c]), int(contacts.j[c])
-    # velocity pattern q = M^-1 B^T f, mass-scaled w = M^(1/2) q = M^(-1/2) B^T f
-    vec[6 * i:6 * i + 6] += (bi[0].T @ force) / np.sqrt(rows[i])
-    vec[6 * j:6 * j + 6] += (bj[0].T @ force) / np.sqrt(rows[j])
-    return vec
+    out = []
+    for k in range(2, -1, -1):
+        if k < 2 and vals[k] < vals[2] - rtol * abs(vals[2]):
+            break
+        force = root @ vecs[:, k]
+        vec = np.zeros(packing.dofs)
+        # velocity pattern q = M^-1 B^T f, mass-scaled w = M^(1/2) q = M^(-1/2) B^T f
+        vec[6 * i:6 * i + 6] += (bi[0].T @ force) / np.sqrt(rows[i])
+        vec[6 * j:6 * j + 6] += (bj[0].T @ force) / np.sqrt(rows[j])
+        out.append(vec)
+    return out
+
+
+def _span_quotient(a, vectors: list[np.ndarray]) -> float:
+    """Largest Rayleigh quotient of ``a`` over the span of ``vectors`` (Rayleigh-Ritz: the top
+    eigenvalue of ``Q^T A Q`` for an orthonormal basis ``Q`` of the span; never above
+    ``lambda_max(A)``, and independent of which basis of the span is given).  One product with
+    ``a`` per vector; only the small Gram matrices are kept."""
+    if len(vectors) == 1:
+        v = vectors[0]
+        norm = float(v @ v)
+        return float(v @ (a @ v)) / norm if norm > 0 else 0.0
+    gram = np.array([[float(u @ v) for v in vectors] for u in vectors])
+    proj = np.empty_like(gram)
+    for k, v in enumerate(vectors):
+        av = a @ v
+        proj[:, k] = [float(u @ av) for u in vectors]
+    proj = 0.5 * (proj + proj.T)
+    s, u = np.linalg.eigh(gram)
+    keep = s > 1e-12 * max(float(s[-1]), 0.0)
+    if not np.any(keep):
+        return 0.0
+    basis = u[:, keep] / np.sqrt(s[keep])  # coefficients of an orthonormal basis of the span
+    return float(np.linalg.eigvalsh(basis.T @ proj @ basis)[-1])
 
 
 def co_rotation(packing: Packing, axis: int) -> np.ndarray:
@@ -218,13 +259,20 @@ def co_rotation(packing: Packing, axis: int) -> np.ndarray:
 
 
 def _stiffest(w: np.ndarray, k: int) -> np.ndarray:
-    """Indices of the ``k`` largest ``w``, largest first, ties to the lower index (as a stable
-    ``argsort(-w)[:k]``), by ``argpartition`` (O(n), not a full sort)."""
+    """Indices of the ``k`` largest ``w``, largest first.
+
+    Ranked on ``w`` rounded to 30 significant bits (a relative 1e-9), ties to the lower index: many
+    contacts of a packing have the same frequency up to rounding, and which of them the last bits
+    favour must not change the trials (NumPy's SIMD loops differ between processors).
+    """
+    w = np.asarray(w, dtype=float)
+    mant, expo = np.frexp(w)
+    key = np.ldexp(np.round(np.ldexp(mant, 30)), expo - 30)
     if w.size <= k:
-        return np.argsort(-w, kind="stable")
-    cut = np.partition(w, w.size - k)[w.size - k]
-    pick = np.flatnonzero(w >= cut)
-    return pick[np.argsort(-w[pick], kind="stable")][:k]
+        return np.argsort(-key, kind="stable")
+    cut = np.partition(key, w.size - k)[w.size - k]
+    pick = np.flatnonzero(key >= cut)
+    return pick[np.argsort(-key[pick], kind="stable")][:k]
 
 
 def rayleigh(a, packing: Packing, contacts: Contacts, omega2_c: np.ndarray | None = None,
@@ -237,7 +285,7 @@ def rayleigh(a, packing: Packing, contacts: Contacts, omega2_c: np.ndarray | Non
             w = single_contact_frequencies(packing, contacts) if omega2_c is None else omega2_c
             for c in _stiffest(w, n_contacts):
                 yield (f"mode of the contact of particles {packing.particle_id(contacts.i[c])} and "
-                       f"{packing.particle_id(contacts.j[c])} alone", contact_mode(packing, contacts, int(c)))
+                       f"{packing.particle_id(contacts.j[c])} alone", contact_modes(packing, contacts, int(c)))
         d = np.asarray(a.diagonal())
         k = int(np.argmax(d))
         unit = np.zeros(a.shape[0])
@@ -246,10 +294,7 @@ def rayleigh(a, packing: Packing, contacts: Contacts, omega2_c: np.ndarray | Non
 
     best, name = 0.0, "none"
     for label, v in trials():
-        norm = float(v @ v)
-        if norm == 0:
-            continue
-        q = float(v @ (a @ v)) / norm
+        q = _span_quotient(a, v if isinstance(v, list) else [v])
         if q > best:
             best, name = q, label
     return Estimate("rayleigh", best, "upper bound on dt", name)
