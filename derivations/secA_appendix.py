@@ -290,10 +290,15 @@ def build() -> str:
         )
     box = s["shapes"]["box"]
     bc = box["max_lambda_config"]
+    # the maximisers form a family (any vertex of either box, box 2 turned within the vertex's normal
+    # cone): which member the search returns depends on the last bits, so only their arms are printed
+    arms = [float(np.linalg.norm(bc[k])) for k in ("r1", "r2")]
+    vertex = all(abs(r / box["max_arm"] - 1) < 1e-5 for r in arms)
     L += [
         "",
-        "* Box: the largest eigenvalue is reached at a vertex-vertex contact (contact point "
-        f"{_v(bc['contact_point'])} on box 1, $r_2$ {_v(bc['r2'])}), "
+        f"* Box: the largest eigenvalue is reached at a {'vertex-vertex' if vertex else 'non-vertex'} contact "
+        f"(arms $|r_1|$ = {_n(arms[0], 4)} m and $|r_2|$ = {_n(arms[1], 4)} m; the maximisers are a family, "
+        "any vertex of either box), "
         f"{_n(100 * (box['lambda_over_eq26'] - 1), 3)} % above Eq. (26): the arm to a vertex, "
         f"$\\sqrt{{a^2+b^2+c^2}}$ = {_n(box['max_arm'])} m, exceeds the half-length $a$ = 3 m that Eq. (26) uses.  "
         "The found maximum equals `a_bound` (exact for polyhedra).  For $F=(1,1,1)$ the acceleration stays below "
