@@ -49,8 +49,19 @@ def _col(v, batch):
 
 
 def force(K, x):
-    """``F = -K x`` for a batch (K shared or one per system)."""
-    return -(x @ K.T) if K.ndim == 2 else -np.einsum("bij,bj->bi", K, x)
+    """``F = -K x`` for a batch (K shared or one per system).
+
+    Summed column by column in a fixed order with NumPy's elementwise multiply and add (each rounded
+    once, as IEEE 754 prescribes), not by BLAS or ``einsum``, whose kernels and summation order
+    depend on the processor: a run near YADE's threshold is chaotic, and whether it grows must not
+    follow the last bits of ``K x``.
+    """
+    x = np.asarray(x, dtype=float)
+    cols = K.T[None, :, :] if K.ndim == 2 else np.swapaxes(K, 1, 2)  # cols[b, j] = column j of K
+    acc = x[:, :1] * cols[:, 0]
+    for j in range(1, x.shape[1]):
+        acc = acc + x[:, j:j + 1] * cols[:, j]
+    return -acc
 
 
 def power_sign(F, u, h, inv_mass, law):
