@@ -38,7 +38,7 @@ _MATH_FUNCTIONS = """
     log log10 log1p log2 logb modf scalbn scalbln scalb cbrt fabs hypot pow sqrt erf erfc lgamma lgamma_r tgamma
     gamma ceil floor nearbyint rint lrint llrint round lround llround roundeven trunc fmod remainder remquo drem
     copysign nan nextafter nexttoward nextup nextdown fdim fmax fmin fma significand finite isinf isnan j0 j1 jn
-    y0 y1 yn sincos
+    y0 y1 yn sincos lgammaf_r lgammal_r
 """.split()
 _MATH_MACROS = """
     fpclassify isfinite isgreater isgreaterequal isless islessequal islessgreater isnormal isunordered signbit
