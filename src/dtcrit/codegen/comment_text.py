@@ -23,9 +23,9 @@ from __future__ import annotations
 
 import re
 
-WIDTH = 110
-"""Longest comment line (before the language's comment prefix) left unwrapped: Fortran allows 132
-characters on a line, and every fixed header line is shorter."""
+WIDTH = 129
+"""Longest comment line (before the language's comment prefix, at most 3 characters) left unwrapped:
+Fortran allows 132 characters on a line, and every fixed header line is shorter."""
 
 _PRINTABLE = frozenset(chr(c) for c in range(0x20, 0x7F)) - {"\\"}
 _PAIRS = {("*", "/"), ("/", "*"), ("?", "?")}  # C comment delimiters, the trigraph introducer
