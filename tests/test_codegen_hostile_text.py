@@ -127,3 +127,15 @@ def test_a_rule_with_a_newline_is_refused_in_one_line(tmp_path, capsys):
     captured = capsys.readouterr()
     assert captured.out == "" and captured.err.startswith(f"{path}:integrator.update[1]: ")
     assert len(captured.err.splitlines()) == 1
+
+
+@pytest.mark.parametrize("name", ["a*/ int x; /*", "a\nimport os", 'a"""', "a\\"])
+def test_a_user_scheme_name_that_could_leave_a_comment_or_docstring_is_refused(name, tmp_path, capsys):
+    """The scheme's name is printed in comments and the NumPy docstring: only letters, digits, - _ . pass."""
+    path = tmp_path / "s.toml"
+    scheme = USER_SCHEME.replace('"my-scheme-{lang}"', json.dumps(name)).format(rule=json.dumps("v = v + h*f(x, v)"))
+    path.write_text("title = 'plain'\n" + scheme + BODY.split("\n", 1)[1])
+    assert main(["codegen", str(path), "--lang", "c"]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == "" and captured.err.startswith(f"{path}:integrator.name: ")
+    assert len(captured.err.splitlines()) == 1
