@@ -79,7 +79,7 @@ def _checked_name(name: str, then=None, args=None):
             raise
         if args is not None:
             args.source_label = None
-        raise ValueError(f"--name: {exc.reason}") from None
+        raise InputError("--name", exc.reason) from None
 
 
 def _refuse_what_the_kernel_leaves_out(scene) -> None:
