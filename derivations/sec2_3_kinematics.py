@@ -251,8 +251,9 @@ def section_api(verdicts) -> list[str]:
         "(Eq. 54), `rotation_matrix` (Eq. 7), `arm_term` (one particle's $[r]_\\times^T I^{-1}[r]_\\times$ from the "
         "general kinematics), `gyroscopic_coefficients` (Eqs. 11-12 with $M_L = 0$).  Run-time functions "
         "(`dtcrit.bodies.contact`): `a_max(p1, p2=None)`, `a_bound(p1, p2=None)`, `b_max(p)`, `b_bound(p)`, "
-        "`coefficient_matrix(p1, p2, r1, r2, R1=None, R2=None)` (global frame; $R_1, R_2$ the orientations body "
-        "to world, as quaternion or matrix: the paper's Eq. (5) matrix is their transpose).",
+        "`coefficient_matrix(p1, p2, r1, r2, *, body_to_world=None)` (global frame; `body_to_world=(R1, R2)` the "
+        "orientations body to world, as quaternion or matrix: the paper's Eq. (5) matrix is their transpose; a "
+        "rotation passed positionally or as `R1=`/`R2=` raises `TypeError`).",
         "",
         "## Summary",
         "",

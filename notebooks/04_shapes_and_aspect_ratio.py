@@ -81,7 +81,7 @@ def search(p, n=3000):
         r2 = pts[rng.integers(len(pts))]
         # orientations body to world (dtcrit's convention for every rotation and quaternion):
         # the surface points, in body components, map to world arms with R
-        A = dtcrit.coefficient_matrix(p, p, R1 @ r1, R2 @ r2, R1, R2)
+        A = dtcrit.coefficient_matrix(p, p, R1 @ r1, R2 @ r2, body_to_world=(R1, R2))
         best = max(best, np.linalg.eigvalsh(A)[-1])
     return best
 

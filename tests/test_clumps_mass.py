@@ -97,7 +97,7 @@ def test_a_bound_holds_at_member_surface_contacts():
         p1, p2 = pts[rng.integers(len(pts))], pts[rng.integers(len(pts))]
         q1, q2 = (np.linalg.qr(rng.standard_normal((3, 3)))[0] for _ in range(2))
         q1, q2 = q1 * np.sign(np.linalg.det(q1)), q2 * np.sign(np.linalg.det(q2))
-        A = coefficient_matrix(c, c, q1 @ p1, q2 @ p2, q1, q2)
+        A = coefficient_matrix(c, c, q1 @ p1, q2 @ p2, body_to_world=(q1, q2))
         worst = max(worst, float(np.linalg.eigvalsh(A)[-1]))
     assert worst <= bound * (1 + 1e-12)
 

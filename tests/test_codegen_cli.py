@@ -87,11 +87,16 @@ def test_bad_input(tmp_path, capsys):
     assert err.startswith(f"{bad}:particle: missing") and len(err.splitlines()) == 1
     assert main(["codegen", str(SCENE), "--lang", "c", "--name", "1bad name"]) == 2
     err = capsys.readouterr().err
-    assert "name: must be an identifier" in err and len(err.splitlines()) == 1
-    for taken in ("kn", "KN", "sqrt", "while"):  # an argument (any case, as in Fortran), a function called, a keyword
+    assert err.startswith("dtcrit: --name: must be an identifier") and len(err.splitlines()) == 1
+    for taken in ("kn", "KN"):  # an argument (any case, as in Fortran)
         assert main(["codegen", str(SCENE), "--lang", "fortran", "--name", taken]) == 2
         err = capsys.readouterr().err
-        assert f"name: '{taken}' is already a name in the emitted code" in err and len(err.splitlines()) == 1
+        assert err.startswith(f"dtcrit: --name: '{taken}' is already a name in the emitted code") and len(err.splitlines()) == 1
+    for reserved in ("sqrt", "while", "range", "Exp", "main"):  # a function called, a keyword, a Python built-in
+        assert main(["codegen", str(SCENE), "--lang", "fortran", "--name", reserved]) == 2
+        err = capsys.readouterr().err
+        assert err.startswith(f"dtcrit: --name: '{reserved}' is a keyword or a name C, Fortran or Python already gives") \
+            and len(err.splitlines()) == 1
     undamped_fe = tmp_path / "fe.toml"
     undamped_fe.write_text((ROOT / "examples" / "paper_ellipsoids.toml").read_text().replace("velocity-verlet", "forward-euler"))
     assert main(["codegen", str(undamped_fe), "--lang", "c"]) == 2

@@ -152,7 +152,7 @@ def test_arm_based_A_bounds_the_coefficient_matrix(shapes):
         r2 = rng.normal(size=3)
         r1 *= p1.max_arm * rng.uniform(0.2, 1.0) / np.linalg.norm(r1)
         r2 *= p2.max_arm * rng.uniform(0.2, 1.0) / np.linalg.norm(r2)
-        W = coefficient_matrix(p1, p2, r1, r2, _random_rotation(rng), _random_rotation(rng))
+        W = coefficient_matrix(p1, p2, r1, r2, body_to_world=(_random_rotation(rng), _random_rotation(rng)))
         bound = 1 / p1.mass + 1 / p2.mass + r1 @ r1 / min(p1.inertia) + r2 @ r2 / min(p2.inertia)
         worst = max(worst, np.linalg.eigvalsh(W)[-1] / bound)
     assert worst <= 1 + 1e-12

@@ -10,6 +10,7 @@ import functools
 import hashlib
 import importlib.util
 import math
+import os
 import shutil
 import subprocess
 import tempfile
@@ -66,10 +67,23 @@ def c_function(kernel, name="dtcrit_dt_crit"):
     return _bind(lib, name, len(kernel.arguments))
 
 
-def fortran_library(source: str, extra_flags: tuple[str, ...] = ()) -> Path:
-    """Emitted Fortran compiled with ``FORTRAN_FLAGS`` (and ``extra_flags``); skips without gfortran."""
+def in_ci() -> bool:
+    """True under CI (``CI`` set to true, 1 or yes), where a missing compiler fails instead of skipping."""
+    return os.environ.get("CI", "").strip().lower() in {"true", "1", "yes"}
+
+
+def require_gfortran() -> None:
+    """Skip without gfortran (fail under ``CI=true``: the Fortran checks are never skipped there)."""
     if GFORTRAN is None:
+        if in_ci():
+            pytest.fail(FORTRAN_SKIP + " -- and under CI=true the Fortran checks must run", pytrace=False)
         pytest.skip(FORTRAN_SKIP)
+
+
+def fortran_library(source: str, extra_flags: tuple[str, ...] = ()) -> Path:
+    """Emitted Fortran compiled with ``FORTRAN_FLAGS`` (and ``extra_flags``); skips without gfortran
+    (fails under ``CI=true``)."""
+    require_gfortran()
     return _build(source, ".f90", lambda s, o: [GFORTRAN, *FORTRAN_FLAGS, "-O2", *extra_flags, "-shared", "-fPIC",
                                                 "-o", str(o), str(s)])
 
@@ -104,8 +118,7 @@ def test_c_compiler_is_available():
 
 
 def test_fortran_compiler_is_available():
-    """Said once, with its reason, when the Fortran checks cannot run."""
-    if GFORTRAN is None:
-        pytest.skip(FORTRAN_SKIP)
+    """Said once, with its reason, when the Fortran checks cannot run (a failure under CI=true)."""
+    require_gfortran()
     version = subprocess.run([GFORTRAN, "--version"], capture_output=True, text=True, check=True).stdout
     assert "Fortran" in version

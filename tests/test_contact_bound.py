@@ -82,12 +82,13 @@ def test_second_argument_is_checked_too():
     assert err.value.key == "p2"
 
 
-@pytest.mark.parametrize("R,key", [(np.ones(3), "R1"), (np.zeros(4), "R1"), (2 * np.eye(3), "R1"),
-                                   (np.diag([1.0, 1.0, -1.0]), "R1"), ([np.nan, 0, 0, 1], "R1")])
+@pytest.mark.parametrize("R,key", [(np.ones(3), "body_to_world[1]"), (np.zeros(4), "body_to_world[1]"),
+                                   (2 * np.eye(3), "body_to_world[1]"), (np.diag([1.0, 1.0, -1.0]), "body_to_world[1]"),
+                                   ([np.nan, 0, 0, 1], "body_to_world[1]")])
 def test_bad_rotations_are_refused(R, key):
     s = SHAPES["box"]
     with pytest.raises(InputError) as err:
-        contact.coefficient_matrix(s, s, [1, 0, 0], [-1, 0, 0], R1=R)
+        contact.coefficient_matrix(s, s, [1, 0, 0], [-1, 0, 0], body_to_world=(R, None))
     assert err.value.key == key
 
 
@@ -129,8 +130,8 @@ def test_coefficient_matrix_matches_direct_rigid_body_evaluation(n1, n2, q1, q2,
     # (global -> local, Eq. 5) that direct_matrix takes is its transpose
     Q1 = Rotation.from_quat([*q1[1:], q1[0]]).as_matrix()
     Q2 = Rotation.from_quat([*q2[1:], q2[0]]).as_matrix()
-    A = contact.coefficient_matrix(s1, s2, r1, r2, R1=q1, R2=q2)
-    A_mat = contact.coefficient_matrix(s1, s2, r1, r2, R1=Q1, R2=Q2)
+    A = contact.coefficient_matrix(s1, s2, r1, r2, body_to_world=(q1, q2))
+    A_mat = contact.coefficient_matrix(s1, s2, r1, r2, body_to_world=(Q1, Q2))
     D = direct_matrix(s1.mass, s1.inertia, Q1.T, np.array(r1), s2.mass, s2.inertia, Q2.T, np.array(r2))
     scale = np.max(np.abs(D))
     np.testing.assert_allclose(A, D, rtol=0, atol=1e-13 * scale)
@@ -199,7 +200,7 @@ def test_random_admissible_contacts_never_exceed_a_bound(pair):
     assert np.all(lam <= bound * (1 + SLACK))
     # the arms seen from the global frame give the same matrices through the public function
     i = int(np.argmax(lam))
-    A = contact.coefficient_matrix(s1, s2, batch.r1[i], batch.r2[i], R1=batch.Q1[i], R2=batch.Q2[i])
+    A = contact.coefficient_matrix(s1, s2, batch.r1[i], batch.r2[i], body_to_world=(batch.Q1[i], batch.Q2[i]))
     assert math.isclose(np.linalg.eigvalsh(A)[-1], lam[i], rel_tol=1e-12)
 
 
@@ -242,7 +243,7 @@ def test_search_establishes_where_eq26_fails(name, exceeds):
     res = cs.search_supremum(s, s, n_random=1500, n_starts=4, iterations=80, seed=2)
     c = res.contact
     # the returned contact reproduces the value through the public coefficient matrix
-    A = contact.coefficient_matrix(s, s, c.r1[0], c.r2[0], R1=c.Q1[0], R2=c.Q2[0])
+    A = contact.coefficient_matrix(s, s, c.r1[0], c.r2[0], body_to_world=(c.Q1[0], c.Q2[0]))
     assert math.isclose(np.linalg.eigvalsh(A)[-1], res.value, rel_tol=1e-12)
     assert res.value <= dtcrit.a_bound(s) * (1 + SLACK)
     assert res.value >= dtcrit.a_bound(s) * (1 - 1e-6)

@@ -213,15 +213,15 @@ def test_json_quaternion_round_trip(run, key):
     e = Ellipsoid(3.0, 2.0, 1.0, density=1.0)
     r1, r2 = np.array(cfg["r1"]), np.array(cfg["r2"])
     force = np.ones(3)
-    A = dtcrit.coefficient_matrix(e, e, r1, r2, None, q)
+    A = dtcrit.coefficient_matrix(e, e, r1, r2, body_to_world=(None, q))
     assert np.linalg.norm(A @ force) == pytest.approx(cfg["accel"], rel=2e-6)
     assert np.linalg.eigvalsh(A)[-1] == pytest.approx(cfg["lambda_max"], rel=2e-6)
     np.testing.assert_allclose(A, np.array(cfg["matrix"]), rtol=0, atol=2e-6 * np.max(np.abs(A)))
     Q2 = Rotation.from_quat(np.roll(q, -1)).as_matrix()
-    np.testing.assert_allclose(dtcrit.coefficient_matrix(e, e, r1, r2, np.eye(3), Q2), A, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(dtcrit.coefficient_matrix(e, e, r1, r2, body_to_world=(np.eye(3), Q2)), A, rtol=0, atol=1e-12)
     np.testing.assert_allclose(_rigid_body_matrix(e.mass, np.array(e.inertia), Q2, r1, r2), A, rtol=0,
                                atol=1e-12 * np.max(np.abs(A)))
-    conj = dtcrit.coefficient_matrix(e, e, r1, r2, None, q * np.array([1.0, -1.0, -1.0, -1.0]))
+    conj = dtcrit.coefficient_matrix(e, e, r1, r2, body_to_world=(None, q * np.array([1.0, -1.0, -1.0, -1.0])))
     if key == "orthogonal_config":
         assert doc["appendix_a"]["orthogonal"] == pytest.approx(0.5207776, rel=1e-6)
         assert np.linalg.norm(conj @ force) == pytest.approx(0.620, abs=5e-4)  # what the conjugate would give

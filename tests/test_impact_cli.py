@@ -69,7 +69,7 @@ def test_phase_figure_for_single_step(capsys, tmp_path):
         (["--integrator", "leapfrog", "--zeta", "nan"], "zeta"),
         (["--integrator", "leapfrog", "--omega-dt", "0"], "omega-dt"),
         (["--integrator", "leapfrog", "--phases", "0"], "phases"),
-        (["--integrator", "leapfrog", "--energy-threshold", "2"], "energy_threshold"),
+        (["--integrator", "leapfrog", "--energy-threshold", "2"], "--energy-threshold: must lie in (0, 1)"),
         (["--integrator", "leapfrog", "--omega-dt", "1", "--sweep"], "not allowed"),
         (["--zeta", "0.1"], "required"),
     ],

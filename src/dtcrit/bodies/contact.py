@@ -16,7 +16,7 @@ special configurations, Eqs 22-25).  The functions here:
   ``lambda_max([p]x^T I_i^-1 [p]x)`` (:func:`dtcrit.bodies.arm_supremum.arm_term_supremum`).  It is
   attained for identical particles and, whenever the top eigenvectors can be aligned, for others.
 * :func:`b_max` -- Eq (54); :func:`b_bound` -- the tight constant of the gyroscopic term.
-* :func:`coefficient_matrix` -- ``A`` for given arms and orientations.
+* :func:`coefficient_matrix` -- ``A`` for given arms and orientations (``body_to_world=(R1, R2)``).
 
 Rotation convention (the one used wherever dtcrit carries a quaternion): an orientation is
 *body-to-world*.  The unit quaternion ``q = (qw, qx, qy, qz)`` of a particle gives, through the
@@ -165,21 +165,54 @@ def b_bound(p) -> float:
     return math.sqrt(best)
 
 
-def coefficient_matrix(p1, p2, r1, r2, R1=None, R2=None) -> np.ndarray:
+_OLD_ROTATIONS = object()  # the default of the retired R1, R2 parameters: given at all, they are refused
+OLD_ROTATION_CALL = (
+    "coefficient_matrix takes the orientations as body_to_world=(R1, R2), keyword only: R_i maps body to world "
+    "components (v_world = R_i v_body; the unit quaternion (qw, qx, qy, qz) of Eq (7), or that matrix); the paper's "
+    "Eq (5) matrix, world to body, is its transpose.  A rotation passed positionally or as R1=/R2= is refused: an "
+    "older dtcrit read it as world to body, so the same call would now silently use its inverse")
+
+
+def coefficient_matrix(p1, p2, r1, r2, *rotations, body_to_world=None, R1=_OLD_ROTATIONS,
+                       R2=_OLD_ROTATIONS) -> np.ndarray:
     """The 3x3 coefficient matrix ``A`` of the contact force in ``xdd_c = A F + Omega`` (global frame).
 
-    ``r1, r2``: contact arms ``x_c - x_i`` in global components (Peng et al. 2020, Eqs 1-2);
-    ``R1, R2``: the particles' orientations, body to world (``v_world = R_i v_body``): a unit
-    quaternion ``(qw, qx, qy, qz)`` whose Eq (7) matrix is that rotation, or the rotation matrix
-    itself; ``None`` means axis aligned.  (The paper's Eq (5) rotation, world to body, is ``R_i^T``.)
-    The arms need not lie on the surfaces (pure kinematics); ``A = (1/m1 + 1/m2) 1 + sum_i R_i
-    T_i(R_i^T r_i) R_i^T`` with the generated per-particle term ``T(p) = [p]x^T I^-1 [p]x`` in body
-    components (Eqs 3-19).
+    Parameters
+    ----------
+    p1, p2 : dtcrit shapes
+    r1, r2 : array_like, shape (3,)
+        Contact arms ``x_c - x_i`` in global components (Peng et al. 2020, Eqs 1-2).  They need not lie
+        on the surfaces (pure kinematics).
+    body_to_world : pair ``(R1, R2)``, keyword only, optional
+        The particles' orientations, body to world (``v_world = R_i v_body``): each a unit quaternion
+        ``(qw, qx, qy, qz)`` whose Eq (7) matrix is that rotation, the rotation matrix itself, or
+        ``None`` (axis aligned); ``None`` for the pair means both axis aligned.  The paper's Eq (5)
+        rotation, world to body, is ``R_i^T``.  The retired positional or ``R1=``/``R2=`` rotations
+        (read as world to body by an older dtcrit) raise ``TypeError`` saying so.
+
+    Returns
+    -------
+    ndarray, shape (3, 3)
+        ``A = (1/m1 + 1/m2) 1 + sum_i R_i T_i(R_i^T r_i) R_i^T`` with the generated per-particle term
+        ``T(p) = [p]x^T I^-1 [p]x`` in body components (Eqs 3-19), symmetrised.
     """
+    if rotations or R1 is not _OLD_ROTATIONS or R2 is not _OLD_ROTATIONS:
+        raise TypeError(OLD_ROTATION_CALL)
     p1, p2 = _shape("p1", p1), _shape("p2", p2)
     r1, r2 = _vector("r1", r1), _vector("r2", r2)
-    Q1, Q2 = _rotation("R1", R1), _rotation("R2", R2)
+    Q1, Q2 = _rotation_pair(body_to_world)
     T1 = Q1 @ arm_terms_local((Q1.T @ r1)[None, :], p1.inertia)[0] @ Q1.T
     T2 = Q2 @ arm_terms_local((Q2.T @ r2)[None, :], p2.inertia)[0] @ Q2.T
     A = (1.0 / p1.mass + 1.0 / p2.mass) * np.eye(3) + T1 + T2
     return 0.5 * (A + A.T)
+
+
+def _rotation_pair(pair) -> tuple[np.ndarray, np.ndarray]:
+    """``body_to_world``: ``None`` or a pair of orientations (``_rotation``), keys ``body_to_world[1|2]``."""
+    if pair is None:
+        return np.eye(3), np.eye(3)
+    if isinstance(pair, (str, bytes, dict)) or not hasattr(pair, "__len__") or len(pair) != 2:
+        raise InputError("body_to_world", "must be a pair (R1, R2) of orientations, body to world: quaternions "
+                         f"(qw, qx, qy, qz), 3x3 matrices or None (got {type(pair).__name__} "
+                         f"of length {len(pair) if hasattr(pair, '__len__') else '-'})")
+    return _rotation("body_to_world[1]", pair[0]), _rotation("body_to_world[2]", pair[1])

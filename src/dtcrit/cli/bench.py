@@ -8,6 +8,10 @@ from __future__ import annotations
 
 import json
 
+from dtcrit.cli.flags import number
+
+MAX_SCENES = 10_000_000  # ten times the full run: the batch's arrays stay within a few GB
+
 
 def add_parser(subparsers) -> None:
     p = subparsers.add_parser(
@@ -21,7 +25,8 @@ def add_parser(subparsers) -> None:
     p.add_argument("--quick", action="store_true", help="small batch and samples (about a minute)")
     p.add_argument("--out", metavar="DIR", default="dtcrit-bench", help="output folder (default: ./dtcrit-bench)")
     p.add_argument("--json", action="store_true", help="print the summary as JSON on standard output")
-    p.add_argument("--scenes", type=int, metavar="N", help="batch size (default 20000 quick, 1000000 full)")
+    p.add_argument("--scenes", type=number(int, maximum=MAX_SCENES, what="number of scenes"), metavar="N",
+                   help=f"batch size (default 20000 quick, 1000000 full; at most {MAX_SCENES})")
     p.set_defaults(run=run)
 
 
@@ -38,7 +43,7 @@ def run(args) -> int:
     config = QUICK if args.quick else FULL_RUN
     if args.scenes is not None:
         if args.scenes < max(config.n_ref, config.n_eig, config.n_mp, 1):
-            raise InputError("scenes", f"must be at least {max(config.n_ref, config.n_eig, config.n_mp)} "
+            raise InputError("--scenes", f"must be at least {max(config.n_ref, config.n_eig, config.n_mp)} "
                              f"(the reference and timing samples; got {args.scenes})")
         config = replace(config, n_batch=args.scenes)
     result = run_bench(config)

@@ -28,12 +28,12 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
+    import shlex
     import sys
 
-    from dtcrit.codegen.render import check_name
     from dtcrit.scenes.scene import load_scene
 
-    name = check_name(args.name)
+    name = _checked_name(args.name)
     if args.out:
         from dtcrit.cli.outputs import check_output_file
 
@@ -43,8 +43,10 @@ def run(args) -> int:
     _refuse_what_the_kernel_leaves_out(scene)
     from dtcrit.codegen import metadata  # SymPy: only now
 
-    command = f"dtcrit codegen {args.scene} --lang {args.lang}" + (f" --name {name}" if name != "dtcrit_dt_crit" else "")
-    doc = metadata(scene, args.lang, name, command)
+    # the header's "Regenerate with" line: the path quoted for a shell (the header's comment text is made
+    # safe for the language in dtcrit.codegen.render, whatever the path holds)
+    command = f"dtcrit codegen {shlex.quote(args.scene)} --lang {args.lang}" + (f" --name {name}" if name != "dtcrit_dt_crit" else "")
+    doc = _checked_name(name, lambda: metadata(scene, args.lang, name, command), args)
     for key, message in scene.warnings:  # only once nothing can fail any more: one line for a refusal
         sys.stderr.write(f"{args.scene}:{key}: {message}\n")
     text = doc["source"]
@@ -62,6 +64,22 @@ def run(args) -> int:
     elif not args.out:
         sys.stdout.write(text)
     return 0
+
+
+def _checked_name(name: str, then=None, args=None):
+    """``check_name(name)`` (or ``then()``, which checks it against the kernel's own names), with a
+    refusal of the name reported as ``--name: reason`` (a flag, not a key of the scene)."""
+    from dtcrit.codegen.names import check_name
+    from dtcrit.errors import InputError
+
+    try:
+        return check_name(name) if then is None else then()
+    except InputError as exc:
+        if exc.key != "name":
+            raise
+        if args is not None:
+            args.source_label = None
+        raise InputError("--name", exc.reason) from None
 
 
 def _refuse_what_the_kernel_leaves_out(scene) -> None:

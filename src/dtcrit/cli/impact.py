@@ -14,6 +14,12 @@ import json
 import sys
 from pathlib import Path
 
+from dtcrit.cli.flags import flag_errors, number
+
+# the library's keys of the flags' values (its range checks name them so): reported as the flags
+FLAGS = {"integrator": "--integrator", "zeta": "--zeta", "omega-dt": "--omega-dt", "step": "--step",
+         "phases": "--phases", "energy_threshold": "--energy-threshold"}
+
 
 def add_parser(subparsers) -> None:
     from dtcrit.integrators.schemes import NAMES
@@ -25,13 +31,13 @@ def add_parser(subparsers) -> None:
         "integrator, sweeping omega*dt and the entry phase, and compare v_exit/v_entry with the exact impact.",
     )
     p.add_argument("--integrator", required=True, metavar="NAME", help=f"one of {', '.join(NAMES)}")
-    p.add_argument("--zeta", type=float, default=0.0, help="damping ratio c/(2 sqrt(k m)) (default 0)")
+    p.add_argument("--zeta", type=number(positive=False, what="damping ratio"), default=0.0, help="damping ratio c/(2 sqrt(k m)) (default 0)")
     mode = p.add_mutually_exclusive_group()
-    mode.add_argument("--omega-dt", type=float, metavar="X", help="evaluate this omega*dt only")
+    mode.add_argument("--omega-dt", type=number(), metavar="X", help="evaluate this omega*dt only")
     mode.add_argument("--sweep", action="store_true", help="sweep omega*dt over (0, 2.2] (the default)")
-    p.add_argument("--step", type=float, default=0.005, help="grid spacing of the sweep (default 0.005)")
-    p.add_argument("--phases", type=int, default=128, help="entry phases per omega*dt (default 128)")
-    p.add_argument("--energy-threshold", type=float, default=0.01,
+    p.add_argument("--step", type=number(), default=0.005, help="grid spacing of the sweep (default 0.005)")
+    p.add_argument("--phases", type=number(int), default=128, help="entry phases per omega*dt (default 128)")
+    p.add_argument("--energy-threshold", type=number(), default=0.01,
                    help="Hertz study: tolerated energy error |v_e^2/v_0^2 - 1| (default 0.01)")
     p.add_argument("--no-hertz", action="store_true", help="skip the Hertz study of a sweep")
     p.add_argument("--out", metavar="DIR", help="write the JSON report and PNG figures into DIR")
@@ -97,17 +103,18 @@ def run(args) -> int:
     if args.out:
         check_output_dir(args.out)
     omega_dt = args.omega_dt
-    if omega_dt is not None:
-        imp.check_omega_dt(omega_dt, "omega-dt")
-    rep = imp.impact_report(
-        args.integrator,
-        args.zeta,
-        omega_dt=omega_dt,
-        n_phases=args.phases,
-        hertz=False if args.no_hertz else None,
-        energy_threshold=args.energy_threshold,
-        step=args.step,
-    )
+    with flag_errors(FLAGS):
+        if omega_dt is not None:
+            imp.check_omega_dt(omega_dt, "omega-dt")
+        rep = imp.impact_report(
+            args.integrator,
+            args.zeta,
+            omega_dt=omega_dt,
+            n_phases=args.phases,
+            hertz=False if args.no_hertz else None,
+            energy_threshold=args.energy_threshold,
+            step=args.step,
+        )
     data = imp.to_json(rep)
     if args.out:
         out = Path(args.out)

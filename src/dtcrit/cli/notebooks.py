@@ -4,12 +4,17 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
+from dtcrit.cli.flags import number
+
+MAX_TIMEOUT = 86400  # a day per cell
+
 
 def add_parser(sub):
     p = sub.add_parser("notebooks", help="execute the teaching notebooks into .ipynb files with outputs")
     p.add_argument("--out", default="out/notebooks", help="folder for the executed notebooks (default: out/notebooks)")
     p.add_argument("--only", nargs="*", default=None, help="stems of the notebooks to run (default: all)")
-    p.add_argument("--timeout", type=int, default=300, help="seconds per cell (default 300)")
+    p.add_argument("--timeout", type=number(int, maximum=MAX_TIMEOUT, what="number of seconds"), default=300,
+                   help=f"seconds per cell, a whole number from 1 to {MAX_TIMEOUT} (default 300)")
     p.set_defaults(run=run)
 
 

@@ -38,14 +38,12 @@ def metadata(scene, lang: str, name: str = DEFAULT_NAME, command: str | None = N
     """The ``dtcrit codegen --json`` document (schema ``dtcrit-codegen/1``): what the emitted code computes
     and from what -- language, integrator, function and arguments with units, the equations, the
     specialisations, the derivation hash of the kernel and of the careful step it calls -- and the source."""
-    from pathlib import Path
-
     import dtcrit.codegen.step as step
     from dtcrit.json_meta import envelope
     from dtcrit.symbolic.closed_forms import formula_text
 
     kernel = build_kernel(structure_of_scene(scene))
-    label = Path(scene.source).name + (f" ({scene.title})" if scene.title else "")
+    label = scene_label(scene)
     source = render(kernel, lang, name, label, command)
     st = kernel.structure
     doc = envelope("dtcrit-codegen/1", CODEGEN_UNITS)
@@ -73,8 +71,13 @@ def metadata(scene, lang: str, name: str = DEFAULT_NAME, command: str | None = N
 
 def emit_for_scene(scene, lang: str, name: str = DEFAULT_NAME, command: str | None = None) -> str:
     """Source text of the kernel a scene needs, in ``lang`` (``c``, ``numpy`` or ``fortran``)."""
+    kernel = build_kernel(structure_of_scene(scene))
+    return render(kernel, lang, name, scene_label(scene), command)
+
+
+def scene_label(scene) -> str:
+    """``FILE (TITLE)``: the scene's file name and title as given (the header's comment makes any text safe,
+    ``dtcrit.codegen.comment_text``; the JSON keeps it verbatim)."""
     from pathlib import Path
 
-    kernel = build_kernel(structure_of_scene(scene))
-    label = Path(scene.source).name + (f" ({scene.title})" if scene.title else "")
-    return render(kernel, lang, name, label, command)
+    return Path(scene.source).name + (f" ({scene.title})" if scene.title else "")

@@ -13,21 +13,15 @@ import textwrap
 from dtcrit.errors import InputError
 
 import dtcrit.codegen.step as step
+from dtcrit.codegen.comment_text import comment_lines
 from dtcrit.codegen.helpers import NUMPY_HELPER_NAME
 from dtcrit.codegen.kernel import ContactKernel
+from dtcrit.codegen.names import check_name
 from dtcrit.codegen.printers import CPrinter, FortranPrinter, NumPyPrinter
 
 LANGUAGES = ("c", "numpy", "fortran")
 DEFAULT_NAME = "dtcrit_dt_crit"
-_IDENT = re.compile(r"^[A-Za-z][A-Za-z0-9_]{0,47}$")
 PAPER = "Peng, Burns & Hanley 2020, Int J Numer Methods Eng, doi:10.1002/nme.6568"
-
-
-def check_name(name: str) -> str:
-    if not isinstance(name, str) or not _IDENT.match(name) or name.lower() in {"dt", "a", "b", "pi", "np", "int", "double"}:
-        raise InputError("name", f"must be an identifier valid in C, Fortran and Python (letter first, then letters, "
-                         f"digits or _; at most 48 characters) (got {name!r})")
-    return name
 
 
 # names the emitted code uses besides the kernel's own: library functions of the printers and
@@ -89,6 +83,10 @@ def header_lines(kernel: ContactKernel, lang: str, scene_label: str, command: st
 
 
 def _comment(lines: list[str], lang: str) -> str:
+    """``lines`` as a comment block of ``lang``.  The one place where text enters a comment: every line
+    passes through ``comment_lines`` (printable ASCII that cannot end the comment or the line, e.g. a
+    scene title with ``*/`` or a newline; ``dtcrit.codegen.comment_text``)."""
+    lines = [part for ln in lines for part in comment_lines(ln)]
     if lang == "c":
         return "/*\n" + "\n".join((" * " + ln).rstrip() for ln in lines) + "\n */\n"
     if lang == "fortran":
@@ -230,7 +228,7 @@ def render_step(integrator: str, lang: str, name: str, command: str | None = Non
 
     integrator = check_integrator(integrator)
     name = check_name(name)
-    if name.lower() in {n.lower() for n in step.local_names(integrator)} | {"k", "c"}:
+    if name.lower() in {n.lower() for n in step.local_names(integrator)} | {"k", "c"} | _USED_NAMES:
         raise InputError("name", f"{name!r} is already a name in the emitted code; choose another")
     header = _comment(step_header(integrator, lang, command or f"python -c \"import dtcrit.codegen as g; print(g.render_step('{integrator}', '{lang}', '{name}'), end='')\""), lang)
     if lang == "c":

@@ -78,7 +78,7 @@ def coefficient_matrix_single(body1, body2, r1, r2, Q2) -> np.ndarray:
     from dtcrit.bodies.contact import coefficient_matrix
 
     return np.asarray(coefficient_matrix(body1, body2, np.asarray(r1, float), np.asarray(r2, float),
-                                         None, np.asarray(Q2, float)), dtype=float)
+                                         body_to_world=(None, np.asarray(Q2, float))), dtype=float)
 
 
 # ============================================================================================
@@ -102,7 +102,7 @@ class ContactConfig:
     @property
     def quaternion(self) -> tuple[float, float, float, float]:
         """(qw, qx, qy, qz) of particle 2, body to world: its Eq. (7) matrix is ``Q2`` (qw >= 0).  Passed as
-        ``R2`` to ``dtcrit.bodies.contact.coefficient_matrix`` (``R1`` = identity) it gives ``matrix``."""
+        ``body_to_world=(None, q)`` to ``dtcrit.bodies.contact.coefficient_matrix`` it gives ``matrix``."""
         return matrix_quaternion(np.array(self.orientation))
 
     def describe(self, digits: int = 6) -> dict:

@@ -16,8 +16,8 @@ Keys (each present when its figure was run):
 * ``appendix_a``: ``orthogonal``, ``max_found``, ``max_config``, ``orthogonal_is_max`` (|xdd_c| for
   F = (1, 1, 1)), the eigenvalue maxima, and the superquadric and box searches.  Each configuration
   carries particle 2's orientation as ``quaternion_2_body_to_world_wxyz`` (body to world, the
-  convention of ``dtcrit.bodies.contact.coefficient_matrix``: passed there as ``R2``, with ``R1``
-  the identity, it reproduces the configuration's ``matrix`` and ``accel``).
+  convention of ``dtcrit.bodies.contact.coefficient_matrix``: passed there as
+  ``body_to_world=(None, q)``, it reproduces the configuration's ``matrix`` and ``accel``).
 
 :func:`document` puts the envelope of every dtcrit JSON document in front (``dtcrit.json_meta``:
 ``schema`` = ``dtcrit-figures/1``, ``dtcrit_version``, ``units``, ``derivation_hashes``); its schema is
