@@ -19,7 +19,8 @@ from dtcrit.packing.certificate import SPARSE_DOFS, Certificate, bracket, certif
 from dtcrit.packing.contacts import find_contacts
 from dtcrit.packing.damping import DEFAULT_INTEGRATOR, integrator_dt
 from dtcrit.packing.eigen import DEFAULT_TOL, TopMode, largest_mode, mode_character, rotational_fraction
-from dtcrit.packing.model import Contacts, LinearLaw, Packing, apply_law
+from dtcrit.errors import InputError, NotConvergedError
+from dtcrit.packing.model import Contacts, HertzMindlinLaw, LinearLaw, Packing, apply_law
 from dtcrit.packing.operator import stiffness_operator
 
 OPERATOR_DOFS = 200_000
@@ -138,14 +139,14 @@ def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, int
         contacts = find_contacts(packing)
     if contacts.kn is None or law is not None:
         law = law if law is not None else LinearLaw(1.0, 1.0)
+        if isinstance(law, HertzMindlinLaw):
+            check_hertz_overlaps(packing, contacts)
         contacts = apply_law(contacts, law)
         law_text = law.describe()
     else:
         law_text = "per-contact stiffness given"
     md = mass_diagonal(packing)
     if route not in ROUTES:
-        from dtcrit.errors import InputError
-
         raise InputError("route", f"unknown route {route!r}; choose one of {', '.join(ROUTES)}")
     if route == "auto":
         limit = OPERATOR_DOFS if operator_kernels.available() else NUMPY_OPERATOR_DOFS
@@ -157,7 +158,10 @@ def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, int
     def hint():  # all particles co-rotating: built inside the solver, released after its start
         return est.co_rotation(packing, 0) + est.co_rotation(packing, 1) + est.co_rotation(packing, 2)
 
-    top: TopMode = largest_mode(a, method, tol=tolerance, hint=hint)
+    try:
+        top: TopMode = largest_mode(a, method, tol=tolerance, hint=hint)
+    except NotConvergedError as exc:
+        raise dt_bracket_error(exc, a, md, packing) from None
     omega = top.omega
     dt = 2.0 / omega if omega > 0 else math.inf
     cn = contacts.coordination(packing.n)
@@ -195,6 +199,36 @@ def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, int
         relative_residual=top.residual / top.value if top.value > 0 else 0.0, estimates=estimates,
         route=route, dt_safe=dt_safe, certificate=cert,
     )
+
+
+ROUNDING_OVERLAP = 64 * np.finfo(float).eps
+"""Overlaps at most this times the largest coordinate are rounding noise of the positions (a lattice's
+spheres that only touch): a Hertz stiffness ``2 E* sqrt(R* delta)`` computed from them means nothing."""
+
+
+def check_hertz_overlaps(packing: Packing, contacts: Contacts) -> None:
+    """InputError (key ``youngs``) when every contact's overlap is zero or at the rounding level of the
+    coordinates: the Hertz tangent stiffness vanishes there (no vibrating mode) or is noise."""
+    if not contacts.count:
+        return
+    scale = float(np.max(np.abs(packing.positions), initial=0.0))
+    if packing.box is not None:
+        scale = max(scale, float(np.max(np.abs(packing.box.hi))), float(np.max(np.abs(packing.box.lo))))
+    largest = float(np.max(contacts.overlap, initial=0.0))
+    if largest <= ROUNDING_OVERLAP * scale:
+        raise InputError("youngs", "the Hertz stiffness 2 E* sqrt(R* delta) vanishes at zero overlap, and these "
+                                   f"spheres only touch (largest overlap {largest:.3g} m, rounding noise of coordinates "
+                                   f"up to {scale:.3g} m): no mode vibrates; give linear springs (--kn [--ks]) or a "
+                                   "packing whose spheres overlap")
+
+
+def dt_bracket_error(exc: NotConvergedError, a, md, packing: Packing) -> NotConvergedError:
+    """The eigen-solver's bracket on ``omega_max^2`` as one on ``dt_crit = 2/omega_max``, its lower end
+    raised to ``dt_safe`` (the Gershgorin and block-diagonal bounds) when that is larger."""
+    bounds = [est.gershgorin(a, md).dt, est.block_diagonal(a, packing.particle_id).dt]
+    lower = max([b for b in bounds if math.isfinite(b)] + [2.0 / math.sqrt(exc.upper) if exc.upper > 0 else 0.0])
+    upper = 2.0 / math.sqrt(exc.lower) if exc.lower > 0 else math.inf
+    return NotConvergedError("dt_crit [s]", lower, upper, exc.solver, exc.reason)
 
 
 def format_report(r: PackingReport) -> str:
