@@ -217,14 +217,21 @@ def _assemble(packing: Packing, contacts: Contacts, kind: str, chunk: int, label
     return sps.bsr_matrix((data, indices, indptr), shape=(6 * n, 6 * n))
 
 
-def scale_symmetric(k: sps.bsr_matrix, mass_diag: np.ndarray, *, inplace: bool = False) -> sps.bsr_matrix:
-    """``A = M^(-1/2) K M^(-1/2)``: the symmetric standard form of ``K phi = omega^2 M phi``."""
+def scale_symmetric(k: sps.bsr_matrix, mass_diag: np.ndarray, *, inplace: bool = False,
+                    key: str = "stiffness") -> sps.bsr_matrix:
+    """``A = M^(-1/2) K M^(-1/2)``: the symmetric standard form of ``K phi = omega^2 M phi``.
+    InputError (``key``: ``"stiffness"``, or ``"damping"`` for ``C``) when an entry of ``A`` leaves
+    the floating-point range (a huge stiffness over a tiny mass: ``omega^2`` would be inf)."""
     s = 1.0 / np.sqrt(mass_diag)
     a = k if inplace else k.copy()
     nb = a.indptr.size - 1
     block_rows = np.repeat(np.arange(nb), np.diff(a.indptr))
     srow = s.reshape(-1, 6)[block_rows]
     scol = s.reshape(-1, 6)[a.indices]
-    a.data *= srow[:, :, None]
-    a.data *= scol[:, None, :]
+    with np.errstate(over="ignore", invalid="ignore"):
+        a.data *= srow[:, :, None]
+        a.data *= scol[:, None, :]
+    if not np.all(np.isfinite(a.data)):
+        raise InputError(key, f"M^-1/2 {'C' if key == 'damping' else 'K'} M^-1/2 overflows the floating-point "
+                              "range: the coefficient over the particle mass exceeds 1e308 (omega^2 would be inf)")
     return a

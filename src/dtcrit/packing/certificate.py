@@ -51,6 +51,39 @@ the densest pattern): 0.11 s at 3k DOFs, 9.2 s and 30M factor entries at 24k; a 
 (coordination 6): 1.8 s at 12k.  Fill grows about as n^(4/3) in 3-D, so 1e5 DOFs of FCC cost
 minutes and a few GiB: beyond this limit the certificate is declared too costly."""
 SPARSE_METHOD = "sparse LDL^T (SuperLU, symmetric mode, no pivoting)"
+FACTOR_REF_DOFS = 5184
+FACTOR_REF_SECONDS = 4.0
+FACTOR_REF_ENTRIES = 4.06e6
+FACTOR_TIME_EXPONENT = 2.9
+FACTOR_FILL_EXPONENT = 1.84
+BYTES_PER_FACTOR_ENTRY = 40.0
+"""Cost model of the sparse route, measured on FCC (coordination 12) with SuperLU's MMD ordering on
+the 2-core development machine (shared): 5,184 DOFs 4.0 s and 4.06e6 entries in ``L``, 12,288 DOFs
+50 s, 1.99e7 entries and a 1.06 GB peak (the eigen-solve took 0.6 s and 5.5 s).  Time grows as
+``n^2.9``, fill as ``n^1.84``; ``L`` and ``U`` are both kept (value and index: 24 bytes an entry,
+40 with SuperLU's work space).  RCM and COLAMD orderings measured 1.2x more fill and 2-3x the time.
+The effective size scales the DOFs by ``(1 + coordination) / 13`` (the nonzeros per row)."""
+
+
+def _effective_dofs(n: int, coordination: float) -> float:
+    return float(n) * (1.0 + max(float(coordination), 0.0)) / 13.0
+
+
+def factor_seconds(n: int, coordination: float = 12.0) -> float:
+    """Estimated time [s] of the certificate on ``n`` DOFs (``FACTOR_*``; the dense route below
+    ``DENSE_DOFS`` costs well under a second)."""
+    if n <= DENSE_DOFS:
+        return 1e-7 * n ** 2
+    return FACTOR_REF_SECONDS * (_effective_dofs(n, coordination) / FACTOR_REF_DOFS) ** FACTOR_TIME_EXPONENT
+
+
+def factor_bytes(n: int, coordination: float = 12.0) -> float:
+    """Estimated memory [bytes] of the certificate's factorisation on ``n`` DOFs (dense: ``n^2``
+    doubles for the matrix, its factor and the pivot work)."""
+    if n <= DENSE_DOFS:
+        return 3.0 * 8.0 * n * n
+    entries = FACTOR_REF_ENTRIES * (_effective_dofs(n, coordination) / FACTOR_REF_DOFS) ** FACTOR_FILL_EXPONENT
+    return BYTES_PER_FACTOR_ENTRY * entries
 
 
 @dataclass(frozen=True)
@@ -103,10 +136,19 @@ def certify(a, theta: float, tol: float = DEFAULT_TOL, *, dense_dofs: int = DENS
                            f"{n} DOFs exceed the sparse LDL^T limit of {sparse_dofs} (fill-in); "
                            "the bracket's lower end is dt_safe")
     s = _shifted(a, sigma)
+    from tqdm import tqdm
+
+    coordination = s.nnz / n / 6.0 - 1.0
+    # SuperLU reports no progress: a one-step bar with the estimate, drawn on a terminal only
+    ticker = tqdm(total=1, desc=f"certificate: sparse LDL^T (about {factor_seconds(n, coordination):.0f} s)",
+                  leave=False, disable=None if factor_seconds(n, coordination) > 2.0 else True)
     try:
         lu = spla.splu(s, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
     except RuntimeError as exc:  # an exactly singular pivot: no conclusion
         return Certificate(False, SPARSE_METHOD, sigma, None, f"factorisation failed: {exc}")
+    finally:
+        ticker.update()
+        ticker.close()
     if not np.array_equal(lu.perm_r, lu.perm_c):  # a row pivot was taken: not a congruence
         return Certificate(False, SPARSE_METHOD, sigma, None, "the factorisation pivoted: no inertia")
     d = lu.U.diagonal()
@@ -152,4 +194,5 @@ def bracket(theta: float, dt_safe: float, cert: Certificate | None) -> Bracket:
     return Bracket(dt_safe, upper, "dt_safe")
 
 
-__all__ = ["Certificate", "Bracket", "certify", "bracket", "DEFAULT_TOL", "DENSE_DOFS", "SPARSE_DOFS"]
+__all__ = ["Certificate", "Bracket", "certify", "bracket", "factor_seconds", "factor_bytes", "DEFAULT_TOL",
+           "DENSE_DOFS", "SPARSE_DOFS"]

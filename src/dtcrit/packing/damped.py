@@ -98,7 +98,7 @@ def scaled_matrices(packing: Packing, contacts: Contacts, route: str = "assemble
     if use_operator(packing, route):
         return (stiffness_operator(packing, contacts, mass_diag=d), damping_operator(packing, contacts, mass_diag=d))
     k = scale_symmetric(stiffness_matrix(packing, contacts), d, inplace=True)
-    c = scale_symmetric(damping_matrix(packing, contacts), d, inplace=True)
+    c = scale_symmetric(damping_matrix(packing, contacts), d, inplace=True, key="damping")
     return k, c
 
 
