@@ -128,6 +128,9 @@ def run_command(args) -> int:
         flag = flag_of(exc.key, args)
         if flag is None:
             raise
+        if flag.startswith(f"{args.snapshot}:"):  # printed as SOURCE:key: reason
+            args.source_label = args.snapshot
+            raise InputError(flag[len(str(args.snapshot)) + 1:], exc.reason) from None
         raise InputError(flag, exc.reason) from None
     except NotConvergedError as exc:
         raise ValueError(f"--integrator: {exc}") from None

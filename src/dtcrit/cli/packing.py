@@ -204,6 +204,9 @@ def run_command(args) -> int:
         flag = flag_of(exc.key, args)
         if flag is None:
             raise
+        if flag.startswith(f"{args.file}:"):  # printed as SOURCE:key: reason
+            args.source_label = args.file
+            raise InputError(flag[len(str(args.file)) + 1:], exc.reason) from None
         raise InputError(flag, exc.reason) from None
     except NotConvergedError as exc:
         raise ValueError(f"--solver: {exc} (another --solver may converge)") from None

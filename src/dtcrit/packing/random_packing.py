@@ -216,7 +216,7 @@ def random_packing(n: int, *, cn: float = 6.0, sizes: str = "mono", radius: floa
     r = sample_radii(n, sizes, float(radius), float(spread), rng)
     with np.errstate(over="ignore", under="ignore"):
         length = float(np.cbrt((4.0 / 3.0) * np.pi * np.sum(r**3) / fraction))
-        mass = float(density) * (4.0 / 3.0) * np.pi * float(np.min(r)) ** 3
+        mass = float(density * (4.0 / 3.0) * np.pi * np.min(r) ** 3)
     if not (np.isfinite(length) and length > 0 and np.isfinite(mass) and mass > 0):
         raise InputError("radius", f"{radius:g} m spheres: the box or the masses (4/3 pi R^3 rho) leave the "
                                    "floating-point range")
