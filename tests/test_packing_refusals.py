@@ -253,3 +253,29 @@ def test_bad_values_name_the_flag(args, start, tmp_path):
     _one_line(rc, out, err, written, f"dtcrit: {start}")
     for leak in ("np.float64", "infs or NaNs", "expected non-negative integer", "GiB"):
         assert leak not in err
+
+
+def test_damped_newton_not_converged_keeps_a_valid_bracket(monkeypatch):
+    """The lagged (velocity-Verlet) route stopped early: the bracket it reports holds the step found
+    when the eigen-solver is allowed to converge (Newton from above; the rigorous lower bound below)."""
+    import dtcrit.packing.damped as damped
+    from dtcrit.errors import NotConvergedError
+    from dtcrit.packing.lattices import lattice
+    from dtcrit.packing.contacts import find_sphere_contacts
+    from dtcrit.packing.model import LinearLaw, apply_law
+
+    p = lattice("fcc", 3, radius=1e-3, density=2650.0)
+    c = apply_law(find_sphere_contacts(p), LinearLaw(1e5, 3e4)).with_damping(0.5, 0.2)
+    true = damped.damped_critical_dt(p, c, "velocity-verlet", method="dense").dt
+    real = damped.largest_mode
+    calls = []
+
+    def failing(a, method="auto", **k):
+        calls.append(1)
+        return real(a, method) if len(calls) < 3 else real(a, "eigsh", maxiter=1)
+
+    monkeypatch.setattr(damped, "largest_mode", failing)
+    with pytest.raises(NotConvergedError) as caught:
+        damped.damped_critical_dt(p, c, "velocity-verlet", method="dense")
+    exc = caught.value
+    assert exc.quantity == "dt_crit [s]" and 0 < exc.lower <= true <= exc.upper * (1 + 1e-12)

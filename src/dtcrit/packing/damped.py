@@ -127,7 +127,10 @@ def _lagged_root(k, c, omega2: float, method: str):
     solves, v = 0, None
     for _ in range(60):
         a = CombinedOperator(c, 2.0 * h, k, h * h) if operator else (2.0 * h) * c + (h * h) * k
-        top = largest_mode(a, method)
+        try:
+            top = largest_mode(a, method)
+        except NotConvergedError as exc:  # Newton descends from above: h is still an upper bound
+            raise NotConvergedError("dt_crit [s]", 0.0, h, exc.solver, f"{exc.reason}, Newton step {solves + 1}") from None
         solves += 1
         v = top.vector
         slope = float(v @ (2.0 * (c @ v) + 2.0 * h * (k @ v)))
@@ -150,7 +153,12 @@ def damped_critical_dt(packing: Packing, contacts: Contacts, integrator: str = "
     if integrator not in INTEGRATORS:
         raise InputError("integrator", f"unknown integrator {integrator!r}")
     k, c = scaled_matrices(packing, contacts, route)
-    top = largest_mode(k, method)
+    try:
+        top = largest_mode(k, method)
+    except NotConvergedError as exc:  # the lagged and centred steps are at most 2/omega_max (docstring)
+        family = integrator in LAGGED or integrator in CENTRED
+        upper = 2.0 / math.sqrt(exc.lower) if exc.lower > 0 and family else math.inf
+        raise NotConvergedError("dt_crit [s]", 0.0, upper, exc.solver, f"{exc.reason}, undamped omega_max") from None
     if top.value <= 0:
         raise InputError("contacts", "the packing has no stiffness: no vibrating mode")
     dt_undamped = 2.0 / math.sqrt(top.value)
@@ -169,7 +177,10 @@ def damped_critical_dt(packing: Packing, contacts: Contacts, integrator: str = "
         return DampedStep(dt_undamped, min(bound(undamped_c), dt_undamped), dt_undamped,
                           "2/omega_max (4M - h^2 K > 0)", top.vector, 1)
     if integrator in LAGGED:
-        h, v, solves = _lagged_root(k, c, top.value, method)
+        try:
+            h, v, solves = _lagged_root(k, c, top.value, method)
+        except NotConvergedError as exc:
+            raise NotConvergedError(exc.quantity, min(bound(c), exc.upper), exc.upper, exc.solver, exc.reason) from None
         return DampedStep(h, min(bound(c), h), dt_undamped, "root of lambda_max(2h C~ + h^2 K~) = 4", v, solves + 1)
     growth = physical_growth(k) if contacts.force_n is not None and np.any(contacts.force_n > 0) else 0.0
     h, solves = critical_by_spectral_radius(k, c, integrator, dt_undamped, growth=growth)
@@ -201,23 +212,29 @@ def amplification_operator(k, c, integrator: str, h: float) -> spla.LinearOperat
     return spla.LinearOperator((parts * n, parts * n), matvec=matvec, dtype=float)
 
 
-DENSE_STATES = 2400
-"""Up to this many states the amplification operator's spectrum is computed densely (LAPACK ``geev``,
-about a second at 2400): near the critical step many eigenvalues crowd the unit circle (the rigid
-modes sit at ``+1``), where ARPACK's "largest magnitude" iteration converges slowly or not at all."""
+DENSE_STATES = 600
+FALLBACK_STATES = 2400
+"""Up to ``DENSE_STATES`` states the amplification operator's spectrum is computed densely (LAPACK
+``geev``); above, by ARPACK's "largest magnitude" iteration, which near the critical step meets many
+eigenvalues crowding the unit circle (the rigid modes sit at ``+1``) and can stop unconverged: up to
+``FALLBACK_STATES`` the dense solve then answers (seconds at 2400 states), above it the failure
+propagates to ``critical_by_spectral_radius``, which reports its bracket."""
 
 
 def spectral_radius(k, c, integrator: str, h: float) -> float:
-    """Largest ``|lambda|`` of the amplification operator (dense up to ``DENSE_STATES``, else ARPACK;
-    ``ArpackNoConvergence`` propagates to ``critical_by_spectral_radius``, which reports its bracket)."""
+    """Largest ``|lambda|`` of the amplification operator (``DENSE_STATES``, ``FALLBACK_STATES``)."""
     op = amplification_operator(k, c, integrator, h)
     size = op.shape[0]
-    if size <= DENSE_STATES:
-        dense = op @ np.eye(size)
-        return float(np.max(np.abs(np.linalg.eigvals(dense))))
-    v0 = np.random.default_rng(20170601).standard_normal(size)
-    w = spla.eigs(op, k=1, which="LM", v0=v0, tol=1e-10, return_eigenvectors=False)
-    return float(np.max(np.abs(w)))
+    if size > DENSE_STATES:
+        v0 = np.random.default_rng(20170601).standard_normal(size)
+        try:
+            w = spla.eigs(op, k=1, which="LM", v0=v0, tol=1e-10, return_eigenvectors=False)
+            return float(np.max(np.abs(w)))
+        except spla.ArpackNoConvergence:
+            if size > FALLBACK_STATES:
+                raise
+    dense = op @ np.eye(size)
+    return float(np.max(np.abs(np.linalg.eigvals(dense))))
 
 
 def physical_growth(k) -> float:
@@ -227,7 +244,7 @@ def physical_growth(k) -> float:
     pre-loads can make ``K~`` indefinite (a statically unstable packing): that growth is physics, not
     the integrator's instability, and is allowed for by ``critical_by_spectral_radius``."""
     n = k.shape[0]
-    if n <= DENSE_STATES:
+    if n <= FALLBACK_STATES:
         dense = k.toarray() if hasattr(k, "toarray") else k @ np.eye(n)
         lowest = float(np.linalg.eigvalsh(0.5 * (dense + dense.T))[0])
     else:
