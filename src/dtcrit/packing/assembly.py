@@ -246,7 +246,8 @@ def scale_symmetric(k: sps.bsr_matrix, mass_diag: np.ndarray, *, inplace: bool =
     largest = float(np.max(np.abs(a.data), initial=0.0)) if a.data.size else 0.0
     if not (np.all(np.isfinite(a.data)) and largest <= MAX_SCALED_ENTRY):
         name = "C" if key == "damping" else "K"
-        raise InputError(key, f"an entry of M^-1/2 {name} M^-1/2 is {largest:.3g} 1/s^{1 if name == 'C' else 2}, above "
+        unit = "1/s" if name == "C" else "1/s^2"
+        raise InputError(key, f"an entry of M^-1/2 {name} M^-1/2 is {largest:.3g} {unit}, above "
                               f"{MAX_SCALED_ENTRY:.0e}: the coefficient over the particle mass is out of the range "
                               "the eigen-solvers can square in floating point")
     return a

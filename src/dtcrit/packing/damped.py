@@ -130,7 +130,8 @@ def _lagged_root(k, c, omega2: float, method: str):
         try:
             top = largest_mode(a, method)
         except NotConvergedError as exc:  # Newton descends from above: h is still an upper bound
-            raise NotConvergedError("dt_crit [s]", 0.0, h, exc.solver, f"{exc.reason}, Newton step {solves + 1}") from None
+            raise NotConvergedError("dt_crit [s]", 0.0, h, exc.solver,
+                                    f"{exc.reason}, Newton step {solves + 1}") from None
         solves += 1
         v = top.vector
         slope = float(v @ (2.0 * (c @ v) + 2.0 * h * (k @ v)))
