@@ -152,9 +152,9 @@ class Packing:
             with np.errstate(over="ignore", under="ignore"):
                 masses = (4.0 / 3.0) * np.pi * radii**3 * density
             if np.any(~np.isfinite(masses)) or np.any(masses <= 0):
-                raise InputError("radius", f"the mass 4/3 pi R^3 rho of a sphere of radius {float(radii.max()):.3g} "
-                                           f"or {float(radii.min()):.3g} m and density {density:.3g} kg/m^3 leaves "
-                                           "the floating-point range")
+                bad = radii[~(np.isfinite(masses) & (masses > 0))]
+                raise InputError("radius", f"the mass 4/3 pi R^3 rho of a sphere of radius {float(bad[0]):.3g} m "
+                                           f"and density {density:.3g} kg/m^3 leaves the floating-point range")
         masses = np.broadcast_to(np.asarray(masses, dtype=float), radii.shape).copy()
         if np.any(~np.isfinite(masses)) or np.any(masses <= 0):
             raise InputError("mass", "every mass must be a positive finite number")
