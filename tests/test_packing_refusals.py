@@ -279,3 +279,12 @@ def test_damped_newton_not_converged_keeps_a_valid_bracket(monkeypatch):
         damped.damped_critical_dt(p, c, "velocity-verlet", method="dense")
     exc = caught.value
     assert exc.quantity == "dt_crit [s]" and 0 < exc.lower <= true <= exc.upper * (1 + 1e-12)
+
+
+def test_forward_euler_without_dashpots_is_refused_at_once(tmp_path):
+    """Forward Euler on a packing without dashpots has no stable step: was a bisection ARPACK could
+    not converge on (ArpackNoConvergence traceback after 17 s)."""
+    rc, out, err, written = _cli(["audit", str(DUMP), "--pair-style", "gran/hooke/history 1e5 NULL 0 NULL 0.5 0",
+                                  "--integrator", "forward-euler"], tmp_path)
+    _one_line(rc, out, err, written, "dtcrit: --integrator: ")
+    assert "no stable step" in err

@@ -60,6 +60,9 @@ from dtcrit.packing.operator import CombinedOperator, damping_operator, stiffnes
 
 LAGGED = ("leapfrog", "symplectic-euler", "velocity-verlet")
 CENTRED = ("leapfrog-centred",)
+UNCONDITIONALLY_UNSTABLE = ("forward-euler",)
+"""Schemes with no stable step on an undamped oscillator: without dashpots they are refused (asked of
+the spectral-radius bisection, it was an ill-posed search that ARPACK could not converge on)."""
 NEWTON_RTOL = 1e-10
 
 
@@ -183,6 +186,9 @@ def damped_critical_dt(packing: Packing, contacts: Contacts, integrator: str = "
         except NotConvergedError as exc:
             raise NotConvergedError(exc.quantity, min(bound(c), exc.upper), exc.upper, exc.solver, exc.reason) from None
         return DampedStep(h, min(bound(c), h), dt_undamped, "root of lambda_max(2h C~ + h^2 K~) = 4", v, solves + 1)
+    if integrator in UNCONDITIONALLY_UNSTABLE and not contacts.damped:
+        raise InputError("integrator", f"{integrator!r} has no stable step on a packing without dashpots "
+                                       "(|lambda|^2 = 1 + h^2 omega^2 > 1 for every mode and step)")
     growth = physical_growth(k) if contacts.force_n is not None and np.any(contacts.force_n > 0) else 0.0
     h, solves = critical_by_spectral_radius(k, c, integrator, dt_undamped, growth=growth)
     return DampedStep(h, 0.0, dt_undamped, "bisection on the amplification operator's spectral radius",
