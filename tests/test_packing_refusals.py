@@ -288,3 +288,23 @@ def test_forward_euler_without_dashpots_is_refused_at_once(tmp_path):
                                   "--integrator", "forward-euler"], tmp_path)
     _one_line(rc, out, err, written, "dtcrit: --integrator: ")
     assert "no stable step" in err
+
+
+@pytest.mark.parametrize("command", ["packing", "audit"])
+def test_memory_error_is_one_line(command, monkeypatch, capsys):
+    """A MemoryError the guard did not foresee (another process took the memory) is one line, exit 2."""
+    import dtcrit.packing.audit as audit_module
+    import dtcrit.packing.report as report
+    from dtcrit.cli import main
+
+    def boom(*args, **kwargs):
+        raise MemoryError
+
+    monkeypatch.setattr(report, "analyse", boom)
+    monkeypatch.setattr(audit_module, "audit", boom)
+    argv = (["packing", "--lattice", "sc", "--cells", "2", "--kn", "1e5"] if command == "packing"
+            else ["audit", str(DUMP), "--pair-style", "gran/hooke/history 1e5 NULL 0 NULL 0.5 0"])
+    assert main(argv) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and len(err.splitlines()) == 1 and "ran out of memory" in err
+    assert err.startswith("dtcrit: --cells: " if command == "packing" else f"dtcrit: {DUMP}: ")
