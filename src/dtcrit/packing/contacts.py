@@ -88,14 +88,25 @@ def check_box_holds_particles(packing: Packing) -> None:
     box = packing.box
     if box is None or not any(box.periodic) or packing.n == 0:
         return
-    widest = int(np.argmax(packing.radii))
-    diameter = 2.0 * float(packing.radii[widest])
     for a in range(3):
+        if not box.periodic[a]:
+            continue
+        widths = 2.0 * packing.radii if packing.shapes is None else _widths_along(packing, a)
+        widest = int(np.argmax(widths))
+        diameter = float(widths[widest])
         length = float(box.lengths[a])
-        if box.periodic[a] and length < diameter * (1.0 - 1e-12):
+        if length < diameter * (1.0 - 1e-12):
             raise InputError("box", f"the periodic length along {AXES[a]} is {length:.6g} m, shorter than the "
-                                    f"diameter {diameter:.6g} m of particle {packing.particle_id(widest)}: it "
+                                    f"width {diameter:.6g} m of particle {packing.particle_id(widest)}: it "
                                     "overlaps its own periodic image")
+
+
+def _widths_along(packing: Packing, axis: int) -> np.ndarray:
+    """Width of each (centrally symmetric) body along a global axis: twice its support there."""
+    e = np.zeros(3)
+    e[axis] = 1.0
+    rot = packing.orientations if packing.orientations is not None else np.repeat(np.eye(3)[None], packing.n, 0)
+    return np.array([2.0 * abs(_support_point(shape, r, e)[axis]) for shape, r in zip(packing.shapes, rot)])
 
 
 def _narrow_box_pairs(x: np.ndarray, cutoff: float, box: Box):
