@@ -106,7 +106,39 @@ def _build(args):
         convention, style.describe(), {"material": style.material()}
 
 
+def flag_of(key: str, args) -> str | None:
+    """The flag (or ``SNAPSHOT:key``) to name for a library ``InputError`` key; None to keep the key."""
+    if key.startswith("-") or ":" in key:
+        return None
+    if key in ("stiffness", "damping", "youngs", "kn", "ks"):
+        return "--contacts" if args.contacts else "--pair-style" if args.pair_style else f"{args.snapshot}:contacts"
+    if key in ("box", "positions", "mass", "radius"):
+        return f"{args.snapshot}:{key}"
+    return {"integrator": "--integrator", "density": "--density", "dt": "--dt", "engine": "--engine"}.get(key)
+
+
 def run_command(args) -> int:
+    """``dtcrit audit``: library keys become the flags that set them; a solver that stops early, or
+    memory that runs out, is one line too (``dtcrit.cli.main`` prints ``ValueError``s)."""
+    from dtcrit.errors import InputError, NotConvergedError
+
+    try:
+        return _run(args)
+    except InputError as exc:
+        flag = flag_of(exc.key, args)
+        if flag is None:
+            raise
+        if flag.startswith(f"{args.snapshot}:"):  # printed as SOURCE:key: reason
+            args.source_label = args.snapshot
+            raise InputError(flag[len(str(args.snapshot)) + 1:], exc.reason) from None
+        raise InputError(flag, exc.reason) from None
+    except NotConvergedError as exc:
+        raise ValueError(f"--integrator: {exc}") from None
+    except MemoryError:
+        raise ValueError(f"{args.snapshot}: ran out of memory analysing this snapshot") from None
+
+
+def _run(args) -> int:
     from dtcrit.packing.audit import audit
     from dtcrit.packing.audit_output import audit_json, format_audit
 

@@ -63,7 +63,8 @@ def add_parser(subparsers) -> None:
                      help="assembled sparse K, or K applied matrix-free from the contact list (auto: by size)")
     run.add_argument("--certify", choices=("auto", "yes", "no"), default="auto",
                      help="certify that no mode lies above omega_max^2 (1 + 1e-6) by an LDL^T inertia count "
-                          "(auto: up to 25k DOFs; yes: up to 1e5)")
+                          "(auto: when it costs at most a few eigen-solves, about 3k DOFs of FCC; yes: up to 1e5 "
+                          "DOFs, with a time estimate)")
     run.add_argument("--json", action="store_true", help="print the report as JSON")
     run.add_argument("--write-dump", metavar="PATH", help="also write the analysed sphere packing as a dump file")
     run.add_argument("--scale", metavar="SIZES", help="run the scale benchmark, e.g. 1e3,1e4,1e5")
@@ -79,10 +80,10 @@ def _law(args):
 
     if args.youngs is not None:
         if args.kn is not None or args.ks is not None:
-            raise ValueError("kn: give either --kn/--ks or --youngs/--poisson, not both")
+            raise ValueError("--kn: give either --kn/--ks or --youngs/--poisson, not both")
         return HertzMindlinLaw(args.youngs, args.poisson)
     if args.kn is None:
-        raise ValueError("kn: give the contact stiffness (--kn [--ks] for linear springs, or --youngs [--poisson] "
+        raise ValueError("--kn: give the contact stiffness (--kn [--ks] for linear springs, or --youngs [--poisson] "
                          "for Hertz-Mindlin): the step scales with it")
     return LinearLaw(args.kn, args.kn if args.ks is None else args.ks)
 
@@ -107,7 +108,7 @@ def _bodies_and_law(args):
     bodies = _bodies(args)
     if bodies is not None and bodies.stiffness_given:
         if args.kn is not None or args.ks is not None or args.youngs is not None:
-            raise ValueError(f"kn: {args.file} lists each contact's kn and ks; drop --kn/--ks/--youngs")
+            raise ValueError(f"--kn: {args.file} lists each contact's kn and ks; drop --kn/--ks/--youngs")
         return bodies, None
     return bodies, _law(args)
 
@@ -124,22 +125,98 @@ def _packing(args, check_memory: bool = True):
                          + (f" (got {', '.join(chosen)})" if chosen else ""))
     if args.file is not None:
         return read_dump(args.file, density=args.density, snapshot=args.snapshot)
+    if args.snapshot != -1:
+        raise ValueError(f"--snapshot: picks a snapshot of a dump FILE; {chosen[0]} has none")
     from dtcrit.packing.lattices import COORDINATION, _BASIS
     from dtcrit.packing.memory import check_fits
 
     density = DEFAULT_DENSITY if args.density is None else args.density
     if args.lattice is not None:
         if check_memory and isinstance(args.cells, int) and args.cells > 0:
-            check_fits(len(_BASIS[args.lattice][0]) * args.cells**3, COORDINATION[args.lattice], args.route,
-                       key="--cells")
+            n = len(_BASIS[args.lattice][0]) * args.cells**3
+            check_fits(n, COORDINATION[args.lattice], args.route, key="--cells", **_certificate_cost(args, n,
+                                                                                                  COORDINATION[args.lattice]))
         return lattice(args.lattice, args.cells, radius=args.radius, density=density)
-    if check_memory and isinstance(args.random, int) and args.random > 0:
-        check_fits(args.random, args.cn if math.isfinite(args.cn) else 12.0, args.route, key="--random")
+    if check_memory and isinstance(args.random, int) and args.random > 1 and 0 <= args.cn <= 14:
+        check_fits(args.random, args.cn, args.route, key="--random", **_certificate_cost(args, args.random, args.cn))
+        _check_generation_time(args.random)
     return random_packing(args.random, cn=args.cn, sizes=args.sizes, radius=args.radius, spread=args.spread,
                           density=density, seed=args.seed)
 
 
+def _certificate_cost(args, n: int, coordination: float) -> dict:
+    """``check_fits``'s extra memory for ``--certify yes`` (``certificate.factor_bytes``)."""
+    from dtcrit.packing.certificate import SPARSE_DOFS, factor_bytes
+
+    if args.certify != "yes" or 6 * n > SPARSE_DOFS:
+        return {}
+    return {"extra": factor_bytes(6 * n, coordination), "what": "the certificate's factorisation"}
+
+
+RANDOM_SECONDS_LIMIT = 1800.0
+"""``--random`` refuses up front a packing whose generation is estimated to take longer than this [s]
+(``random_packing.generation_seconds``); below it a progress bar shows the relaxation on a terminal."""
+
+
+def _check_generation_time(n: int) -> None:
+    from dtcrit.packing.random_packing import SECONDS_PER_SPHERE_STEP, generation_seconds
+
+    seconds = generation_seconds(n)
+    if seconds > RANDOM_SECONDS_LIMIT:
+        raise ValueError(f"--random: {n:,} spheres take about {seconds / 60:.0f} min to generate (FIRE relaxation, "
+                         f"250 steps at a measured {SECONDS_PER_SPHERE_STEP * 1e6:.2g} us per sphere and step), more "
+                         f"than the {RANDOM_SECONDS_LIMIT / 60:.0f} min allowed; generate it once elsewhere and give "
+                         "it as a dump FILE, or use a --lattice")
+
+
+FLAGS = {"cells": "--cells", "n": "--random", "radius": "--radius", "kn": "--kn", "ks": "--ks",
+         "youngs": "--youngs", "poisson": "--poisson", "density": "--density", "cn": "--cn", "spread": "--spread",
+         "sizes": "--sizes", "seed": "--seed", "integrator": "--integrator", "damping_ratio": "--damping-ratio",
+         "damping-ratio": "--damping-ratio", "method": "--solver", "route": "--route", "snapshot": "--snapshot",
+         "lattice": "--lattice", "scale": "--scale"}
+"""Library keys (``InputError.key``) and the flags of ``dtcrit packing`` that set them."""
+
+
+def _source(args) -> str:
+    """The flag or FILE that gave the packing."""
+    return "--cells" if args.lattice is not None else "--random" if args.random is not None else str(args.file)
+
+
+def flag_of(key: str, args) -> str | None:
+    """The flag (or ``FILE:key``) to name for a library ``InputError`` key; None to keep the key."""
+    if key.startswith("-") or ":" in key:
+        return None
+    if key == "stiffness":
+        return "--youngs" if args.youngs is not None else "--kn" if args.kn is not None else f"{args.file}:contacts"
+    if key in ("box", "positions", "mass"):
+        return f"{args.file}:{key}" if args.file is not None else "--radius"
+    return FLAGS.get(key)
+
+
 def run_command(args) -> int:
+    """``dtcrit packing``: library keys become the flags that set them; a solver that stops early, or
+    memory that runs out after all, is one line too (``dtcrit.cli.main`` prints ``ValueError``s)."""
+    from dtcrit.errors import InputError, NotConvergedError
+
+    try:
+        return _run(args)
+    except InputError as exc:
+        flag = flag_of(exc.key, args)
+        if flag is None:
+            raise
+        if flag.startswith(f"{args.file}:"):  # printed as SOURCE:key: reason
+            args.source_label = args.file
+            raise InputError(flag[len(str(args.file)) + 1:], exc.reason) from None
+        raise InputError(flag, exc.reason) from None
+    except NotConvergedError as exc:
+        raise ValueError(f"--solver: {exc} (another --solver may converge)") from None
+    except MemoryError:
+        raise ValueError(f"{_source(args)}: ran out of memory (the estimate said it fits: another process may "
+                         "have taken memory, or the packing is denser than modelled); try a smaller packing, "
+                         "--route matrix-free or --certify no") from None
+
+
+def _run(args) -> int:
     if args.backend == "slepc":
         return _run_slepc(args)
     if args.scale:
@@ -151,7 +228,7 @@ def run_command(args) -> int:
     from dtcrit.packing.report import analyse, format_report
 
     if not math.isfinite(args.damping_ratio) or args.damping_ratio < 0:
-        raise ValueError(f"damping-ratio: must be a finite number >= 0, got {args.damping_ratio}")
+        raise ValueError(f"--damping-ratio: must be a finite number >= 0, got {args.damping_ratio}")
     if args.write_dump:
         from dtcrit.cli.outputs import check_output_file
 

@@ -159,6 +159,12 @@ def damping_matrix(packing: Packing, contacts: Contacts, *, chunk: int = 1 << 17
 
 
 def _assemble(packing: Packing, contacts: Contacts, kind: str, chunk: int, label: str) -> sps.bsr_matrix:
+    # a coefficient near the float limit overflows here to inf: scale_symmetric refuses it in one line
+    with np.errstate(over="ignore", invalid="ignore"):
+        return _assemble_blocks(packing, contacts, kind, chunk, label)
+
+
+def _assemble_blocks(packing: Packing, contacts: Contacts, kind: str, chunk: int, label: str) -> sps.bsr_matrix:
     n = packing.n
     nc = contacts.count
     diag = np.zeros((n, 6, 6))
@@ -217,14 +223,31 @@ def _assemble(packing: Packing, contacts: Contacts, kind: str, chunk: int, label
     return sps.bsr_matrix((data, indices, indptr), shape=(6 * n, 6 * n))
 
 
-def scale_symmetric(k: sps.bsr_matrix, mass_diag: np.ndarray, *, inplace: bool = False) -> sps.bsr_matrix:
-    """``A = M^(-1/2) K M^(-1/2)``: the symmetric standard form of ``K phi = omega^2 M phi``."""
+MAX_SCALED_ENTRY = 1e150
+"""Largest entry of ``M^(-1/2) K M^(-1/2)`` (or ``C``) accepted: the eigen-solvers form squared norms
+of its products, which overflow above about ``1e154`` (no physical packing comes near: ``omega`` would
+exceed ``1e75`` rad/s)."""
+
+
+def scale_symmetric(k: sps.bsr_matrix, mass_diag: np.ndarray, *, inplace: bool = False,
+                    key: str = "stiffness") -> sps.bsr_matrix:
+    """``A = M^(-1/2) K M^(-1/2)``: the symmetric standard form of ``K phi = omega^2 M phi``.
+    InputError (``key``: ``"stiffness"``, or ``"damping"`` for ``C``) when an entry of ``A`` leaves
+    the floating-point range (a huge stiffness over a tiny mass: ``omega^2`` would be inf)."""
     s = 1.0 / np.sqrt(mass_diag)
     a = k if inplace else k.copy()
     nb = a.indptr.size - 1
     block_rows = np.repeat(np.arange(nb), np.diff(a.indptr))
     srow = s.reshape(-1, 6)[block_rows]
     scol = s.reshape(-1, 6)[a.indices]
-    a.data *= srow[:, :, None]
-    a.data *= scol[:, None, :]
+    with np.errstate(over="ignore", invalid="ignore"):
+        a.data *= srow[:, :, None]
+        a.data *= scol[:, None, :]
+    largest = float(np.max(np.abs(a.data), initial=0.0)) if a.data.size else 0.0
+    if not (np.all(np.isfinite(a.data)) and largest <= MAX_SCALED_ENTRY):
+        name = "C" if key == "damping" else "K"
+        unit = "1/s" if name == "C" else "1/s^2"
+        raise InputError(key, f"an entry of M^-1/2 {name} M^-1/2 is {largest:.3g} {unit}, above "
+                              f"{MAX_SCALED_ENTRY:.0e}: the coefficient over the particle mass is out of the range "
+                              "the eigen-solvers can square in floating point")
     return a

@@ -78,6 +78,37 @@ def _chunk_pairs(tree: cKDTree, y: np.ndarray, size, lo: int, hi: int, cutoff: f
     return i[order], j[order]
 
 
+AXES = "xyz"
+
+
+def check_box_holds_particles(packing: Packing) -> None:
+    """InputError (key ``box``) when a periodic length is shorter than the widest particle's diameter:
+    that particle overlaps its own periodic image (it touching its image, length = diameter, is kept),
+    which is not a packing; the image search of such a box also grows as ``(diameter / length)^3``."""
+    box = packing.box
+    if box is None or not any(box.periodic) or packing.n == 0:
+        return
+    for a in range(3):
+        if not box.periodic[a]:
+            continue
+        widths = 2.0 * packing.radii if packing.shapes is None else _widths_along(packing, a)
+        widest = int(np.argmax(widths))
+        diameter = float(widths[widest])
+        length = float(box.lengths[a])
+        if length < diameter * (1.0 - 1e-12):
+            raise InputError("box", f"the periodic length along {AXES[a]} is {length:.6g} m, shorter than the "
+                                    f"width {diameter:.6g} m of particle {packing.particle_id(widest)}: it "
+                                    "overlaps its own periodic image")
+
+
+def _widths_along(packing: Packing, axis: int) -> np.ndarray:
+    """Width of each (centrally symmetric) body along a global axis: twice its support there."""
+    e = np.zeros(3)
+    e[axis] = 1.0
+    rot = packing.orientations if packing.orientations is not None else np.repeat(np.eye(3)[None], packing.n, 0)
+    return np.array([2.0 * abs(_support_point(shape, r, e)[axis]) for shape, r in zip(packing.shapes, rot)])
+
+
 def _narrow_box_pairs(x: np.ndarray, cutoff: float, box: Box):
     """``(i, j, image)`` of a periodic box narrower than twice the cutoff: every image in range is
     searched explicitly, so a particle may touch its own image or a neighbour through several."""
@@ -152,6 +183,7 @@ def find_sphere_contacts(packing: Packing, tolerance: float = 1e-9, chunk: int =
         raise InputError("packing", "find_sphere_contacts needs a sphere packing; use find_convex_contacts")
     if not np.isfinite(tolerance) or tolerance < 0:
         raise InputError("tolerance", f"must be a finite number >= 0, got {tolerance}")
+    check_box_holds_particles(packing)
     box = packing.box
     x = wrap_positions(packing.positions, box)
     cutoff = 2.0 * packing.radii.max() * (1.0 + tolerance)
@@ -219,6 +251,7 @@ def find_convex_contacts(packing: Packing, tolerance: float = 1e-9) -> Contacts:
     """
     if packing.shapes is None:
         return find_sphere_contacts(packing, tolerance)
+    check_box_holds_particles(packing)
     box = packing.box
     x = wrap_positions(packing.positions, box)
     rot = packing.orientations if packing.orientations is not None else np.repeat(np.eye(3)[None], packing.n, 0)

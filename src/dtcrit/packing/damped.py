@@ -48,7 +48,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 import scipy.sparse.linalg as spla
 
-from dtcrit.errors import InputError
+from dtcrit.errors import InputError, NotConvergedError
 from dtcrit.integrators.schemes import INTEGRATORS
 
 from dtcrit.packing.assembly import damping_matrix, mass_diagonal, scale_symmetric, stiffness_matrix
@@ -60,6 +60,9 @@ from dtcrit.packing.operator import CombinedOperator, damping_operator, stiffnes
 
 LAGGED = ("leapfrog", "symplectic-euler", "velocity-verlet")
 CENTRED = ("leapfrog-centred",)
+UNCONDITIONALLY_UNSTABLE = ("forward-euler",)
+"""Schemes with no stable step on an undamped oscillator: without dashpots they are refused (asked of
+the spectral-radius bisection, it was an ill-posed search that ARPACK could not converge on)."""
 NEWTON_RTOL = 1e-10
 
 
@@ -98,7 +101,7 @@ def scaled_matrices(packing: Packing, contacts: Contacts, route: str = "assemble
     if use_operator(packing, route):
         return (stiffness_operator(packing, contacts, mass_diag=d), damping_operator(packing, contacts, mass_diag=d))
     k = scale_symmetric(stiffness_matrix(packing, contacts), d, inplace=True)
-    c = scale_symmetric(damping_matrix(packing, contacts), d, inplace=True)
+    c = scale_symmetric(damping_matrix(packing, contacts), d, inplace=True, key="damping")
     return k, c
 
 
@@ -127,7 +130,11 @@ def _lagged_root(k, c, omega2: float, method: str):
     solves, v = 0, None
     for _ in range(60):
         a = CombinedOperator(c, 2.0 * h, k, h * h) if operator else (2.0 * h) * c + (h * h) * k
-        top = largest_mode(a, method)
+        try:
+            top = largest_mode(a, method)
+        except NotConvergedError as exc:  # Newton descends from above: h is still an upper bound
+            raise NotConvergedError("dt_crit [s]", 0.0, h, exc.solver,
+                                    f"{exc.reason}, Newton step {solves + 1}") from None
         solves += 1
         v = top.vector
         slope = float(v @ (2.0 * (c @ v) + 2.0 * h * (k @ v)))
@@ -150,7 +157,12 @@ def damped_critical_dt(packing: Packing, contacts: Contacts, integrator: str = "
     if integrator not in INTEGRATORS:
         raise InputError("integrator", f"unknown integrator {integrator!r}")
     k, c = scaled_matrices(packing, contacts, route)
-    top = largest_mode(k, method)
+    try:
+        top = largest_mode(k, method)
+    except NotConvergedError as exc:  # the lagged and centred steps are at most 2/omega_max (docstring)
+        family = integrator in LAGGED or integrator in CENTRED
+        upper = 2.0 / math.sqrt(exc.lower) if exc.lower > 0 and family else math.inf
+        raise NotConvergedError("dt_crit [s]", 0.0, upper, exc.solver, f"{exc.reason}, undamped omega_max") from None
     if top.value <= 0:
         raise InputError("contacts", "the packing has no stiffness: no vibrating mode")
     dt_undamped = 2.0 / math.sqrt(top.value)
@@ -169,9 +181,16 @@ def damped_critical_dt(packing: Packing, contacts: Contacts, integrator: str = "
         return DampedStep(dt_undamped, min(bound(undamped_c), dt_undamped), dt_undamped,
                           "2/omega_max (4M - h^2 K > 0)", top.vector, 1)
     if integrator in LAGGED:
-        h, v, solves = _lagged_root(k, c, top.value, method)
+        try:
+            h, v, solves = _lagged_root(k, c, top.value, method)
+        except NotConvergedError as exc:
+            raise NotConvergedError(exc.quantity, min(bound(c), exc.upper), exc.upper, exc.solver, exc.reason) from None
         return DampedStep(h, min(bound(c), h), dt_undamped, "root of lambda_max(2h C~ + h^2 K~) = 4", v, solves + 1)
-    h, solves = critical_by_spectral_radius(k, c, integrator, dt_undamped)
+    if integrator in UNCONDITIONALLY_UNSTABLE and not contacts.damped:
+        raise InputError("integrator", f"{integrator!r} has no stable step on a packing without dashpots "
+                                       "(|lambda|^2 = 1 + h^2 omega^2 > 1 for every mode and step)")
+    growth = physical_growth(k) if contacts.force_n is not None and np.any(contacts.force_n > 0) else 0.0
+    h, solves = critical_by_spectral_radius(k, c, integrator, dt_undamped, growth=growth)
     return DampedStep(h, 0.0, dt_undamped, "bisection on the amplification operator's spectral radius",
                       None, solves + 1)
 
@@ -200,36 +219,83 @@ def amplification_operator(k, c, integrator: str, h: float) -> spla.LinearOperat
     return spla.LinearOperator((parts * n, parts * n), matvec=matvec, dtype=float)
 
 
+DENSE_STATES = 600
+FALLBACK_STATES = 2400
+"""Up to ``DENSE_STATES`` states the amplification operator's spectrum is computed densely (LAPACK
+``geev``); above, by ARPACK's "largest magnitude" iteration, which near the critical step meets many
+eigenvalues crowding the unit circle (the rigid modes sit at ``+1``) and can stop unconverged: up to
+``FALLBACK_STATES`` the dense solve then answers (seconds at 2400 states), above it the failure
+propagates to ``critical_by_spectral_radius``, which reports its bracket."""
+
+
 def spectral_radius(k, c, integrator: str, h: float) -> float:
-    """Largest ``|lambda|`` of the amplification operator (ARPACK; dense below 600 states)."""
+    """Largest ``|lambda|`` of the amplification operator (``DENSE_STATES``, ``FALLBACK_STATES``)."""
     op = amplification_operator(k, c, integrator, h)
     size = op.shape[0]
-    if size <= 600:
-        dense = op @ np.eye(size)
-        return float(np.max(np.abs(np.linalg.eigvals(dense))))
-    v0 = np.random.default_rng(20170601).standard_normal(size)
-    w = spla.eigs(op, k=1, which="LM", v0=v0, tol=1e-10, return_eigenvectors=False)
-    return float(np.max(np.abs(w)))
+    if size > DENSE_STATES:
+        v0 = np.random.default_rng(20170601).standard_normal(size)
+        try:
+            w = spla.eigs(op, k=1, which="LM", v0=v0, tol=1e-10, return_eigenvectors=False)
+            return float(np.max(np.abs(w)))
+        except spla.ArpackNoConvergence:
+            if size > FALLBACK_STATES:
+                raise
+    dense = op @ np.eye(size)
+    return float(np.max(np.abs(np.linalg.eigvals(dense))))
+
+
+def physical_growth(k) -> float:
+    """``sqrt(max(-lambda_min(K~), 0))`` [1/s]: the fastest exponential growth rate of the exact motion
+    ``y'' = -K~ y - C~ y'`` (``C~`` positive semi-definite: a real root ``s`` of ``s^2 + c s + k = 0``
+    with Rayleigh quotients ``c >= 0``, ``k >= lambda_min`` is at most ``sqrt(-k)``).  Compressive
+    pre-loads can make ``K~`` indefinite (a statically unstable packing): that growth is physics, not
+    the integrator's instability, and is allowed for by ``critical_by_spectral_radius``."""
+    n = k.shape[0]
+    if n <= FALLBACK_STATES:
+        dense = k.toarray() if hasattr(k, "toarray") else k @ np.eye(n)
+        lowest = float(np.linalg.eigvalsh(0.5 * (dense + dense.T))[0])
+    else:
+        try:
+            lowest = float(spla.eigsh(k, k=1, which="SA", tol=1e-8, return_eigenvectors=False,
+                                      v0=np.random.default_rng(20170601).standard_normal(n))[0])
+        except spla.ArpackNoConvergence:
+            raise NotConvergedError("lambda_min(K~) [1/s^2]", -math.inf, math.inf, "ARPACK eigsh",
+                                    "the lowest eigenvalue of the pre-loaded stiffness (its physical growth)") from None
+    return math.sqrt(max(-lowest, 0.0))
 
 
 def critical_by_spectral_radius(k, c, integrator: str, h_hi: float, *, rtol: float = 1e-7,
-                                slack: float = 1e-6) -> tuple[float, int]:
-    """Bisection for the largest ``h`` with spectral radius ``<= 1 + slack``, searched below ``h_hi``
-    (doubled while stable).  The slack covers rounding: undamped modes of a stable step sit on the
-    unit circle, and the rigid-body modes of a packing are Jordan blocks at ``+1``, which rounding
-    spreads by about ``sqrt(eps)``; a mode growing by less than ``1e-6`` a step is taken as stable."""
+                                slack: float = 1e-6, growth: float = 0.0) -> tuple[float, int]:
+    """Bisection for the largest ``h`` with spectral radius ``<= exp(h growth) (1 + slack)``, searched
+    below ``h_hi`` (doubled while stable).  ``growth`` [1/s] is the exact motion's own growth rate
+    (``physical_growth``: a statically unstable pre-loaded packing grows whatever the step; without it
+    the bisection would find the step where that physical growth per step reaches ``slack``).  The
+    slack covers rounding: undamped modes of a stable step sit on the unit circle, and the rigid-body
+    modes of a packing are Jordan blocks at ``+1``, which rounding spreads by about ``sqrt(eps)``; a
+    mode growing by less than ``1e-6`` a step is taken as stable.  An ARPACK failure raises
+    ``NotConvergedError`` with the bracket ``[lo, hi]`` reached so far."""
     solves = 0
-    hi = h_hi
-    while spectral_radius(k, c, integrator, hi) <= 1.0 + slack:
+    lo, hi = 0.0, h_hi  # lo: the largest step known stable; hi: unstable once the doubling is over
+    doubling = True
+
+    def stable(h: float) -> bool:
+        try:
+            return spectral_radius(k, c, integrator, h) <= math.exp(h * growth) * (1.0 + slack)
+        except spla.ArpackNoConvergence:
+            raise NotConvergedError("dt_crit [s]", lo, math.inf if doubling else hi, "ARPACK eigs (spectral radius)",
+                                    f"at dt = {h:.6g} s after {solves} bisection steps") from None
+
+    while stable(hi):
         solves += 1
-        hi *= 2.0
+        lo, hi = hi, 2.0 * hi
         if hi > 1e6 * h_hi:
             return math.inf, solves
-    lo = 0.0
+    doubling = False
+    lo = 0.0  # the bisection searches all of [0, hi] (as it always has)
     while hi - lo > rtol * hi:
         mid = 0.5 * (lo + hi)
         solves += 1
-        if spectral_radius(k, c, integrator, mid) <= 1.0 + slack:
+        if stable(mid):
             lo = mid
         else:
             hi = mid

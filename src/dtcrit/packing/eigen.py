@@ -14,6 +14,7 @@ true ``omega_max^2`` (a ``dt`` *above* the true critical step); the returned res
 """
 from __future__ import annotations
 
+import math
 import warnings
 from dataclasses import dataclass
 
@@ -22,7 +23,7 @@ import scipy.linalg as sla
 import scipy.sparse as sps
 import scipy.sparse.linalg as spla
 
-from dtcrit.errors import InputError
+from dtcrit.errors import InputError, NotConvergedError
 from tqdm import tqdm
 
 LONG_WORK = 200_000  # DOFs below which the solve takes well under a second: no counter drawn
@@ -108,8 +109,8 @@ def largest_mode(a, method: str = "auto", *, tol: float = DEFAULT_TOL, maxiter: 
         method = "dense"
     if operator:
         zero = bool(getattr(a, "is_zero", False))
-    else:
-        zero = a.nnz == 0 if sps.issparse(a) else not np.any(a)
+    else:  # explicitly stored zeros (a Hertz contact at zero overlap) count as zero: ARPACK cannot start
+        zero = not np.any(a.data) if sps.issparse(a) else not np.any(a)
     if zero:
         v = np.zeros(n)
         v[0] = 1.0
@@ -152,8 +153,11 @@ def largest_mode(a, method: str = "auto", *, tol: float = DEFAULT_TOL, maxiter: 
             ncv = min(n - 1, 24 if k == 1 else 48)
             if lean:  # the residual LOBPCG stops at (10 tol relative): see LEAN_DOFS
                 start, ncv = chebyshev_start(product, start), LEAN_NCV
-            w, vecs = spla.eigsh(op, k=k, which="LA", tol=tol * 10 if lean else tol, v0=start,
-                                 maxiter=maxiter, ncv=ncv)
+            try:
+                w, vecs = spla.eigsh(op, k=k, which="LA", tol=tol * 10 if lean else tol, v0=start,
+                                     maxiter=maxiter, ncv=ncv)
+            except spla.ArpackNoConvergence as exc:
+                raise _not_converged(a, start, exc.eigenvalues, count) from None
             top_index = int(np.argmax(w))
             theta, v = float(w[top_index]), vecs[:, top_index]
             if k > 1:
@@ -174,6 +178,26 @@ def largest_mode(a, method: str = "auto", *, tol: float = DEFAULT_TOL, maxiter: 
         ticker.close()
     v = v / np.linalg.norm(v)
     return TopMode(theta, v, method, count, _residual(a, v, theta), space)
+
+
+def row_sum_bound(a) -> float:
+    """``max_i sum_j |a_ij|`` (Gershgorin): an upper bound on every eigenvalue of the symmetric ``a``;
+    ``inf`` for a matrix-free operator (not known here)."""
+    if isinstance(a, spla.LinearOperator):
+        return math.inf
+    if sps.issparse(a):
+        return float(np.max(np.asarray(abs(a).sum(axis=1)), initial=0.0))
+    return float(np.abs(np.asarray(a)).sum(axis=1).max(initial=0.0))
+
+
+def _not_converged(a, start: np.ndarray, ritz, count: int) -> NotConvergedError:
+    """The bracket ARPACK leaves when it stops early: every Rayleigh quotient (the start's, the
+    converged Ritz values) is a lower bound on ``lambda_max``; the row-sum bound an upper one."""
+    lower = float(start @ (a @ start)) / float(start @ start)
+    if ritz is not None and len(ritz):
+        lower = max(lower, float(np.max(np.real(ritz))))
+    return NotConvergedError("omega_max^2 [1/s^2]", max(lower, 0.0), row_sum_bound(a), "ARPACK eigsh",
+                             f"{count} matrix-vector products")
 
 
 FILTER_DEGREE = 16

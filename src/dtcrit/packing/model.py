@@ -149,11 +149,19 @@ class Packing:
             density = float(density)
             if not np.isfinite(density) or density <= 0:
                 raise InputError("density", f"must be a positive finite number, got {density}")
-            masses = (4.0 / 3.0) * np.pi * radii**3 * density
+            with np.errstate(over="ignore", under="ignore"):
+                masses = (4.0 / 3.0) * np.pi * radii**3 * density
+            if np.any(~np.isfinite(masses)) or np.any(masses <= 0):
+                bad = radii[~(np.isfinite(masses) & (masses > 0))]
+                raise InputError("radius", f"the mass 4/3 pi R^3 rho of a sphere of radius {float(bad[0]):.3g} m "
+                                           f"and density {density:.3g} kg/m^3 leaves the floating-point range")
         masses = np.broadcast_to(np.asarray(masses, dtype=float), radii.shape).copy()
         if np.any(~np.isfinite(masses)) or np.any(masses <= 0):
             raise InputError("mass", "every mass must be a positive finite number")
-        inertia = 0.4 * masses * radii**2
+        with np.errstate(over="ignore", under="ignore"):
+            inertia = 0.4 * masses * radii**2
+        if np.any(~np.isfinite(inertia)) or np.any(inertia <= 0):
+            raise InputError("radius", "the moment of inertia 2/5 m R^2 of a sphere leaves the floating-point range")
         return cls(positions, masses, np.repeat(inertia[:, None], 3, axis=1), radii, box=box,
                    half_lengths=np.repeat(radii[:, None], 3, axis=1), label=label, ids=ids)
 

@@ -8,6 +8,7 @@ and ``K_max`` the largest contact stiffness ``max(k_n, k_s)``.
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -15,11 +16,12 @@ import numpy as np
 import dtcrit.packing.estimates as est
 import dtcrit.packing.operator_kernels as operator_kernels
 from dtcrit.packing.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
-from dtcrit.packing.certificate import SPARSE_DOFS, Certificate, bracket, certify
+from dtcrit.packing.certificate import SPARSE_DOFS, Certificate, bracket, certify, factor_bytes, factor_seconds
 from dtcrit.packing.contacts import find_contacts
 from dtcrit.packing.damping import DEFAULT_INTEGRATOR, integrator_dt
 from dtcrit.packing.eigen import DEFAULT_TOL, TopMode, largest_mode, mode_character, rotational_fraction
-from dtcrit.packing.model import Contacts, LinearLaw, Packing, apply_law
+from dtcrit.errors import InputError, NotConvergedError
+from dtcrit.packing.model import Contacts, HertzMindlinLaw, LinearLaw, Packing, apply_law
 from dtcrit.packing.operator import stiffness_operator
 
 OPERATOR_DOFS = 200_000
@@ -32,8 +34,26 @@ NUMPY_OPERATOR_DOFS = 6_000_000
 """Without Numba the vectorised product is 4x slower than the assembled one: the matrix-free route
 is then taken only where the assembled matrix would not fit (about 7 GiB at 6e6 DOFs)."""
 CERTIFY_AUTO_DOFS = 25_000
-"""``certify="auto"`` factorises up to this many DOFs (measured: 9 s at 24k DOFs of jittered FCC,
-1.8 s at 12k of a random packing); ``certify=True`` goes up to ``certificate.SPARSE_DOFS``."""
+"""``certify="auto"`` never factorises above this many DOFs; ``certify=True`` goes up to
+``certificate.SPARSE_DOFS``."""
+CERTIFY_BUDGET = 4.0
+CERTIFY_FLOOR_SECONDS = 2.0
+"""``certify="auto"`` certifies when the factorisation is estimated (``certificate.factor_seconds``)
+to take at most ``CERTIFY_BUDGET`` times the eigen-solve just measured, or ``CERTIFY_FLOOR_SECONDS``,
+and its factor fits in half the available memory: the default's cost stays a few eigen-solves
+(before: FCC at 24k DOFs took 107 s and 3.4 GiB certified, 1.8 s and 0.2 GiB without)."""
+
+
+def auto_certifies(dofs: int, coordination: float, eigen_seconds: float) -> bool:
+    """Whether ``certify="auto"`` factorises (``CERTIFY_BUDGET``)."""
+    from dtcrit.packing.memory import available_bytes
+
+    if dofs > CERTIFY_AUTO_DOFS:
+        return False
+    have = available_bytes()
+    if have is not None and factor_bytes(dofs, coordination) > 0.5 * have:
+        return False
+    return factor_seconds(dofs, coordination) <= max(CERTIFY_BUDGET * eigen_seconds, CERTIFY_FLOOR_SECONDS)
 ROUTES = ("auto", "assembled", "matrix-free")
 
 
@@ -138,14 +158,14 @@ def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, int
         contacts = find_contacts(packing)
     if contacts.kn is None or law is not None:
         law = law if law is not None else LinearLaw(1.0, 1.0)
+        if isinstance(law, HertzMindlinLaw):
+            check_hertz_overlaps(packing, contacts)
         contacts = apply_law(contacts, law)
         law_text = law.describe()
     else:
         law_text = "per-contact stiffness given"
     md = mass_diagonal(packing)
     if route not in ROUTES:
-        from dtcrit.errors import InputError
-
         raise InputError("route", f"unknown route {route!r}; choose one of {', '.join(ROUTES)}")
     if route == "auto":
         limit = OPERATOR_DOFS if operator_kernels.available() else NUMPY_OPERATOR_DOFS
@@ -157,7 +177,12 @@ def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, int
     def hint():  # all particles co-rotating: built inside the solver, released after its start
         return est.co_rotation(packing, 0) + est.co_rotation(packing, 1) + est.co_rotation(packing, 2)
 
-    top: TopMode = largest_mode(a, method, tol=tolerance, hint=hint)
+    clock = time.perf_counter()
+    try:
+        top: TopMode = largest_mode(a, method, tol=tolerance, hint=hint)
+    except NotConvergedError as exc:
+        raise dt_bracket_error(exc, a, md, packing) from None
+    eigen_seconds = time.perf_counter() - clock
     omega = top.omega
     dt = 2.0 / omega if omega > 0 else math.inf
     cn = contacts.coordination(packing.n)
@@ -180,12 +205,17 @@ def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, int
             estimates[e.name] = e
     bounds = [estimates[k] for k in ("gershgorin", "block_diagonal") if k in estimates]
     dt_safe = max((e.dt for e in bounds), default=math.nan)
-    wanted = (packing.dofs <= CERTIFY_AUTO_DOFS) if certify_step == "auto" else bool(certify_step)
+    coordination = float(cn.mean()) if packing.n else 0.0
+    wanted = (auto_certifies(packing.dofs, coordination, eigen_seconds) if certify_step == "auto"
+              else bool(certify_step))
     cert = certify(a, top.value, sparse_dofs=SPARSE_DOFS) if wanted and top.value > 0 else None
     if cert is None and certify_step == "auto" and top.value > 0:
         cert = Certificate(False, "none: too costly", top.value * (1 + 1e-6), None,
-                           f"{packing.dofs} DOFs exceed the automatic limit {CERTIFY_AUTO_DOFS} "
-                           f"(--certify factorises up to {SPARSE_DOFS}); the bracket's lower end is dt_safe")
+                           f"the factorisation of {packing.dofs} DOFs would take about "
+                           f"{factor_seconds(packing.dofs, coordination):.3g} s and "
+                           f"{factor_bytes(packing.dofs, coordination) / 2**30:.3g} GiB, over {CERTIFY_BUDGET:g}x the "
+                           f"eigen-solve's {eigen_seconds:.2g} s (--certify yes factorises up to {SPARSE_DOFS} DOFs); "
+                           "the bracket's lower end is dt_safe")
     return PackingReport(
         label=packing.label, law=law_text, n_particles=packing.n, dofs=packing.dofs, n_contacts=contacts.count,
         cn_mean=float(cn.mean()), cn_max=int(cn.max(initial=0)), m_min=m_min, k_max=k_max, omega_max=omega,
@@ -195,6 +225,36 @@ def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, int
         relative_residual=top.residual / top.value if top.value > 0 else 0.0, estimates=estimates,
         route=route, dt_safe=dt_safe, certificate=cert,
     )
+
+
+ROUNDING_OVERLAP = 64 * np.finfo(float).eps
+"""Overlaps at most this times the largest coordinate are rounding noise of the positions (a lattice's
+spheres that only touch): a Hertz stiffness ``2 E* sqrt(R* delta)`` computed from them means nothing."""
+
+
+def check_hertz_overlaps(packing: Packing, contacts: Contacts) -> None:
+    """InputError (key ``youngs``) when every contact's overlap is zero or at the rounding level of the
+    coordinates: the Hertz tangent stiffness vanishes there (no vibrating mode) or is noise."""
+    if not contacts.count:
+        return
+    scale = float(np.max(np.abs(packing.positions), initial=0.0))
+    if packing.box is not None:
+        scale = max(scale, float(np.max(np.abs(packing.box.hi))), float(np.max(np.abs(packing.box.lo))))
+    largest = float(np.max(contacts.overlap, initial=0.0))
+    if largest <= ROUNDING_OVERLAP * scale:
+        raise InputError("youngs", "the Hertz stiffness 2 E* sqrt(R* delta) vanishes at zero overlap, and these "
+                                   f"spheres only touch (largest overlap {largest:.3g} m, rounding noise of coordinates "
+                                   f"up to {scale:.3g} m): no mode vibrates; give linear springs (--kn [--ks]) or a "
+                                   "packing whose spheres overlap")
+
+
+def dt_bracket_error(exc: NotConvergedError, a, md, packing: Packing) -> NotConvergedError:
+    """The eigen-solver's bracket on ``omega_max^2`` as one on ``dt_crit = 2/omega_max``, its lower end
+    raised to ``dt_safe`` (the Gershgorin and block-diagonal bounds) when that is larger."""
+    bounds = [est.gershgorin(a, md).dt, est.block_diagonal(a, packing.particle_id).dt]
+    lower = max([b for b in bounds if math.isfinite(b)] + [2.0 / math.sqrt(exc.upper) if exc.upper > 0 else 0.0])
+    upper = 2.0 / math.sqrt(exc.lower) if exc.lower > 0 else math.inf
+    return NotConvergedError("dt_crit [s]", lower, upper, exc.solver, exc.reason)
 
 
 def format_report(r: PackingReport) -> str:
