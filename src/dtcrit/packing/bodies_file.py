@@ -60,6 +60,7 @@ from dtcrit._generated import mass_properties as _mp
 from dtcrit.packing.body_contacts import find_body_contacts
 from dtcrit.packing.contacts import wrap_positions
 from dtcrit.packing.model import Box, Contacts, Packing
+from dtcrit.packing.reader_limits import check_rates, contact_rates
 from dtcrit.packing.yade_clumps import rotation_from_quaternion
 
 SCHEMA = "dtcrit-bodies/1"
@@ -151,17 +152,19 @@ def _load(path: Path) -> dict:
     except OSError as exc:
         raise _fail(str(path), f"cannot read: {exc.strerror or exc}") from None
     if len(data) > MAX_BYTES:
-        raise _fail(str(path), f"more than {MAX_BYTES} bytes: larger than a bodies file can be")
+        raise _fail(f"{path}: bodies", f"more than {MAX_BYTES >> 20} MiB of JSON (some 450,000 spheres), more than a "
+                    "bodies file holds; give a larger sphere packing as a LAMMPS dump")
     try:
         doc = json.loads(data.decode("utf-8-sig"))
     except UnicodeDecodeError as exc:
-        raise _fail(str(path), f"not UTF-8 text (byte {exc.start}); a bodies file is JSON") from None
+        line = data[:exc.start].count(b"\n") + 1
+        raise _fail(f"{path}:{line}", f"not UTF-8 text (byte {exc.start}); a bodies file is JSON") from None
     except json.JSONDecodeError as exc:
         raise _fail(f"{path}:{exc.lineno}", f"not valid JSON: {exc.msg}") from None
     except RecursionError:
-        raise _fail(str(path), "not a bodies file: arrays nested too deeply") from None
+        raise _fail(f"{path}: bodies", "arrays nested too deeply: not a bodies file") from None
     if not isinstance(doc, dict):
-        raise _fail(str(path), f"a {SCHEMA} file is one JSON object")
+        raise _fail(f"{path}:1", f"a {SCHEMA} file is one JSON object, found {_short(type(doc).__name__)}")
     return doc
 
 
@@ -410,6 +413,9 @@ def _listed_stiffness(path, doc: dict, packing: Packing, contacts: Contacts) -> 
                     "(kn = ks = 0 leaves one out)")
     kn = np.array([springs[p][1] for p in pairs])
     ks = np.array([springs[p][2] for p in pairs])
+    rate = contact_rates(packing.masses, packing.inertia, contacts.i, contacts.j, contacts.arm_i, contacts.arm_j,
+                         np.maximum(kn, ks))
+    check_rates(rate, lambda c: f"{path}: contacts[{springs[pairs[c]][0]}]")
     return contacts.with_stiffness(kn, ks)
 
 

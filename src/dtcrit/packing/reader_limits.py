@@ -1,0 +1,51 @@
+"""The range of numbers a read packing may carry into the eigen-solve.
+
+Every value a reader accepts is finite, but products of them need not be: a contact spring of
+``1e5`` N/m on a body whose moment of inertia is ``1e-320`` kg m^2 gives ``omega^2 ~ k a^2 / I ~
+1e319`` s^-2, which overflows inside the mass-scaled matrix ``M^-1/2 K M^-1/2`` and stops the
+solver with a library message.  :func:`check_rates` bounds, contact by contact, the largest entry
+that contact adds to the mass-scaled stiffness (and to the squared mass-scaled damping),
+
+    rate_c = max(k_n, k_s) (1/m_i + |a_i|^2 / I_i + 1/m_j + |a_j|^2 / I_j)
+             + max(k_r, k_tw) (1/I_i + 1/I_j) + [max(c_n, c_s) (1/m_i + |a_i|^2 / I_i + ...)]^2
+
+(``I`` the smallest principal moment, ``a`` the contact arm), and refuses a contact whose rate is
+not below ``MAX_RATE`` [1/s^2], naming its line or key: the step would be below ``2/sqrt(MAX_RATE)``
+= 2e-100 s, where the solver's sums of squares (``~rate^2``) no longer fit in double precision.
+"""
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+from dtcrit.errors import InputError
+
+MAX_RATE = 1e200
+"""Largest accepted ``rate_c`` [1/s^2] (module docstring)."""
+
+
+def contact_rates(masses, inertia, i, j, arm_i, arm_j, k, k_rot=None, c=None) -> np.ndarray:
+    """``rate_c`` of the module docstring for contacts ``(i, j)``; ``k`` the largest translational
+    spring, ``k_rot`` the largest rotational one, ``c`` the largest dashpot of each contact."""
+    masses, inertia = np.asarray(masses, float), np.asarray(inertia, float).reshape(len(masses), -1).min(axis=1)
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+        arm_i2 = np.einsum("ij,ij->i", arm_i, arm_i)
+        arm_j2 = np.einsum("ij,ij->i", arm_j, arm_j)
+        reach = 1.0 / masses[i] + arm_i2 / inertia[i] + 1.0 / masses[j] + arm_j2 / inertia[j]
+        rate = np.asarray(k, float) * reach
+        if k_rot is not None:
+            rate = rate + np.asarray(k_rot, float) * (1.0 / inertia[i] + 1.0 / inertia[j])
+        if c is not None:
+            rate = rate + (np.asarray(c, float) * reach) ** 2
+    return rate
+
+
+def check_rates(rate: np.ndarray, key_of: Callable[[int], str]) -> None:
+    """Refuse the first contact whose ``rate`` is not below ``MAX_RATE``; ``key_of(c)`` names contact ``c``."""
+    bad = ~(rate < MAX_RATE)
+    if bad.any():
+        c = int(np.argmax(bad))
+        raise InputError(key_of(c), f"its springs and dashpots on these masses and moments of inertia give "
+                                    f"omega^2 ~ {rate[c]:.3g} 1/s^2, beyond the {MAX_RATE:g} double precision "
+                                    "carries through the eigen-solve (a step below 2e-100 s)")
