@@ -374,3 +374,12 @@ def test_twenty_thousand_sphere_bodies_read_in_seconds(tmp_path):
     assert time.perf_counter() - start < 20.0
     assert read.packing.n == 20_000 and read.packing.is_spheres
     assert read.contacts.count > 20_000  # about half the 60,000 grid neighbours overlap
+
+
+@pytest.mark.parametrize("extra", [[], ["--engine", "lammps"], ["--pair-style", "gran/hooke 1e5 NULL 0 NULL 0.5 0"]])
+def test_audit_of_a_bodies_file_names_its_schema_not_a_yade_export(extra, capsys):
+    assert main(["audit", str(EXAMPLE), *extra]) == 2
+    err = capsys.readouterr().err
+    assert err == (f"dtcrit: {EXAMPLE}: schema: expected 'dtcrit-yade-export/1' (written by yade_export.py), found "
+                   "'dtcrit-bodies/1': a file of bodies, which dtcrit packing reads (dtcrit audit reads dumps and YADE "
+                   "exports)\n")

@@ -201,3 +201,24 @@ def test_snapshot_index_out_of_range_and_from_the_end(tmp_path):
         with pytest.raises(InputError) as err:
             read_dump(path, snapshot=index)
         assert err.value.key == "snapshot" and "2 snapshot(s)" in err.value.reason
+
+
+def test_a_sphere_larger_than_the_periodic_box_is_refused_by_its_line(tmp_path):
+    """Radius 1e23 m in a 4 m periodic box: its images overlap it ~1e23 deep (an endless image search)."""
+    path = _write(tmp_path, GOOD.replace("2 2 1.0 1.0 1.95 0 0 0 0.5", "2 2 1.0 1.0 1.95 0 0 0 1e23"))
+    with pytest.raises(InputError) as err:
+        read_dump(path, density=1.0)
+    assert err.value.key == f"{path}:12"
+    assert err.value.reason.startswith("radius 1e+23 exceeds the periodic box length 4 along x")
+
+
+@pytest.mark.parametrize("with_mass,density,words", [
+    (False, None, "have no 'mass': give the particle density (--density)"),
+    (True, 1.0, "include 'mass': do not give a density (--density) as well"),
+])
+def test_mass_or_density_is_asked_for_at_the_header_line(tmp_path, with_mass, density, words):
+    text = GOOD.replace("vz radius", "radius mass").replace(" 0 0.5\n", " 0.5 2.0\n") if with_mass else GOOD
+    path = _write(tmp_path, text)
+    with pytest.raises(InputError) as err:
+        read_dump(path, density=density)
+    assert err.value.key == f"{path}:9" and words in err.value.reason

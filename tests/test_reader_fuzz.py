@@ -16,6 +16,7 @@ import re
 import subprocess
 import sys
 import time
+import warnings
 from pathlib import Path
 
 import pytest
@@ -73,12 +74,15 @@ or ``--flag: reason``."""
 def _check(argv, capsys, files):
     """Run ``dtcrit ARGV`` in-process: 0, or 2 with one line naming a FILE of ``files`` or a --flag."""
     start = time.perf_counter()
-    try:
-        code = main(argv)
-    except SystemExit as exc:  # argparse
-        code = exc.code
+    with warnings.catch_warnings(record=True) as caught:  # a warning would be one more line on stderr
+        warnings.simplefilter("always")
+        try:
+            code = main(argv)
+        except SystemExit as exc:  # argparse
+            code = exc.code
     elapsed = time.perf_counter() - start
     out, err = capsys.readouterr()
+    assert not caught, [str(w.message) for w in caught]
     assert elapsed < LIMIT, (argv, elapsed)
     assert code in (0, 2), (code, err)
     if code == 0:

@@ -120,9 +120,14 @@ def _keys(where: str, table: dict, allowed: tuple[str, ...]) -> None:
                         f"unknown key; valid keys here: {', '.join(allowed)}")
 
 
+def _finite_number(v) -> bool:
+    """A JSON number (not a boolean) that is finite as a double (a 400-digit integer is not)."""
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and (
+        math.isfinite(v) if isinstance(v, float) else abs(v) < 2**1000)
+
+
 def _numbers(where: str, value, size: int) -> np.ndarray:
-    ok = isinstance(value, list) and len(value) == size and all(
-        isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in value)
+    ok = isinstance(value, list) and len(value) == size and all(_finite_number(v) for v in value)
     if not ok:
         raise _fail(where, f"expected an array of {size} finite numbers, found {_short(value)}")
     return np.array(value, dtype=float)
@@ -140,7 +145,7 @@ def _integer(where: str, value) -> int:
 
 
 def _stiffness(where: str, value) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0:
+    if not _finite_number(value) or value < 0:
         raise _fail(where, f"expected a finite stiffness >= 0 [N/m], found {_short(value)}")
     return float(value)
 
@@ -203,7 +208,8 @@ def _orientation(where: str, value) -> np.ndarray:
     if value is None:
         return np.eye(3)
     q = _numbers(where, value, 4)
-    norm = float(np.linalg.norm(q))
+    with np.errstate(over="ignore"):
+        norm = float(np.linalg.norm(q))
     if abs(norm - 1.0) > UNIT_TOLERANCE:
         raise _fail(where, f"not a unit quaternion (|q| = {norm:.9g}); give [qw, qx, qy, qz] with unit length")
     return rotation_from_quaternion(where, list(q / norm))
@@ -303,7 +309,8 @@ def _rotations(path, quats: list) -> np.ndarray:
     """Body-to-world rotations of every body's unit quaternion ``[qw, qx, qy, qz]`` (module
     docstring; the matrix of ``dtcrit.packing.yade_clumps.rotation_from_quaternion``)."""
     q = _array(path, "orientation", quats, 4, [1.0, 0.0, 0.0, 0.0])
-    norm = np.linalg.norm(q, axis=1)
+    with np.errstate(over="ignore"):  # |q| = inf is refused below
+        norm = np.linalg.norm(q, axis=1)
     bad = np.flatnonzero(np.abs(norm - 1.0) > UNIT_TOLERANCE)
     if bad.size:
         _orientation(f"{path}: bodies[{bad[0]}].orientation", quats[bad[0]])

@@ -265,10 +265,11 @@ def packing_from_snapshot(snap: _Snapshot, density: float | None = None, label: 
             n = int(np.argmax(bad))
             raise _fail(snap.first_line + n, f"mass must be positive, found {masses[n]:g}")
         if density is not None:
-            raise InputError("density", "the dump has a mass column; do not give a density as well")
+            raise _fail(header_line, "the ATOMS columns include 'mass': do not give a density (--density) as well")
     elif density is None:
-        raise InputError("density", "the dump has no mass column: give the particle density")
+        raise _fail(header_line, "the ATOMS columns have no 'mass': give the particle density (--density)")
     _check_sizes(snap, x, r, masses, density)
+    _periodic_room(snap, r)
     order = np.argsort(snap.rows[:, cols["id"]], kind="stable") if "id" in cols else np.arange(len(r))
     ids = None
     if "id" in cols:
@@ -301,6 +302,17 @@ def _check_sizes(snap: _Snapshot, x: np.ndarray, r: np.ndarray, masses, density)
         n = int(np.argmax(bad))
         raise _fail(snap.first_line + n, f"radius {r[n]:g} and mass {m[n]:g} give a moment of inertia "
                                          f"{inertia[n]:g} outside double precision")
+
+
+def _periodic_room(snap: _Snapshot, r: np.ndarray) -> None:
+    """Refuse a sphere whose radius exceeds a periodic length: it would overlap its own periodic
+    images more than one deep (and the image search would not end)."""
+    k = int(np.argmax(r))
+    for a in range(3):
+        if snap.box.periodic[a] and snap.box.lengths[a] < r[k]:
+            raise _fail(snap.first_line + k, f"radius {r[k]:g} exceeds the periodic box length {snap.box.lengths[a]:g} "
+                                             f"along {'xyz'[a]}: the sphere would overlap its own images more than "
+                                             "one deep")
 
 
 def read_dump(path, *, density: float | None = None, snapshot: int = -1) -> Packing:

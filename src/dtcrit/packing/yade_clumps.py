@@ -228,7 +228,8 @@ def yade_contacts(bodies: RigidBodies, interactions: list, path, *, box: Box | N
         else:
             shift = np.zeros(3)
         sep = sep + shift
-        dist = float(np.linalg.norm(sep))
+        with np.errstate(over="ignore", invalid="ignore"):
+            dist = float(np.linalg.norm(sep))
         if dist == 0.0:
             raise InputError(where, f"spheres {a} and {b} have coincident centres")
         if not math.isfinite(dist):

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -57,6 +58,26 @@ def _box(doc: dict, path: Path) -> Box | None:
     return Box(np.zeros(3), np.diag(cell).copy(), (True, True, True))
 
 
+_SCHEMA_KEY = re.compile(rb'"schema"\s*:\s*"([^"\\]{0,80})"')
+
+
+def check_schema(path) -> None:
+    """Refuse, before anything else is read, a JSON file whose ``schema`` (looked for in its first
+    64 KiB; both writers put it first) names another format than a YADE export."""
+    path = Path(path)
+    try:
+        with path.open("rb") as handle:
+            head = handle.read(1 << 16)
+    except OSError:
+        return  # the reader says why
+    found = _SCHEMA_KEY.search(head)
+    if found and found.group(1) != SCHEMA.encode():
+        name = found.group(1).decode("utf-8", "replace")
+        why = (": a file of bodies, which dtcrit packing reads (dtcrit audit reads dumps and YADE exports)"
+               if name == "dtcrit-bodies/1" else "")
+        raise InputError(f"{path}: schema", f"expected {SCHEMA!r} (written by yade_export.py), found {name!r}{why}")
+
+
 def _json_line(data: bytes, offset: int) -> int:
     return data[:offset].count(b"\n") + 1
 
@@ -78,7 +99,7 @@ def _load(path: Path) -> tuple[dict, list, list]:
         raise InputError(f"{path}:1", f"a {SCHEMA} export is one JSON object, found {show(type(doc).__name__)}")
     if doc.get("schema") != SCHEMA:
         found = doc.get("schema")
-        why = (" (a dtcrit-bodies/1 file of bodies: dtcrit packing reads it; dtcrit audit reads dumps and YADE exports)"
+        why = (": a file of bodies, which dtcrit packing reads (dtcrit audit reads dumps and YADE exports)"
                if found == "dtcrit-bodies/1" else "")
         raise InputError(f"{path}: schema", f"expected {SCHEMA!r} (written by yade_export.py), found {show(found)}{why}")
     bodies, inters = doc.get("bodies"), doc.get("interactions")
