@@ -60,7 +60,7 @@ from dtcrit._generated import mass_properties as _mp
 from dtcrit.packing.body_contacts import find_body_contacts
 from dtcrit.packing.contacts import wrap_positions
 from dtcrit.packing.model import Box, Contacts, Packing
-from dtcrit.packing.reader_limits import check_rates, contact_rates
+from dtcrit.packing.reader_limits import check_lengths, check_rates, contact_rates
 from dtcrit.packing.yade_clumps import rotation_from_quaternion
 
 SCHEMA = "dtcrit-bodies/1"
@@ -354,6 +354,7 @@ def _bodies(path, doc: dict, particle_table: ParticleTable, box: Box | None):
                                                [tables[k] for k in spheres], found, particle_table)
     shapes = None if len(spheres) == len(ids) else _shapes(path, tables, particle_table, rows)
     position = _array(path, "position", positions, 3)
+    check_lengths(position, lambda k: f"{path}: bodies[{k}].position", "a coordinate")
     rot = _rotations(path, quats)
     if shapes is None:  # spheres only: a sphere packing (a sphere's orientation changes nothing)
         kinds = {"sphere": len(ids)}
@@ -438,7 +439,10 @@ def load_bodies(doc, path, particle_table: ParticleTable, tolerance: float = 1e-
     if "box" not in doc:
         raise _fail(f"{path}: box", "missing: give the box object, or null for none")
     box = _box(f"{path}: box", doc["box"])
+    if box is not None:
+        check_lengths(np.vstack([box.lo, box.hi]).T, lambda a: f"{path}: box", "a bound")
     packing, kinds = _bodies(path, doc, particle_table, box)
+    check_lengths(packing.radii, lambda k: f"{path}: bodies[{k}].shape", "the bounding radius")
     _periodic_room(path, box, packing)
     try:
         contacts = find_body_contacts(packing, tolerance)

@@ -33,6 +33,7 @@ import numpy as np
 from dtcrit.errors import InputError
 
 from dtcrit.packing.model import Box, Packing
+from dtcrit.packing.reader_limits import check_lengths
 
 _POSITION_SETS = (("x", "y", "z"), ("xu", "yu", "zu"), ("xs", "ys", "zs"))
 
@@ -269,6 +270,11 @@ def packing_from_snapshot(snap: _Snapshot, density: float | None = None, label: 
     elif density is None:
         raise _fail(header_line, "the ATOMS columns have no 'mass': give the particle density (--density)")
     _check_sizes(snap, x, r, masses, density)
+    for what, values in (("a box bound", np.vstack([snap.box.lo, snap.box.hi]).T), ("a coordinate", x), ("radius", r)):
+        if what == "a box bound":
+            check_lengths(values, lambda k: f"line {snap.first_line - 4 + k}", what)
+        else:
+            check_lengths(values, lambda k: f"line {snap.first_line + k}", what)
     _periodic_room(snap, r)
     order = np.argsort(snap.rows[:, cols["id"]], kind="stable") if "id" in cols else np.arange(len(r))
     ids = None

@@ -49,3 +49,19 @@ def check_rates(rate: np.ndarray, key_of: Callable[[int], str]) -> None:
         raise InputError(key_of(c), f"its springs and dashpots on these masses and moments of inertia give "
                                     f"omega^2 ~ {rate[c]:.3g} 1/s^2, beyond the {MAX_RATE:g} double precision "
                                     "carries through the eigen-solve (a step below 2e-100 s)")
+
+
+MAX_LENGTH = 1e100
+"""Largest accepted coordinate, size or box bound [m]: the contact search and the arms square and
+multiply lengths (``|x|^2``, ``k |a|^2``), which must stay far inside double precision."""
+
+
+def check_lengths(values, key_of: Callable[[int], str], what: str) -> None:
+    """Refuse the first row of ``values`` (one row per particle, or a flat array) holding a length
+    beyond ``MAX_LENGTH``; ``key_of(k)`` names row ``k``."""
+    v = np.abs(np.asarray(values, float))
+    bad = ~(v.reshape(len(v), -1) <= MAX_LENGTH).all(axis=1)
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise InputError(key_of(k), f"{what} {v[k].max():g} m is beyond the {MAX_LENGTH:g} m a packing's lengths may "
+                                    "reach (they are squared and multiplied in double precision)")

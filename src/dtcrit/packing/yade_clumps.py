@@ -55,7 +55,7 @@ import numpy as np
 
 from dtcrit.errors import InputError
 from dtcrit.packing.model import Box, Contacts
-from dtcrit.packing.reader_limits import check_rates, contact_rates
+from dtcrit.packing.reader_limits import check_lengths, check_rates, contact_rates
 
 TERMS = ("kn", "ks", "kr", "ktw", "cn", "cs", "fn")
 
@@ -139,6 +139,9 @@ def _one_body(where: str, b, rows: list, members: dict, clump_index: dict, pendi
         raise InputError(where, f"expected an object, found {show(b)}")
     bid = whole(f"{where}.id", b.get("id"))
     pos = _triple(f"{where}.pos", b.get("pos"))
+    check_lengths(pos[None], lambda k: f"{where}.pos", "a coordinate")
+    if isinstance(b.get("radius"), (int, float)) and not isinstance(b.get("radius"), bool):
+        check_lengths([_finite(f"{where}.radius", b["radius"], positive=True)], lambda k: f"{where}.radius", "the radius")
     if b.get("is_clump"):
         rot = rotation_from_quaternion(f"{where}.ori", b.get("ori"))
     elif b.get("clump_id") is not None:
@@ -175,7 +178,8 @@ def rigid_bodies(bodies: list, path) -> RigidBodies:
             raise InputError(f"{where}.clump_id", f"clump {cid} is not an exported clump body")
         body = clump_index[cid]
         members[bid] = (body, pos, radius)
-        reach[body] = max(reach[body], float(np.linalg.norm(pos - rows[body][1])) + radius)
+        with np.errstate(over="ignore", invalid="ignore"):
+            reach[body] = max(reach[body], float(np.linalg.norm(pos - rows[body][1])) + radius)
     empty = [cid for cid, body in clump_index.items() if reach[body] == 0.0]
     if empty:
         raise InputError(f"{path}: bodies", f"clump {empty[0]} has no exported member spheres")

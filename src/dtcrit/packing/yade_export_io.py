@@ -29,6 +29,7 @@ from dtcrit.errors import InputError
 
 from dtcrit.packing.engines import overlaps_of_pairs
 from dtcrit.packing.model import Box, Contacts, Packing
+from dtcrit.packing.reader_limits import check_lengths
 from dtcrit.packing.yade_clumps import _finite, _triple, show, whole
 
 SCHEMA = "dtcrit-yade-export/1"
@@ -50,6 +51,7 @@ def _box(doc: dict, path: Path) -> Box | None:
     if not isinstance(h, list) or len(h) != 3:
         raise InputError(f"{path}: cell_hsize", f"a periodic export needs the 3 x 3 cell_hsize, found {show(h)}")
     cell = np.array([_vector(f"{path}: cell_hsize[{a}]", row) for a, row in enumerate(h)])
+    check_lengths(cell, lambda a: f"{path}: cell_hsize[{a}]", "a cell vector component")
     if np.abs(cell - np.diag(np.diag(cell))).max() > 1e-12 * np.abs(cell).max():
         raise InputError(f"{path}: cell_hsize", "triclinic (sheared) periodic cells are not supported yet")
     for a in range(3):
@@ -200,6 +202,7 @@ def read_yade_export(path) -> tuple[Packing, Contacts, dict]:
         ids.append(bid)
         x.append(_vector(f"{where}.pos", b.get("pos")))
         radii.append(_number(f"{where}.radius", b.get("radius"), positive=True))
+        check_lengths([x[-1], [radii[-1]] * 3], lambda a: f"{where}.{('pos', 'radius')[a]}", "a length")
         masses.append(_number(f"{where}.mass", b.get("mass"), positive=True))
         inertia.append(_triple(f"{where}.inertia", b.get("inertia"), positive=True))
         fixed.append(bool(b.get("fixed")))
