@@ -281,3 +281,43 @@ def test_subprocess_refusals_are_one_line_with_status_2(name, content, argv_tail
     assert run.returncode == 2 and run.stdout == ""
     match = ONE_LINE.fullmatch(run.stderr)
     assert match and match["file"] == str(path), run.stderr
+
+
+# ---------------------------------------------------------------------------- messages that leaked library text
+
+def _yade_edit(change):
+    doc = json.loads(json.dumps(YADE_SPHERES))
+    change(doc)
+    return doc
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda d: d["bodies"][0]["inertia"].__setitem__(1, 0.0), "bodies[0].inertia[1]: must be positive, found 0"),
+    (lambda d: d["bodies"][0]["inertia"].__setitem__(1, 1e-320),
+     "interactions[0]: its springs and dashpots on these masses and moments of inertia give omega^2 beyond double "
+     "precision, above the 1e+200 1/s^2 the eigen-solve carries in double precision (a step below 2e-100 s)"),
+    (lambda d: d["interactions"][0].__setitem__("id1", [0]), "interactions[0].id1: expected an integer id, found [0]"),
+    (lambda d: d["bodies"][1].__setitem__("id", 0), "bodies[1].id: id 0 is already used by bodies[0]"),
+    (lambda d: d.__setitem__("dt", "x"), "dt: expected a finite number, found 'x'"),
+    (lambda d: d["bodies"][2].__setitem__("pos", [1e101, 0.0, 0.0]),
+     "bodies[2].pos: a coordinate 1e+101 m is beyond the 1e+100 m a packing's lengths may reach (they are squared "
+     "and multiplied in double precision)"),
+])
+def test_yade_export_messages_name_the_key_and_the_reason(change, message, tmp_path, capsys):
+    """Before: ``np.float64(0.0)``, ``array must not contain infs or NaNs``, ``TypeError: unhashable type``,
+    ``ids: expected 4 distinct particle ids``, ``TypeError: must be real number, not str``."""
+    path = tmp_path / "export.json"
+    path.write_text(json.dumps(_yade_edit(change)))
+    assert main(["audit", str(path)]) == 2
+    assert capsys.readouterr().err == f"dtcrit: {path}: {message}\n"
+
+
+def test_contact_table_spring_that_overflows_is_refused_by_its_line(tmp_path, capsys):
+    a, b = tmp_path / "chain.dump", tmp_path / "contacts.txt"
+    a.write_text(CHAIN_DUMP)
+    b.write_text(TABLE.replace("2 3 1e5", "2 3 1e300"))
+    assert main(["audit", str(a), "--contacts", str(b)]) == 2
+    err = capsys.readouterr().err
+    inertia = 0.4 * MASS * R * R  # arms at most the radius R on both spheres: 1e300 (2/m + 2 R^2/I)
+    assert err.startswith(f"dtcrit: {b}:3: its springs and dashpots on these masses and moments of inertia give "
+                          f"omega^2 ~ {1e300 * (2 / MASS + 2 * R * R / inertia):.3g} 1/s^2, above the 1e+200 1/s^2")

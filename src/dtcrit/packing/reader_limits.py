@@ -33,12 +33,19 @@ def contact_rates(masses, inertia, i, j, arm_i, arm_j, k, k_rot=None, c=None) ->
         arm_i2 = np.einsum("ij,ij->i", arm_i, arm_i)
         arm_j2 = np.einsum("ij,ij->i", arm_j, arm_j)
         reach = 1.0 / masses[i] + arm_i2 / inertia[i] + 1.0 / masses[j] + arm_j2 / inertia[j]
-        rate = np.asarray(k, float) * reach
+        turn = 1.0 / inertia[i] + 1.0 / inertia[j]
+        rate = _times(k, reach)
         if k_rot is not None:
-            rate = rate + np.asarray(k_rot, float) * (1.0 / inertia[i] + 1.0 / inertia[j])
+            rate = rate + _times(k_rot, turn)
         if c is not None:
-            rate = rate + (np.asarray(c, float) * reach) ** 2
+            rate = rate + _times(c, reach) ** 2
     return rate
+
+
+def _times(coefficient, factor) -> np.ndarray:
+    """``coefficient * factor`` with an absent term (coefficient 0) zero even where ``factor`` overflows."""
+    coefficient = np.asarray(coefficient, float)
+    return np.where(coefficient == 0, 0.0, coefficient * factor)
 
 
 def check_rates(rate: np.ndarray, key_of: Callable[[int], str]) -> None:
@@ -46,9 +53,10 @@ def check_rates(rate: np.ndarray, key_of: Callable[[int], str]) -> None:
     bad = ~(rate < MAX_RATE)
     if bad.any():
         c = int(np.argmax(bad))
+        size = f"~ {rate[c]:.3g} 1/s^2" if np.isfinite(rate[c]) else "beyond double precision"
         raise InputError(key_of(c), f"its springs and dashpots on these masses and moments of inertia give "
-                                    f"omega^2 ~ {rate[c]:.3g} 1/s^2, beyond the {MAX_RATE:g} double precision "
-                                    "carries through the eigen-solve (a step below 2e-100 s)")
+                                    f"omega^2 {size}, above the {MAX_RATE:g} 1/s^2 the eigen-solve carries in double "
+                                    "precision (a step below 2e-100 s)")
 
 
 MAX_LENGTH = 1e100
