@@ -66,9 +66,9 @@ YADE_CLUMP = _yade_export(
       "clump_id": None, "is_clump": True, "fixed": False, "ori": [0.9, 0.0, 0.0, 0.43588989435406735]},
      _yade_sphere(3, 2.74 * R)], [_yade_inter(0, 1), _yade_inter(1, 3)])
 
-ONE_LINE = re.compile(r"dtcrit: (?:(?P<file>[^:\n]+)(?::\d+|: ?[\w\[\].-]+(?: \w+)?)|--[\w-]+): \S[^\n]*\n")
+ONE_LINE = re.compile(r'dtcrit: (?:(?P<file>[^:\n]+)(?::\d+|: ?(?:[\w\[\].-]|"[^"\n]*")+)|--[\w-]+): \S[^\n]*\n')
 """``FILE:LINE: reason``, ``FILE: key: reason`` (``key`` a path such as ``bodies[2].shape.radius``)
-or ``--flag: reason``."""
+or ``--flag: reason``; a key that is no bare word is quoted, as TOML writes it."""
 
 
 def _check(argv, capsys, files):
@@ -294,8 +294,11 @@ def _yade_edit(change):
 @pytest.mark.parametrize("change, message", [
     (lambda d: d["bodies"][0]["inertia"].__setitem__(1, 0.0), "bodies[0].inertia[1]: must be positive, found 0"),
     (lambda d: d["bodies"][0]["inertia"].__setitem__(1, 1e-320),
-     "interactions[0]: its springs and dashpots on these masses and moments of inertia give omega^2 beyond double "
-     "precision, above the 1e+200 1/s^2 the eigen-solve carries in double precision (a step below 2e-100 s)"),
+     f"bodies[0].inertia: a principal moment of inertia [kg m^2] {1e-320:g} is below the 1e-100 a packing's masses and "
+     "moments may reach (every spring is divided by them in double precision)"),
+    (lambda d: d["interactions"][1].__setitem__("kr", 1e300),
+     "interactions[1]: its springs and dashpots on these masses and moments of inertia give omega^2 beyond "
+     "double precision, above the 1e+200 1/s^2 the eigen-solve carries in double precision (a step below 2e-100 s)"),
     (lambda d: d["interactions"][0].__setitem__("id1", [0]), "interactions[0].id1: expected an integer id, found [0]"),
     (lambda d: d["bodies"][1].__setitem__("id", 0), "bodies[1].id: id 0 is already used by bodies[0]"),
     (lambda d: d.__setitem__("dt", "x"), "dt: expected a finite number, found 'x'"),

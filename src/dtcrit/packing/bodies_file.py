@@ -60,7 +60,7 @@ from dtcrit._generated import mass_properties as _mp
 from dtcrit.packing.body_contacts import find_body_contacts
 from dtcrit.packing.contacts import wrap_positions
 from dtcrit.packing.model import Box, Contacts, Packing
-from dtcrit.packing.reader_limits import check_lengths, check_rates, contact_rates
+from dtcrit.packing.reader_limits import check_inertia, check_lengths, check_rates, contact_rates
 from dtcrit.packing.yade_clumps import rotation_from_quaternion
 
 SCHEMA = "dtcrit-bodies/1"
@@ -147,7 +147,7 @@ def _integer(where: str, value) -> int:
 def _stiffness(where: str, value) -> float:
     if not _finite_number(value) or value < 0:
         raise _fail(where, f"expected a finite stiffness >= 0 [N/m], found {_short(value)}")
-    return float(value)
+    return float(value) + 0.0  # -0.0 is 0
 
 
 def _load(path: Path) -> dict:
@@ -443,6 +443,8 @@ def load_bodies(doc, path, particle_table: ParticleTable, tolerance: float = 1e-
         check_lengths(np.vstack([box.lo, box.hi]).T, lambda a: f"{path}: box", "a bound")
     packing, kinds = _bodies(path, doc, particle_table, box)
     check_lengths(packing.radii, lambda k: f"{path}: bodies[{k}].shape", "the bounding radius")
+    check_inertia(packing.masses, lambda k: f"{path}: bodies[{k}].shape", "the mass [kg]")
+    check_inertia(packing.inertia, lambda k: f"{path}: bodies[{k}].shape", "a principal moment of inertia [kg m^2]")
     _periodic_room(path, box, packing)
     try:
         contacts = find_body_contacts(packing, tolerance)

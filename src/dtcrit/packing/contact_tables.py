@@ -133,7 +133,7 @@ def read_contact_table(path, packing: Packing) -> ContactTable:
         if len(parts) != len(header):
             raise InputError(where, f"expected {len(header)} columns ({' '.join(header)}), found {len(parts)}")
         try:
-            vals = {c: float(parts[col[c]]) for c in used}
+            vals = {c: float(parts[col[c]]) + 0.0 for c in used}  # -0.0 is 0
         except ValueError:
             raise InputError(where, "a value is not a number") from None
         for c, v in vals.items():

@@ -33,7 +33,7 @@ import numpy as np
 from dtcrit.errors import InputError
 
 from dtcrit.packing.model import Box, Packing
-from dtcrit.packing.reader_limits import check_lengths
+from dtcrit.packing.reader_limits import check_inertia, check_lengths
 
 _POSITION_SETS = (("x", "y", "z"), ("xu", "yu", "zu"), ("xs", "ys", "zs"))
 
@@ -308,6 +308,8 @@ def _check_sizes(snap: _Snapshot, x: np.ndarray, r: np.ndarray, masses, density)
         n = int(np.argmax(bad))
         raise _fail(snap.first_line + n, f"radius {r[n]:g} and mass {m[n]:g} give a moment of inertia "
                                          f"{inertia[n]:g} outside double precision")
+    check_inertia(m, lambda n: f"line {snap.first_line + n}", "the mass [kg]")
+    check_inertia(inertia, lambda n: f"line {snap.first_line + n}", "the moment of inertia 2/5 m R^2 [kg m^2]")
 
 
 def _periodic_room(snap: _Snapshot, r: np.ndarray) -> None:

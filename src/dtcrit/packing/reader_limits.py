@@ -73,3 +73,19 @@ def check_lengths(values, key_of: Callable[[int], str], what: str) -> None:
         k = int(np.argmax(bad))
         raise InputError(key_of(k), f"{what} {v[k].max():g} m is beyond the {MAX_LENGTH:g} m a packing's lengths may "
                                     "reach (they are squared and multiplied in double precision)")
+
+
+MIN_INERTIA = 1e-100
+"""Smallest accepted mass [kg] or principal moment of inertia [kg m^2]: the mass-scaled matrices
+divide every spring by them, so a spring of up to 1e100 N/m stays below ``MAX_RATE`` (a sphere of
+1 nm weighs ~1e-24 kg and turns with ~1e-42 kg m^2)."""
+
+
+def check_inertia(values, key_of: Callable[[int], str], what: str) -> None:
+    """Refuse the first row of ``values`` (masses, or rows of principal moments) below ``MIN_INERTIA``."""
+    v = np.asarray(values, float)
+    bad = ~(v.reshape(len(v), -1) >= MIN_INERTIA).all(axis=1)
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise InputError(key_of(k), f"{what} {v[k].min():g} is below the {MIN_INERTIA:g} a packing's masses and moments "
+                                    "may reach (every spring is divided by them in double precision)")

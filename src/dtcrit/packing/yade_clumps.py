@@ -55,7 +55,7 @@ import numpy as np
 
 from dtcrit.errors import InputError
 from dtcrit.packing.model import Box, Contacts
-from dtcrit.packing.reader_limits import check_lengths, check_rates, contact_rates
+from dtcrit.packing.reader_limits import check_inertia, check_lengths, check_rates, contact_rates
 
 TERMS = ("kn", "ks", "kr", "ktw", "cn", "cs", "fn")
 
@@ -81,7 +81,7 @@ def _finite(where: str, value, *, positive: bool = False, allow_none: bool = Fal
         raise InputError(where, f"expected a finite number, found {show(x)}")
     if not signed and (x < 0 or (positive and x == 0)):
         raise InputError(where, f"must be {'positive' if positive else '>= 0'}, found {show(x)}")
-    return x
+    return x + 0.0  # -0.0 is 0
 
 
 def whole(where: str, value) -> int:
@@ -154,6 +154,8 @@ def _one_body(where: str, b, rows: list, members: dict, clump_index: dict, pendi
         rot = np.eye(3)
         members[bid] = (len(rows), pos, _finite(f"{where}.radius", b["radius"], positive=True))
     inertia = _triple(f"{where}.inertia", b.get("inertia"), positive=True)
+    check_inertia(inertia[None], lambda k: f"{where}.inertia", "a principal moment of inertia [kg m^2]")
+    check_inertia([_finite(f"{where}.mass", b.get("mass"), positive=True)], lambda k: f"{where}.mass", "the mass [kg]")
     if b.get("is_clump"):
         clump_index[bid] = len(rows)
     rows.append((bid, pos, _finite(f"{where}.mass", b.get("mass"), positive=True), inertia, rot,

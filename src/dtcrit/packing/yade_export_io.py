@@ -29,7 +29,7 @@ from dtcrit.errors import InputError
 
 from dtcrit.packing.engines import overlaps_of_pairs
 from dtcrit.packing.model import Box, Contacts, Packing
-from dtcrit.packing.reader_limits import check_lengths
+from dtcrit.packing.reader_limits import check_inertia, check_lengths
 from dtcrit.packing.yade_clumps import _finite, _triple, show, whole
 
 SCHEMA = "dtcrit-yade-export/1"
@@ -205,6 +205,8 @@ def read_yade_export(path) -> tuple[Packing, Contacts, dict]:
         check_lengths([x[-1], [radii[-1]] * 3], lambda a: f"{where}.{('pos', 'radius')[a]}", "a length")
         masses.append(_number(f"{where}.mass", b.get("mass"), positive=True))
         inertia.append(_triple(f"{where}.inertia", b.get("inertia"), positive=True))
+        check_inertia([inertia[-1], [masses[-1]] * 3], lambda a: f"{where}.{('inertia', 'mass')[a]}",
+                      "a mass or moment of inertia")
         fixed.append(bool(b.get("fixed")))
     masses, inertia, fixed = np.array(masses), np.array(inertia), np.array(fixed)
     if fixed.all():
