@@ -383,3 +383,26 @@ def test_audit_of_a_bodies_file_names_its_schema_not_a_yade_export(extra, capsys
     assert err == (f"dtcrit: {EXAMPLE}: schema: expected 'dtcrit-yade-export/1' (written by yade_export.py), found "
                    "'dtcrit-bodies/1': a file of bodies, which dtcrit packing reads (dtcrit audit reads dumps and YADE "
                    "exports)\n")
+
+
+def test_progress_shows_on_a_terminal_only_after_its_delay():
+    import io
+
+    from dtcrit.packing.body_contacts import Progress
+
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+    quiet, shown = io.StringIO(), Terminal()
+    for stream, after in ((quiet, 0.0), (shown, 0.0)):
+        progress = Progress("contacts", 10, after=after, stream=stream)
+        progress.update(3)
+        progress.close()
+    assert quiet.getvalue() == ""
+    assert shown.getvalue().startswith("\rcontacts: 3/10 (") and shown.getvalue().endswith(" s)\n")
+    late = Terminal()
+    progress = Progress("contacts", 10, after=3600.0, stream=late)
+    progress.update(3)
+    progress.close()
+    assert late.getvalue() == ""
