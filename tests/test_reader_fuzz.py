@@ -66,9 +66,10 @@ YADE_CLUMP = _yade_export(
       "clump_id": None, "is_clump": True, "fixed": False, "ori": [0.9, 0.0, 0.0, 0.43588989435406735]},
      _yade_sphere(3, 2.74 * R)], [_yade_inter(0, 1), _yade_inter(1, 3)])
 
-ONE_LINE = re.compile(r'dtcrit: (?:(?P<file>[^:\n]+)(?::\d+|: ?(?:[\w\[\].-]|"[^"\n]*")+)|--[\w-]+): \S[^\n]*\n')
+ONE_LINE = re.compile(r'dtcrit: (?:(?P<file>[^:\n]+)(?::\d+|: ?(?:[\w\[\].-]|"[^"\n]*")+)|--[\w-]+|packing): \S[^\n]*\n')
 """``FILE:LINE: reason``, ``FILE: key: reason`` (``key`` a path such as ``bodies[2].shape.radius``)
-or ``--flag: reason``; a key that is no bare word is quoted, as TOML writes it."""
+or ``--flag: reason``; a key that is no bare word is quoted, as TOML writes it.  ``packing: reason``
+is ``dtcrit packing``'s verdict on a packing read whole (no two particles touch, no stiffness)."""
 
 
 def _check(argv, capsys, files):

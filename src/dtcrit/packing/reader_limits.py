@@ -6,10 +6,11 @@ Every value a reader accepts is finite, but products of them need not be: a cont
 solver with a library message.  :func:`check_rates` bounds, contact by contact, the largest entry
 that contact adds to the mass-scaled stiffness (and to the squared mass-scaled damping),
 
-    rate_c = max(k_n, k_s) (1/m_i + |a_i|^2 / I_i + 1/m_j + |a_j|^2 / I_j)
+    rate_c = max(k_n, k_s, F_n/d) (1/m_i + |a_i|^2 / I_i + 1/m_j + |a_j|^2 / I_j)
              + max(k_r, k_tw) (1/I_i + 1/I_j) + [max(c_n, c_s) (1/m_i + |a_i|^2 / I_i + ...)]^2
 
-(``I`` the smallest principal moment, ``a`` the contact arm), and refuses a contact whose rate is
+(``I`` the smallest principal moment, ``a`` the contact arm, ``F_n/d`` the pre-load's geometric
+stiffness over the centre distance), and refuses a contact whose rate is
 not below ``MAX_RATE`` [1/s^2], naming its line or key: the step would be below ``2/sqrt(MAX_RATE)``
 = 2e-100 s, where the solver's sums of squares (``~rate^2``) no longer fit in double precision.
 """

@@ -102,9 +102,12 @@ def _triple(where: str, value, size: int = 3, positive: bool = False) -> np.ndar
 def rotation_from_quaternion(where: str, wxyz) -> np.ndarray:
     """Body-to-global rotation matrix of a quaternion ``[w, x, y, z]`` (normalised here)."""
     q = _triple(where, wxyz, 4)
-    norm = float(np.linalg.norm(q))
+    with np.errstate(over="ignore"):
+        norm = float(np.linalg.norm(q))
     if norm == 0.0:
         raise InputError(where, "a zero quaternion is no orientation")
+    if not math.isfinite(norm):
+        raise InputError(where, "the quaternion's length overflows double precision; give [w, x, y, z] near unit length")
     w, x, y, z = q / norm
     return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
                      [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
@@ -265,7 +268,8 @@ def yade_contacts(bodies: RigidBodies, interactions: list, path, *, box: Box | N
     contacts = contacts.with_stiffness(col["kn"], alpha * col["ks"], col["kr"], col["ktw"])
     free = ~bodies.fixed
     rate = contact_rates(np.where(free, bodies.masses, np.inf), np.where(free[:, None], bodies.inertia, np.inf), p, q,
-                         contacts.arm_i, contacts.arm_j, np.maximum(col["kn"], contacts.ks),
+                         contacts.arm_i, contacts.arm_j,
+                         np.maximum(np.maximum(col["kn"], contacts.ks), np.abs(col["fn"]) / (r1 + r2 - delta)),
                          np.maximum(np.abs(col["kr"]), np.abs(col["ktw"])), np.maximum(col["cn"], col["cs"]))
     check_rates(rate, lambda c: f"{path}: interactions[{rows[c][10]}]")
     both_free = ~bodies.is_clump[p] & ~bodies.is_clump[q]
