@@ -75,19 +75,21 @@ def _in_range(path: Path, packing: Packing, ij: np.ndarray, values: dict, lines:
 
 
 def _apart(path: Path, packing: Packing, ij: np.ndarray, lines: list[int]) -> None:
-    """Refuse a listed pair whose centres coincide in the atom dump (nearest periodic image): no normal."""
+    """Refuse a listed pair whose centres coincide in the atom dump (nearest periodic image; |sep| = 0 in
+    double precision): no normal."""
     sep = packing.positions[ij[:, 1]] - packing.positions[ij[:, 0]]
     box = packing.box
     if box is not None:
         for a in range(3):
             if box.periodic[a]:
                 sep[:, a] -= np.rint(sep[:, a] / box.lengths[a]) * box.lengths[a]
-    same = ~np.any(sep != 0, axis=1)
+    with np.errstate(under="ignore"):
+        same = ~(np.linalg.norm(sep, axis=1) > 0)  # as the contact normal sep/|sep| needs it
     if same.any():
         k = int(np.argmax(same))
         a, b = (packing.particle_id(v) for v in ij[k])
-        raise InputError(f"{path}:{lines[k]}", f"particles {a} and {b} have coincident centres in the atom dump: "
-                                               "no contact normal")
+        raise InputError(f"{path}:{lines[k]}", f"particles {a} and {b} have coincident centres in the atom dump "
+                                               "(closer than double precision resolves): no contact normal")
 
 
 def _split(line: str) -> list[str]:

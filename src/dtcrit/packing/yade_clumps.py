@@ -243,6 +243,9 @@ def yade_contacts(bodies: RigidBodies, interactions: list, path, *, box: Box | N
             raise InputError(where, f"spheres {a} and {b} have coincident centres")
         if not math.isfinite(dist):
             raise InputError(where, f"spheres {a} and {b} are further apart than double precision holds")
+        if dist > 2.0 * (r1 + r2):  # a bond stretched beyond its spheres' size: no contact geometry left
+            raise InputError(where, f"spheres {a} and {b} are {dist:g} m apart, more than twice the sum of their "
+                                    "radii: not a contact or bond of touching spheres")
         if r1 + r2 - dist >= 2.0 * min(r1, r2):  # then R - delta/2 < 0: the arm points backwards
             raise InputError(where, f"spheres {a} and {b} overlap by {r1 + r2 - dist:g} m, at least the smaller "
                                     "diameter (one lies inside the other): not a contact")
