@@ -66,9 +66,10 @@ def _in_range(path: Path, packing: Packing, ij: np.ndarray, values: dict, lines:
     arm_i = np.zeros((len(ij), 3))
     arm_j = np.zeros((len(ij), 3))
     arm_i[:, 0], arm_j[:, 0] = packing.radii[ij[:, 0]], packing.radii[ij[:, 1]]
+    with np.errstate(over="ignore"):  # an overflowing F/r is refused below
+        preload = values.get("fn", zero) / (packing.radii[ij[:, 0]] + packing.radii[ij[:, 1]])
     rate = contact_rates(packing.masses, packing.inertia, ij[:, 0], ij[:, 1], arm_i, arm_j,
-                         np.maximum(np.maximum(values["kn"], values["ks"]),  # pre-load: F/r of the centre line
-                                    values.get("fn", zero) / (packing.radii[ij[:, 0]] + packing.radii[ij[:, 1]])),
+                         np.maximum(np.maximum(values["kn"], values["ks"]), preload),  # pre-load: F/r
                          np.maximum(values.get("kr", zero), values.get("ktw", zero)),
                          np.maximum(values.get("cn", zero), values.get("cs", zero)))
     check_rates(rate, lambda c: f"{path}:{lines[c]}")

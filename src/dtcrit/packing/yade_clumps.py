@@ -270,9 +270,10 @@ def yade_contacts(bodies: RigidBodies, interactions: list, path, *, box: Box | N
                         overlap=np.maximum(delta, 0.0), image=image, radius_eff=r1 * r2 / (r1 + r2))
     contacts = contacts.with_stiffness(col["kn"], alpha * col["ks"], col["kr"], col["ktw"])
     free = ~bodies.fixed
+    with np.errstate(over="ignore"):  # an overflowing F/d is refused below
+        preload = np.abs(col["fn"]) / (r1 + r2 - delta)
     rate = contact_rates(np.where(free, bodies.masses, np.inf), np.where(free[:, None], bodies.inertia, np.inf), p, q,
-                         contacts.arm_i, contacts.arm_j,
-                         np.maximum(np.maximum(col["kn"], contacts.ks), np.abs(col["fn"]) / (r1 + r2 - delta)),
+                         contacts.arm_i, contacts.arm_j, np.maximum(np.maximum(col["kn"], contacts.ks), preload),
                          np.maximum(np.abs(col["kr"]), np.abs(col["ktw"])), np.maximum(col["cn"], col["cs"]))
     check_rates(rate, lambda c: f"{path}: interactions[{rows[c][10]}]")
     both_free = ~bodies.is_clump[p] & ~bodies.is_clump[q]
