@@ -10,6 +10,7 @@ on standard error of the form ``dtcrit: FILE:LINE: reason``, ``dtcrit: FILE: key
 """
 from __future__ import annotations
 
+import copy
 import json
 import math
 import re
@@ -200,11 +201,11 @@ def json_mutation(draw, doc: dict) -> bytes:
                 parent = parent[key]
             kind = draw(st.sampled_from(["value", "value", "value", "delete", "grow"]))
             if kind == "value":
-                parent[path[-1]] = draw(st.sampled_from(NASTY_VALUES))
+                parent[path[-1]] = copy.deepcopy(draw(st.sampled_from(NASTY_VALUES)))  # never the shared object
             elif kind == "delete":
                 del parent[path[-1]]
             elif isinstance(parent, list):
-                parent.extend([parent[path[-1]]] * draw(st.integers(1, 3)))
+                parent.extend(copy.deepcopy(parent[path[-1]]) for _ in range(draw(st.integers(1, 3))))
         except (KeyError, IndexError, TypeError):
             continue  # an earlier edit removed or replaced the parent
     raw = json.dumps(doc).encode()
