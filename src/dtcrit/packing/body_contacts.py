@@ -105,8 +105,14 @@ def _convex_pairs(parts, radius, rot, a, b, sep, bound, tolerance):
         progress.update(c)
         if np.linalg.norm(sep[c]) > bound[c] * (1.0 + tolerance):
             continue
-        start = None if np.any(sep[c] != 0) else np.array([1.0, 0.0, 0.0])  # coincident centres
-        depth, n, pa, pb = convex_penetration(parts[a[c]], rot[a[c]], parts[b[c]], rot[b[c]], sep[c], start)
+        with np.errstate(under="ignore"):
+            apart = np.linalg.norm(sep[c]) > 0
+        start = None if apart else np.array([1.0, 0.0, 0.0])  # centres that coincide in double precision
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            depth, n, pa, pb = convex_penetration(parts[a[c]], rot[a[c]], parts[b[c]], rot[b[c]], sep[c], start)
+        if not (np.isfinite(depth) and np.all(np.isfinite(n))):
+            raise InputError("position", f"the penetration search found no contact normal between two bodies "
+                                         f"(parts {a[c]} and {b[c]} counted from 0)")
         if depth < -tolerance * bound[c]:
             continue
         point = 0.5 * (pa + (sep[c] + pb))  # relative to part a's centre
