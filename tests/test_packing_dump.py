@@ -127,3 +127,98 @@ def test_cli_reads_a_dump_and_prints_json(tmp_path, capsys):
         assert key in out
     assert out["n_particles"] == 60 and out["dofs"] == 360
     assert out["dt_crit"] == pytest.approx(2.0 / out["omega_max"])
+
+
+# ---------------------------------------------------------------------------------------------
+# LIGGGHTS's own layout, repeated columns, streaming
+# ---------------------------------------------------------------------------------------------
+LIGGGHTS_HEADER = "ITEM: ATOMS id type type x y z ix iy iz vx vy vz fx fy fz omegax omegay omegaz radius"
+PAIR_STYLE = "gran/hooke/history 1e5 NULL 2e4 NULL 0.5 1"
+
+
+def _example_rows():
+    """``(head lines up to the BOX BOUNDS, rows id type x y z radius mass)`` of the example dump."""
+    lines = EXAMPLE.read_text().splitlines()
+    k = next(n for n, ln in enumerate(lines) if ln.startswith("ITEM: ATOMS"))
+    assert lines[k].split()[2:] == ["id", "type", "x", "y", "z", "radius", "mass"]
+    return lines[:k], [ln.split() for ln in lines[k + 1:] if ln.strip()]
+
+
+def _liggghts_dump(tmp_path):
+    """The example's particles written as LIGGGHTS's tutorials dump them (``type`` twice, image flags,
+    velocities, forces and spins, no mass column), and the same particles as ``id type x y z radius``."""
+    head, rows = _example_rows()
+    spin = " 0 0 0 1.5 -2 0.25 3e-3 -1e-3 2e-3 10 -20 5"  # ix iy iz vx vy vz fx fy fz omegax omegay omegaz
+    liggghts = head + [LIGGGHTS_HEADER] + [f"{r[0]} {r[1]} {r[1]} {r[2]} {r[3]} {r[4]}{spin} {r[5]}" for r in rows]
+    plain = head + ["ITEM: ATOMS id type x y z radius"] + [" ".join(r[:6]) for r in rows]
+    a, b = tmp_path / "liggghts.dump", tmp_path / "plain.dump"
+    a.write_text("\n".join(liggghts) + "\n")
+    b.write_text("\n".join(plain) + "\n")
+    return a, b
+
+
+def _audit_json(path, capsys, *extra):
+    assert main(["audit", str(path), "--pair-style", PAIR_STYLE, "--density", "2650", "--json", *extra]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def test_liggghts_layout_with_type_twice_gives_the_plain_layouts_answer(tmp_path, capsys):
+    liggghts, plain = _liggghts_dump(tmp_path)
+    assert LIGGGHTS_HEADER in liggghts.read_text()
+    got, want = _audit_json(liggghts, capsys), _audit_json(plain, capsys)
+    assert got["n_particles"] == want["n_particles"] == 60
+    for key in ("dt_crit", "dt_safe", "dt_undamped", "n_contacts", "limiting"):
+        assert got[key] == want[key], key
+
+
+def test_a_repeated_column_that_is_read_is_refused_by_name_and_line(tmp_path, capsys):
+    liggghts, _ = _liggghts_dump(tmp_path)
+    for twice in ("x", "radius", "id"):
+        text = liggghts.read_text().replace(LIGGGHTS_HEADER, LIGGGHTS_HEADER.replace(" omegaz ", f" {twice} "))
+        path = _write(tmp_path, text, f"twice_{twice}.dump")
+        assert main(["audit", str(path), "--pair-style", PAIR_STYLE, "--density", "2650"]) == 2
+        err = capsys.readouterr().err
+        assert err == (f"dtcrit: {path}:9: the ATOMS header names the column '{twice}' 2 times; dtcrit reads it, "
+                       "so it must appear once\n")
+
+
+def test_a_chosen_snapshot_is_read_without_the_rest_of_the_file(tmp_path):
+    a = lattice("sc", 2, radius=0.5, density=1.0)
+    path = tmp_path / "grows.dump"
+    path.write_bytes(format_dump(a, timestep=7).encode() + b"ITEM: TIMESTEP\n\xff\xfe\x00garbage")
+    got = read_dump(path, snapshot=0)
+    assert got.n == a.n and got.label.endswith("timestep 7")
+    with pytest.raises(InputError) as err:  # the last snapshot needs the garbage: one line naming it
+        read_dump(path)
+    assert err.value.key == f"{path}:{a.n + 11}" and "not UTF-8" in err.value.reason
+
+
+def test_snapshot_index_out_of_range_and_from_the_end(tmp_path):
+    a, b = lattice("sc", 2, radius=0.5, density=1.0), random_packing(20, cn=5, seed=2)
+    path = _write(tmp_path, format_dump(a, timestep=1) + format_dump(b, timestep=2))
+    assert read_dump(path, snapshot=-2).n == a.n and read_dump(path, snapshot=1).n == b.n
+    for index in (2, -3):
+        with pytest.raises(InputError) as err:
+            read_dump(path, snapshot=index)
+        assert err.value.key == "snapshot" and "2 snapshot(s)" in err.value.reason
+
+
+def test_a_sphere_larger_than_the_periodic_box_is_refused_by_its_line(tmp_path):
+    """Radius 1e23 m in a 4 m periodic box: its images overlap it ~1e23 deep (an endless image search)."""
+    path = _write(tmp_path, GOOD.replace("2 2 1.0 1.0 1.95 0 0 0 0.5", "2 2 1.0 1.0 1.95 0 0 0 1e23"))
+    with pytest.raises(InputError) as err:
+        read_dump(path, density=1.0)
+    assert err.value.key == f"{path}:12"
+    assert err.value.reason.startswith("radius 1e+23 exceeds the periodic box length 4 along x")
+
+
+@pytest.mark.parametrize("with_mass,density,words", [
+    (False, None, "have no 'mass': give the particle density (--density)"),
+    (True, 1.0, "include 'mass': do not give a density (--density) as well"),
+])
+def test_mass_or_density_is_asked_for_at_the_header_line(tmp_path, with_mass, density, words):
+    text = GOOD.replace("vz radius", "radius mass").replace(" 0 0.5\n", " 0.5 2.0\n") if with_mass else GOOD
+    path = _write(tmp_path, text)
+    with pytest.raises(InputError) as err:
+        read_dump(path, density=density)
+    assert err.value.key == f"{path}:9" and words in err.value.reason

@@ -51,7 +51,8 @@ def _read_dump(path: str, density, index):
     except InputError as exc:
         if exc.key.startswith(str(path)):
             raise
-        raise InputError(f"{path}" if exc.key == "file" else f"--{exc.key.replace('_', '-')}", exc.reason) from None
+        flag = "--snapshot-index" if exc.key == "snapshot" else f"--{exc.key.replace('_', '-')}"
+        raise InputError(f"{path}" if exc.key == "file" else flag, exc.reason) from None
 
 
 def _is_yade_export(path: str) -> bool:
@@ -65,9 +66,11 @@ def _build(args):
     from dtcrit.packing.contact_tables import read_contact_table, read_local_dump
     from dtcrit.packing.engines import engine_convention, engine_sphere_contacts, overlaps_of_pairs, with_arms
     from dtcrit.packing.pair_styles import apply_terms, parse_pair_style
-    from dtcrit.packing.yade_export_io import read_yade_audit
+    from dtcrit.packing.yade_export_io import check_schema, read_yade_audit
 
     yade_file = _is_yade_export(args.snapshot)
+    if yade_file:
+        check_schema(args.snapshot)  # a JSON file of another format is not "a YADE export"
     convention = engine_convention(args.engine or ("yade" if yade_file else "lammps"))
     if yade_file != (convention.name == "yade"):
         raise ValueError(f"--engine: {args.snapshot} is {'a YADE export' if yade_file else 'a dump'}, "

@@ -55,14 +55,21 @@ from typing import Callable
 import numpy as np
 
 from dtcrit.errors import InputError
-from dtcrit.packing.contacts import find_convex_contacts, wrap_positions
+from dtcrit._generated import mass_properties as _mp
+from dtcrit.packing.bodies_values import (_array, _fail, _integer, _keys, _numbers, _short, _sphere_table,
+                                          _stiffness)
+from dtcrit.packing.body_contacts import find_body_contacts
+from dtcrit.packing.contacts import wrap_positions
 from dtcrit.packing.model import Box, Contacts, Packing
+from dtcrit.packing.reader_limits import check_inertia, check_lengths, check_rates, contact_rates
 from dtcrit.packing.yade_clumps import rotation_from_quaternion
 
 SCHEMA = "dtcrit-bodies/1"
 TOP_KEYS = ("schema", "box", "bodies", "contacts")
 BOX_KEYS = ("lo", "hi", "periodic")
 BODY_KEYS = ("id", "shape", "position", "orientation")
+BODY_SET = frozenset(BODY_KEYS)
+NEEDED = frozenset(("id", "shape", "position"))
 CONTACT_KEYS = ("id1", "id2", "kn", "ks")
 REFUSED_SHAPE_KEYS = {
     "radii": "a body is one sphere: give its radius",
@@ -103,42 +110,6 @@ def is_bodies_file(path) -> bool:
     return head.removeprefix(b"\xef\xbb\xbf").lstrip().startswith(b"{")
 
 
-def _fail(where: str, reason: str) -> InputError:
-    return InputError(where, reason)
-
-
-def _keys(where: str, table: dict, allowed: tuple[str, ...]) -> None:
-    for key in table:
-        if key not in allowed:
-            raise _fail(f"{where}.{key}" if where else str(key),
-                        f"unknown key; valid keys here: {', '.join(allowed)}")
-
-
-def _numbers(where: str, value, size: int) -> np.ndarray:
-    ok = isinstance(value, list) and len(value) == size and all(
-        isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in value)
-    if not ok:
-        raise _fail(where, f"expected an array of {size} finite numbers, found {_short(value)}")
-    return np.array(value, dtype=float)
-
-
-def _short(value, limit: int = 60) -> str:
-    text = " ".join(repr(value).split())
-    return text if len(text) <= limit else text[: limit - 3] + "..."
-
-
-def _integer(where: str, value) -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or abs(value) >= 2**63:
-        raise _fail(where, f"expected an integer id, found {_short(value)}")
-    return value
-
-
-def _stiffness(where: str, value) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0:
-        raise _fail(where, f"expected a finite stiffness >= 0 [N/m], found {_short(value)}")
-    return float(value)
-
-
 def _load(path: Path) -> dict:
     try:
         with path.open("rb") as handle:
@@ -146,17 +117,19 @@ def _load(path: Path) -> dict:
     except OSError as exc:
         raise _fail(str(path), f"cannot read: {exc.strerror or exc}") from None
     if len(data) > MAX_BYTES:
-        raise _fail(str(path), f"more than {MAX_BYTES} bytes: larger than a bodies file can be")
+        raise _fail(f"{path}: bodies", f"more than {MAX_BYTES >> 20} MiB of JSON (some 450,000 spheres), more than a "
+                    "bodies file holds; give a larger sphere packing as a LAMMPS dump")
     try:
         doc = json.loads(data.decode("utf-8-sig"))
     except UnicodeDecodeError as exc:
-        raise _fail(str(path), f"not UTF-8 text (byte {exc.start}); a bodies file is JSON") from None
+        line = data[:exc.start].count(b"\n") + 1
+        raise _fail(f"{path}:{line}", f"not UTF-8 text (byte {exc.start}); a bodies file is JSON") from None
     except json.JSONDecodeError as exc:
         raise _fail(f"{path}:{exc.lineno}", f"not valid JSON: {exc.msg}") from None
     except RecursionError:
-        raise _fail(str(path), "not a bodies file: arrays nested too deeply") from None
+        raise _fail(f"{path}: bodies", "arrays nested too deeply: not a bodies file") from None
     if not isinstance(doc, dict):
-        raise _fail(str(path), f"a {SCHEMA} file is one JSON object")
+        raise _fail(f"{path}:1", f"a {SCHEMA} file is one JSON object, found {_short(type(doc).__name__)}")
     return doc
 
 
@@ -195,7 +168,8 @@ def _orientation(where: str, value) -> np.ndarray:
     if value is None:
         return np.eye(3)
     q = _numbers(where, value, 4)
-    norm = float(np.linalg.norm(q))
+    with np.errstate(over="ignore"):
+        norm = float(np.linalg.norm(q))
     if abs(norm - 1.0) > UNIT_TOLERANCE:
         raise _fail(where, f"not a unit quaternion (|q| = {norm:.9g}); give [qw, qx, qy, qz] with unit length")
     return rotation_from_quaternion(where, list(q / norm))
@@ -210,89 +184,132 @@ def _frame(shape) -> tuple[np.ndarray, np.ndarray]:
     return np.eye(3), np.zeros(3)
 
 
+def _sphere_properties(where: list, tables: list, found: np.ndarray, particle_table: ParticleTable):
+    """``(radius, mass, inertia)`` of plain sphere tables (``found`` their rows of ``_sphere_table``),
+    for all at once: ``m = rho 4/3 pi R^3`` or the given mass, ``I = 2/5 m R^2`` (the formulas of
+    ``dtcrit.bodies.Sphere``).  A table whose numbers do not give a positive finite radius, density,
+    mass and moment is read by the scenes' parser, which names the key."""
+    r, rho, given = found[:, 0], found[:, 1], found[:, 2]
+    with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
+        volume = _mp.sphere_volume(r)
+        mass = np.where(np.isnan(rho), given, rho * volume)
+        density = np.where(np.isnan(rho), given / volume, rho)
+        inertia = mass * _mp.sphere_inertia_per_mass(r)
+    ok = np.ones(len(r), bool)
+    for v in (r, volume, mass, density, inertia):
+        ok &= np.isfinite(v) & (v > 0)
+    if not ok.all():
+        k = int(np.argmin(ok))
+        _shape(where[k], tables[k], particle_table)
+        raise _fail(where[k], "the radius and density (or mass) give a moment of inertia outside double precision")
+    return r, mass, inertia
+
+
+def _entries(path, bodies: list):
+    """Per-body checks of keys and ids: ``(ids, shape tables, positions, orientations)`` as given."""
+    ids, tables, positions, quats, seen = [], [], [], [], {}
+    for k, body in enumerate(bodies):
+        if type(body) is not dict:
+            raise _fail(f"{path}: bodies[{k}]", "expected an object with id, shape, position (and orientation), "
+                                                 f"found {_short(body)}")
+        if not body.keys() <= BODY_SET or not body.keys() >= NEEDED:
+            where = f"{path}: bodies[{k}]"
+            _keys(where, body, BODY_KEYS)
+            key = next(key for key in BODY_KEYS if key not in body)
+            raise _fail(f"{where}.{key}", "missing: a body needs id, shape and position")
+        bid = body["id"]
+        if type(bid) is not int or abs(bid) >= 2**63:
+            _integer(f"{path}: bodies[{k}].id", bid)
+        if bid in seen:
+            raise _fail(f"{path}: bodies[{k}].id", f"id {bid} is already used by bodies[{seen[bid]}]")
+        seen[bid] = k
+        ids.append(bid)
+        tables.append(body["shape"])
+        positions.append(body["position"])
+        quats.append(body.get("orientation"))
+    return ids, tables, positions, quats
+
+
+def _rotations(path, quats: list) -> np.ndarray:
+    """Body-to-world rotations of every body's unit quaternion ``[qw, qx, qy, qz]`` (module
+    docstring; the matrix of ``dtcrit.packing.yade_clumps.rotation_from_quaternion``)."""
+    q = _array(path, "orientation", quats, 4, [1.0, 0.0, 0.0, 0.0])
+    with np.errstate(over="ignore"):  # |q| = inf is refused below
+        norm = np.linalg.norm(q, axis=1)
+    bad = np.flatnonzero(np.abs(norm - 1.0) > UNIT_TOLERANCE)
+    if bad.size:
+        _orientation(f"{path}: bodies[{bad[0]}].orientation", quats[bad[0]])
+    w, x, y, z = (q / norm[:, None]).T
+    return np.stack([np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)], -1),
+                     np.stack([2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)], -1),
+                     np.stack([2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)], -1)], -2)
+
+
+def _shapes(path, tables: list, particle_table: ParticleTable, sphere_rows: list):
+    """One shape object per body: equal tables share one (parsed once), plain spheres are built
+    from their checked numbers."""
+    from dtcrit.bodies import Sphere
+
+    parsed: dict = {}
+    out = []
+    for k, table in enumerate(tables):
+        row = sphere_rows[k]
+        if row is not None:
+            key = ("sphere",) + tuple(row)
+            if key not in parsed:
+                r, rho, m = (float(v) for v in row)
+                parsed[key] = Sphere(r, density=None if math.isnan(rho) else rho, mass=None if math.isnan(m) else m)
+        else:
+            key = json.dumps(table, sort_keys=True)
+            if key not in parsed:
+                parsed[key] = _shape(f"{path}: bodies[{k}].shape", table, particle_table)
+        out.append(parsed[key])
+    return out
+
+
 def _bodies(path, doc: dict, particle_table: ParticleTable, box: Box | None):
     bodies = doc.get("bodies")
     if not isinstance(bodies, list) or not bodies:
         raise _fail(f"{path}: bodies", "missing: a non-empty array of bodies")
-    ids, shapes, centres, rotations, seen = [], [], [], [], {}
-    for k, body in enumerate(bodies):
-        where = f"{path}: bodies[{k}]"
-        if not isinstance(body, dict):
-            raise _fail(where, f"expected an object with id, shape, position (and orientation), found {_short(body)}")
-        _keys(where, body, BODY_KEYS)
-        for key in ("id", "shape", "position"):
-            if key not in body:
-                raise _fail(f"{where}.{key}", "missing: a body needs id, shape and position")
-        bid = _integer(f"{where}.id", body["id"])
-        if bid in seen:
-            raise _fail(f"{where}.id", f"id {bid} is already used by bodies[{seen[bid]}]")
-        seen[bid] = k
-        shape = _shape(f"{where}.shape", body["shape"], particle_table)
-        position = _numbers(f"{where}.position", body["position"], 3)
-        rot = _orientation(f"{where}.orientation", body.get("orientation"))
-        g, c = _frame(shape)
-        ids.append(bid)
-        shapes.append(shape)
-        centres.append(position + rot @ c)
-        rotations.append(rot @ g)
-    x = wrap_positions(np.array(centres), box)
-    packing = Packing.from_shapes(shapes, x, np.array(rotations), box=box)
-    kinds: dict = {}
-    for s in shapes:
-        kinds[s.kind] = kinds.get(s.kind, 0) + 1
+    ids, tables, positions, quats = _entries(path, bodies)
+    rows = [_sphere_table(t) for t in tables]
+    spheres = [k for k, row in enumerate(rows) if row is not None]
+    found = np.array([rows[k] for k in spheres], dtype=float).reshape(-1, 3)
+    radius, mass, inertia = _sphere_properties([f"{path}: bodies[{k}].shape" for k in spheres],
+                                               [tables[k] for k in spheres], found, particle_table)
+    shapes = None if len(spheres) == len(ids) else _shapes(path, tables, particle_table, rows)
+    position = _array(path, "position", positions, 3)
+    check_lengths(position, lambda k: f"{path}: bodies[{k}].position", "a coordinate")
+    rot = _rotations(path, quats)
+    if shapes is None:  # spheres only: a sphere packing (a sphere's orientation changes nothing)
+        kinds = {"sphere": len(ids)}
+        packing = Packing(wrap_positions(position, box), mass, inertia, radius, box=box,
+                          half_lengths=np.repeat(radius[:, None], 3, axis=1))
+    else:
+        frames = {id(s): _frame(s) for s in shapes}
+        g = np.array([frames[id(s)][0] for s in shapes])
+        c = np.array([frames[id(s)][1] for s in shapes])
+        x = wrap_positions(position + np.einsum("nij,nj->ni", rot, c), box)
+        packing = Packing.from_shapes(shapes, x, rot @ g, box=box)
+        kinds = {}
+        for s in shapes:
+            kinds[s.kind] = kinds.get(s.kind, 0) + 1
     text = ", ".join(f"{n} {kind}{'s' if n > 1 else ''}" for kind, n in kinds.items())
     label = f"{Path(path).name}: {text}" + (", periodic" if box is not None and any(box.periodic) else "")
     return replace(packing, ids=np.array(ids, dtype=np.int64), label=label), kinds
 
 
-def _parts(packing: Packing):
-    """Convex parts: a convex body is one part, a clump one ``Sphere`` per member (module docstring).
-    Returns ``(owner, offset, shapes)`` with ``offset`` the part's centre from its body's, world frame."""
-    from dtcrit.bodies import Clump, Sphere
-
-    owner, offset, parts = [], [], []
-    for b, shape in enumerate(packing.shapes):
-        if isinstance(shape, Clump):
-            for cx, cy, cz, r in shape.spheres:
-                owner.append(b)
-                offset.append(packing.orientations[b] @ np.array([cx, cy, cz]))
-                parts.append(Sphere(float(r), mass=1.0))
-        else:
-            owner.append(b)
-            offset.append(np.zeros(3))
-            parts.append(shape)
-    return np.array(owner, dtype=np.int64), np.array(offset), parts
-
-
-def _sphere_radius(shape) -> float:
-    from dtcrit.bodies import Sphere
-
-    return float(shape.radius) if isinstance(shape, Sphere) else math.nan
-
-
-def find_body_contacts(packing: Packing, tolerance: float = 1e-9) -> Contacts:
-    """Contacts of a packing of convex bodies and clumps (module docstring), arms from each body's
-    centre of mass; ``radius_eff = R_1 R_2 / (R_1 + R_2)`` where two spheres (or clump members) meet."""
-    owner, offset, parts = _parts(packing)
-    rot = packing.orientations
-    x = wrap_positions(packing.positions, packing.box)
-    parts_packing = Packing.from_shapes(parts, x[owner] + offset, rot[owner], box=packing.box)
-    pc = find_convex_contacts(parts_packing, tolerance)
-    if pc.count == 0:
-        return pc
-    lengths = np.ones(3) if packing.box is None else packing.box.lengths
-    periodic = np.zeros(3, bool) if packing.box is None else np.array(packing.box.periodic)
-    xp = wrap_positions(parts_packing.positions, packing.box)
-    sep = xp[pc.j] + pc.image * lengths - xp[pc.i]
-    i, j = owner[pc.i], owner[pc.j]
-    # body j's image: x_j + S L = x_i + offset_a + sep - offset_b
-    image = np.where(periodic, np.rint((x[i] - x[j] + offset[pc.i] - offset[pc.j] + sep) / lengths), 0).astype(np.int64)
-    keep = (i != j) | np.any(image != 0, axis=1)  # members of one clump are one rigid body
-    r = np.array([_sphere_radius(s) for s in parts])
-    ra, rb = r[pc.i], r[pc.j]
-    contacts = Contacts(i=i, j=j, normal=pc.normal, arm_i=offset[pc.i] + pc.arm_i, arm_j=offset[pc.j] + pc.arm_j,
-                        overlap=pc.overlap, image=image, radius_eff=ra * rb / (ra + rb))
-    return contacts.subset(keep)
+def _periodic_room(path, box: Box | None, packing: Packing) -> None:
+    """Refuse a periodic length shorter than the largest body's bounding radius: that body would
+    reach through its own nearest image into the next (and the image search would not end)."""
+    if box is None:
+        return
+    k = int(np.argmax(packing.radii))
+    for a in range(3):
+        if box.periodic[a] and box.lengths[a] < packing.radii[k]:
+            raise _fail(f"{path}: box.hi", f"the periodic length along {'xyz'[a]}, {box.lengths[a]:g} m, is shorter "
+                        f"than the bounding radius {packing.radii[k]:g} m of body {packing.particle_id(k)}: it would "
+                        "overlap its own periodic images more than one deep; give a longer periodic box")
 
 
 def _listed_stiffness(path, doc: dict, packing: Packing, contacts: Contacts) -> Contacts:
@@ -329,6 +346,9 @@ def _listed_stiffness(path, doc: dict, packing: Packing, contacts: Contacts) -> 
                     "(kn = ks = 0 leaves one out)")
     kn = np.array([springs[p][1] for p in pairs])
     ks = np.array([springs[p][2] for p in pairs])
+    rate = contact_rates(packing.masses, packing.inertia, contacts.i, contacts.j, contacts.arm_i, contacts.arm_j,
+                         np.maximum(kn, ks))
+    check_rates(rate, lambda c: f"{path}: contacts[{springs[pairs[c]][0]}]")
     return contacts.with_stiffness(kn, ks)
 
 
@@ -344,8 +364,17 @@ def load_bodies(doc, path, particle_table: ParticleTable, tolerance: float = 1e-
     if "box" not in doc:
         raise _fail(f"{path}: box", "missing: give the box object, or null for none")
     box = _box(f"{path}: box", doc["box"])
+    if box is not None:
+        check_lengths(np.vstack([box.lo, box.hi]).T, lambda a: f"{path}: box", "a bound")
     packing, kinds = _bodies(path, doc, particle_table, box)
-    contacts = find_body_contacts(packing, tolerance)
+    check_lengths(packing.radii, lambda k: f"{path}: bodies[{k}].shape", "the bounding radius")
+    check_inertia(packing.masses, lambda k: f"{path}: bodies[{k}].shape", "the mass [kg]")
+    check_inertia(packing.inertia, lambda k: f"{path}: bodies[{k}].shape", "a principal moment of inertia [kg m^2]")
+    _periodic_room(path, box, packing)
+    try:
+        contacts = find_body_contacts(packing, tolerance)
+    except InputError as exc:
+        raise _fail(f"{path}: bodies", exc.reason) from None
     given = doc.get("contacts") is not None
     if given:
         contacts = _listed_stiffness(path, doc, packing, contacts)

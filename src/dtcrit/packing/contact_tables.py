@@ -28,6 +28,7 @@ import numpy as np
 from dtcrit.errors import InputError
 
 from dtcrit.packing.model import Packing
+from dtcrit.packing.reader_limits import check_rates, contact_rates
 
 REQUIRED = ("id1", "id2", "kn", "ks")
 OPTIONAL = ("cn", "cs", "kr", "ktw", "fn")
@@ -43,12 +44,53 @@ class ContactTable:
 
 
 def _text(path: Path) -> list[str]:
+    """The file's lines (``\n`` ends one; a trailing ``\r`` and a leading byte-order mark are
+    dropped), each decoded as UTF-8: a byte that is not is named by its line."""
     try:
-        return path.read_text(encoding="utf-8-sig").splitlines()
+        data = path.read_bytes()
     except OSError as exc:
         raise InputError(str(path), f"cannot read: {exc.strerror or exc}") from None
-    except UnicodeDecodeError:
-        raise InputError(str(path), "not a text file") from None
+    lines = []
+    for n, raw in enumerate(data.removeprefix(b"\xef\xbb\xbf").split(b"\n")):
+        try:
+            lines.append(raw.decode("utf-8").rstrip("\r"))
+        except UnicodeDecodeError as exc:
+            raise InputError(f"{path}:{n + 1}", f"byte {exc.start + 1} of the line is not UTF-8: not a text file") from None
+    return lines
+
+
+def _in_range(path: Path, packing: Packing, ij: np.ndarray, values: dict, lines: list[int]) -> None:
+    """Refuse a row whose springs and dashpots overflow the mass-scaled matrices (``reader_limits``;
+    arms at most the radii)."""
+    zero = np.zeros(len(ij))
+    arm_i = np.zeros((len(ij), 3))
+    arm_j = np.zeros((len(ij), 3))
+    arm_i[:, 0], arm_j[:, 0] = packing.radii[ij[:, 0]], packing.radii[ij[:, 1]]
+    with np.errstate(over="ignore"):  # an overflowing F/r is refused below
+        preload = values.get("fn", zero) / (packing.radii[ij[:, 0]] + packing.radii[ij[:, 1]])
+    rate = contact_rates(packing.masses, packing.inertia, ij[:, 0], ij[:, 1], arm_i, arm_j,
+                         np.maximum(np.maximum(values["kn"], values["ks"]), preload),  # pre-load: F/r
+                         np.maximum(values.get("kr", zero), values.get("ktw", zero)),
+                         np.maximum(values.get("cn", zero), values.get("cs", zero)))
+    check_rates(rate, lambda c: f"{path}:{lines[c]}")
+
+
+def _apart(path: Path, packing: Packing, ij: np.ndarray, lines: list[int]) -> None:
+    """Refuse a listed pair whose centres coincide in the atom dump (nearest periodic image; |sep| = 0 in
+    double precision): no normal."""
+    sep = packing.positions[ij[:, 1]] - packing.positions[ij[:, 0]]
+    box = packing.box
+    if box is not None:
+        for a in range(3):
+            if box.periodic[a]:
+                sep[:, a] -= np.rint(sep[:, a] / box.lengths[a]) * box.lengths[a]
+    with np.errstate(under="ignore"):
+        same = ~(np.linalg.norm(sep, axis=1) > 0)  # as the contact normal sep/|sep| needs it
+    if same.any():
+        k = int(np.argmax(same))
+        a, b = (packing.particle_id(v) for v in ij[k])
+        raise InputError(f"{path}:{lines[k]}", f"particles {a} and {b} have coincident centres in the atom dump "
+                                               "(closer than double precision resolves): no contact normal")
 
 
 def _split(line: str) -> list[str]:
@@ -63,7 +105,7 @@ def _index_map(packing: Packing):
 def _pair_indices(where: str, a: float, b: float, lookup) -> tuple[int, int]:
     out = []
     for value in (a, b):
-        if value != math.floor(value) or int(value) not in lookup:
+        if not math.isfinite(value) or value != math.floor(value) or int(value) not in lookup:
             raise InputError(where, f"particle id {value:g} is not in the atom dump")
         out.append(lookup[int(value)])
     if out[0] == out[1]:
@@ -86,7 +128,7 @@ def read_contact_table(path, packing: Packing) -> ContactTable:
     used = [c for c in REQUIRED + OPTIONAL if c in header]
     col = {c: header.index(c) for c in used}
     lookup = _index_map(packing)
-    pairs, rows = [], []
+    pairs, rows, numbers = [], [], []
     for n in range(k + 1, len(lines)):
         parts = _split(lines[n])
         if not parts or parts[0].startswith("#"):
@@ -95,7 +137,7 @@ def read_contact_table(path, packing: Packing) -> ContactTable:
         if len(parts) != len(header):
             raise InputError(where, f"expected {len(header)} columns ({' '.join(header)}), found {len(parts)}")
         try:
-            vals = {c: float(parts[col[c]]) for c in used}
+            vals = {c: float(parts[col[c]]) + 0.0 for c in used}  # -0.0 is 0
         except ValueError:
             raise InputError(where, "a value is not a number") from None
         for c, v in vals.items():
@@ -103,10 +145,13 @@ def read_contact_table(path, packing: Packing) -> ContactTable:
                 raise InputError(where, f"{c} must be a finite number >= 0, found {parts[col[c]]}")
         pairs.append(_pair_indices(where, vals["id1"], vals["id2"], lookup))
         rows.append([vals[c] for c in used[2:]])
+        numbers.append(n + 1)
     if not pairs:
         raise InputError(f"{path}:{k + 1}", "the contact table has a header but no contacts")
     ij = np.array(pairs, dtype=np.int64)
-    data = np.array(rows, dtype=float)
+    _apart(path, packing, ij, numbers)
+    data = np.array(rows, dtype=float).reshape(len(pairs), len(used) - 2)
+    _in_range(path, packing, ij, {c: data[:, m] for m, c in enumerate(used[2:])}, numbers)
     return ContactTable(ij[:, 0], ij[:, 1], {c: data[:, m] for m, c in enumerate(used[2:])})
 
 
@@ -139,6 +184,8 @@ def read_local_dump(path, packing: Packing) -> tuple[np.ndarray, np.ndarray]:
         raise InputError(f"{path}:{head + 1}", "the entries need at least two columns (the two atom ids)")
     c1, c2 = _id_columns(names)
     lookup = _index_map(packing)
+    if count < 0:
+        raise InputError(f"{path}:{s + 2}", f"the number of entries must be >= 0, found {count}")
     pairs = []
     for n in range(head + 1, head + 1 + count):
         where = f"{path}:{n + 1}"
@@ -155,6 +202,7 @@ def read_local_dump(path, packing: Packing) -> tuple[np.ndarray, np.ndarray]:
     if not pairs:
         raise InputError(f"{path}:{s + 2}", "the local dump lists no contacts")
     ij = np.array(pairs, dtype=np.int64)
+    _apart(path, packing, ij, list(range(head + 2, head + 2 + count)))
     ij.sort(axis=1)
     ij = np.unique(ij, axis=0)  # newton off lists a pair across processors twice
     return ij[:, 0], ij[:, 1]

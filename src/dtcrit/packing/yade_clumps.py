@@ -55,34 +55,59 @@ import numpy as np
 
 from dtcrit.errors import InputError
 from dtcrit.packing.model import Box, Contacts
+from dtcrit.packing.reader_limits import check_inertia, check_lengths, check_rates, contact_rates
 
 TERMS = ("kn", "ks", "kr", "ktw", "cn", "cs", "fn")
+
+
+def show(value, limit: int = 60) -> str:
+    """A value as a message shows it: a float by ``%g``, anything else by a shortened ``repr``."""
+    if isinstance(value, float):
+        return f"{value:g}"
+    text = " ".join(repr(value).split())
+    return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
 def _finite(where: str, value, *, positive: bool = False, allow_none: bool = False, signed: bool = False):
     if value is None and allow_none:
         return None
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise InputError(where, f"expected a finite number, found {value!r}")
-    if not signed and (value < 0 or (positive and value == 0)):
-        raise InputError(where, f"must be {'positive' if positive else '>= 0'}, found {value!r}")
-    return float(value)
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputError(where, f"expected a finite number, found {show(value)}")
+    try:
+        x = float(value)
+    except OverflowError:
+        raise InputError(where, f"expected a finite number, found an integer of {len(str(value))} digits") from None
+    if not math.isfinite(x):
+        raise InputError(where, f"expected a finite number, found {show(x)}")
+    if not signed and (x < 0 or (positive and x == 0)):
+        raise InputError(where, f"must be {'positive' if positive else '>= 0'}, found {show(x)}")
+    return x + 0.0  # -0.0 is 0
 
 
-def _triple(where: str, value, size: int = 3) -> np.ndarray:
-    ok = isinstance(value, list) and len(value) == size and all(
-        isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in value)
-    if not ok:
-        raise InputError(where, f"expected {size} finite numbers, found {value!r}")
-    return np.array(value, dtype=float)
+def whole(where: str, value) -> int:
+    """An engine id: a whole number within 64 bits."""
+    if isinstance(value, float) and math.isfinite(value) and value.is_integer():
+        value = int(value)
+    if isinstance(value, bool) or not isinstance(value, int) or abs(value) >= 2**63:
+        raise InputError(where, f"expected an integer id, found {show(value)}")
+    return value
+
+
+def _triple(where: str, value, size: int = 3, positive: bool = False) -> np.ndarray:
+    if not isinstance(value, list) or len(value) != size:
+        raise InputError(where, f"expected {size} finite numbers, found {show(value)}")
+    return np.array([_finite(f"{where}[{a}]", v, positive=positive, signed=not positive) for a, v in enumerate(value)])
 
 
 def rotation_from_quaternion(where: str, wxyz) -> np.ndarray:
     """Body-to-global rotation matrix of a quaternion ``[w, x, y, z]`` (normalised here)."""
     q = _triple(where, wxyz, 4)
-    norm = float(np.linalg.norm(q))
+    with np.errstate(over="ignore"):
+        norm = float(np.linalg.norm(q))
     if norm == 0.0:
         raise InputError(where, "a zero quaternion is no orientation")
+    if not math.isfinite(norm):
+        raise InputError(where, "the quaternion's length overflows double precision; give [w, x, y, z] near unit length")
     w, x, y, z = q / norm
     return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
                      [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
@@ -110,41 +135,62 @@ class RigidBodies:
         return int(self.is_clump.sum())
 
 
+def _one_body(where: str, b, rows: list, members: dict, clump_index: dict, pending: list) -> int:
+    """Read one exported body into ``rows`` (bodies), ``members`` (spheres) or ``pending`` (members);
+    returns its id."""
+    if not isinstance(b, dict):
+        raise InputError(where, f"expected an object, found {show(b)}")
+    bid = whole(f"{where}.id", b.get("id"))
+    pos = _triple(f"{where}.pos", b.get("pos"))
+    check_lengths(pos[None], lambda k: f"{where}.pos", "a coordinate")
+    if isinstance(b.get("radius"), (int, float)) and not isinstance(b.get("radius"), bool):
+        check_lengths([_finite(f"{where}.radius", b["radius"], positive=True)], lambda k: f"{where}.radius", "the radius")
+    if b.get("is_clump"):
+        rot = rotation_from_quaternion(f"{where}.ori", b.get("ori"))
+    elif b.get("clump_id") is not None:
+        pending.append((where, bid, whole(f"{where}.clump_id", b["clump_id"]), pos,
+                        _finite(f"{where}.radius", b.get("radius"), positive=True)))
+        return bid
+    elif b.get("radius") is None:
+        raise InputError(where, "only spheres and clumps of spheres are analysed (this body has no radius)")
+    else:
+        rot = np.eye(3)
+        members[bid] = (len(rows), pos, _finite(f"{where}.radius", b["radius"], positive=True))
+    inertia = _triple(f"{where}.inertia", b.get("inertia"), positive=True)
+    check_inertia(inertia[None], lambda k: f"{where}.inertia", "a principal moment of inertia [kg m^2]")
+    check_inertia([_finite(f"{where}.mass", b.get("mass"), positive=True)], lambda k: f"{where}.mass", "the mass [kg]")
+    if b.get("is_clump"):
+        clump_index[bid] = len(rows)
+    rows.append((bid, pos, _finite(f"{where}.mass", b.get("mass"), positive=True), inertia, rot,
+                 0.0 if b.get("is_clump") else members[bid][2], bool(b.get("fixed"))))
+    return bid
+
+
 def rigid_bodies(bodies: list, path) -> RigidBodies:
     """Clumps and free spheres of the export's ``bodies`` list; members become part of their clump."""
-    rows, members, clump_index, pending = [], {}, {}, []
+    rows, members, clump_index, pending, seen = [], {}, {}, [], {}
     for k, b in enumerate(bodies):
         where = f"{path}: bodies[{k}]"
-        if not isinstance(b, dict):
-            raise InputError(where, "expected an object")
-        bid = int(_finite(f"{where}.id", b.get("id"), signed=True))
-        pos = _triple(f"{where}.pos", b.get("pos"))
-        if b.get("is_clump"):
-            rot = rotation_from_quaternion(f"{where}.ori", b.get("ori"))
-        elif b.get("clump_id") is not None:
-            pending.append((where, bid, int(_finite(f"{where}.clump_id", b["clump_id"], signed=True)), pos,
-                            _finite(f"{where}.radius", b.get("radius"), positive=True)))
-            continue
-        elif b.get("radius") is None:
-            raise InputError(where, "only spheres and clumps of spheres are analysed (this body has no radius)")
-        else:
-            rot = np.eye(3)
-            members[bid] = (len(rows), pos, _finite(f"{where}.radius", b["radius"], positive=True))
-        inertia = [_finite(f"{where}.inertia", v, positive=True) for v in _triple(f"{where}.inertia", b.get("inertia"))]
-        if b.get("is_clump"):
-            clump_index[bid] = len(rows)
-        rows.append((bid, pos, _finite(f"{where}.mass", b.get("mass"), positive=True), inertia, rot,
-                     0.0 if b.get("is_clump") else members[bid][2], bool(b.get("fixed"))))
+        bid = _one_body(where, b, rows, members, clump_index, pending)
+        if bid in seen:
+            raise InputError(f"{where}.id", f"id {bid} is already used by bodies[{seen[bid]}]")
+        seen[bid] = k
+    if not rows:
+        raise InputError(f"{path}: bodies", "no free sphere or clump: every body is a member of a missing clump")
     reach = [row[5] for row in rows]
     for where, bid, cid, pos, radius in pending:
         if cid not in clump_index:
             raise InputError(f"{where}.clump_id", f"clump {cid} is not an exported clump body")
         body = clump_index[cid]
         members[bid] = (body, pos, radius)
-        reach[body] = max(reach[body], float(np.linalg.norm(pos - rows[body][1])) + radius)
+        with np.errstate(over="ignore", invalid="ignore"):
+            reach[body] = max(reach[body], float(np.linalg.norm(pos - rows[body][1])) + radius)
     empty = [cid for cid, body in clump_index.items() if reach[body] == 0.0]
     if empty:
         raise InputError(f"{path}: bodies", f"clump {empty[0]} has no exported member spheres")
+    bad = [k for k, r in enumerate(reach) if not math.isfinite(r)]
+    if bad:
+        raise InputError(f"{path}: bodies", f"the members of clump {rows[bad[0]][0]} reach beyond double precision")
     ids, x, m, inertia, rot, _, fixed = (list(c) for c in zip(*rows))
     is_clump = np.zeros(len(rows), bool)
     is_clump[list(clump_index.values())] = True
@@ -174,9 +220,13 @@ def yade_contacts(bodies: RigidBodies, interactions: list, path, *, box: Box | N
     lengths = None if box is None else box.lengths
     for k, it in enumerate(interactions):
         where = f"{path}: interactions[{k}]"
-        if not isinstance(it, dict) or it.get("id1") not in bodies.members or it.get("id2") not in bodies.members:
-            raise InputError(where, "id1 and id2 must be ids of exported spheres (free or clump members)")
-        (p, x1, r1), (q, x2, r2) = bodies.members[it["id1"]], bodies.members[it["id2"]]
+        if not isinstance(it, dict):
+            raise InputError(where, f"expected an object, found {show(it)}")
+        a, b = whole(f"{where}.id1", it.get("id1")), whole(f"{where}.id2", it.get("id2"))
+        for key, bid in (("id1", a), ("id2", b)):
+            if bid not in bodies.members:
+                raise InputError(where, f"{key} {bid} is not the id of an exported sphere (free or clump member)")
+        (p, x1, r1), (q, x2, r2) = bodies.members[a], bodies.members[b]
         if p == q:
             continue  # inside one clump: no spring between parts of one rigid body
         sep = x2 - x1
@@ -187,11 +237,20 @@ def yade_contacts(bodies: RigidBodies, interactions: list, path, *, box: Box | N
         else:
             shift = np.zeros(3)
         sep = sep + shift
-        dist = float(np.linalg.norm(sep))
+        with np.errstate(over="ignore", invalid="ignore"):
+            dist = float(np.linalg.norm(sep))
         if dist == 0.0:
-            raise InputError(where, f"spheres {it['id1']} and {it['id2']} have coincident centres")
+            raise InputError(where, f"spheres {a} and {b} have coincident centres")
+        if not math.isfinite(dist):
+            raise InputError(where, f"spheres {a} and {b} are further apart than double precision holds")
+        if dist > 2.0 * (r1 + r2):  # a bond stretched beyond its spheres' size: no contact geometry left
+            raise InputError(where, f"spheres {a} and {b} are {dist:g} m apart, more than twice the sum of their "
+                                    "radii: not a contact or bond of touching spheres")
+        if r1 + r2 - dist >= 2.0 * min(r1, r2):  # then R - delta/2 < 0: the arm points backwards
+            raise InputError(where, f"spheres {a} and {b} overlap by {r1 + r2 - dist:g} m, at least the smaller "
+                                    "diameter (one lies inside the other): not a contact")
         rows.append((p, q, sep / dist, r1 + r2 - dist, r1, r2, x1 - bodies.positions[p], x2 - bodies.positions[q],
-                     shift, _terms(where, it)))
+                     shift, _terms(where, it), k))
     if not rows:
         raise InputError(f"{path}: interactions", "no interactions between bodies: no contact limits the step")
     p, q = np.array([r[0] for r in rows], np.int64), np.array([r[1] for r in rows], np.int64)
@@ -210,5 +269,12 @@ def yade_contacts(bodies: RigidBodies, interactions: list, path, *, box: Box | N
     contacts = Contacts(i=p, j=q, normal=n, arm_i=d1 + m1[:, None] * n, arm_j=d2 - m2[:, None] * n,
                         overlap=np.maximum(delta, 0.0), image=image, radius_eff=r1 * r2 / (r1 + r2))
     contacts = contacts.with_stiffness(col["kn"], alpha * col["ks"], col["kr"], col["ktw"])
+    free = ~bodies.fixed
+    with np.errstate(over="ignore"):  # an overflowing F/d is refused below
+        preload = np.abs(col["fn"]) / (r1 + r2 - delta)
+    rate = contact_rates(np.where(free, bodies.masses, np.inf), np.where(free[:, None], bodies.inertia, np.inf), p, q,
+                         contacts.arm_i, contacts.arm_j, np.maximum(np.maximum(col["kn"], contacts.ks), preload),
+                         np.maximum(np.abs(col["kr"]), np.abs(col["ktw"])), np.maximum(col["cn"], col["cs"]))
+    check_rates(rate, lambda c: f"{path}: interactions[{rows[c][10]}]")
     both_free = ~bodies.is_clump[p] & ~bodies.is_clump[q]
     return contacts.with_damping(col["cn"], col["cs"]).with_normal_force(np.where(both_free, col["fn"], 0.0))
