@@ -60,4 +60,7 @@ def critical_dt_spectral(integrator, k, c, A) -> float:
         dt = float(mp.mpf(t) / w) if math.isfinite(t) else math.inf
     if math.isinf(dt) and math.isfinite(t):
         raise InputError("k", "the critical step lies beyond the float64 range; rescale the units and retry")
+    from dtcrit.integrators.user_confirm import confirm_step
+
+    confirm_step(integrator, dt, float(k) * float(A), float(c) * float(A))  # stepping the rules, physical units
     return dt

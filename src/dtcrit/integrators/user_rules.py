@@ -219,8 +219,22 @@ def _make_step(state: tuple[str, ...], rules: tuple):
     return step
 
 
-def parse_integrator(table: dict, where: str = "integrator") -> Integrator:
-    """The ``Integrator`` of a scene's ``[integrator]`` table; ``where`` prefixes the error keys."""
+ORDERS: dict[tuple[str, str], tuple[int, int]] = {}
+"""(order with damping, order undamped) of each checked user scheme, by (name, summary)."""
+
+
+def order_of(integ) -> tuple[int, int] | None:
+    """The order of accuracy found for a checked user scheme (``None``: a built-in or unchecked one)."""
+    return ORDERS.get((getattr(integ, "name", None), getattr(integ, "summary", None)))
+
+
+def parse_integrator(table: dict, where: str = "integrator", check: bool = True) -> Integrator:
+    """The ``Integrator`` of a scene's ``[integrator]`` table; ``where`` prefixes the error keys.
+
+    ``check`` (default): refuse, naming the rule, a scheme that is not dimensionally consistent
+    (``dtcrit.integrators.user_dimensions``) or not consistent with ``x'' = f(x, v)``
+    (``dtcrit.integrators.user_consistency``); the order of accuracy found is kept (:func:`order_of`).
+    ``check=False`` only parses (tests of the rule reader use it)."""
     if not isinstance(table, dict):
         raise InputError(where, "must be a scheme name or a table {name, state, update}")
     for key in table:
@@ -261,7 +275,15 @@ def parse_integrator(table: dict, where: str = "integrator") -> Integrator:
     velocities = sorted({e[2] for _, e in _walk_calls(rules)})
     summary = "user-written: " + "; ".join(" ".join(str(t).split()) for t in update)
     damping = ", ".join(velocities) + " (the velocity argument of f)" if velocities else "none (f is not called)"
-    return Integrator(name, state, _make_step(state, tuple(rules)), summary, damping, "user-written")
+    integ = Integrator(name, state, _make_step(state, tuple(rules)), summary, damping, "user-written")
+    if check:
+        from dtcrit.integrators.user_consistency import order_of_accuracy
+        from dtcrit.integrators.user_dimensions import check_dimensions
+
+        keys = [f"{where}.update[{i}]" for i in range(1, len(rules) + 1)]
+        check_dimensions(state, rules, keys)
+        ORDERS[(name, summary)] = order_of_accuracy(state, rules, keys, where)
+    return integ
 
 
 def _walk_calls(rules):
