@@ -210,6 +210,12 @@ def order_of_accuracy(state, rules, keys, where: str) -> tuple[int, int]:
     return min(p, MAX_ORDER), min(max(q, p), MAX_ORDER)
 
 
+def h_degree(state, rules) -> int:
+    """Highest power of h in the amplification matrix (at the first sample point)."""
+    G, _ = amplification_exact(state, rules, RATIOS[0], RATIOS[0] + 1)
+    return max((k for row in G for p in row for k in p), default=0)
+
+
 def _check_rows(state, rules, keys, where, G, K, C) -> None:
     """Two-variable schemes: ``G = I + h L + O(h^2)``; name the last rule assigning the bad row."""
     want = [[{0: Fraction(1)}, {1: Fraction(1)}], [{1: -K}, {0: Fraction(1), 1: -C}]]

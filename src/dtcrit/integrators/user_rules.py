@@ -223,9 +223,18 @@ ORDERS: dict[tuple[str, str], tuple[int, int]] = {}
 """(order with damping, order undamped) of each checked user scheme, by (name, summary)."""
 
 
+H_DEGREES: dict[tuple[str, str], int] = {}
+"""Highest power of h in the amplification matrix of each checked user scheme, by (name, summary)."""
+
+
 def order_of(integ) -> tuple[int, int] | None:
     """The order of accuracy found for a checked user scheme (``None``: a built-in or unchecked one)."""
     return ORDERS.get((getattr(integ, "name", None), getattr(integ, "summary", None)))
+
+
+def h_degree_of(integ) -> int | None:
+    """Highest power of h in the amplification matrix of a checked user scheme (``None``: not checked)."""
+    return H_DEGREES.get((getattr(integ, "name", None), getattr(integ, "summary", None)))
 
 
 def parse_integrator(table: dict, where: str = "integrator", check: bool = True) -> Integrator:
@@ -277,12 +286,13 @@ def parse_integrator(table: dict, where: str = "integrator", check: bool = True)
     damping = ", ".join(velocities) + " (the velocity argument of f)" if velocities else "none (f is not called)"
     integ = Integrator(name, state, _make_step(state, tuple(rules)), summary, damping, "user-written")
     if check:
-        from dtcrit.integrators.user_consistency import order_of_accuracy
+        from dtcrit.integrators.user_consistency import h_degree, order_of_accuracy
         from dtcrit.integrators.user_dimensions import check_dimensions
 
         keys = [f"{where}.update[{i}]" for i in range(1, len(rules) + 1)]
         check_dimensions(state, rules, keys)
         ORDERS[(name, summary)] = order_of_accuracy(state, rules, keys, where)
+        H_DEGREES[(name, summary)] = h_degree(state, rules)
     return integ
 
 
