@@ -322,3 +322,44 @@ def register(integ: Integrator, where: str = "integrator") -> str:
     if old is None:
         USER_INTEGRATORS[integ.name] = integ
     return integ.name
+
+
+class _MatrixForce:
+    """``f(x, v) = -K x - C v`` with matrices ``K``, ``C`` (a packing's ``M^-1 K``, ``M^-1 C``)."""
+
+    def __init__(self, K, C):
+        self.K, self.C, self.dv = K, C, None
+
+    def __call__(self, x, v):
+        return -(self.K @ x) - self.C @ v
+
+
+def same_update_as(integ, candidates) -> str | None:
+    """The first built-in scheme in ``candidates`` whose update is the same map as ``integ``'s for a whole
+    packing (state vectors, non-commuting matrices K and C, any h), or None.
+
+    Tested at three seeded random points (vectors of 4, symmetric K and C, h in [0.1, 1]) to 1e-9:
+    both maps are polynomials in (h, K, C), so a difference vanishes at random points with
+    probability 0 (Schwartz-Zippel)."""
+    import numpy as np
+
+    from dtcrit.integrators.schemes import INTEGRATORS
+
+    rng = np.random.default_rng(20240601)
+    points = []
+    for _ in range(3):
+        a, b = rng.standard_normal((4, 4)), rng.standard_normal((4, 4))
+        state = tuple(rng.standard_normal(4) for _ in integ.state)
+        points.append((state, float(rng.uniform(0.1, 1.0)), _MatrixForce(a @ a.T, b @ b.T)))
+    for name in candidates:
+        other = INTEGRATORS.get(name)
+        if other is None or len(other.state) != len(integ.state):
+            continue
+        try:
+            same = all(np.allclose(np.asarray(integ.step(s, h, f)), np.asarray(other.step(s, h, f)), rtol=1e-9, atol=1e-9)
+                       for s, h, f in points)
+        except (TypeError, ValueError):  # a scheme that needs the scalar f.dv (the centred damping)
+            same = False
+        if same:
+            return name
+    return None
