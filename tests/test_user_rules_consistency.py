@@ -178,3 +178,16 @@ def test_the_confirmation_is_cheap():
     for _ in range(10):
         confirm_step("cheap", dt, 1e8 * 50.0, 3.0 * 50.0)
     assert (time.perf_counter() - start) / 10 < 0.25  # measured about 40 ms on one core
+
+
+@pytest.mark.parametrize("rules,state,builtin", [
+    (SCHEMES["symplectic"][1], ("x", "v"), "symplectic-euler"),
+    (["vh = v + h/2*a", "vp = v + h*a", "x = x + h*vh", "a = f(x, vp)", "v = vh + h/2*a"], ("x", "v", "a"),
+     "velocity-verlet-predicted"),
+])
+def test_a_dashpot_without_spring_gets_the_builtin_step(rules, state, builtin):
+    from dtcrit.integrators.stability import mode_dt
+
+    name = register(parse_integrator({"name": f"dashpot-{builtin}", "state": list(state), "update": rules}, "integrator"))
+    for c, A in ((3.0, 2.0), (1e-4, 1e9), (1e6, 1e-3)):
+        assert mode_dt(name, 0.0, c, A).dt == pytest.approx(mode_dt(builtin, 0.0, c, A).dt, rel=1e-14)
