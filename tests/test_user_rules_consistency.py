@@ -100,7 +100,7 @@ def test_codegen_refuses_a_scheme_it_cannot_emit_in_one_line(tmp_path, capsys):
     rc = main(["codegen", str(path), "--lang", "c", "--out", str(out)])
     got, err = capsys.readouterr()
     assert rc == 2 and got == "" and not out.exists() and time.perf_counter() - start < 10
-    assert err.count("\n") == 1 and ":integrator: no code for the user-written scheme 'mine-" in err and "h^4" in err
+    assert err.count("\n") == 1 and ":integrator: no code for the user-written scheme 'mine-" in err and "h^8" in err
 
 
 def test_step_prints_the_order_and_json_carries_it(tmp_path, capsys):

@@ -45,8 +45,9 @@ def chain(integrator: str, damped: bool = True) -> Chain:
 
 def check_emittable(integrator: str) -> None:
     """Refuse (InputError on ``integrator``, one line) a user-written scheme whose boundary has no emitted
-    closed form: more than three state variables (Jury conditions of degree <= 3), terms in h^3 or higher
-    (boundary factors beyond the cubic), or a derivation the symbolic layer does not support.  The
+    closed form: more than three state variables (Jury conditions of degree <= 3), a characteristic
+    polynomial with terms in h^5 or higher (boundary factors beyond the cubic), or a derivation the symbolic
+    layer does not support.  The
     degree checks come first, so the refusal is quick; ``dtcrit step`` still gives such a scheme's step."""
     from dtcrit.errors import InputError
     from dtcrit.integrators.schemes import USER_INTEGRATORS
@@ -59,8 +60,9 @@ def check_emittable(integrator: str) -> None:
     degree = h_degree_of(integ)
     if len(integ.state) > 3:
         why = f"it has {len(integ.state)} state variables (the emitted boundaries cover at most 3)"
-    elif degree is not None and degree > 2:
-        why = f"its amplification matrix has terms in h^{degree} (the emitted boundaries cover h^2 at most)"
+    elif degree is not None and degree > 4:
+        why = (f"its characteristic polynomial has terms in h^{degree} (the emitted boundaries cover h^4 at most, "
+               "e.g. a two-stage Runge-Kutta)")
     else:
         try:
             chain(integrator, True)

@@ -211,9 +211,9 @@ def order_of_accuracy(state, rules, keys, where: str) -> tuple[int, int]:
 
 
 def h_degree(state, rules) -> int:
-    """Highest power of h in the amplification matrix (at the first sample point)."""
+    """Highest power of h in the characteristic polynomial det(mu I - G(h)) (at the first sample point)."""
     G, _ = amplification_exact(state, rules, RATIOS[0], RATIOS[0] + 1)
-    return max((k for row in G for p in row for k in p), default=0)
+    return max((k for p in _charpoly(G) for k in p), default=0)
 
 
 def _check_rows(state, rules, keys, where, G, K, C) -> None:

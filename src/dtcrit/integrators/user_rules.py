@@ -224,7 +224,7 @@ ORDERS: dict[tuple[str, str], tuple[int, int]] = {}
 
 
 H_DEGREES: dict[tuple[str, str], int] = {}
-"""Highest power of h in the amplification matrix of each checked user scheme, by (name, summary)."""
+"""Highest power of h in the characteristic polynomial of each checked user scheme, by (name, summary)."""
 
 
 def order_of(integ) -> tuple[int, int] | None:
@@ -233,7 +233,7 @@ def order_of(integ) -> tuple[int, int] | None:
 
 
 def h_degree_of(integ) -> int | None:
-    """Highest power of h in the amplification matrix of a checked user scheme (``None``: not checked)."""
+    """Highest power of h in the characteristic polynomial of a checked user scheme (``None``: not checked)."""
     return H_DEGREES.get((getattr(integ, "name", None), getattr(integ, "summary", None)))
 
 
