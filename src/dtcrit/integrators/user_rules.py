@@ -17,11 +17,18 @@ checked tree, so the ``Integrator`` works with every layer: the symbolic one (am
 characteristic polynomial, exact boundary), the runtime (``dtcrit.integrators.spectral_route``) and
 codegen (after ``register``).
 
+Checked after parsing (``parse_integrator(check=True)``): dimensional consistency
+(``dtcrit.integrators.user_dimensions``: h is a time, x a position, v a velocity), consistency with
+``x'' = f(x, v)`` and the order of accuracy (``dtcrit.integrators.user_consistency``, exact rational
+arithmetic); every step the runtime prints for the scheme is confirmed by stepping the rules in physical
+units (``dtcrit.integrators.user_confirm``).
+
 Refused, with one line naming the rule (``integrator.update[2]``) and the reason: a rule that is not
 linear in the state (``x*v``, ``f(x, v)*v``, a state variable in a denominator) or not homogeneous (a
 term without the state, ``v + h``), an implicit rule (a name read before the rule that assigns it,
 ``f`` of a not-yet-defined argument), an unknown name, any other syntax (calls of other functions,
-attributes, subscripts, ``**``, comparisons, lambdas, strings ...), and missing or malformed keys.
+attributes, subscripts, ``**``, comparisons, lambdas, strings ...), missing or malformed keys, and a
+scheme that fails the checks above.
 """
 from __future__ import annotations
 
