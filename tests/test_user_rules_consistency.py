@@ -191,3 +191,21 @@ def test_a_dashpot_without_spring_gets_the_builtin_step(rules, state, builtin):
     name = register(parse_integrator({"name": f"dashpot-{builtin}", "state": list(state), "update": rules}, "integrator"))
     for c, A in ((3.0, 2.0), (1e-4, 1e9), (1e6, 1e-3)):
         assert mode_dt(name, 0.0, c, A).dt == pytest.approx(mode_dt(builtin, 0.0, c, A).dt, rel=1e-14)
+
+
+WALL_BLOCK = ('[[particle]]\nshape = "sphere"\nradius = 0.002\ndensity = 7800.0\n[contact]\nmodel = "linear"\n'
+              'kn = 2.0e5\nks = 5.714e4\ndamping_ratio = 0.1\nkr = 1e-2\ncr = 1e-3\n[[wall]]\nname = "floor"\n'
+              'kn = 2.0e5\nks = 2.0e5\nkr = 1e-2\ncr = 1e-7\ndamping_ratio = 0.3\n')
+
+
+def test_a_coupled_shear_rolling_block_under_a_user_scheme(tmp_path, capsys):
+    """Was a KeyError traceback; now the block's bisection, confirmed by stepping the rules on the block,
+    against the built-in's exact root (lambda_max(2 h C + h^2 K) = 4)."""
+    def block_dt(doc):
+        wall = [p for p in doc["pairs"] if any(m["direction"] == "shear-rolling" for m in p["rotational_modes"])][0]
+        return [m for m in wall["rotational_modes"] if m["direction"] == "shear-rolling"][0]["dt"]
+
+    rc, user, err = _json(tmp_path, capsys, scene(SCHEMES["symplectic"][1], WALL_BLOCK))
+    rc2, builtin, _ = _json(tmp_path, capsys, 'integrator = "symplectic-euler"\n' + WALL_BLOCK)
+    assert rc == rc2 == 0, err
+    assert block_dt(user) == pytest.approx(block_dt(builtin), rel=1e-9)

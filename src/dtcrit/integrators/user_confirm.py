@@ -33,16 +33,37 @@ GROWTH_TOL = 1e-10
 FACTORS = (0.99, 1.01)
 
 
-def physical_matrix(integrator, h: float, K: float, C: float) -> np.ndarray:
-    """``G`` of the rules at the physical step ``h`` [s] for ``f(x, v) = -K x - C v``."""
+class _BlockForce:
+    """``f(x, v) = -K x - C v`` with matrices (a coupled block of modes)."""
+
+    def __init__(self, K, C):
+        self.K, self.C, self.dv = K, C, None
+
+    def __call__(self, x, v):
+        return -(self.K @ x) - self.C @ v
+
+
+def _stepper(integrator, h: float, K, C):
+    """One step of the rules on the flat state (all variables of all ``n`` degrees of freedom)."""
     integ = lookup(integrator)
-    d = len(integ.state)
-    force = LinearForce(K, C)
-    G = np.empty((d, d))
+    n = 1 if np.ndim(K) == 0 else np.shape(K)[0]
+    force = LinearForce(K, C) if np.ndim(K) == 0 else _BlockForce(np.asarray(K), np.asarray(C))
+    parts = len(integ.state)
+
+    def step(flat: np.ndarray) -> np.ndarray:
+        if n == 1:
+            return np.array([float(c) for c in integ.step(tuple(float(c) for c in flat), h, force)])
+        out = integ.step(tuple(flat[p * n:(p + 1) * n] for p in range(parts)), h, force)
+        return np.concatenate([np.broadcast_to(np.asarray(c, dtype=float), (n,)) for c in out])
+
+    return step, parts * n
+
+
+def physical_matrix(integrator, h: float, K, C) -> np.ndarray:
+    """``G`` of the rules at the physical step ``h`` [s] for ``f(x, v) = -K x - C v`` (K, C scalars or matrices)."""
+    step, size = _stepper(integrator, h, K, C)
     with np.errstate(all="ignore"):
-        for j in range(d):
-            G[:, j] = [float(c) for c in integ.step(tuple(1.0 if i == j else 0.0 for i in range(d)), h, force)]
-    return G
+        return np.column_stack([step(np.eye(size)[j]) for j in range(size)])
 
 
 def _balance(G: np.ndarray) -> np.ndarray:
@@ -80,29 +101,26 @@ def growth_rate(G: np.ndarray) -> float:
     return 0.0 if s == 0.0 else math.exp((log_scale + math.log(s)) / 2.0**SQUARINGS)
 
 
-def _literal_matches(integrator, G: np.ndarray, h: float, K: float, C: float) -> bool:
-    integ = lookup(integrator)
-    force = LinearForce(K, C)
-    d = len(integ.state)
-    z = tuple(1.0 / (i + 1.5) for i in range(d))
-    ref = np.array(z)
-    peak = np.abs(ref)
+def _literal_matches(integrator, G: np.ndarray, h: float, K, C) -> bool:
+    step, size = _stepper(integrator, h, K, C)
+    z = np.array([1.0 / (i + 1.5) for i in range(size)])
+    ref, peak = z.copy(), np.abs(z)
     with np.errstate(all="ignore"):
         for n in range(LITERAL_STEPS):
-            z = tuple(float(c) for c in integ.step(z, h, force))
-            ref = G @ ref
+            z, ref = step(z), G @ ref
             peak = np.maximum(peak, np.abs(ref))
             if not (np.all(np.isfinite(z)) and np.all(np.isfinite(ref))):
                 return False
             if n % 16 == 15:  # the same exact power-of-two rescaling of both runs keeps a growing one finite
                 scale = 2.0 ** -math.frexp(float(np.max(peak)) or 1.0)[1]
-                z, ref, peak = tuple(c * scale for c in z), ref * scale, peak * scale
-    return bool(np.all(np.abs(np.array(z) - ref) <= 1e-6 * peak + 1e-300))
+                z, ref, peak = z * scale, ref * scale, peak * scale
+    return bool(np.all(np.abs(z - ref) <= 1e-6 * peak + 1e-300))
 
 
-def confirm_step(integrator, dt: float, K: float, C: float) -> None:
+def confirm_step(integrator, dt: float, K, C) -> None:
     """Refuse (InputError on ``integrator``) a printed step ``dt`` [s] that stepping the rules in physical
-    units does not confirm: stable at 0.99 dt, growing at 1.01 dt."""
+    units does not confirm: stable at 0.99 dt, growing at 1.01 dt.  ``K`` [1/s^2] and ``C`` [1/s] are
+    scalars (one mode) or matrices (a coupled block, ``x'' = -K x - C x'``)."""
     name = getattr(integrator, "name", integrator)
     if dt == 0.0:
         return
@@ -115,7 +133,8 @@ def confirm_step(integrator, dt: float, K: float, C: float) -> None:
         G = physical_matrix(integrator, h, K, C)
         if not np.all(np.isfinite(G)) or not _literal_matches(integrator, G, h, K, C):
             raise InputError("integrator", f"the step {dt:.6g} s of '{name}' cannot be confirmed by stepping its rules "
-                             f"in float64 at K = {K:.3g} 1/s^2, C = {C:.3g} 1/s; rescale the units and retry")
+                             f"in float64 at K = {np.max(np.abs(K)):.3g} 1/s^2, C = {np.max(np.abs(C)):.3g} 1/s; "
+                             "rescale the units and retry")
         rates.append(growth_rate(G))
     if not (rates[0] <= 1 + GROWTH_TOL < rates[1]):
         raise InputError("integrator", f"the step {dt:.6g} s of '{name}' is not confirmed by stepping its rules in "
