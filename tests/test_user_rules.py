@@ -5,7 +5,7 @@ import random
 
 import mpmath as mp
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from dtcrit.errors import InputError
@@ -81,9 +81,8 @@ def rule_sets(draw):
 @given(st.data(), st.floats(-3, 1), st.floats(0, 3))
 def test_random_rules_step_like_a_direct_reimplementation(data, log_h, zeta):
     state, rules, refs = rule_sets(data.draw)
-    if not any(t in state for t, _ in refs):
-        return
-    integ = parse_integrator(table(rules, state=state), "integrator")
+    assume(any(t in state for t, _ in refs))
+    integ = parse_integrator(table(rules, state=state), "integrator", check=False)  # the reader only
     h = 10.0**log_h
     f = LinearForce(1.3, 2 * zeta)
     rng = random.Random(len(rules))

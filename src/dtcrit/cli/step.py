@@ -67,6 +67,17 @@ def _pair_line(p) -> str:
             f"dt_normal = {p.normal.dt:.6g} s, dt_shear = {shear}{rot}{zeta}")
 
 
+def _order_text(integrator: str) -> str:
+    """', user-written, order of accuracy p (q undamped)' for a user scheme; '' for a built-in."""
+    from dtcrit.scenes.step_json import order_of_accuracy_json
+
+    order = order_of_accuracy_json(integrator)
+    if order is None:
+        return ""
+    return (f" (user-written; consistent with x'' = f(x, v), order of accuracy {order['damped']} damped, "
+            f"{order['undamped']} undamped; its step is confirmed by stepping its rules at 0.99x and 1.01x)")
+
+
 def format_text(result) -> str:
     sc = result.scene
     lines = [f"scene: {sc.source}" + (f" ({sc.title})" if sc.title else "")]
@@ -76,7 +87,8 @@ def format_text(result) -> str:
     for w in sc.walls:
         lines.append(f"  wall {w.number} ({w.name}): kn = {w.kn:g} N/m, ks = {w.ks:g} N/m, damping: {w.damping}, "
                      f"touched by particle {', '.join(map(str, w.particles))}")
-    lines.append(f"  integrator: {sc.integrator}" + (f", omega_max = {sc.omega_max:g} rad/s" if sc.omega_max is not None else ""))
+    lines.append(f"  integrator: {sc.integrator}" + _order_text(sc.integrator)
+                 + (f", omega_max = {sc.omega_max:g} rad/s" if sc.omega_max is not None else ""))
     lines.append("")
     lines.append(f"critical time step  dt_crit = {result.dt_crit:.6g} s   (holds for {result.holds_for})")
     if sc.safety != 1.0:

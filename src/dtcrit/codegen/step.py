@@ -43,6 +43,36 @@ def chain(integrator: str, damped: bool = True) -> Chain:
     return Chain(ch.integrator, ch.args, tuple(reversed(kept)), ch.result, ch.equations)
 
 
+def check_emittable(integrator: str) -> None:
+    """Refuse (InputError on ``integrator``, one line) a user-written scheme whose boundary has no emitted
+    closed form: more than three state variables (Jury conditions of degree <= 3), a characteristic
+    polynomial with terms in h^5 or higher (boundary factors beyond the cubic), or a derivation the symbolic
+    layer does not support.  The
+    degree checks come first, so the refusal is quick; ``dtcrit step`` still gives such a scheme's step."""
+    from dtcrit.errors import InputError
+    from dtcrit.integrators.schemes import USER_INTEGRATORS
+    from dtcrit.integrators.user_rules import h_degree_of
+
+    integ = USER_INTEGRATORS.get(integrator)
+    if integ is None:
+        return
+    why = None
+    degree = h_degree_of(integ)
+    if len(integ.state) > 3:
+        why = f"it has {len(integ.state)} state variables (the emitted boundaries cover at most 3)"
+    elif degree is not None and degree > 4:
+        why = (f"its characteristic polynomial has terms in h^{degree} (the emitted boundaries cover h^4 at most, "
+               "e.g. a two-stage Runge-Kutta)")
+    else:
+        try:
+            chain(integrator, True)
+        except (RuntimeError, NotImplementedError, ValueError, ZeroDivisionError) as exc:
+            why = f"its stability boundary has no closed form dtcrit can emit ({str(exc).split(': ', 1)[-1]})"
+    if why:
+        raise InputError("integrator", f"no code for the user-written scheme '{integrator}': {why}; "
+                         "dtcrit step gives its step")
+
+
 def chain_hash(integrator: str, damped: bool = True) -> str:
     ch = chain(integrator, damped)
     return derivation_hash([sp.Symbol(integrator), *ch.args, *(x for s, e in ch.steps for x in (s, e))])

@@ -33,6 +33,9 @@ class KernelStructure:
 
     def __post_init__(self):
         check_integrator(self.integrator)
+        from dtcrit.codegen.step import check_emittable
+
+        check_emittable(self.integrator)  # a user-written scheme: refused in one line when it cannot be emitted
         if len(self.sides) != (1 if self.identical else 2) or any(s not in SIDE_KINDS for s in self.sides):
             raise InputError("sides", f"need {'one side' if self.identical else 'two sides'} from {SIDE_KINDS} (got {self.sides})")
         if self.rotation and "general" not in self.sides:  # B = 0 for spheres: no rotation bound to emit

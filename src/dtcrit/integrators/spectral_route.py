@@ -22,13 +22,30 @@ _TOL = mp.mpf(10) ** -30
 
 
 def _unstable(integrator, t, z) -> bool:
+    if z is None:  # a dashpot without spring: K = 0, C = 1, the step is t = c A dt
+        return _dashpot_radius(integrator, t) > 1 + _TOL
     return spectral_radius_mp(integrator, t, z, dps=DPS) > 1 + _TOL
 
 
+def _dashpot_radius(integrator, t):
+    from dtcrit.integrators.schemes import LinearForce, lookup
+
+    integ = lookup(integrator)
+    d = len(integ.state)
+    G = mp.matrix(d, d)
+    for j in range(d):
+        column = integ.step(tuple(mp.mpf(1) if i == j else mp.mpf(0) for i in range(d)), t, LinearForce(mp.mpf(0), mp.mpf(1)))
+        for i in range(d):
+            G[i, j] = column[i]
+    return max(abs(v) for v in mp.eig(G, left=False, right=False))
+
+
 def tau_crit(integrator, zeta) -> float:
-    """tau* (float) of ``integrator`` at damping ratio ``zeta`` (0: no stable step; inf: none found up to 1e4)."""
+    """tau* (float) of ``integrator`` at damping ratio ``zeta`` (0: no stable step; inf: none found up to 1e4).
+
+    ``zeta = None``: a dashpot without spring (K = 0, C = 1): the critical ``c A dt``."""
     with mp.workdps(DPS):
-        z = mp.mpf(zeta)
+        z = None if zeta is None else mp.mpf(zeta)
         grid = [mp.mpf(10) ** (mp.mpf(e) / 10) for e in range(-120, 41)]
         lo = mp.mpf(0)
         for t in grid:
@@ -60,4 +77,21 @@ def critical_dt_spectral(integrator, k, c, A) -> float:
         dt = float(mp.mpf(t) / w) if math.isfinite(t) else math.inf
     if math.isinf(dt) and math.isfinite(t):
         raise InputError("k", "the critical step lies beyond the float64 range; rescale the units and retry")
+    from dtcrit.integrators.user_confirm import confirm_step
+
+    confirm_step(integrator, dt, float(k) * float(A), float(c) * float(A))  # stepping the rules, physical units
+    return dt
+
+
+def dashpot_dt_spectral(integrator, c, A) -> float:
+    """dt* [s] of a dashpot without spring (``xddot = -c A xdot``, c > 0, A > 0): by dimensional
+    consistency the amplification matrix depends on ``c A dt`` only (the critical value is scanned
+    as ``tau`` above), confirmed by stepping the rules in physical units like every other mode."""
+    with mp.workdps(DPS):
+        rate = mp.mpf(c) * mp.mpf(A)
+        t = tau_crit(integrator, None)
+        dt = float(mp.mpf(t) / rate) if math.isfinite(t) else math.inf
+    from dtcrit.integrators.user_confirm import confirm_step
+
+    confirm_step(integrator, dt, 0.0, float(c) * float(A))
     return dt

@@ -193,6 +193,10 @@ def dashpot_dt(integrator: str, c, A) -> float:
     name = check_integrator(integrator)
     c = _check_positive("c", c)
     A = _check_positive("A", A)
+    if name not in _gen.DT_KERNELS:  # a user-written scheme: no emitted closed form
+        from dtcrit.integrators.spectral_route import dashpot_dt_spectral
+
+        return dashpot_dt_spectral(name, c, A)
     with np.errstate(all="ignore"):
         dt = float(np.asarray(_exact_steps(name, np.zeros(1), np.array([c]), np.array([A])))[0])
     if dt == 0.0 or math.isnan(dt):

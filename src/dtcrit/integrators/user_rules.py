@@ -17,11 +17,18 @@ checked tree, so the ``Integrator`` works with every layer: the symbolic one (am
 characteristic polynomial, exact boundary), the runtime (``dtcrit.integrators.spectral_route``) and
 codegen (after ``register``).
 
+Checked after parsing (``parse_integrator(check=True)``): dimensional consistency
+(``dtcrit.integrators.user_dimensions``: h is a time, x a position, v a velocity), consistency with
+``x'' = f(x, v)`` and the order of accuracy (``dtcrit.integrators.user_consistency``, exact rational
+arithmetic); every step the runtime prints for the scheme is confirmed by stepping the rules in physical
+units (``dtcrit.integrators.user_confirm``).
+
 Refused, with one line naming the rule (``integrator.update[2]``) and the reason: a rule that is not
 linear in the state (``x*v``, ``f(x, v)*v``, a state variable in a denominator) or not homogeneous (a
 term without the state, ``v + h``), an implicit rule (a name read before the rule that assigns it,
 ``f`` of a not-yet-defined argument), an unknown name, any other syntax (calls of other functions,
-attributes, subscripts, ``**``, comparisons, lambdas, strings ...), and missing or malformed keys.
+attributes, subscripts, ``**``, comparisons, lambdas, strings ...), missing or malformed keys, and a
+scheme that fails the checks above.
 """
 from __future__ import annotations
 
@@ -219,8 +226,31 @@ def _make_step(state: tuple[str, ...], rules: tuple):
     return step
 
 
-def parse_integrator(table: dict, where: str = "integrator") -> Integrator:
-    """The ``Integrator`` of a scene's ``[integrator]`` table; ``where`` prefixes the error keys."""
+ORDERS: dict[tuple[str, str], tuple[int, int]] = {}
+"""(order with damping, order undamped) of each checked user scheme, by (name, summary)."""
+
+
+H_DEGREES: dict[tuple[str, str], int] = {}
+"""Highest power of h in the characteristic polynomial of each checked user scheme, by (name, summary)."""
+
+
+def order_of(integ) -> tuple[int, int] | None:
+    """The order of accuracy found for a checked user scheme (``None``: a built-in or unchecked one)."""
+    return ORDERS.get((getattr(integ, "name", None), getattr(integ, "summary", None)))
+
+
+def h_degree_of(integ) -> int | None:
+    """Highest power of h in the characteristic polynomial of a checked user scheme (``None``: not checked)."""
+    return H_DEGREES.get((getattr(integ, "name", None), getattr(integ, "summary", None)))
+
+
+def parse_integrator(table: dict, where: str = "integrator", check: bool = True) -> Integrator:
+    """The ``Integrator`` of a scene's ``[integrator]`` table; ``where`` prefixes the error keys.
+
+    ``check`` (default): refuse, naming the rule, a scheme that is not dimensionally consistent
+    (``dtcrit.integrators.user_dimensions``) or not consistent with ``x'' = f(x, v)``
+    (``dtcrit.integrators.user_consistency``); the order of accuracy found is kept (:func:`order_of`).
+    ``check=False`` only parses (tests of the rule reader use it)."""
     if not isinstance(table, dict):
         raise InputError(where, "must be a scheme name or a table {name, state, update}")
     for key in table:
@@ -261,7 +291,16 @@ def parse_integrator(table: dict, where: str = "integrator") -> Integrator:
     velocities = sorted({e[2] for _, e in _walk_calls(rules)})
     summary = "user-written: " + "; ".join(" ".join(str(t).split()) for t in update)
     damping = ", ".join(velocities) + " (the velocity argument of f)" if velocities else "none (f is not called)"
-    return Integrator(name, state, _make_step(state, tuple(rules)), summary, damping, "user-written")
+    integ = Integrator(name, state, _make_step(state, tuple(rules)), summary, damping, "user-written")
+    if check:
+        from dtcrit.integrators.user_consistency import h_degree, order_of_accuracy
+        from dtcrit.integrators.user_dimensions import check_dimensions
+
+        keys = [f"{where}.update[{i}]" for i in range(1, len(rules) + 1)]
+        check_dimensions(state, rules, keys)
+        ORDERS[(name, summary)] = order_of_accuracy(state, rules, keys, where)
+        H_DEGREES[(name, summary)] = h_degree(state, rules)
+    return integ
 
 
 def _walk_calls(rules):
@@ -290,3 +329,44 @@ def register(integ: Integrator, where: str = "integrator") -> str:
     if old is None:
         USER_INTEGRATORS[integ.name] = integ
     return integ.name
+
+
+class _MatrixForce:
+    """``f(x, v) = -K x - C v`` with matrices ``K``, ``C`` (a packing's ``M^-1 K``, ``M^-1 C``)."""
+
+    def __init__(self, K, C):
+        self.K, self.C, self.dv = K, C, None
+
+    def __call__(self, x, v):
+        return -(self.K @ x) - self.C @ v
+
+
+def same_update_as(integ, candidates) -> str | None:
+    """The first built-in scheme in ``candidates`` whose update is the same map as ``integ``'s for a whole
+    packing (state vectors, non-commuting matrices K and C, any h), or None.
+
+    Tested at three seeded random points (vectors of 4, symmetric K and C, h in [0.1, 1]) to 1e-9:
+    both maps are polynomials in (h, K, C), so a difference vanishes at random points with
+    probability 0 (Schwartz-Zippel)."""
+    import numpy as np
+
+    from dtcrit.integrators.schemes import INTEGRATORS
+
+    rng = np.random.default_rng(20240601)
+    points = []
+    for _ in range(3):
+        a, b = rng.standard_normal((4, 4)), rng.standard_normal((4, 4))
+        state = tuple(rng.standard_normal(4) for _ in integ.state)
+        points.append((state, float(rng.uniform(0.1, 1.0)), _MatrixForce(a @ a.T, b @ b.T)))
+    for name in candidates:
+        other = INTEGRATORS.get(name)
+        if other is None or len(other.state) != len(integ.state):
+            continue
+        try:
+            same = all(np.allclose(np.asarray(integ.step(s, h, f)), np.asarray(other.step(s, h, f)), rtol=1e-9, atol=1e-9)
+                       for s, h, f in points)
+        except (TypeError, ValueError):  # a scheme that needs the scalar f.dv (the centred damping)
+            same = False
+        if same:
+            return name
+    return None

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from dtcrit.integrators.schemes import INTEGRATORS
+from dtcrit.integrators.schemes import INTEGRATORS, lookup
 from dtcrit.integrators.stability import mode_dt
 
 LAGGED = ("leapfrog", "symplectic-euler", "velocity-verlet")
@@ -55,7 +55,7 @@ def _symmetric(a_ss: float, a_sr: float, a_rr: float, k: tuple[float, float]) ->
 
 
 def _spectral_radius(integrator: str, K: np.ndarray, C: np.ndarray, h: float) -> float:
-    scheme = INTEGRATORS[integrator]
+    scheme = lookup(integrator)  # a built-in or user-written scheme
     n, parts = K.shape[0], len(scheme.state)
 
     def force(x, v):
@@ -118,5 +118,9 @@ def block_step(integrator: str, a_ss: float, a_sr: float, a_rr: float, a_det: fl
         dt = brentq(g, 0.0, hi, xtol=1e-300, rtol=4.0 * np.finfo(float).eps, maxiter=200)
         return BlockStep(dt, omega2, zeta, "root of lambda_max(2 h C~ + h^2 K~) = 4 (exact for the lagged schemes)")
     h0 = 2.0 / math.sqrt(omega2) if omega2 > 0 else 2.0 / lam_c
-    return BlockStep(_bisect(integrator, K, C, h0), omega2, zeta,
-                     f"bisection on the amplification matrix's spectral radius (rtol {BISECT_RTOL:g})")
+    dt = _bisect(integrator, K, C, h0)
+    if integrator not in INTEGRATORS:  # a user-written scheme: confirmed by stepping its rules on the block
+        from dtcrit.integrators.user_confirm import confirm_step
+
+        confirm_step(integrator, dt, K, C)
+    return BlockStep(dt, omega2, zeta, f"bisection on the amplification matrix's spectral radius (rtol {BISECT_RTOL:g})")

@@ -47,6 +47,23 @@ from dtcrit.integrators.stability import mode_dt
 SPHERE_BOUND_MAX_SPECIES = 6
 """The sphere bound enumerates species (0.1-0.5 s each); wider size distributions use the block bound."""
 DENSE_SCHEMES = ("symplectic-euler", "leapfrog", "leapfrog-centred", "velocity-verlet", "velocity-verlet-predicted")
+
+
+def dense_reason(integrator: str) -> str | None:
+    """None when the packing bound applies to ``integrator`` (a ``DENSE_SCHEMES`` entry, or a user-written
+    scheme whose update is the same map as one of them for matrix K and C), else why it does not."""
+    from dtcrit.integrators.schemes import USER_INTEGRATORS
+
+    if integrator in DENSE_SCHEMES:
+        return None
+    if integrator in USER_INTEGRATORS:
+        from dtcrit.integrators.user_rules import same_update_as
+
+        if same_update_as(USER_INTEGRATORS[integrator], DENSE_SCHEMES) is not None:
+            return None
+        return (f"the user-written '{integrator}' is not the same update as any of {', '.join(DENSE_SCHEMES)}, "
+                "the schemes whose one-mode stable set is proven closed downwards")
+    return f"'{integrator}' is unstable undamped, so its one-mode stable set is not closed downwards"
 FACTOR_COORDINATIONS = (4, 6, 12)
 
 
@@ -140,10 +157,9 @@ def dense_step(integrator: str, terms: list[tuple[float, float, str]], z: int,
         lam_k, lam_c = min(lam_k, spheres[0]), min(lam_c, spheres[1])
         how = (f"sphere-packing bound: contact normals at least the law-of-cosines angle apart, overlaps at most "
                f"{overlap:g} of R_i + R_j")
-    if integrator not in DENSE_SCHEMES:
-        return DenseStep(z, None, lam_k, lam_c, where,
-                         f"no packing bound for '{integrator}': it is unstable undamped, so its one-mode stable set is not closed "
-                         "downwards")
+    why = dense_reason(integrator)
+    if why is not None:
+        return DenseStep(z, None, lam_k, lam_c, where, f"no packing bound for '{integrator}': {why}")
     r = mode_dt(integrator, lam_k, lam_c, 1.0)
     dt = r.dt if math.isfinite(r.dt) else None
     reason = (f"any packing with at most {z} contacts per particle: lambda_max(M^-1 K) <= {lam_k:.6g} 1/s^2, "

@@ -148,11 +148,12 @@ def rotational_modes(integrator: str, pc: PairContact, p_shape, q_shape, spheres
 
     if not spheres:
         from dtcrit.errors import InputError
-        from dtcrit.scenes.dense import DENSE_SCHEMES
+        from dtcrit.scenes.dense import DENSE_SCHEMES, dense_reason
 
-        if integrator not in DENSE_SCHEMES:
+        why = dense_reason(integrator)
+        if why is not None:
             raise InputError("integrator", f"rotational springs on non-spherical bodies are bounded for "
-                             f"{', '.join(DENSE_SCHEMES)} only ('{integrator}' is unstable undamped)")
+                             f"{', '.join(DENSE_SCHEMES)} only ({why})")
         a_rot = 1.0 / min(p_shape.inertia) + (0.0 if q_shape is None else 1.0 / min(q_shape.inertia))
         a_tr = a_bound if q_shape is not None else a_bound
         lam_k = max(pc.kn, pc.ks) * a_tr + max(pc.kr, pc.ktw) * a_rot

@@ -163,6 +163,7 @@ def step_json(result) -> dict:
         "scene": sc.source,
         "title": sc.title,
         "integrator": sc.integrator,
+        "order_of_accuracy": order_of_accuracy_json(sc.integrator),
         "dt_crit": result.dt_crit,
         "holds_for": result.holds_for,
         "dt_isolated": result.dt_isolated,
@@ -206,3 +207,13 @@ def step_json(result) -> dict:
                   for w in sc.walls],
         "warnings": [f"{k}: {m}" for k, m in sc.warnings],
     }
+
+
+def order_of_accuracy_json(integrator: str) -> dict | None:
+    """The order of accuracy found for a user-written scheme (``dtcrit.integrators.user_consistency``:
+    its principal eigenvalues are e^{h lambda} + O(h^{p+1})), with and without damping; None for a built-in."""
+    from dtcrit.integrators.schemes import USER_INTEGRATORS
+    from dtcrit.integrators.user_rules import order_of
+
+    order = order_of(USER_INTEGRATORS[integrator]) if integrator in USER_INTEGRATORS else None
+    return None if order is None else {"damped": order[0], "undamped": order[1]}
