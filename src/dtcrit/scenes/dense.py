@@ -113,9 +113,9 @@ def sphere_bound(scene, steps, z: int) -> tuple[float, float] | None:
     or None where it does not apply (other shapes, walls, more than ``SPHERE_BOUND_MAX_SPECIES`` sizes)."""
     if scene.walls or any(p.kind != "sphere" for p in scene.particles) or any(s.contact.rotational for s in steps):
         return None  # the geometric bound covers normal and shear springs only
-    species = [(part.shape_at(r).mass, r, part.shape_at(r).inertia[0]) for part in scene.particles for r in part.radii]
-    if len(species) > SPHERE_BOUND_MAX_SPECIES:
+    if sum(len(part.radii) for part in scene.particles) > SPHERE_BOUND_MAX_SPECIES:
         return None
+    species = [(part.shape_at(r).mass, r, part.shape_at(r).inertia[0]) for part in scene.particles for r in part.radii]
     from dtcrit.scenes.dense_spheres import dense_omega2_bound
 
     m, r, inertia = (list(v) for v in zip(*species))

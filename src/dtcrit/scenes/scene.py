@@ -117,6 +117,31 @@ def _build_shape(prefix: str, kind: str, dims: dict, density: float | None, mass
     return shape
 
 
+class _SizeShapes:
+    """The spheres of a size distribution, one per radius, built when first asked for (a scene may list
+    10^5 radii of which the step needs two).  The smallest and largest are built at once: the mass is
+    monotone in the radius, so they carry every range check the others could fail."""
+
+    def __init__(self, prefix: str, kind: str, key: str, radii: tuple, density, mass):
+        self._args = (prefix, kind, key, density, mass)
+        self._radii = radii
+        self._built: dict[int, Any] = {}
+        self[0], self[len(radii) - 1]  # noqa: B018 (validates the extremes now)
+
+    def __len__(self) -> int:
+        return len(self._radii)
+
+    def __getitem__(self, k: int):
+        k = range(len(self._radii))[k]
+        if k not in self._built:
+            prefix, kind, key, density, mass = self._args
+            self._built[k] = _build_shape(prefix, kind, {key: self._radii[k]}, density, mass)
+        return self._built[k]
+
+    def __iter__(self):
+        return (self[k] for k in range(len(self._radii)))
+
+
 def _particle(number: int, table: Any) -> Particle:
     prefix = f"particle[{number}]."
     if not isinstance(table, dict):
@@ -157,7 +182,7 @@ def _particle(number: int, table: Any) -> Particle:
         shape = _build_shape(prefix, kind, dims, density, mass)
         return Particle(number, kind, dims, shape, youngs, poisson, name)
     key = "radius" if distribution.kind == "single" else ("radii" if distribution.kind == "discrete" else "lognormal")
-    shapes = tuple(_build_shape(prefix, kind, {key: r}, density, mass) for r in distribution.radii)
+    shapes = _SizeShapes(prefix, kind, key, distribution.radii, density, mass)
     dims = {"radius": distribution.radii[0]} if distribution.kind == "single" else {key: list(distribution.radii)}
     return Particle(number, kind, dims, shapes[0], youngs, poisson, name, distribution, shapes)
 
@@ -333,6 +358,15 @@ def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
             raise InputError("coordination_max", f"{raw} contacts per particle: at most {MAX_COORDINATION}")
         coordination = raw
 
+    isolated = False
+    if "isolated" in doc:
+        isolated = doc["isolated"]
+        if not isinstance(isolated, bool):
+            raise InputError("isolated", f"must be true or false (got {_short(isolated)})")
+        if isolated and coordination is not None:
+            raise InputError("isolated", "isolated = true asks for the isolated-contact step, coordination_max for a "
+                             "packing's: give one of them")
+
     overlap = 0.05
     if "overlap_max" in doc:
         overlap = _number("overlap_max", doc["overlap_max"], allow_zero=True, hi=1.0, hi_open=True)
@@ -354,7 +388,7 @@ def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
                       f"{len(next(p for p in particles if p.sizes is not None and p.sizes.kind == 'lognormal').radii)} "
                       "log-spaced radii between the cut-offs (no monotonicity is proved for Hertz)"))
     scene = Scene(source, integrator, tuple(particles), law, omega_max, safety, pairs, title, tuple(found), walls, coordination,
-                  overlap)
+                  overlap, isolated)
     from dtcrit.scenes.laws import resolve_wall
 
     checks = [(f"pair {i}-{j}", resolve_pair(scene, i, j)) for i, j in scene.pair_numbers()]

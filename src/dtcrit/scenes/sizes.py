@@ -23,6 +23,7 @@ from dtcrit.errors import InputError
 from dtcrit.scenes.fields import _check_keys, _number, _required, _type_name, _vector
 
 LOGNORMAL_POINTS = 33
+DESCRIBE_RADII = 12  # longer lists of radii are printed as their count and range
 FRACTION_RTOL = 1e-9
 LOGNORMAL_KEYS = ("median", "sigma", "min", "max")
 
@@ -37,6 +38,8 @@ class SizeDistribution:
     def describe(self) -> str:
         if self.kind == "single":
             return f"radius = {self.radii[0]:g}"
+        if self.kind == "discrete" and len(self.radii) > DESCRIBE_RADII:
+            return f"{len(self.radii)} radii from {self.radii[0]:g} to {self.radii[-1]:g}"
         if self.kind == "discrete":
             return "radii = [" + ", ".join(f"{r:g}" for r in self.radii) + "]"
         p = self.parameters
