@@ -172,7 +172,7 @@ def step_json(result) -> dict:
         "dt_dense": result.dt_dense,
         "coordination_max": sc.coordination_max,
         "coordination": None if result.coordination is None else
-        {"z": result.coordination.z, "attained_at": result.coordination.where, "how": result.coordination.how},
+        {"coordination_max": result.coordination.z, "attained_at": result.coordination.where, "how": result.coordination.how},
         "dense": _dense_json(result.dense),
         "dense_factors": {str(z): f for z, f in result.dense_factors.items()} or None,
         "safety": sc.safety,
