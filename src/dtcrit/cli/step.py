@@ -92,6 +92,8 @@ def format_text(result) -> str:
     lines.append("")
     lines.append(f"critical time step  dt_crit = {result.dt_crit:.6g} s   (holds for {result.holds_for})")
     lines.append(_isolated_line(result))
+    if result.coordination is not None:
+        lines.append(f"  largest coordination: {result.coordination.how} (set coordination_max if yours is lower)")
     if sc.safety != 1.0:
         lines.append(f"with safety {sc.safety:g}:      dt = {result.dt_recommended:.6g} s")
     lines.append(f"governed by {result.bound}")
@@ -101,8 +103,6 @@ def format_text(result) -> str:
     a_max = "n/a (wall)" if t.A_max is None else f"{t.A_max:.6g} 1/kg"
     lines.append(f"translation: A_max (Eq. (26) as printed) = {a_max}, A_bound (verified) = {t.A_bound:.6g} 1/kg, "
                  f"dt = {t.dt_translation:.6g} s ({t.label}, {t.governing_direction.direction} mode, {t.method})")
-    if result.coordination is not None:
-        lines.append(f"largest coordination: {result.coordination.how} (set coordination_max if yours is lower)")
     if result.dense is None:
         factors = ", ".join(f"z = {z}: x {ratio_text(f, 3)}" if f is not None else f"z = {z}: n/a" for z, f in result.dense_factors.items())
         lines.append(f"dense packings: any packing with at most z contacts per particle is proven stable at ({factors}) "
@@ -121,7 +121,8 @@ def format_text(result) -> str:
         lines.append(f"rotation: B_max = {max(result.B_max.values()):.6g}, dt = 2/(omega_max (B_i + B_j)) = {r.dt_rotation:.6g} s "
                      f"(pair {r.label}; Eqs. (54), (56))")
     lines.append("")
-    lines.append(f"estimates DEM codes use, against dt_crit ({result.holds_for}; UNSAFE: larger than it):")
+    lines.append("estimates DEM codes use, against dt_crit (" + ("isolated contact" if result.basis == "isolated" else
+                 "the packing step") + "; UNSAFE: larger than it):")
     width = max(len(e.estimate.key) for e in result.estimates)
     missing: dict[str, list[str]] = {}
     for e in result.estimates:
