@@ -123,10 +123,11 @@ def sphere_bound(scene, steps, z: int, rtol: float = 2e-3, n_theta: int = 96) ->
     bounds = []
     for a, b in ((max(s.contact.kn for s in steps), max(s.contact.ks for s in steps)),
                  (max(s.contact.cn for s in steps), max(s.contact.cs for s in steps))):
+        scale = max(a, b)  # the bound is linear in the springs jointly: solve at max 1 (no overflow near 1e308)
         with np.errstate(all="ignore"):  # wide cones (large overlap_max) divide by a zero cap; the bound stays valid
-            bounds.append(0.0 if a == 0 and b == 0 else
-                          dense_omega2_bound(a, b, m, r, inertia, z, overlap=scene.overlap_max, rtol=rtol,
-                                             n_theta=n_theta).omega2)
+            bounds.append(0.0 if scale == 0 else
+                          scale * dense_omega2_bound(a / scale, b / scale, m, r, inertia, z, overlap=scene.overlap_max,
+                                                     rtol=rtol, n_theta=n_theta).omega2)
     return bounds[0], bounds[1]
 
 
