@@ -61,7 +61,7 @@ from dtcrit.scenes.model import (
     Particle,
     Scene,
 )
-from dtcrit.scenes.sizes import size_distribution
+from dtcrit.scenes.sizes import SizeShapes, size_distribution
 from dtcrit.scenes.walls import parse_walls
 
 # ----------------------------------------------------------------------------------------------
@@ -117,31 +117,6 @@ def _build_shape(prefix: str, kind: str, dims: dict, density: float | None, mass
     return shape
 
 
-class _SizeShapes:
-    """The spheres of a size distribution, one per radius, built when first asked for (a scene may list
-    10^5 radii of which the step needs two).  The smallest and largest are built at once: the mass is
-    monotone in the radius, so they carry every range check the others could fail."""
-
-    def __init__(self, prefix: str, kind: str, key: str, radii: tuple, density, mass):
-        self._args = (prefix, kind, key, density, mass)
-        self._radii = radii
-        self._built: dict[int, Any] = {}
-        self[0], self[len(radii) - 1]  # noqa: B018 (validates the extremes now)
-
-    def __len__(self) -> int:
-        return len(self._radii)
-
-    def __getitem__(self, k: int):
-        k = range(len(self._radii))[k]
-        if k not in self._built:
-            prefix, kind, key, density, mass = self._args
-            self._built[k] = _build_shape(prefix, kind, {key: self._radii[k]}, density, mass)
-        return self._built[k]
-
-    def __iter__(self):
-        return (self[k] for k in range(len(self._radii)))
-
-
 def _particle(number: int, table: Any) -> Particle:
     prefix = f"particle[{number}]."
     if not isinstance(table, dict):
@@ -182,7 +157,7 @@ def _particle(number: int, table: Any) -> Particle:
         shape = _build_shape(prefix, kind, dims, density, mass)
         return Particle(number, kind, dims, shape, youngs, poisson, name)
     key = "radius" if distribution.kind == "single" else ("radii" if distribution.kind == "discrete" else "lognormal")
-    shapes = _SizeShapes(prefix, kind, key, distribution.radii, density, mass)
+    shapes = SizeShapes(lambda r: _build_shape(prefix, kind, {key: r}, density, mass), distribution.radii)
     dims = {"radius": distribution.radii[0]} if distribution.kind == "single" else {key: list(distribution.radii)}
     return Particle(number, kind, dims, shapes[0], youngs, poisson, name, distribution, shapes)
 
