@@ -192,3 +192,22 @@ def test_extreme_radii_carry_every_extreme(r1, r2, density_ratio, ks_ratio, law,
     if len(r1) + len(r2) > 6:  # block bound only: the same terms
         assert res.dense.lambda_k == pytest.approx(block.lambda_k, rel=1e-12)
         assert res.dense.lambda_c == pytest.approx(block.lambda_c, rel=1e-12, abs=0.0)
+
+
+def test_default_headline_of_ellipsoids_never_exceeds_their_packing_step(capsys):
+    """The example chain of four ellipsoids (examples/packings/ellipsoids.json: contacts found between the
+    rotated bodies, the 24-DOF M^-1 K solved and certified by ``dtcrit packing``, an independent route) and the
+    scene of the same ellipsoids without packing keys: the headline (volume-count coordination) is below."""
+    import json
+
+    from dtcrit.cli import main
+
+    assert main(["packing", str(ROOT / "examples" / "packings" / "ellipsoids.json"), "--kn", "1e5", "--ks", "1e5",
+                 "--json"]) == 0
+    exact = json.loads(capsys.readouterr().out)["dt_crit"]
+    res = critical_step(parse_scene('integrator = "velocity-verlet"\n[[particle]]\nshape = "ellipsoid"\n'
+                                    'semi_axes = [0.0015, 0.001, 0.00075]\ndensity = 2650.0\n'
+                                    '[contact]\nmodel = "linear"\nkn = 1e5\nks = 1e5\n'))
+    assert res.basis == "any packing" and res.coordination.z >= 12
+    assert res.dt_crit <= exact < res.dt_isolated  # the chain (2 contacts each) is already below the pair step
+
