@@ -199,3 +199,39 @@ def test_a_material_law_adds_the_rayleigh_time(tmp_path, capsys):
     jsonschema.validate(doc, SCHEMA)
     plain = _json(capsys, path, "--pair-style", GOOD_STYLE)
     assert "rayleigh_time" not in plain["estimators"]
+
+
+def _fcc_rows(n=3):
+    """A periodic n x n x n FCC lattice of equal spheres, touching to 1e-6 of R (every sphere alike)."""
+    a = 2 * math.sqrt(2) * R * (1 - 1e-6)
+    basis = ((0, 0, 0), (0.5, 0.5, 0), (0.5, 0, 0.5), (0, 0.5, 0.5))
+    cells = [(i, j, k) for i in range(n) for j in range(n) for k in range(n)]
+    rows = [((i + b[0]) * a, (j + b[1]) * a, (k + b[2]) * a) for i, j, k in cells for b in basis]
+    return [(p + 1, 1, x, y, z, R, MASS) for p, (x, y, z) in enumerate(rows)], n * a
+
+
+def test_a_spread_out_mode_is_described_by_its_participation_ratio(tmp_path, capsys):
+    """In a periodic FCC lattice every sphere is alike, so the governing mode is spread over all of them:
+    no ids are named (six of 108 hold ~6 % of its energy), its participation ratio is given instead."""
+    rows, length = _fcc_rows()
+    path = tmp_path / "fcc.dump"
+    path.write_text(_dump(rows, box=(0.0, length)))
+    doc = _json(capsys, path, "--pair-style", "gran/hooke/history 1e5 NULL 2e4 NULL 0.5 1")
+    lim = doc["limiting"]
+    assert lim["ids"] == [] and lim["energy_share"] < 0.5 and lim["participation_ratio"] > 0.25
+    jsonschema.validate(doc, SCHEMA)
+    rc, out, _ = _run(capsys, path, "--pair-style", "gran/hooke/history 1e5 NULL 2e4 NULL 0.5 1")
+    assert rc == 0 and "limiting particles" not in out and "spread out, participation ratio" in out
+
+
+def test_each_bound_row_says_what_it_bounds(tmp_path, capsys):
+    """The block-diagonal and Gershgorin rows bound the undamped step 2/omega_max from below; with dashpots
+    the label says so (dt_crit is lower), without them they bound dt_crit itself."""
+    path = tmp_path / "pair.dump"
+    path.write_text(_dump(_pair_rows()))
+    damped = _json(capsys, path, "--pair-style", "gran/hooke/history 1e4 8e3 3e4 0 0.5 1")
+    plain = _json(capsys, path, "--pair-style", "gran/hooke/history 1e4 8e3 0 0 0.5 0")
+    for name in ("block_diagonal", "gershgorin"):
+        e, f = damped["estimators"][name], plain["estimators"][name]
+        assert "undamped step 2/omega_max" in e["kind"] and e["dt"] <= damped["dt_undamped"] * (1 + 1e-12)
+        assert f["kind"].startswith("lower bound on dt_crit") and f["safe"]

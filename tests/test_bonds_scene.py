@@ -15,7 +15,7 @@ from dtcrit.scenes.timestep import critical_step
 from test_rolling_modes import omega2_max, pair_system, sphere
 
 R, RHO = 0.005, 2600.0
-HEAD = f'integrator = "velocity-verlet"\n[[particle]]\nshape = "sphere"\nradius = {R}\ndensity = {RHO}\n[contact]\nmodel = "bond"\n'
+HEAD = f'integrator = "velocity-verlet"\nisolated = true\n[[particle]]\nshape = "sphere"\nradius = {R}\ndensity = {RHO}\n[contact]\nmodel = "bond"\n'
 
 
 def test_parallel_bond_from_material():

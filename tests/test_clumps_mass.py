@@ -107,7 +107,7 @@ def test_clump_scene_step_uses_the_bound():
             'density = 2500.0\n[contact]\nmodel = "linear"\nkn = 1e5\nks = 1e5\n')
     res = critical_step(parse_scene(text))
     c = res.scene.particles[0].shape
-    assert res.dt_crit == pytest.approx(2.0 / math.sqrt(1e5 * a_bound(c, c)), rel=1e-13)
+    assert res.dt_isolated == pytest.approx(2.0 / math.sqrt(1e5 * a_bound(c, c)), rel=1e-13)
     assert res.translation.method == "bound (A_bound)"
 
 

@@ -118,7 +118,7 @@ def engine(yade, tmp_path_factory):
         cases[key] = {"case": case, "dt": dt, "export": path, "packing": packing, "contacts": contacts}
     for key, (case, _) in PAIRS.items():
         step = scene_step(case, tmp)
-        cases[key] = {"case": case, "dt": step["dt_crit"], "step": step}
+        cases[key] = {"case": case, "dt": step["dt_isolated"], "step": step}
     keys = list(cases)
     runs = run_batch([(cases[k]["case"], [Run(STEPS, dt=0.99 * cases[k]["dt"]), Run(STEPS, dt=1.01 * cases[k]["dt"])])
                       for k in keys], yade=yade)

@@ -63,7 +63,7 @@ def sphere(r, rho):
 def scene(r1, r2, rho, contact: str, integrator="velocity-verlet", wall: str = "") -> str:
     parts = "".join(f'[[particle]]\nshape = "sphere"\nradius = {r}\ndensity = {rho}\n' for r in ((r1,) if r2 is None else (r1, r2)))
     pairs = 'pairs = "unlike"\n' if r2 is not None else ""
-    return f'integrator = "{integrator}"\n{pairs}{parts}[contact]\nmodel = "linear"\n{contact}\n{wall}'
+    return f'integrator = "{integrator}"\nisolated = true\n{pairs}{parts}[contact]\nmodel = "linear"\n{contact}\n{wall}'
 
 
 # ------------------------------------------------------------------------------------------------

@@ -25,7 +25,8 @@ def test_readme_demo_runs_and_names_the_governing_bound():
     assert p.returncode == 0, p.stderr
     assert p.stderr == ""
     out = p.stdout
-    for text in ("dt_crit = ", "translation-dominant", "Eqs. (26), (29)-(30)", "A_bound (verified)", "Eqs. (54), (56)",
+    for text in ("dt_crit = ", "any packing of these particles", "isolated contact: dt = ", "largest coordination",
+                 "Eqs. (26), (29)-(30)", "A_bound (verified)", "Eqs. (54), (56)",
                  "rayleigh", "hertz_time", "collision_time_50", "diagonal_stiffness", "paper_eq46"):
         assert text in out, text
 
@@ -43,7 +44,7 @@ def test_console_script_and_module_give_the_same_output():
 JSON_KEYS = {"schema", "dtcrit_version", "units", "derivation_hashes", "scene", "title", "integrator", "dt_crit", "safety", "dt_recommended", "governing", "bound",
              "formula", "translation", "rotation", "estimators", "pairs", "particles", "contact", "warnings",
              "holds_for", "dt_isolated", "dt_dense", "coordination_max", "dense", "dense_factors", "walls",
-             "contact_rotation"}
+             "contact_rotation", "headline_basis", "headline_note", "isolated", "coordination"}
 
 
 @pytest.mark.parametrize("scene", sorted(p.name for p in (ROOT / "examples").glob("*.toml")))
@@ -64,11 +65,14 @@ def test_json_is_complete_and_stable(scene, capsys):
     isolated = min(doc["translation"]["dt"], (doc["contact_rotation"] or {}).get("dt") or float("inf"),
                    (doc["rotation"] or {}).get("dt") or float("inf"))
     assert doc["dt_isolated"] == isolated
-    if doc["coordination_max"] is None:
+    if doc["headline_basis"] == "isolated":
         assert doc["dt_crit"] == isolated and doc["dt_dense"] is None and doc["holds_for"] == "an isolated contact"
         assert set(doc["dense_factors"]) == {"4", "6", "12"}
-    else:
+    else:  # the headline is the packing step: never above the isolated one, and the basis says which packing
         assert doc["dt_crit"] == min(doc["dt_dense"], (doc["rotation"] or {}).get("dt") or float("inf")) <= isolated
+        assert doc["headline_basis"] == ("any packing" if doc["coordination_max"] is None else "coordination_max")
+        assert (doc["coordination"] is None) == (doc["coordination_max"] is not None)
+        assert doc["dense_factors"] is None
 
 
 def test_step_does_not_import_sympy():

@@ -82,23 +82,34 @@ def test_dense_step_holds_for_damped_non_proportional_packings():
         assert spectral_radius(name, 0.999 * res.dt_dense, M, K, C) <= 1 + 1e-7, name
 
 
-def test_scene_output_without_and_with_coordination():
+def test_scene_output_by_headline_basis():
+    """Without packing keys the headline is the step for any packing (at most 13 contacts: the law-of-cosines
+    angle at 5 % overlap, acos(1 - 0.95^2/2) = 56.7 deg, lies between the Tammes angles of 14 points, 55.67 deg,
+    and 13 points, 57.14 deg); ``isolated = true`` asks for the isolated contact, ``coordination_max`` for its packing."""
     text = ('integrator = "velocity-verlet"\n[[particle]]\nshape = "sphere"\nradius = 0.001\ndensity = 2500.0\n'
             '[contact]\nmodel = "linear"\nkn = 1e5\nks = 2e4\n')
-    iso = critical_step(parse_scene(text))
-    assert iso.dt_crit == iso.dt_isolated and iso.holds_for == "an isolated contact"
+    assert 55.6705700 < math.degrees(math.acos(1 - 0.95**2 / 2)) < 57.1367031
+    default = critical_step(parse_scene(text))
+    assert default.basis == "any packing" and default.coordination.z == 13 and default.dense.coordination == 13
+    assert default.dt_crit == default.dt_dense < default.dt_isolated and default.dense_factors == {}
+    assert "at most 13 contacts" in default.holds_for and "sphere-packing bound" in default.dense.reason
+    iso = critical_step(parse_scene("isolated = true\n" + text))
+    assert iso.basis == "isolated" and iso.dt_crit == iso.dt_isolated == default.dt_isolated
+    assert iso.holds_for == "an isolated contact" and iso.dense is None
     assert set(iso.dense_factors) == {4, 6, 12} and all(0 < f < 1 for f in iso.dense_factors.values())
     dense = critical_step(parse_scene("coordination_max = 12\n" + text))
     block = iso.dt_isolated * iso.dense_factors[12]  # the factors come from the block bound
+    assert dense.basis == "coordination_max" and dense.coordination is None
     assert dense.dt_crit == dense.dt_dense and block <= dense.dt_dense < iso.dt_isolated
+    assert default.dt_crit <= dense.dt_crit  # 13 contacts allowed, not 12
     assert "sphere-packing bound" in dense.dense.reason  # spheres, no walls: the geometric bound is sharper
     assert dense.governing == "dense" and "at most 12 contacts" in dense.holds_for
-    # the codes' estimates are rated against the isolated step (unsafe) and against the dense one (unsafe_dense)
-    for e in iso.estimates:
-        if e.estimate.dt is not None:
-            assert e.unsafe == (e.estimate.dt > iso.dt_isolated * (1 + 1e-9))
-            assert e.unsafe_dense == (e.estimate.dt > block * (1 + 1e-9))
-    assert any(e.unsafe_dense and not e.unsafe for e in iso.estimates)  # safe for one contact, not for a packing
+    # one verdict per estimate, against the headline
+    for r in (default, iso, dense):
+        for e in r.estimates:
+            if e.estimate.dt is not None:
+                assert e.unsafe == (e.estimate.dt > r.dt_crit * (1 + 1e-9))
+    assert any(e.unsafe for e in default.estimates) and not all(e.unsafe for e in default.estimates if e.unsafe is not None)
 
 
 def _monolayer(n=3):

@@ -7,6 +7,7 @@
 * The paper's sphere result, Eq. (49): dt = (2/sqrt(7)) sqrt(m/k) for undamped identical spheres.
 * Rotation bound, Eq. (56); the minimum over pairs; the safety factor; the unsafe flags.
 """
+import dataclasses
 import math
 from pathlib import Path
 
@@ -64,7 +65,7 @@ def _worst_contact(shape):
 
 @pytest.mark.parametrize("scene", ["paper_ellipsoids.toml", "polyhedron_cube.toml"])
 def test_step_is_safe_for_sampled_contacts_and_tight_at_the_worst(scene):
-    s = load_scene(EXAMPLES / scene)
+    s = dataclasses.replace(load_scene(EXAMPLES / scene), isolated=True)  # the two-particle step
     r = critical_step(s)
     assert r.governing == "translation"
     shape = s.particle(1).shape
@@ -99,14 +100,14 @@ model = "linear"
 kn = {k!r}
 ks = {k!r}
 """
-    r = critical_step(parse_scene(text))
+    r = critical_step(parse_scene("isolated = true\n" + text))
     assert r.translation.A_bound == pytest.approx(7 / m, rel=1e-12)
     assert r.dt_crit == pytest.approx(2 / math.sqrt(7) * math.sqrt(m / k), rel=1e-12)
     assert r.to_json()["estimators"]["paper_eq46"]["unsafe"] is False  # Eq. (46) undamped = Eq. (49): a tie
 
 
 def test_rotation_bound_is_eq56_and_can_govern():
-    base = (EXAMPLES / "paper_ellipsoids.toml").read_text()
+    base = "isolated = true\n" + (EXAMPLES / "paper_ellipsoids.toml").read_text()
     r = critical_step(parse_scene(base))
     inertia = r.scene.particle(1).shape.inertia
     ixx, iyy, izz = inertia
@@ -121,7 +122,7 @@ def test_rotation_bound_is_eq56_and_can_govern():
 
 def test_mixed_scene_takes_the_smallest_pair_and_ks_above_kn_uses_shear():
     r = critical_step(load_scene(EXAMPLES / "mixed_pair.toml"))
-    assert r.dt_crit == min(min(p.dt_translation, p.dt_rotation or math.inf) for p in r.pairs)
+    assert r.dt_isolated == min(min(p.dt_translation, p.dt_rotation or math.inf) for p in r.pairs)
     assert [p.label for p in r.pairs] == ["1-1", "1-2", "2-2"]
     text = (EXAMPLES / "paper_ellipsoids.toml").read_text().replace("ks = 1.0e10", "ks = 3.0e10")
     r = critical_step(parse_scene(text))

@@ -1,6 +1,6 @@
 """The estimator table of ``dtcrit step``: ratios never read as 1 unless they are 1, the Hertz contact duration with
-the fractions LIGGGHTS steps with, and the codes' estimates rated against the dense-packing step when the scene
-gives ``coordination_max``."""
+the fractions LIGGGHTS steps with, and the codes' estimates rated once, against the headline (the packing step
+unless the scene sets ``isolated = true``)."""
 from __future__ import annotations
 
 import dataclasses
@@ -38,7 +38,7 @@ def test_a_ratio_reads_as_one_only_when_it_is_one(r):
 def test_a_ratio_just_above_one_is_printed_with_its_digits_and_flag():
     """An estimate 1.0024 x dt_crit (the issue's case) and one 4e-5 above it are printed as such beside UNSAFE."""
     result = critical_step(load_scene(EXAMPLES / "glass_spheres_hertz.toml"))
-    extra = tuple(EstimateResult(est.Estimate(f"probe_{n}", "probe", result.dt_crit * f), True, True)
+    extra = tuple(EstimateResult(est.Estimate(f"probe_{n}", "probe", result.dt_crit * f), True)
                   for n, f in ((1, 1.0024), (2, 1.00004)))
     text = format_text(dataclasses.replace(result, estimates=result.estimates + extra))
     line1 = next(line for line in text.splitlines() if "probe_1" in line)
@@ -96,3 +96,19 @@ def test_yade_stepper_constants_are_those_of_its_source():
     """GlobalStiffnessTimeStepper.cpp: dt = 1.41044 * timestepSafetyCoefficient * sqrt(min(...)); .hpp: default 0.8."""
     assert est.YADE_GSTS_CONSTANT == 1.41044 and est.YADE_GSTS_SAFETY == 0.8
     assert math.isclose(est.YADE_GSTS_CONSTANT / math.sqrt(2), 0.99733, rel_tol=1e-5)
+
+
+def test_one_reference_and_one_verdict_per_row(capsys):
+    """The text rates each estimate once, against dt_crit; the JSON's legacy unsafe_dense repeats that verdict
+    for a packing headline and is null for an isolated one (whose verdicts are against the isolated step)."""
+    text = (main(["step", str(EXAMPLES / "glass_spheres_hertz.toml")]), capsys.readouterr().out)[1]
+    rows = [line for line in text.splitlines() if " x dt_crit " in line]
+    assert rows and all(line.count(" ok ") + line.count(" UNSAFE ") == 1 for line in rows)
+    assert "dense above" not in text and "dense within" not in text
+    scene = load_scene(EXAMPLES / "glass_spheres_hertz.toml")
+    iso = critical_step(dataclasses.replace(scene, isolated=True)).to_json()
+    assert iso["headline_basis"] == "isolated" and iso["dt_crit"] == iso["dt_isolated"]
+    for key, e in iso["estimators"].items():
+        assert e["unsafe_dense"] is None
+        if e["dt"] is not None:
+            assert e["unsafe"] is (e["dt"] > iso["dt_isolated"] * (1 + 1e-9)), key

@@ -78,6 +78,18 @@ def _order_text(integrator: str) -> str:
             f"{order['undamped']} undamped; its step is confirmed by stepping its rules at 0.99x and 1.01x)")
 
 
+def _isolated_line(result) -> str:
+    """The isolated-contact step, named as such, beside the headline (or why the headline is that step)."""
+    if result.basis == "isolated":
+        why = ("isolated = true in the scene" if result.scene.isolated else result.basis_note +
+               "; the headline is the isolated-contact step")
+        return f"  isolated contact: the headline is the two-particle step ({why}); a packing needs less (below)"
+    if not result.dt_isolated > 0:
+        return f"  isolated contact: dt = {result.dt_isolated:.6g} s (two particles alone; set isolated = true to headline it)"
+    return (f"  isolated contact: dt = {result.dt_isolated:.6g} s (two particles alone, {ratio_text(result.dt_isolated / result.dt_crit)} "
+            "x dt_crit; not safe in a packing; set isolated = true to headline it)")
+
+
 def format_text(result) -> str:
     sc = result.scene
     lines = [f"scene: {sc.source}" + (f" ({sc.title})" if sc.title else "")]
@@ -91,6 +103,9 @@ def format_text(result) -> str:
                  + (f", omega_max = {sc.omega_max:g} rad/s" if sc.omega_max is not None else ""))
     lines.append("")
     lines.append(f"critical time step  dt_crit = {result.dt_crit:.6g} s   (holds for {result.holds_for})")
+    lines.append(_isolated_line(result))
+    if result.coordination is not None:
+        lines.append(f"  largest coordination: {result.coordination.how} (set coordination_max if yours is lower)")
     if sc.safety != 1.0:
         lines.append(f"with safety {sc.safety:g}:      dt = {result.dt_recommended:.6g} s")
     lines.append(f"governed by {result.bound}")
@@ -102,12 +117,8 @@ def format_text(result) -> str:
                  f"dt = {t.dt_translation:.6g} s ({t.label}, {t.governing_direction.direction} mode, {t.method})")
     if result.dense is None:
         factors = ", ".join(f"z = {z}: x {ratio_text(f, 3)}" if f is not None else f"z = {z}: n/a" for z, f in result.dense_factors.items())
-        lines.append(f"dense packings: this step is for an isolated contact; any packing with at most z contacts per "
-                     f"particle is proven stable at ({factors}) of it by the block bound; set coordination_max for "
-                     "the step of the scene's packing (sharper for spheres)")
-    else:
-        lines.append(f"isolated contact: dt = {result.dt_isolated:.6g} s ({ratio_text(result.dt_crit / result.dt_isolated)} "
-                     "x of it holds for the packing)")
+        lines.append(f"dense packings: any packing with at most z contacts per particle is proven stable at ({factors}) "
+                     "of the isolated-contact step by the block bound")
     for p in result.pairs:
         lines.append(_pair_line(p))
     if sc.omega_max is None:
@@ -122,10 +133,8 @@ def format_text(result) -> str:
         lines.append(f"rotation: B_max = {max(result.B_max.values()):.6g}, dt = 2/(omega_max (B_i + B_j)) = {r.dt_rotation:.6g} s "
                      f"(pair {r.label}; Eqs. (54), (56))")
     lines.append("")
-    z = sc.coordination_max or 12
-    lines.append(f"estimates DEM codes use, against dt_crit for {result.holds_for} (UNSAFE: larger than it; "
-                 f"dense: against dtcrit's proven step for any packing with at most {z} contacts per particle"
-                 + ("" if sc.coordination_max else " (block bound)") + ", a lower bound: 'above' means not covered by it):")
+    lines.append("estimates DEM codes use, against dt_crit (" + ("isolated contact" if result.basis == "isolated" else
+                 "the packing step") + "; UNSAFE: larger than it):")
     width = max(len(e.estimate.key) for e in result.estimates)
     missing: dict[str, list[str]] = {}
     for e in result.estimates:
@@ -134,9 +143,8 @@ def format_text(result) -> str:
             continue
         ratio = e.estimate.dt / result.dt_crit if result.dt_crit > 0 else float("inf")
         flag = "UNSAFE" if e.unsafe else "ok"
-        dense = "n/a" if e.unsafe_dense is None else ("above" if e.unsafe_dense else "within")
         lines.append(f"  {e.estimate.key:<{width}}  {e.estimate.dt:12.6g} s  {ratio_text(ratio):>8} x dt_crit  {flag:<6}  "
-                     f"dense {dense:<6}  {e.estimate.label}")
+                     f"{e.estimate.label}")
     for note, keys in missing.items():
         lines.append(f"  not applicable: {', '.join(keys)} ({note})")
     return "\n".join(lines)

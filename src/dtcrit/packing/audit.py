@@ -11,7 +11,11 @@ the normal force of the pre-load), built with the engine's conventions (``dtcrit
   larger) of the springs, which bounds the packing with its pre-load too (the pre-load term is
   negative semi-definite), combined with the Gershgorin bound of the dashpots.
 * ``limiting`` -- the particles the governing mode sits on (largest share of the mode's kinetic
-  energy), by the engine's ids.
+  energy), by the engine's ids, when the ``LIMITING_COUNT`` largest hold at least ``LOCALISED_SHARE`` of
+  it; a mode spread wider is described by its participation ratio ``(sum e_p)^2/(N sum e_p^2)`` (1: every
+  particle alike; 1/N: one particle) instead of ids.
+* each estimator row says what it bounds: the block-diagonal and Gershgorin rows bound the *undamped*
+  step ``2/omega_max`` from below (with dashpots ``dt_crit`` is lower, so they may exceed it).
 * the codes' own estimators beside it, with their real constants: YADE's GlobalStiffnessTimeStepper
   (``1.41044 min sqrt(M_dd / K_dd)``, default safety 0.8; ``pkg/dem/GlobalStiffnessTimeStepper.cpp``),
   the undamped per-body bounds, and the LAMMPS-docs rule of a fraction of the collision time
@@ -38,6 +42,9 @@ YADE_GSTS_FACTOR = 1.41044  # GlobalStiffnessTimeStepper.cpp: dt = 1.41044 * sqr
 YADE_GSTS_SAFETY = 0.8  # its timestepSafetyCoefficient default
 COLLISION_FRACTION = 1.0 / 50.0
 LIMITING_COUNT = 6
+LOCALISED_SHARE = 0.5
+"""The ids are named when the ``LIMITING_COUNT`` particles with the most energy hold at least this share of
+the governing mode's energy; below it the mode is spread out and its participation ratio is given."""
 
 
 @dataclass
@@ -58,11 +65,17 @@ class AuditReport:
     dt_safe: float
     dt_undamped: float
     method: str
-    limiting: list[int]
-    limiting_share: float
+    limiting: list[int]  # empty when the mode is spread out (see participation)
+    limiting_share: float  # the share of the LIMITING_COUNT particles with the most energy
     dt_user: float | None
     estimators: list[dict] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
+    participation: float = math.nan  # (sum e_p)^2 / (N sum e_p^2) of the governing mode's particle energies
+
+    @property
+    def participating(self) -> float:
+        """About how many particles share the governing mode's energy, ``N x participation``."""
+        return self.participation * self.n_particles
 
     @property
     def ratio(self) -> float | None:
@@ -78,15 +91,19 @@ def _check_terms(contacts: Contacts) -> None:
         raise InputError("contacts", "every contact has zero stiffness: no vibrating mode, no critical step")
 
 
-def _limiting(packing: Packing, vector: np.ndarray | None) -> tuple[list[int], float]:
+def _limiting(packing: Packing, vector: np.ndarray | None) -> tuple[list[int], float, float]:
+    """``(ids, share of the top LIMITING_COUNT, participation ratio)``; no ids when the mode is spread out."""
     if vector is None:
-        return [], 0.0
+        return [], 0.0, math.nan
     share = (np.asarray(vector).reshape(-1, 6) ** 2).sum(axis=1)
     total = share.sum()
     if total <= 0:
-        return [], 0.0
+        return [], 0.0, math.nan
     top = np.argsort(-share, kind="stable")[:LIMITING_COUNT]
-    return [packing.particle_id(p) for p in top], float(share[top].sum() / total)
+    held = float(share[top].sum() / total)
+    participation = float(total**2 / (len(share) * np.sum(share**2)))
+    ids = [packing.particle_id(p) for p in top] if held >= LOCALISED_SHARE else []
+    return ids, held, participation
 
 
 def _rayleigh_rows(packing: Packing, material) -> list[tuple]:
@@ -106,7 +123,7 @@ def _rayleigh_rows(packing: Packing, material) -> list[tuple]:
             ("rayleigh_40", 0.4 * float(t_r[p]), "rule of thumb", "40 % of T_R (EDEM's upper guidance)")]
 
 
-def _estimators(packing: Packing, springs: Contacts, dt_crit: float, material=None) -> list[dict]:
+def _estimators(packing: Packing, springs: Contacts, dt_crit: float, material=None, damped: bool = False) -> list[dict]:
     md = mass_diagonal(packing)
     a = scale_symmetric(stiffness_matrix(packing, springs), md, inplace=True)
     diag = est.diagonal_stiffness(a, packing.particle_id)
@@ -117,8 +134,10 @@ def _estimators(packing: Packing, springs: Contacts, dt_crit: float, material=No
         ("yade_gsts_unscaled", gsts, "heuristic",
          "the same at safety 1 (" + diag.detail.replace("sqrt(2) sqrt(M/K)", f"{YADE_GSTS_FACTOR} sqrt(M/K)") + ")"),
     ]
+    bounds = ("lower bound on the undamped step 2/omega_max (the dashpots lower dt_crit)" if damped
+              else "lower bound on dt_crit (= 2/omega_max, no dashpots)")
     for e in (est.block_diagonal(a, packing.particle_id), est.gershgorin(a, md)):
-        rows.append((e.name, e.dt, "lower bound on the undamped dt", e.detail))
+        rows.append((e.name, e.dt, bounds, e.detail))
     stiff = np.maximum(springs.kn, springs.ks)
     m = packing.masses
     m_eff = m[springs.i] * m[springs.j] / (m[springs.i] + m[springs.j])
@@ -146,7 +165,7 @@ def audit(packing: Packing, contacts: Contacts, convention: EngineConvention, *,
     step = damped_critical_dt(packing, contacts, integrator, method=method)
     springs = replace(contacts, force_n=None)
     dt_safe = min(step.dt_lower, step.dt)
-    limiting, share = _limiting(packing, step.vector)
+    limiting, share, participation = _limiting(packing, step.vector)
     cn = contacts.coordination(packing.n)
     notes = []
     if contacts.force_n is not None and np.any(contacts.force_n > 0):
@@ -158,5 +177,6 @@ def audit(packing: Packing, contacts: Contacts, convention: EngineConvention, *,
         n_particles=packing.n, n_contacts=contacts.count, coordination_mean=float(cn.mean()),
         damped=contacts.damped, preload=bool(notes), dt_crit=step.dt, dt_safe=dt_safe,
         dt_undamped=step.dt_undamped, method=step.method, limiting=limiting, limiting_share=share,
-        dt_user=dt_user, estimators=_estimators(packing, springs, step.dt, material), notes=notes,
+        dt_user=dt_user, estimators=_estimators(packing, springs, step.dt, material, contacts.damped), notes=notes,
+        participation=participation,
     )

@@ -22,7 +22,8 @@ def audit_json(r: AuditReport) -> dict:
         "law": r.law, "n_particles": r.n_particles, "n_contacts": r.n_contacts,
         "coordination_mean": r.coordination_mean, "damped": r.damped, "preload": r.preload,
         "dt_crit": _finite(r.dt_crit), "dt_safe": _finite(r.dt_safe), "dt_undamped": _finite(r.dt_undamped),
-        "method": r.method, "limiting": {"ids": r.limiting, "energy_share": r.limiting_share},
+        "method": r.method, "limiting": {"ids": r.limiting, "energy_share": r.limiting_share,
+                                           "participation_ratio": _finite(r.participation)},
         "dt_user": _finite(r.dt_user), "dt_user_ratio": _finite(r.ratio),
         "stable": None if r.ratio is None else bool(r.ratio < 1.0),
         "estimators": {e["name"]: {k: (_finite(v) if isinstance(v, float) else v) for k, v in e.items() if k != "name"}
@@ -30,6 +31,12 @@ def audit_json(r: AuditReport) -> dict:
         "notes": list(r.notes),
     })
     return out
+
+
+def len_top(r: AuditReport) -> int:
+    from dtcrit.packing.audit import LIMITING_COUNT
+
+    return min(LIMITING_COUNT, r.n_particles)
 
 
 def _ratio(x: float) -> str:
@@ -56,11 +63,15 @@ def format_audit(r: AuditReport) -> str:
     if r.limiting:
         lines.append(f"limiting particles (ids): {' '.join(str(i) for i in r.limiting)}  "
                      f"({100 * r.limiting_share:.3g} % of the governing mode's energy)")
+    elif math.isfinite(r.participation):
+        lines.append(f"governing mode: spread out, participation ratio {r.participation:.3g} (about "
+                     f"{r.participating:.3g} of {r.n_particles} particles share its energy; the {len_top(r)} with the "
+                     f"most hold {100 * r.limiting_share:.3g} %): no few particles limit the step")
     if r.dt_user is not None:
         verdict = "stable" if r.ratio < 1.0 else "UNSTABLE"
         lines.append(f"your dt = {r.dt_user:.6g} s = {_ratio(r.ratio)} x dt_crit: {verdict}")
     lines += [""] + r.notes + [""] if r.notes else [""]
-    lines.append(f"{'estimator':<26}{'dt [s]':>13}{'dt/dt_crit':>13}  {'safe':<5}kind; detail")
+    lines.append(f"{'estimator':<26}{'dt [s]':>13}{'dt/dt_crit':>13}  {'safe':<5}what it is (what it bounds); detail")
     for e in r.estimators:
         lines.append(f"{e['name']:<26}{e['dt']:>13.6g}{_ratio(e['ratio']):>13}  {'yes' if e['safe'] else 'NO':<5}"
                      f"{e['kind']}; {e['detail']}")

@@ -125,23 +125,26 @@ def block_terms(scene, steps) -> list[tuple[float, float, str]]:
     return out
 
 
-def sphere_bound(scene, steps, z: int) -> tuple[float, float] | None:
+def sphere_bound(scene, steps, z: int, rtol: float = 2e-3, n_theta: int = 96) -> tuple[float, float] | None:
     """``(lambda_K, lambda_C)`` from the geometric sphere-packing bound (:mod:`dtcrit.scenes.dense_spheres`),
-    or None where it does not apply (other shapes, walls, more than ``SPHERE_BOUND_MAX_SPECIES`` sizes)."""
+    or None where it does not apply (other shapes, walls, more than ``SPHERE_BOUND_MAX_SPECIES`` sizes).
+    ``rtol``, ``n_theta``: the branch-and-bound tolerance and sphere grid (tightness and time, never validity)."""
     if scene.walls or any(p.kind != "sphere" for p in scene.particles) or any(s.contact.rotational for s in steps):
         return None  # the geometric bound covers normal and shear springs only
-    species = [(part.shape_at(r).mass, r, part.shape_at(r).inertia[0]) for part in scene.particles for r in part.radii]
-    if len(species) > SPHERE_BOUND_MAX_SPECIES:
+    if sum(len(part.radii) for part in scene.particles) > SPHERE_BOUND_MAX_SPECIES:
         return None
+    species = [(part.shape_at(r).mass, r, part.shape_at(r).inertia[0]) for part in scene.particles for r in part.radii]
     from dtcrit.scenes.dense_spheres import dense_omega2_bound
 
     m, r, inertia = (list(v) for v in zip(*species))
     bounds = []
     for a, b in ((max(s.contact.kn for s in steps), max(s.contact.ks for s in steps)),
                  (max(s.contact.cn for s in steps), max(s.contact.cs for s in steps))):
+        scale = max(a, b)  # the bound is linear in the springs jointly: solve at max 1 (no overflow near 1e308)
         with np.errstate(all="ignore"):  # wide cones (large overlap_max) divide by a zero cap; the bound stays valid
-            bounds.append(0.0 if a == 0 and b == 0 else
-                          dense_omega2_bound(a, b, m, r, inertia, z, overlap=scene.overlap_max).omega2)
+            bounds.append(0.0 if scale == 0 else
+                          scale * dense_omega2_bound(a / scale, b / scale, m, r, inertia, z, overlap=scene.overlap_max,
+                                                     rtol=rtol, n_theta=n_theta).omega2)
     return bounds[0], bounds[1]
 
 

@@ -132,7 +132,7 @@ def _key_text(key: str) -> str:
     return key if _BARE_KEY.match(key) else json.dumps(key)
 
 
-TOP_LEVEL_KEYS = ("integrator", "omega_max", "safety", "pairs", "title", "coordination_max", "overlap_max")
+TOP_LEVEL_KEYS = ("integrator", "omega_max", "safety", "pairs", "title", "coordination_max", "overlap_max", "isolated")
 """Keys that belong before the first table (``dtcrit.scenes.model.TOP_KEYS`` without the tables)."""
 
 

@@ -2,6 +2,7 @@
 and the keys a scene file may hold."""
 from __future__ import annotations
 
+import bisect
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -10,7 +11,7 @@ from dtcrit.scenes.damping import damping_kind
 # ----------------------------------------------------------------------------------------------
 # The vocabulary of a scene
 # ----------------------------------------------------------------------------------------------
-TOP_KEYS = ("integrator", "omega_max", "safety", "pairs", "title", "coordination_max", "overlap_max", "particle", "contact",
+TOP_KEYS = ("integrator", "omega_max", "safety", "pairs", "title", "coordination_max", "overlap_max", "isolated", "particle", "contact",
             "wall")
 PAIRS_CHOICES = ("all", "unlike")
 
@@ -118,9 +119,12 @@ class Particle:
 
     def shape_at(self, radius: float | None):
         """The body at ``radius`` (spheres of a size distribution), else the one shape."""
-        if radius is None or not self.shapes:
+        if radius is None or not len(self.shapes):
             return self.shape
-        return self.shapes[self.radii.index(radius)]
+        k = bisect.bisect_left(self.radii, radius)  # the radii are ascending
+        if k == len(self.radii) or self.radii[k] != radius:
+            raise ValueError(f"radius {radius!r} is not one of the distribution's")
+        return self.shapes[k]
 
     def mass_at(self, radius: float | None) -> float:
         return self.shape_at(radius).mass
@@ -191,6 +195,7 @@ class Scene:
     walls: tuple = ()  # dtcrit.scenes.walls.Wall
     coordination_max: int | None = None
     overlap_max: float = 0.05  # largest overlap in a packing, as a fraction of R_i + R_j (the dense sphere bound)
+    isolated: bool = False  # the headline is the isolated-contact step (else the step for any packing)
 
     @property
     def identical(self) -> bool:

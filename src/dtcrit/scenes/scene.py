@@ -61,7 +61,7 @@ from dtcrit.scenes.model import (
     Particle,
     Scene,
 )
-from dtcrit.scenes.sizes import size_distribution
+from dtcrit.scenes.sizes import SizeShapes, size_distribution
 from dtcrit.scenes.walls import parse_walls
 
 # ----------------------------------------------------------------------------------------------
@@ -157,7 +157,7 @@ def _particle(number: int, table: Any) -> Particle:
         shape = _build_shape(prefix, kind, dims, density, mass)
         return Particle(number, kind, dims, shape, youngs, poisson, name)
     key = "radius" if distribution.kind == "single" else ("radii" if distribution.kind == "discrete" else "lognormal")
-    shapes = tuple(_build_shape(prefix, kind, {key: r}, density, mass) for r in distribution.radii)
+    shapes = SizeShapes(lambda r: _build_shape(prefix, kind, {key: r}, density, mass), distribution.radii)
     dims = {"radius": distribution.radii[0]} if distribution.kind == "single" else {key: list(distribution.radii)}
     return Particle(number, kind, dims, shapes[0], youngs, poisson, name, distribution, shapes)
 
@@ -333,6 +333,15 @@ def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
             raise InputError("coordination_max", f"{raw} contacts per particle: at most {MAX_COORDINATION}")
         coordination = raw
 
+    isolated = False
+    if "isolated" in doc:
+        isolated = doc["isolated"]
+        if not isinstance(isolated, bool):
+            raise InputError("isolated", f"must be true or false (got {_short(isolated)})")
+        if isolated and coordination is not None:
+            raise InputError("isolated", "isolated = true asks for the isolated-contact step, coordination_max for a "
+                             "packing's: give one of them")
+
     overlap = 0.05
     if "overlap_max" in doc:
         overlap = _number("overlap_max", doc["overlap_max"], allow_zero=True, hi=1.0, hi_open=True)
@@ -354,7 +363,7 @@ def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
                       f"{len(next(p for p in particles if p.sizes is not None and p.sizes.kind == 'lognormal').radii)} "
                       "log-spaced radii between the cut-offs (no monotonicity is proved for Hertz)"))
     scene = Scene(source, integrator, tuple(particles), law, omega_max, safety, pairs, title, tuple(found), walls, coordination,
-                  overlap)
+                  overlap, isolated)
     from dtcrit.scenes.laws import resolve_wall
 
     checks = [(f"pair {i}-{j}", resolve_pair(scene, i, j)) for i, j in scene.pair_numbers()]

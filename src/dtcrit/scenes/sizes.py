@@ -23,6 +23,7 @@ from dtcrit.errors import InputError
 from dtcrit.scenes.fields import _check_keys, _number, _required, _type_name, _vector
 
 LOGNORMAL_POINTS = 33
+DESCRIBE_RADII = 12  # longer lists of radii are printed as their count and range
 FRACTION_RTOL = 1e-9
 LOGNORMAL_KEYS = ("median", "sigma", "min", "max")
 
@@ -37,6 +38,8 @@ class SizeDistribution:
     def describe(self) -> str:
         if self.kind == "single":
             return f"radius = {self.radii[0]:g}"
+        if self.kind == "discrete" and len(self.radii) > DESCRIBE_RADII:
+            return f"{len(self.radii)} radii from {self.radii[0]:g} to {self.radii[-1]:g}"
         if self.kind == "discrete":
             return "radii = [" + ", ".join(f"{r:g}" for r in self.radii) + "]"
         p = self.parameters
@@ -90,3 +93,27 @@ def _lognormal(key: str, table: Any) -> SizeDistribution:
     grid = tuple(lo if k == 0 else hi if k == n - 1 else math.exp(math.log(lo) + (math.log(hi) - math.log(lo)) * k / (n - 1))
                  for k in range(n))
     return SizeDistribution("lognormal", grid, parameters=values)
+
+
+class SizeShapes:
+    """The bodies of a size distribution, one per radius, built by ``build(radius)`` when first asked for
+    (a scene may list 10^5 radii of which the step needs two).  The smallest and largest are built at
+    once: the mass is monotone in the radius, so they carry every range check the others could fail."""
+
+    def __init__(self, build, radii: tuple):
+        self._build = build
+        self._radii = radii
+        self._built: dict[int, Any] = {}
+        self[0], self[len(radii) - 1]  # noqa: B018 (validates the extremes now)
+
+    def __len__(self) -> int:
+        return len(self._radii)
+
+    def __getitem__(self, k: int):
+        k = range(len(self._radii))[k]
+        if k not in self._built:
+            self._built[k] = self._build(self._radii[k])
+        return self._built[k]
+
+    def __iter__(self):
+        return (self[k] for k in range(len(self._radii)))

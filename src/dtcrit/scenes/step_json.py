@@ -166,9 +166,14 @@ def step_json(result) -> dict:
         "order_of_accuracy": order_of_accuracy_json(sc.integrator),
         "dt_crit": result.dt_crit,
         "holds_for": result.holds_for,
+        "headline_basis": result.basis,
+        "headline_note": result.basis_note or None,
+        "isolated": sc.isolated,
         "dt_isolated": result.dt_isolated,
         "dt_dense": result.dt_dense,
         "coordination_max": sc.coordination_max,
+        "coordination": None if result.coordination is None else
+        {"coordination_max": result.coordination.z, "attained_at": result.coordination.where, "how": result.coordination.how},
         "dense": _dense_json(result.dense),
         "dense_factors": {str(z): f for z, f in result.dense_factors.items()} or None,
         "safety": sc.safety,
@@ -195,7 +200,8 @@ def step_json(result) -> dict:
         "rotation": rot,
         "contact_rotation": contact_rotation,
         "estimators": {
-            e.estimate.key: {"dt": e.estimate.dt, "unsafe": e.unsafe, "unsafe_dense": e.unsafe_dense,
+            e.estimate.key: {"dt": e.estimate.dt, "unsafe": e.unsafe,
+                             "unsafe_dense": None if result.dense is None else e.unsafe,
                              "label": e.estimate.label, "note": e.estimate.note}
             for e in result.estimates
         },

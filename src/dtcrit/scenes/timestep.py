@@ -5,13 +5,16 @@
   (:mod:`dtcrit.scenes.pair_modes`: exact for spheres, a verified bound for other shapes).
 * **Rotation** (Peng et al. 2020, Section 5, only with ``omega_max``): ``dt = 2/(omega_max (B_i + B_j))``,
   Eq. (56), with ``B`` of Eq. (54); over all pairs this is Eq. (57).
-* **Dense packings** (:mod:`dtcrit.scenes.dense`): with ``coordination_max = z`` a step that holds for
-  every packing of these particles with at most ``z`` contacts each (``dt_dense``); without it the
-  factors for z = 4, 6 and 12 are reported, and the isolated-contact step is labelled as such.
+* **Dense packings** (:mod:`dtcrit.scenes.dense`): a step that holds for every packing of these
+  particles with at most ``z`` contacts each (``dt_dense``), ``z`` = ``coordination_max`` when given,
+  else the largest coordination the particles' shapes and sizes allow
+  (:mod:`dtcrit.scenes.coordination`).
 
-``dt_crit`` is the step of the scene as described: ``dt_dense`` with ``coordination_max``, else
-``dt_isolated``; ``dt_recommended = safety * dt_crit``.  The estimates DEM codes use are rated
-against ``dt_crit`` (:mod:`dtcrit.scenes.scene_estimates`).  No SymPy is imported here or below.
+``dt_crit`` (the headline) is the step of the simulation the scene describes: ``dt_dense`` (with
+rotation) unless the scene sets ``isolated = true``, which asks for the isolated-contact step
+``dt_isolated`` (then the factors for z = 4, 6 and 12 are reported); ``headline_basis`` says which.
+``dt_recommended = safety * dt_crit``.  The estimates DEM codes use are rated against ``dt_crit``, one
+verdict each (:mod:`dtcrit.scenes.scene_estimates`).  No SymPy is imported here or below.
 """
 from __future__ import annotations
 
@@ -20,6 +23,7 @@ from dataclasses import dataclass, field
 
 from dtcrit.errors import InputError
 from dtcrit.scenes import estimators as est
+from dtcrit.scenes.coordination import Coordination, scene_coordination
 from dtcrit.scenes.dense import FACTOR_COORDINATIONS, DenseStep, block_terms, dense_step, sphere_bound
 from dtcrit.scenes.laws import convention_of, resolve_pair, resolve_wall
 from dtcrit.scenes.model import Scene
@@ -34,9 +38,13 @@ UNSAFE_RTOL = 1e-9
 (equal values, e.g. the paper's Eq. (46) for undamped spheres, are ties, not violations)."""
 
 
-RATING_COORDINATION = 12
-"""Without ``coordination_max`` the codes' estimates are also rated against the dense step at the
-kissing number of equal spheres: they are meant for packings, not for isolated contacts."""
+MAX_SIZE_PAIRS = 5_000
+"""Contacts evaluated one by one at most: above it a size distribution is refused (naming its ``radii``)
+unless the contact law admits the reduction of :func:`_reducible` (then two radii per type suffice)."""
+DEFAULT_SPHERE_GRID = (1e-2, 48)
+"""``(rtol, n_theta)`` of the sphere-packing bound for the default headline: 0.2 s instead of 1-3 s per
+species, at most ~0.5 % below the sharper grid used with ``coordination_max`` (tightness, not validity)."""
+BASIS_ANY, BASIS_COORDINATION, BASIS_ISOLATED = "any packing", "coordination_max", "isolated"
 
 
 def _exceeds(value: float, step: float) -> bool:
@@ -46,8 +54,7 @@ def _exceeds(value: float, step: float) -> bool:
 @dataclass(frozen=True)
 class EstimateResult:
     estimate: est.Estimate
-    unsafe: bool | None  # against dt_crit; None when the estimate does not apply
-    unsafe_dense: bool | None = None  # against the dense step (coordination_max, or 12); None without one
+    unsafe: bool | None  # against dt_crit (the headline); None when the estimate does not apply
 
 
 @dataclass(frozen=True)
@@ -62,8 +69,11 @@ class StepResult:
     B_max: dict = field(default_factory=dict)  # particle number -> Eq. (54)
     estimates: tuple[EstimateResult, ...] = ()
     dt_isolated: float = math.nan
-    dense: DenseStep | None = None  # with coordination_max
-    dense_factors: dict = field(default_factory=dict)  # z -> dt_dense(z) / dt_isolated (without coordination_max)
+    dense: DenseStep | None = None  # the packing step (None with isolated = true)
+    dense_factors: dict = field(default_factory=dict)  # z -> dt_dense(z) / dt_isolated (isolated = true)
+    basis: str = BASIS_ISOLATED  # what the headline holds for: BASIS_ANY, BASIS_COORDINATION or BASIS_ISOLATED
+    coordination: Coordination | None = None  # the geometric coordination bound (BASIS_ANY)
+    basis_note: str = ""  # why the headline is not the packing step the scene asks for (no packing bound)
 
     @property
     def dt_recommended(self) -> float:
@@ -75,8 +85,12 @@ class StepResult:
 
     @property
     def holds_for(self) -> str:
-        z = self.scene.coordination_max
-        return "an isolated contact" if z is None else f"any packing with at most {z} contacts per particle"
+        if self.basis == BASIS_ISOLATED:
+            return "an isolated contact"
+        if self.basis == BASIS_COORDINATION:
+            return f"any packing with at most {self.dense.coordination} contacts per particle"
+        return (f"any packing of these particles: at most {self.dense.coordination} contacts per particle, "
+                "the most their shapes and sizes allow")
 
     @property
     def formula(self) -> str:
@@ -91,16 +105,65 @@ class StepResult:
         return step_json(self)
 
 
-def _sizes(part) -> tuple:
-    return part.radii or (None,)
+def _reducible(scene: Scene) -> bool:
+    """Whether two radii per sphere type (its smallest and largest) carry every extreme the step needs.
+
+    Linear law (given ``kn``, ``ks``): each mode's ``A`` decreases in both radii, ``k`` and ``c`` are fixed
+    or ``c ~ sqrt(k m*)`` keeps the mode's damping ratio fixed, and the step is non-increasing in ``A``:
+    the smallest radii govern (:mod:`dtcrit.scenes.sizes`).  YADE's law with damping from a ratio (mode
+    damping ratio fixed): ``omega^2 = k_n (1/m_1 + 1/m_2)``, ``k_n = 2/(1/(E_1 R_1) + 1/(E_2 R_2))``, is, in
+    each radius with the other fixed, ``a/(R^2 (R + b)) + c R/(R + b)``-shaped, whose derivative changes
+    sign at most once (from - to +): its maximum over a box of radii sits at a corner.  The dense block
+    terms (:func:`dtcrit.scenes.dense.block_terms`) ``k/m_i``, ``c/m_i`` decrease in the particle's own radius
+    and increase in its partner's: the corner (smallest, largest) carries them.  Rotational springs,
+    bonds, Hertz and given YADE dashpots are evaluated size pair by size pair."""
+    return _not_reducible(scene) is None
+
+
+def _not_reducible(scene: Scene) -> str | None:
+    """Why :func:`_reducible` does not hold (None when it does)."""
+    law = scene.contact
+    if law.bond is not None:
+        return "a bond"
+    if law.rotational is not None or any(w.kr or w.ktw or w.cr or w.ctw for w in scene.walls):
+        return "rotational springs"
+    if law.model == "yade" and law.damping == "coefficients":
+        return "YADE's law with given dashpots cn, cs"
+    if law.model not in ("linear", "yade"):
+        return f"the {law.model} law"
+    return None
+
+
+def _sizes(part, reduce: bool) -> tuple:
+    if not part.radii:
+        return (None,)
+    return (part.radii[0], part.radii[-1]) if reduce and len(part.radii) > 2 else part.radii
+
+
+def _check_size_pairs(scene: Scene, reduce: bool) -> None:
+    """Refuse up front, naming the ``radii`` key, a distribution whose size pairs would take too long."""
+    if reduce:
+        return
+    n = {p.number: len(_sizes(p, False)) for p in scene.particles}
+    count = (sum(n[i] * (n[i] + 1) // 2 if i == j else n[i] * n[j] for i, j in scene.pair_numbers())
+             + sum(n[i] for w in scene.walls for i in w.particles))
+    if count > MAX_SIZE_PAIRS:
+        part = max(scene.particles, key=lambda p: n[p.number])
+        key = f"particle[{part.number}].radii" if part.sizes is not None and part.sizes.kind == "discrete" else \
+            f"particle[{part.number}].lognormal"
+        raise InputError(key, f"{n[part.number]} radii give {count} size pairs to evaluate one by one (at most "
+                         f"{MAX_SIZE_PAIRS}): with {_not_reducible(scene)} no pair of sizes is proven to govern (for linear and "
+                         "YADE laws the extreme radii do); give fewer radii")
 
 
 def _contact_steps(scene: Scene) -> list[PairStep]:
+    reduce = _reducible(scene)
+    _check_size_pairs(scene, reduce)
     steps = []
     for i, j in scene.pair_numbers():
         p, q = scene.particle(i), scene.particle(j)
-        for r1 in _sizes(p):
-            for r2 in _sizes(q):
+        for r1 in _sizes(p, reduce):
+            for r2 in _sizes(q, reduce):
                 if i == j and r1 is not None and r2 is not None and r2 < r1:
                     continue  # the same pair of sizes, the other way round
                 pc = resolve_pair(scene, i, j, r1, r2)
@@ -108,7 +171,7 @@ def _contact_steps(scene: Scene) -> list[PairStep]:
     for w in scene.walls:
         for i in w.particles:
             p = scene.particle(i)
-            for r in _sizes(p):
+            for r in _sizes(p, reduce):
                 steps.append(pair_step(scene.integrator, resolve_wall(scene, w, i, r), p.shape_at(r), None, p.kind, None))
     return steps
 
@@ -145,22 +208,30 @@ def critical_step(scene: Scene) -> StepResult:
     dt_rot = math.inf if r is None else r.dt_rotation
     dt_isolated = min(t.dt_translation, dt_rot)
     terms = block_terms(scene, steps)
-    dense, factors = None, {}
-    rating = dense_step(scene.integrator, terms, RATING_COORDINATION)
-    if scene.coordination_max is not None:
+    dense, factors, basis, coordination, note = None, {}, BASIS_ISOLATED, None, ""
+    if not scene.isolated:
+        z = scene.coordination_max
+        if z is None:
+            coordination = scene_coordination(scene)
+            z = coordination.z
         particle_steps = [s for s in steps if s.contact.wall is None]
-        spheres = sphere_bound(scene, particle_steps, scene.coordination_max)
-        dense = dense_step(scene.integrator, terms, scene.coordination_max, spheres, scene.overlap_max)
-        if dense.dt is None:
+        spheres = (sphere_bound(scene, particle_steps, z) if scene.coordination_max is not None
+                   else sphere_bound(scene, particle_steps, z, *DEFAULT_SPHERE_GRID))
+        dense = dense_step(scene.integrator, terms, z, spheres, scene.overlap_max)
+        basis = BASIS_ANY if scene.coordination_max is None else BASIS_COORDINATION
+        if dense.dt is None and scene.coordination_max is not None:
             raise InputError("coordination_max", dense.reason + "; remove coordination_max for the isolated-contact step")
-    else:
+        if dense.dt is None:
+            dense, basis, note = None, BASIS_ISOLATED, dense.reason
+    if dense is None:
         for z in FACTOR_COORDINATIONS:
             d = dense_step(scene.integrator, terms, z)
             factors[z] = None if d.dt is None or not dt_isolated > 0 else min(d.dt, dt_rot) / dt_isolated
     dt_translation = t.dt_translation if dense is None else dense.dt
     if dense is not None and dense.dt <= dt_rot:
         governing, dt = "dense", dense.dt
-        bound = f"dense packing (coordination_max = {dense.coordination}): {dense.reason}"
+        what = "coordination_max" if basis == BASIS_COORDINATION else "the most contacts the shapes and sizes allow"
+        bound = f"dense packing (z = {dense.coordination}, {what}): {dense.reason}"
     elif r is not None and r.dt_rotation < dt_translation:
         governing, dt = "rotation", r.dt_rotation
         bound = (f"rotation-dominant, pair {r.label}: dt = 2/(omega_max (B_i + B_j)) "
@@ -182,11 +253,6 @@ def critical_step(scene: Scene) -> StepResult:
                  f"({t.method}): {what} with {springs} ({g.regime}{zeta}, mode zeta = {g.zeta_mode:.6g})")
         if g.direction not in ("normal", "shear"):
             bound = bound.replace("translation-dominant", "contact-dominant", 1) + f"; {g.reason}"
-    rating = dense if dense is not None else rating
-    dt_rating = None if rating.dt is None else min(rating.dt, dt_rot)
-    estimates = tuple(
-        EstimateResult(e, None if e.dt is None else _exceeds(e.dt, dt),
-                       None if e.dt is None or dt_rating is None else _exceeds(e.dt, dt_rating))
-        for e in scene_estimates(scene, steps)
-    )
-    return StepResult(scene, pairs, dt, governing, bound, t, r, b_max, estimates, dt_isolated, dense, factors)
+    estimates = tuple(EstimateResult(e, None if e.dt is None else _exceeds(e.dt, dt)) for e in scene_estimates(scene, steps))
+    return StepResult(scene, pairs, dt, governing, bound, t, r, b_max, estimates, dt_isolated, dense, factors, basis,
+                      coordination, note)
