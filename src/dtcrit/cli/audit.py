@@ -122,23 +122,11 @@ def flag_of(key: str, args) -> str | None:
 
 def run_command(args) -> int:
     """``dtcrit audit``: library keys become the flags that set them; a solver that stops early, or
-    memory that runs out, is one line too (``dtcrit.cli.main`` prints ``ValueError``s)."""
-    from dtcrit.errors import InputError, NotConvergedError
+    memory that runs out, is one line too (``dtcrit.cli.library_errors``)."""
+    from dtcrit.cli.library_errors import run_naming_flags
 
-    try:
-        return _run(args)
-    except InputError as exc:
-        flag = flag_of(exc.key, args)
-        if flag is None:
-            raise
-        if flag.startswith(f"{args.snapshot}:"):  # printed as SOURCE:key: reason
-            args.source_label = args.snapshot
-            raise InputError(flag[len(str(args.snapshot)) + 1:], exc.reason) from None
-        raise InputError(flag, exc.reason) from None
-    except NotConvergedError as exc:
-        raise ValueError(f"--integrator: {exc}") from None
-    except MemoryError:
-        raise ValueError(f"{args.snapshot}: ran out of memory analysing this snapshot") from None
+    return run_naming_flags(_run, args, args.snapshot, flag_of, lambda exc: f"--integrator: {exc}",
+                            f"{args.snapshot}: ran out of memory analysing this snapshot")
 
 
 def _run(args) -> int:

@@ -195,25 +195,14 @@ def flag_of(key: str, args) -> str | None:
 
 def run_command(args) -> int:
     """``dtcrit packing``: library keys become the flags that set them; a solver that stops early, or
-    memory that runs out after all, is one line too (``dtcrit.cli.main`` prints ``ValueError``s)."""
-    from dtcrit.errors import InputError, NotConvergedError
+    memory that runs out after all, is one line too (``dtcrit.cli.library_errors``)."""
+    from dtcrit.cli.library_errors import run_naming_flags
 
-    try:
-        return _run(args)
-    except InputError as exc:
-        flag = flag_of(exc.key, args)
-        if flag is None:
-            raise
-        if flag.startswith(f"{args.file}:"):  # printed as SOURCE:key: reason
-            args.source_label = args.file
-            raise InputError(flag[len(str(args.file)) + 1:], exc.reason) from None
-        raise InputError(flag, exc.reason) from None
-    except NotConvergedError as exc:
-        raise ValueError(f"--solver: {exc} (another --solver may converge)") from None
-    except MemoryError:
-        raise ValueError(f"{_source(args)}: ran out of memory (the estimate said it fits: another process may "
-                         "have taken memory, or the packing is denser than modelled); try a smaller packing, "
-                         "--route matrix-free or --certify no") from None
+    return run_naming_flags(_run, args, args.file, flag_of,
+                            lambda exc: f"--solver: {exc} (another --solver may converge)",
+                            f"{_source(args)}: ran out of memory (the estimate said it fits: another process may "
+                            "have taken memory, or the packing is denser than modelled); try a smaller packing, "
+                            "--route matrix-free or --certify no")
 
 
 def _run(args) -> int:
