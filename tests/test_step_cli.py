@@ -44,7 +44,7 @@ def test_console_script_and_module_give_the_same_output():
 JSON_KEYS = {"schema", "dtcrit_version", "units", "derivation_hashes", "scene", "title", "integrator", "dt_crit", "safety", "dt_recommended", "governing", "bound",
              "formula", "translation", "rotation", "estimators", "pairs", "particles", "contact", "warnings",
              "holds_for", "dt_isolated", "dt_dense", "coordination_max", "dense", "dense_factors", "walls",
-             "contact_rotation", "headline_basis", "headline_note", "isolated", "coordination"}
+             "contact_rotation", "headline_basis", "headline_note", "isolated", "coordination", "order_of_accuracy"}
 
 
 @pytest.mark.parametrize("scene", sorted(p.name for p in (ROOT / "examples").glob("*.toml")))
