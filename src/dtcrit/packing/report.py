@@ -244,7 +244,7 @@ def check_hertz_overlaps(packing: Packing, contacts: Contacts) -> None:
     if largest <= ROUNDING_OVERLAP * scale:
         raise InputError("youngs", "the Hertz stiffness 2 E* sqrt(R* delta) vanishes at zero overlap, and these "
                                    f"spheres only touch (largest overlap {largest:.3g} m, rounding noise of coordinates "
-                                   f"up to {scale:.3g} m): no mode vibrates; give linear springs (--kn [--ks]) or a "
+                                   f"up to {ROUNDING_OVERLAP * scale:.3g} m): no mode vibrates; give linear springs (--kn [--ks]) or a "
                                    "packing whose spheres overlap")
 
 
