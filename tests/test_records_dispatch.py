@@ -64,7 +64,9 @@ def _enabled_dispatch() -> list[str]:
 
 def _other_dispatch_env() -> dict:
     env = dict(os.environ)
-    env["NPY_DISABLE_CPU_FEATURES"] = " ".join(_enabled_dispatch())  # NumPy refuses baseline features
+    # NumPy refuses baseline features; keep off what this run already has off (a suite run under another dispatch)
+    off = dict.fromkeys(env.get("NPY_DISABLE_CPU_FEATURES", "").replace(",", " ").split() + _enabled_dispatch())
+    env["NPY_DISABLE_CPU_FEATURES"] = " ".join(off)
     if platform.machine().lower() in ("x86_64", "amd64"):
         env["OPENBLAS_CORETYPE"] = "Nehalem"  # SSE4.2: below NumPy's own x86-64 baseline
     src = str(Path(dtcrit.__file__).resolve().parents[1])
