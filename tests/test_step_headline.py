@@ -211,3 +211,40 @@ def test_default_headline_of_ellipsoids_never_exceeds_their_packing_step(capsys)
     assert res.basis == "any packing" and res.coordination.z >= 12
     assert res.dt_crit <= exact < res.dt_isolated  # the chain (2 contacts each) is already below the pair step
 
+
+
+def _ring_code_size(theta: float) -> int:
+    """A constructed set of points of S^2 pairwise at least ``theta`` apart (independent of the bound):
+    rings at polar angles ``j theta``, each holding as many points as fit at azimuth spacing ``d`` with
+    ``sin(phi) sin(d/2) >= sin(theta/2)`` (so every chord on a ring is at least the one of ``theta``)."""
+    count = 0
+    for j in range(int(math.pi / theta) + 1):
+        s = math.sin(j * theta)
+        if s <= math.sin(0.5 * theta):
+            count += 1  # a pole (or a ring too small for two points)
+            continue
+        count += int(math.pi / math.asin(math.sin(0.5 * theta) / s))
+    return count
+
+
+@pytest.mark.parametrize("small", [0.2, 0.05, 2e-3, 2e-4])
+def test_sphere_coordination_is_at_least_a_constructed_arrangement(small):
+    """Small spheres touching a unit sphere, not overlapping each other (overlap_max = 0): the coordination
+    bound must admit the arrangement built by ``_ring_code_size`` (at a size ratio of 5000 the contact-angle
+    count once stopped at a loop limit of 1e7 and was taken as a bound)."""
+    from dtcrit.scenes.coordination import sphere_coordination
+
+    theta = 2.0 * math.asin(small / (1.0 + small))
+    z, _ = sphere_coordination([small, 1.0], 0.0)
+    assert z >= _ring_code_size(theta)
+
+
+def test_a_user_written_integrator_gets_every_size_pair():
+    """The reduction to the extreme radii rests on the built-in steps being non-increasing in A, which
+    is not proven for a user's scheme: its scene is evaluated size pair by size pair."""
+    from dtcrit.scenes.timestep import _not_reducible
+
+    text = ('[[particle]]\nshape = "sphere"\nradii = [1e-3, 2e-3, 3e-3]\nfractions = [0.25, 0.5, 0.25]\n'
+            'density = 2500\n[contact]\nmodel = "linear"\nkn = 1e5\nks = 1e5\ncn = 0.1\n'
+            '[integrator]\nname = "mine"\nstate = ["x", "v"]\nupdate = ["v = v + h*f(x, v)", "x = x + h*v"]\n')
+    assert "user-written" in _not_reducible(parse_scene(text))

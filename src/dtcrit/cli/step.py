@@ -84,7 +84,7 @@ def _isolated_line(result) -> str:
         why = ("isolated = true in the scene" if result.scene.isolated else result.basis_note +
                "; the headline is the isolated-contact step")
         return f"  isolated contact: the headline is the two-particle step ({why}); a packing needs less (below)"
-    if not result.dt_isolated > 0:
+    if not (result.dt_isolated > 0 and result.dt_crit > 0):
         return f"  isolated contact: dt = {result.dt_isolated:.6g} s (two particles alone; set isolated = true to headline it)"
     return (f"  isolated contact: dt = {result.dt_isolated:.6g} s (two particles alone, {ratio_text(result.dt_isolated / result.dt_crit)} "
             "x dt_crit; not safe in a packing; set isolated = true to headline it)")

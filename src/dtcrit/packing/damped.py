@@ -189,8 +189,13 @@ def damped_critical_dt(packing: Packing, contacts: Contacts, integrator: str = "
     if integrator in UNCONDITIONALLY_UNSTABLE and not contacts.damped:
         raise InputError("integrator", f"{integrator!r} has no stable step on a packing without dashpots "
                                        "(|lambda|^2 = 1 + h^2 omega^2 > 1 for every mode and step)")
-    growth = physical_growth(k) if contacts.force_n is not None and np.any(contacts.force_n > 0) else 0.0
-    h, solves = critical_by_spectral_radius(k, c, integrator, dt_undamped, growth=growth)
+    if contacts.force_n is not None and np.any(contacts.force_n > 0):
+        growth = physical_growth(k)
+        if growth**2 > STATIC_INSTABILITY * top.value:
+            raise InputError("stiffness", f"the compressive pre-loads make the packing statically unstable "
+                                          f"(lambda_min(M^-1 K) = {-growth**2:.4g} 1/s^2 < 0): its motion grows "
+                                          f"whatever the step, and the critical step of {integrator!r} is not defined there")
+    h, solves = critical_by_spectral_radius(k, c, integrator, dt_undamped)
     return DampedStep(h, 0.0, dt_undamped, "bisection on the amplification operator's spectral radius",
                       None, solves + 1)
 
@@ -218,6 +223,12 @@ def amplification_operator(k, c, integrator: str, h: float) -> spla.LinearOperat
 
     return spla.LinearOperator((parts * n, parts * n), matvec=matvec, dtype=float)
 
+
+STATIC_INSTABILITY = 1e-9
+"""A lowest eigenvalue of ``K~`` below ``-STATIC_INSTABILITY * lambda_max`` is a physically growing mode
+(above it: rounding of the rigid-body modes at zero).  The spectral-radius route then refuses: the
+growth of the exact motion cannot be told apart from the scheme's, mode by mode, from the spectral radius
+alone (an allowance ``exp(h g)`` on the whole spectrum would admit a stiff mode growing by as much)."""
 
 DENSE_STATES = 600
 FALLBACK_STATES = 2400
@@ -249,7 +260,7 @@ def physical_growth(k) -> float:
     ``y'' = -K~ y - C~ y'`` (``C~`` positive semi-definite: a real root ``s`` of ``s^2 + c s + k = 0``
     with Rayleigh quotients ``c >= 0``, ``k >= lambda_min`` is at most ``sqrt(-k)``).  Compressive
     pre-loads can make ``K~`` indefinite (a statically unstable packing): that growth is physics, not
-    the integrator's instability, and is allowed for by ``critical_by_spectral_radius``."""
+    the integrator's instability, and ``damped_critical_dt`` refuses it on the spectral-radius route."""
     n = k.shape[0]
     if n <= FALLBACK_STATES:
         dense = k.toarray() if hasattr(k, "toarray") else k @ np.eye(n)
@@ -265,11 +276,9 @@ def physical_growth(k) -> float:
 
 
 def critical_by_spectral_radius(k, c, integrator: str, h_hi: float, *, rtol: float = 1e-7,
-                                slack: float = 1e-6, growth: float = 0.0) -> tuple[float, int]:
-    """Bisection for the largest ``h`` with spectral radius ``<= exp(h growth) (1 + slack)``, searched
-    below ``h_hi`` (doubled while stable).  ``growth`` [1/s] is the exact motion's own growth rate
-    (``physical_growth``: a statically unstable pre-loaded packing grows whatever the step; without it
-    the bisection would find the step where that physical growth per step reaches ``slack``).  The
+                                slack: float = 1e-6) -> tuple[float, int]:
+    """Bisection for the largest ``h`` with spectral radius ``<= 1 + slack``, searched below ``h_hi``
+    (doubled while stable; a statically unstable packing is refused before, ``STATIC_INSTABILITY``).  The
     slack covers rounding: undamped modes of a stable step sit on the unit circle, and the rigid-body
     modes of a packing are Jordan blocks at ``+1``, which rounding spreads by about ``sqrt(eps)``; a
     mode growing by less than ``1e-6`` a step is taken as stable.  An ARPACK failure raises
@@ -280,7 +289,7 @@ def critical_by_spectral_radius(k, c, integrator: str, h_hi: float, *, rtol: flo
 
     def stable(h: float) -> bool:
         try:
-            return spectral_radius(k, c, integrator, h) <= math.exp(h * growth) * (1.0 + slack)
+            return spectral_radius(k, c, integrator, h) <= 1.0 + slack
         except spla.ArpackNoConvergence:
             raise NotConvergedError("dt_crit [s]", lo, math.inf if doubling else hi, "ARPACK eigs (spectral radius)",
                                     f"at dt = {h:.6g} s after {solves} bisection steps") from None

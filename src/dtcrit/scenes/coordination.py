@@ -82,11 +82,23 @@ def sphere_cos_bounds(radii, overlap: float) -> tuple[np.ndarray, np.ndarray, np
     return lo, hi, _cos_bound_binned(lo, hi, overlap)
 
 
+def sphere_volume_count(lo: np.ndarray, hi: np.ndarray, r_min: float, r_max: float, overlap: float) -> np.ndarray:
+    """Volume count for a sphere of radius in ``[lo, hi]`` (the other-shapes argument of the module
+    docstring with balls): its neighbours shrunk by ``1 - eps`` are disjoint balls of radius at least
+    ``(1 - eps) r_min`` inside the ball of radius ``(1 + tau)(hi + r_max) + (1 - eps) r_max``, outside its
+    own shrunken ball.  Finite for every size ratio, where the angle argument may bound nothing."""
+    q = 1.0 - overlap
+    rho = (1.0 + CONTACT_TOLERANCE) * (hi + r_max) + q * r_max
+    return np.floor((rho**3 - (q * lo) ** 3) / (q * r_min) ** 3 * (1.0 + 1e-12))
+
+
 def sphere_coordination(radii, overlap: float) -> tuple[int, float]:
-    """The largest number of sphere neighbours a sphere with one of ``radii`` can have, and the radius
-    (lower end of its group) where it is attained."""
-    lo, _, cos_max = sphere_cos_bounds(radii, overlap)
-    counts = [max_code_size(math.acos(float(c))) for c in cos_max]
+    """The largest number of sphere neighbours a sphere with one of ``radii`` can have (the smaller of
+    the contact-angle and the volume count), and the radius (lower end of its group) where it is attained."""
+    lo, hi, cos_max = sphere_cos_bounds(radii, overlap)
+    r = np.asarray(radii, float)
+    volume = sphere_volume_count(lo, hi, float(r.min()), float(r.max()), overlap)
+    counts = [min(max_code_size(math.acos(float(c))), float(v)) for c, v in zip(cos_max, volume)]
     k = int(np.argmax(counts))
     return int(counts[k]), float(lo[k])
 

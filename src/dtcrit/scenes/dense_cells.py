@@ -133,23 +133,33 @@ TAMMES_13_DEG = 57.1367031  # Musin & Tarasov 2012: 13 points on S^2 have minima
 TAMMES_14_DEG = 55.6705700  # Musin & Tarasov 2015: 14 points on S^2 have minimal angle <= 55.6705700 deg
 
 
-def max_code_size(theta: float) -> int:
+def max_code_size(theta: float) -> float:
     """Largest number of points of S^2 that can be pairwise at least ``theta`` [rad] apart, bounded
     above (Lemma 5b): Fejes Toth's inequality ``sin^2(theta/2) <= 1 - 1/(4 sin^2(pi N/(6(N-2))))``
     for every N >= 3 points, sharpened to 12 (13) when theta exceeds the Tammes angle of 13 (14)
-    points (Musin & Tarasov 2012, 2015) with a margin of 1e-6 deg."""
+    points (Musin & Tarasov 2012, 2015) with a margin of 1e-6 deg.  ``math.inf`` when ``theta <= 0``
+    (no angle between the normals: the angle argument bounds nothing)."""
     if theta <= 0:
-        return 10**9
+        return math.inf
     deg = math.degrees(theta)
     if deg > TAMMES_13_DEG + 1e-6:
         return 12
     s2 = math.sin(0.5 * theta) ** 2 * (1.0 - 1e-12)
-    n = 3
-    while n < 10**7:
-        w = math.pi * (n + 1) / (6.0 * (n - 1))
-        if s2 > 1.0 - 1.0 / (4.0 * math.sin(w) ** 2):
-            break
-        n += 1
+
+    def impossible(n: int) -> bool:  # n + 1 points violate the inequality (monotone in n)
+        # 1 - 1/(4 sin^2 w) at w = pi/6 + a, written without cancellation: delta/(1 + delta) with
+        # delta = 4 sin^2 w - 1 = 4 sin(a) sin(pi/3 + a), a = pi/(3(n - 1))
+        a = math.pi / (3.0 * (n - 1))
+        delta = 4.0 * math.sin(a) * math.sin(math.pi / 3.0 + a)
+        return s2 > delta / (1.0 + delta)
+
+    lo, hi = 2, 3  # impossible(lo) is false (n >= 3 always fits), find hi with impossible(hi)
+    while not impossible(hi):
+        lo, hi = hi, 2 * hi
+    while hi - lo > 1:  # smallest n with impossible(n), by bisection (O(log n) evaluations)
+        mid = (lo + hi) // 2
+        lo, hi = (lo, mid) if impossible(mid) else (mid, hi)
+    n = hi
     if deg > TAMMES_14_DEG + 1e-6:
         n = min(n, 13)
     return n

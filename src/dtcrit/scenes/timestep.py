@@ -122,7 +122,11 @@ def _reducible(scene: Scene) -> bool:
 
 def _not_reducible(scene: Scene) -> str | None:
     """Why :func:`_reducible` does not hold (None when it does)."""
+    from dtcrit.integrators.schemes import INTEGRATORS
+
     law = scene.contact
+    if scene.integrator not in INTEGRATORS:  # its step is not proven non-increasing in A
+        return f"the user-written integrator {scene.integrator!r}"
     if law.bond is not None:
         return "a bond"
     if law.rotational is not None or any(w.kr or w.ktw or w.cr or w.ctw for w in scene.walls):
