@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
+from _packing_scene import sphere_sizes_toml
 from _multidof import spectral_radius
 from dtcrit.packing import LinearLaw, analyse, apply_law, find_sphere_contacts, lattice, mass_matrix, random_packing, stiffness_matrix
 from dtcrit.scenes.dense import DENSE_SCHEMES
@@ -30,14 +31,7 @@ def _overlap(packing) -> float:
 
 
 def _scene_for(packing, kn, ks, z, integrator="velocity-verlet", damping=""):
-    radii = np.unique(np.round(packing.radii, 15))
-    density = float(packing.masses[0] / (4 / 3 * math.pi * packing.radii[0] ** 3))
-    if radii.size == 1:
-        sizes = f"radius = {float(radii[0])!r}\n"
-    else:
-        fr = np.full(radii.size, 1.0 / radii.size)
-        fr[-1] = 1.0 - fr[:-1].sum()
-        sizes = f"radii = {[float(r) for r in radii]!r}\nfractions = {[float(f) for f in fr]!r}\n"
+    sizes, density = sphere_sizes_toml(packing)
     top = f'integrator = "{integrator}"\ncoordination_max = {z}\noverlap_max = {_overlap(packing) * (1 + 1e-9) + 1e-15!r}\n'
     return parse_scene(f'{top}[[particle]]\nshape = "sphere"\n{sizes}'
                        f'density = {density!r}\n[contact]\nmodel = "linear"\nkn = {kn!r}\nks = {ks!r}\n{damping}')

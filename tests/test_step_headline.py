@@ -20,6 +20,7 @@ import numpy as np
 import pytest
 from hypothesis import assume, given, settings, strategies as st
 
+from _packing_scene import sphere_sizes_toml
 from _multidof import spectral_radius
 from dtcrit.packing import LinearLaw, analyse, apply_law, find_sphere_contacts, lattice, mass_matrix, random_packing, stiffness_matrix
 from dtcrit.scenes.dense import block_terms, dense_step
@@ -39,14 +40,7 @@ def _overlap(packing) -> float:
 def _scene_text(packing, kn, ks, damping="", integrator="velocity-verlet"):
     """The scene of the packing's particles with no packing key (overlap_max only where the packing overlaps
     more than the default 5 %: the assumption the bound states)."""
-    radii = np.unique(np.round(packing.radii, 15))
-    density = float(packing.masses[0] / (4 / 3 * math.pi * packing.radii[0] ** 3))
-    if radii.size == 1:
-        sizes = f"radius = {float(radii[0])!r}\n"
-    else:
-        fr = np.full(radii.size, 1.0 / radii.size)
-        fr[-1] = 1.0 - fr[:-1].sum()
-        sizes = f"radii = {[float(r) for r in radii]!r}\nfractions = {[float(f) for f in fr]!r}\n"
+    sizes, density = sphere_sizes_toml(packing)
     eps = _overlap(packing)
     top = f'integrator = "{integrator}"\n' + (f"overlap_max = {eps * (1 + 1e-9) + 1e-15!r}\n" if eps > 0.05 else "")
     return (f'{top}[[particle]]\nshape = "sphere"\n{sizes}density = {density!r}\n'
