@@ -12,11 +12,11 @@ import math
 import numpy as np
 import sympy as sp
 
-from dtcrit.packing.contacts import find_sphere_contacts
-from dtcrit.packing.lattices import COORDINATION, lattice
+from dtcrit.packing.detection.overlaps import find_sphere_contacts
+from dtcrit.packing.generators.lattices import COORDINATION, lattice
 from dtcrit.packing.model import LinearLaw, Packing, apply_law
 from dtcrit.packing.report import analyse
-from dtcrit.packing.study import ESTIMATES, fit_alpha, ratio_summary, run_study
+from dtcrit.bench.packing_alpha_study import ESTIMATES, fit_alpha, ratio_summary, run_study
 
 RECORD = "otsubo_packings.md"
 
@@ -76,10 +76,10 @@ def lattice_corotation():
 
 
 def _localisation_row(seed: int, cn: float) -> str:
-    from dtcrit.packing.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
-    from dtcrit.packing.eigen import largest_mode
-    from dtcrit.packing.estimates import block_diagonal
-    from dtcrit.packing.random_packing import random_packing
+    from dtcrit.packing.operators.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
+    from dtcrit.packing.solvers.largest_mode import largest_mode
+    from dtcrit.packing.bounds.estimates import block_diagonal
+    from dtcrit.packing.generators.random_packing import random_packing
 
     p = random_packing(200, cn=cn, sizes="lognormal", spread=0.3, seed=seed)
     c = apply_law(find_sphere_contacts(p), LinearLaw(1.0, 1.0))
@@ -243,7 +243,7 @@ def build() -> str:
       f"packings of {rows[-1].report.n_particles} spheres (`random_packing`: random placement, FIRE overlap "
       "relaxation, one radius scale factor setting the mean coordination exactly; uniform sizes with spread 0.3, "
       "lognormal with $\\sigma_{\\ln R} = 0.3$), seeds 101-118.  Figure: "
-      "`python -m dtcrit.packing.study --plot alpha_vs_cn.png` (a copy is `examples/packings/alpha_vs_cn.png`).")
+      "`python -m dtcrit.bench.packing_alpha_study --plot alpha_vs_cn.png` (a copy is `examples/packings/alpha_vs_cn.png`).")
     w("")
     head = "| packing | CN mean | CN max | $\\alpha$ | top mode | " + " | ".join(ESTIMATES) + " |"
     w(head)

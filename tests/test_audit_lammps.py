@@ -49,7 +49,7 @@ def _damped_style(dump_path, normal: float, tangential: float) -> str:
     largest): with strong dashpots the growing mode of an unstable step sits on lightly loaded
     contacts, whose Coulomb limit at ``xmu = 0.5`` caps its growth after a factor ~1e6 in energy
     (measured), which a linear analysis does not describe."""
-    from dtcrit.packing.dump_io import read_dump
+    from dtcrit.packing.readers.lammps_dump import read_dump
 
     p = read_dump(dump_path)
     m_eff = float(sorted(p.masses)[p.n // 2]) / 2
@@ -98,10 +98,10 @@ def test_the_engines_own_contact_list_gives_the_same_step(capsys, tmp_path, tmp_
 def test_mid_overlap_arms_would_be_unsafe_on_lammps(tmp_path_factory):
     """Why the engine's arm matters: dtcrit's scene convention (arm R - delta/2) on the 3.6 %-overlap
     packing gives a step above LAMMPS's threshold."""
-    from dtcrit.packing.damped import damped_critical_dt
-    from dtcrit.packing.dump_io import read_dump
-    from dtcrit.packing.engines import ENGINES, engine_sphere_contacts, with_arms
-    from dtcrit.packing.pair_styles import apply_terms, parse_pair_style
+    from dtcrit.packing.solvers.damped_step import damped_critical_dt
+    from dtcrit.packing.readers.lammps_dump import read_dump
+    from dtcrit.packing.conventions.engines import ENGINES, engine_sphere_contacts, with_arms
+    from dtcrit.packing.conventions.pair_styles import apply_terms, parse_pair_style
 
     dump = _dump("hooke-overlap-3.6%", tmp_path_factory)
     path = tmp_path_factory.mktemp("mid") / "p.dump"

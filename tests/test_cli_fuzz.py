@@ -212,9 +212,9 @@ def heavy_work_stubbed():
     import importlib
 
     # by module path: dtcrit.packing re-exports functions named like some of its modules
-    lattices = importlib.import_module("dtcrit.packing.lattices")
-    random_packing = importlib.import_module("dtcrit.packing.random_packing")
-    scaling = importlib.import_module("dtcrit.packing.scaling")
+    lattices = importlib.import_module("dtcrit.packing.generators.lattices")
+    random_packing = importlib.import_module("dtcrit.packing.generators.random_packing")
+    scaling = importlib.import_module("dtcrit.bench.packing_scaling")
 
     def sweep_too_big(name, zeta, grid, n_phases, *a, **k):
         return len(grid) * n_phases > 20_000

@@ -43,7 +43,7 @@ def test_two_overlapping_spheres_closed_form_against_quadrature(r1, r2, d):
     assert cf.centre[0] == pytest.approx(xc, rel=1e-9, abs=1e-12 * r1)
     assert cf.second_moment[0, 0] == pytest.approx(sxx, rel=1e-9)
     assert cf.second_moment[1, 1] + cf.second_moment[2, 2] == pytest.approx(srr, rel=1e-9)
-    # and the mass and principal inertia of the Clump body to 1e-6, as issue 16 asks
+    # and the mass and principal inertia of the Clump body to 1e-6
     c = Clump([[0, 0, 0, r1], [d, 0, 0, r2]], density=1000.0)
     assert c.mass == pytest.approx(1000.0 * v, rel=1e-6)
     axial_moment, transverse = 1000.0 * srr, 1000.0 * (sxx + srr / 2)

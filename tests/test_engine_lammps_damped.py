@@ -10,13 +10,13 @@ so the contact dashpot is ``cn = meff gamman``; gamman is chosen for a contact d
 The top undamped mode of this lattice is a pure rotation (three-fold degenerate), which a normal
 dashpot does not touch, so its modal damping ratio is 0; the step is governed by another,
 damped, translational mode.  dtcrit predicts it with
-``dtcrit.packing.damped.damped_critical_dt(packing, contacts.with_damping(cn, 0))``, the exact step
+``dtcrit.packing.solvers.damped_step.damped_critical_dt(packing, contacts.with_damping(cn, 0))``, the exact step
 of the whole damped packing.  Checks, LAMMPS being the reference:
   * bounded at 0.99x and growing at 1.01x of that step (and bounded at its lower bound ``dt_lower``);
   * LAMMPS's threshold extrapolated from its growth rates just above it (a damped critical mode
     crosses the unit circle with non-zero speed: ln z linear in dt) equals it to 1e-5;
   * the two routes available before are wrong on this case: the modal route (the top undamped
-    mode with its modal damping ratio, ``dtcrit.packing.damping.integrator_dt``) is 22 % above
+    mode with its modal damping ratio, ``dtcrit.packing.solvers.integrator_step.integrator_dt``) is 22 % above
     LAMMPS's threshold, where LAMMPS grows; the per-contact zeta applied to that mode is 24 % below.
 """
 from __future__ import annotations
@@ -54,7 +54,7 @@ def lmp() -> str:
 
 @pytest.fixture(scope="module")
 def predicted():
-    from dtcrit.packing.damped import damped_critical_dt
+    from dtcrit.packing.solvers.damped_step import damped_critical_dt
 
     packing, contacts = _packing_and_contacts()
     return damped_critical_dt(packing, contacts, integrator="velocity-verlet")
@@ -84,9 +84,9 @@ def test_lammps_threshold_equals_the_damped_step(predicted, lammps_threshold):
 
 
 def test_modal_route_is_unsafe_and_per_contact_zeta_too_cautious(lmp, predicted, lammps_threshold):
-    from dtcrit.packing.damped import scaled_matrices
-    from dtcrit.packing.damping import integrator_dt
-    from dtcrit.packing.eigen import largest_mode
+    from dtcrit.packing.solvers.damped_step import scaled_matrices
+    from dtcrit.packing.solvers.integrator_step import integrator_dt
+    from dtcrit.packing.solvers.largest_mode import largest_mode
 
     packing, contacts = _packing_and_contacts()
     k, c = scaled_matrices(packing, contacts)

@@ -120,7 +120,7 @@ def test_bcc_mechanism_buckles_at_the_geometric_stiffness_rate(lmp):
     """BCC, ks = 0, at half dtcrit's step: LAMMPS's kinetic energy grows as exp(2 lambda t) with
     lambda^2 = -lambda_min(M^-1 (K + K_geo)), K_geo from the contacts' normal force kn*delta0."""
     from dtcrit.packing import stiffness_matrix
-    from dtcrit.packing.assembly import mass_diagonal
+    from dtcrit.packing.operators.assembly import mass_diagonal
 
     case = LatticeCase(ContactLaw(KN, kt=0.0), "bcc", CELLS["bcc"], SPHERE)
     packing, contacts = _overlapped("bcc", 0.0, case)

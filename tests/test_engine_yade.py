@@ -88,7 +88,7 @@ def _leapfrog_step(packing, contacts) -> float:
 def lattice_prediction(case: LatticeCase) -> float:
     """dtcrit's step for the YADE lattice: dtcrit's lattice geometry at the case's spacing."""
     from dtcrit.packing import Packing, find_sphere_contacts
-    from dtcrit.packing.lattices import lattice_positions
+    from dtcrit.packing.generators.lattices import lattice_positions
 
     delta = case.overlap * case.radius
     x, box = lattice_positions(case.lattice, case.cells, (2.0 * case.radius - delta) / 2.0)

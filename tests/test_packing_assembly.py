@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from dtcrit.packing.assembly import mass_diagonal, mass_matrix, scale_symmetric, stiffness_matrix
-from dtcrit.packing.contacts import convex_penetration, find_convex_contacts, find_sphere_contacts
-from dtcrit.packing.eigen import rotational_fraction
-from dtcrit.packing.estimates import peng_a_max
+from dtcrit.packing.operators.assembly import mass_diagonal, mass_matrix, scale_symmetric, stiffness_matrix
+from dtcrit.packing.detection.overlaps import convex_penetration, find_convex_contacts, find_sphere_contacts
+from dtcrit.packing.solvers.largest_mode import rotational_fraction
+from dtcrit.packing.bounds.estimates import peng_a_max
 from dtcrit.packing.model import Box, HertzMindlinLaw, LinearLaw, Packing, apply_law
 from dtcrit.packing.report import analyse
 
@@ -202,7 +202,7 @@ def test_rigid_body_modes():
     assert np.all(c.overlap > 0)
     w = _omega2_all(p, c)
     assert np.sum(w < 1e-10 * w.max()) == 6
-    from dtcrit.packing.lattices import lattice
+    from dtcrit.packing.generators.lattices import lattice
     for name, zeros in (("fcc", 3), ("bcc", 6)):
         p = lattice(name, 2, mass=1.0)
         w = _omega2_all(p, apply_law(find_sphere_contacts(p), LinearLaw(1.0, 0.5)))
@@ -218,7 +218,7 @@ def test_mass_matrix():
 
 
 def test_symmetric_and_positive_semidefinite():
-    from dtcrit.packing.random_packing import random_packing
+    from dtcrit.packing.generators.random_packing import random_packing
     p = random_packing(40, cn=7, sizes="lognormal", spread=0.4, seed=5)
     c = apply_law(find_sphere_contacts(p), LinearLaw(1.0, 0.7))
     k = stiffness_matrix(p, c).toarray()
@@ -343,7 +343,7 @@ def test_degenerate_top_eigenspace_is_named_as_such():
     """FCC with k_s/k_n = 1/4: omega_max^2 = 10 k/m six times over, spanned by translational and
     rotational modes alike, so the label must not depend on which member the solver returns."""
     from dtcrit.packing import lattice
-    from dtcrit.packing.eigen import mode_character
+    from dtcrit.packing.solvers.largest_mode import mode_character
 
     p = lattice("fcc", 2, mass=1.0)
     rep = analyse(p, LinearLaw(1.0, 0.25))

@@ -11,10 +11,10 @@ import itertools
 import numpy as np
 import pytest
 
-from dtcrit.packing.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
-from dtcrit.packing.contacts import find_sphere_contacts
-from dtcrit.packing.eigen import largest_mode
-from dtcrit.packing.lattices import lattice
+from dtcrit.packing.operators.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
+from dtcrit.packing.detection.overlaps import find_sphere_contacts
+from dtcrit.packing.solvers.largest_mode import largest_mode
+from dtcrit.packing.generators.lattices import lattice
 from dtcrit.packing.model import LinearLaw, apply_law
 
 R = 1.0

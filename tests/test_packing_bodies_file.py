@@ -1,5 +1,5 @@
 """``dtcrit packing BODIES.json``: packings of non-spherical bodies from a ``dtcrit-bodies/1`` file
-(``dtcrit.packing.bodies_file``), against eigen-solves assembled here and the Python route."""
+(``dtcrit.packing.readers.bodies_file``), against eigen-solves assembled here and the Python route."""
 from __future__ import annotations
 
 import json
@@ -118,7 +118,7 @@ def _lattice(rotation: Rotation, semi_axes, cells=2):
 
 def test_periodic_lattice_file_equals_python_from_shapes(tmp_path, capsys):
     from dtcrit.bodies import Ellipsoid
-    from dtcrit.packing.contacts import find_convex_contacts
+    from dtcrit.packing.detection.overlaps import find_convex_contacts
     from dtcrit.packing.model import Box, LinearLaw, Packing
     from dtcrit.packing.report import analyse
 
@@ -146,7 +146,7 @@ def test_periodic_lattice_file_equals_python_from_shapes(tmp_path, capsys):
 def test_listed_contacts_replace_the_command_line_law(tmp_path, capsys):
     """Per-contact kn/ks from the file: equal springs everywhere reproduce the --kn/--ks run; a
     different spring on one contact changes the result; the Python reader agrees."""
-    from dtcrit.packing.bodies_file import read_bodies_file
+    from dtcrit.packing.readers.bodies_file import read_bodies_file
     from dtcrit.packing.report import analyse
     from dtcrit.scenes.scene import parse_particle
 
@@ -320,7 +320,7 @@ def _sphere_doc(n, seed, box=None, extra=()):
 
 def test_sphere_bodies_are_the_sphere_packing_of_a_dump(tmp_path, capsys):
     """Spheres only: the same contacts and omega_max as the same spheres read from a LAMMPS dump."""
-    from dtcrit.packing.dump_io import format_dump
+    from dtcrit.packing.readers.lammps_dump import format_dump
     from dtcrit.packing.model import Box, Packing
 
     length = 6e-3
@@ -340,8 +340,8 @@ def test_spheres_beside_an_ellipsoid_meet_as_by_the_support_functions(tmp_path):
     """Mixed bodies: sphere pairs are found all at once, the pairs with the ellipsoid by penetration;
     both agree with ``find_convex_contacts`` (penetration for every pair) on the same shapes."""
     from dtcrit.bodies import Ellipsoid, Sphere
-    from dtcrit.packing.bodies_file import read_bodies_file
-    from dtcrit.packing.contacts import find_convex_contacts
+    from dtcrit.packing.readers.bodies_file import read_bodies_file
+    from dtcrit.packing.detection.overlaps import find_convex_contacts
     from dtcrit.packing.model import Packing
     from dtcrit.scenes.scene import parse_particle
 
@@ -364,7 +364,7 @@ def test_twenty_thousand_sphere_bodies_read_in_seconds(tmp_path):
     """One penetration per pair took ~4 ms a body (80 s here); the sphere route reads them at once."""
     import time
 
-    from dtcrit.packing.bodies_file import read_bodies_file
+    from dtcrit.packing.readers.bodies_file import read_bodies_file
     from dtcrit.scenes.scene import parse_particle
 
     doc, _, _ = _sphere_doc(20_000, 7)
@@ -388,7 +388,7 @@ def test_audit_of_a_bodies_file_names_its_schema_not_a_yade_export(extra, capsys
 def test_progress_shows_on_a_terminal_only_after_its_delay():
     import io
 
-    from dtcrit.packing.body_contacts import Progress
+    from dtcrit.packing.detection.body_contacts import Progress
 
     class Terminal(io.StringIO):
         def isatty(self):

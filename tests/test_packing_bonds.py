@@ -18,8 +18,8 @@ import pytest
 
 from dtcrit.integrators.schemes import INTEGRATORS, LinearForce
 from dtcrit.packing import Packing, analyse, find_sphere_contacts
-from dtcrit.packing.assembly import damping_matrix, mass_diagonal, scale_symmetric, stiffness_matrix
-from dtcrit.packing.damped import damped_critical_dt
+from dtcrit.packing.operators.assembly import damping_matrix, mass_diagonal, scale_symmetric, stiffness_matrix
+from dtcrit.packing.solvers.damped_step import damped_critical_dt
 
 R, RHO, KN = 1.0e-3, 2500.0, 1.0e5
 

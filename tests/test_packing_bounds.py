@@ -7,11 +7,11 @@ import pytest
 import scipy.linalg as sla
 from hypothesis import given, settings, strategies as st
 
-from dtcrit.packing.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
-from dtcrit.packing.contacts import find_sphere_contacts
-from dtcrit.packing.eigen import largest_mode
+from dtcrit.packing.operators.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
+from dtcrit.packing.detection.overlaps import find_sphere_contacts
+from dtcrit.packing.solvers.largest_mode import largest_mode
 from dtcrit.packing.model import HertzMindlinLaw, LinearLaw, Packing, apply_law
-from dtcrit.packing.random_packing import random_packing
+from dtcrit.packing.generators.random_packing import random_packing
 from dtcrit.packing.report import analyse
 
 decades = lambda lo, hi: st.floats(lo, hi).map(lambda e: 10.0**e)  # noqa: E731

@@ -1,4 +1,4 @@
-"""The certified bracket (dtcrit.packing.certificate): the inertia count of sigma I - A matches the
+"""The certified bracket (dtcrit.packing.solvers.certificate): the inertia count of sigma I - A matches the
 number of eigenvalues above sigma from a dense eigen-solve (scipy.linalg.eigvalsh, the independent
 reference), on a degenerate top eigenspace too; an unconverged Ritz value, whose step is unsafe, is
 not certified and the bracket falls back to dt_safe, which stays below the true step."""
@@ -11,15 +11,15 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
-from dtcrit.packing.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
-from dtcrit.packing.certificate import bracket, certify
-from dtcrit.packing.contacts import find_sphere_contacts
-from dtcrit.packing.eigen import largest_mode
-from dtcrit.packing.estimates import block_diagonal, gershgorin
-from dtcrit.packing.lattices import lattice
+from dtcrit.packing.operators.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
+from dtcrit.packing.solvers.certificate import bracket, certify
+from dtcrit.packing.detection.overlaps import find_sphere_contacts
+from dtcrit.packing.solvers.largest_mode import largest_mode
+from dtcrit.packing.bounds.estimates import block_diagonal, gershgorin
+from dtcrit.packing.generators.lattices import lattice
 from dtcrit.packing.model import LinearLaw, apply_law
-from dtcrit.packing.operator import ContactOperator
-from dtcrit.packing.random_packing import random_packing
+from dtcrit.packing.operators.matrix_free import ContactOperator
+from dtcrit.packing.generators.random_packing import random_packing
 from dtcrit.packing.report import analyse
 
 

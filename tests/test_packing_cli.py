@@ -83,8 +83,8 @@ def test_progress_lines_when_asked(monkeypatch, capsys):
 
     import numpy as np
 
-    import dtcrit.packing.assembly as assembly
-    import dtcrit.packing.eigen as eigen
+    import dtcrit.packing.operators.assembly as assembly
+    import dtcrit.packing.solvers.largest_mode as eigen
     from dtcrit.packing import LinearLaw, apply_law, find_sphere_contacts, largest_mode, lattice, stiffness_matrix
 
     monkeypatch.setattr(sys.stderr, "isatty", lambda: True, raising=False)
@@ -110,7 +110,7 @@ def test_no_progress_when_piped(capsys):
 
 
 def test_scaling_helpers():
-    from dtcrit.packing.scaling import fit_exponent, parse_sizes, run_one
+    from dtcrit.bench.packing_scaling import fit_exponent, parse_sizes, run_one
 
     assert parse_sizes("1e3,2000") == [1000, 2000]
     assert fit_exponent([1e3, 1e4, 1e5], [2.0, 20.0, 200.0]) == pytest.approx(1.0)
@@ -125,7 +125,7 @@ def test_a_packing_too_big_for_the_memory_is_refused_before_any_work(capsys, mon
     a minute (the estimate is per sphere as measured by the scale benchmark)."""
     import time
 
-    import dtcrit.packing.memory as memory
+    import dtcrit.packing.solvers.memory as memory
 
     monkeypatch.setattr(memory, "available_bytes", lambda: 24.0 * 2**30)
     start = time.perf_counter()

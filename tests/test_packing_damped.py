@@ -1,4 +1,4 @@
-"""The exact critical step of packings with per-contact dashpots (``dtcrit.packing.damped``).
+"""The exact critical step of packings with per-contact dashpots (``dtcrit.packing.solvers.damped_step``).
 
 References, each from another route than the code under test:
 * two spheres: the 1-DOF root of the lagged central difference, ``4 - 2 h c A - h^2 k A = 0``,
@@ -18,9 +18,9 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from dtcrit.integrators.schemes import INTEGRATORS
-from dtcrit.packing.contacts import find_contacts
-from dtcrit.packing.damped import damped_critical_dt, scaled_matrices
-from dtcrit.packing.lattices import lattice
+from dtcrit.packing.detection.overlaps import find_contacts
+from dtcrit.packing.solvers.damped_step import damped_critical_dt, scaled_matrices
+from dtcrit.packing.generators.lattices import lattice
 from dtcrit.packing.model import LinearLaw, Packing, apply_law
 
 
@@ -79,7 +79,7 @@ def test_the_root_is_where_the_amplification_matrix_leaves_the_unit_disk(integra
 def test_a_mode_other_than_the_top_undamped_one_governs():
     """Strong dashpots on the normal springs only: the modal route (top undamped mode and its modal
     damping ratio) is not the answer, the exact one is (checked against the dense matrix above)."""
-    from dtcrit.packing.damping import integrator_dt
+    from dtcrit.packing.solvers.integrator_step import integrator_dt
 
     p = lattice("fcc", 2, radius=1.0, density=1.0)
     c = apply_law(find_contacts(p, tolerance=1e-6), LinearLaw(1e4, 1e4))
@@ -99,7 +99,7 @@ def test_a_mode_other_than_the_top_undamped_one_governs():
 
 
 def test_proportional_damping_is_the_modal_answer():
-    from dtcrit.packing.damping import integrator_dt
+    from dtcrit.packing.solvers.integrator_step import integrator_dt
 
     p = lattice("bcc", 2, radius=1.0, density=1.0)
     c = apply_law(find_contacts(p, tolerance=1e-6), LinearLaw(1e4, 3e3))

@@ -7,10 +7,10 @@ import pytest
 
 from dtcrit.cli import main
 from dtcrit.errors import InputError
-from dtcrit.packing.contacts import find_sphere_contacts
-from dtcrit.packing.dump_io import format_dump, read_dump
-from dtcrit.packing.lattices import lattice
-from dtcrit.packing.random_packing import random_packing
+from dtcrit.packing.detection.overlaps import find_sphere_contacts
+from dtcrit.packing.readers.lammps_dump import format_dump, read_dump
+from dtcrit.packing.generators.lattices import lattice
+from dtcrit.packing.generators.random_packing import random_packing
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "packings" / "random_lognormal_60.dump"
 

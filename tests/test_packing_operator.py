@@ -1,7 +1,7 @@
-"""The matrix-free operator (dtcrit.packing.operator) equals the assembled matrices it replaces:
+"""The matrix-free operator (dtcrit.packing.operators.matrix_free) equals the assembled matrices it replaces:
 products, diagonal blocks, Gershgorin rows, omega_max of `analyse` and the damped step, on lattices
 (self-image contacts included), random packings, rotated bodies, rolling/twisting springs, pre-load
-and dashpots.  References: the assembled scipy.sparse matrices (dtcrit.packing.assembly, checked
+and dashpots.  References: the assembled scipy.sparse matrices (dtcrit.packing.operators.assembly, checked
 against dense eigen-solves and simulations in test_packing_assembly.py) and dense scipy.linalg.eigh."""
 from __future__ import annotations
 
@@ -12,15 +12,15 @@ import pytest
 import scipy.linalg as sla
 from scipy.spatial.transform import Rotation
 
-from dtcrit.packing import operator_kernels
-from dtcrit.packing.assembly import damping_matrix, mass_diagonal, scale_symmetric, stiffness_matrix
-from dtcrit.packing.contacts import find_sphere_contacts
-from dtcrit.packing.damped import damped_critical_dt
-from dtcrit.packing.estimates import block_diagonal, diagonal_stiffness, gershgorin
-from dtcrit.packing.lattices import lattice
+from dtcrit.packing.operators import matrix_free_kernels as operator_kernels
+from dtcrit.packing.operators.assembly import damping_matrix, mass_diagonal, scale_symmetric, stiffness_matrix
+from dtcrit.packing.detection.overlaps import find_sphere_contacts
+from dtcrit.packing.solvers.damped_step import damped_critical_dt
+from dtcrit.packing.bounds.estimates import block_diagonal, diagonal_stiffness, gershgorin
+from dtcrit.packing.generators.lattices import lattice
 from dtcrit.packing.model import LinearLaw, Packing, apply_law
-from dtcrit.packing.operator import CombinedOperator, ContactOperator
-from dtcrit.packing.random_packing import random_packing
+from dtcrit.packing.operators.matrix_free import CombinedOperator, ContactOperator
+from dtcrit.packing.generators.random_packing import random_packing
 from dtcrit.packing.report import analyse
 
 PATHS = [False] + ([True] if operator_kernels.available() else [])

@@ -6,10 +6,10 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from dtcrit.errors import InputError
-from dtcrit.packing.contacts import find_sphere_contacts
-from dtcrit.packing.lattices import COORDINATION, LATTICES, lattice
+from dtcrit.packing.detection.overlaps import find_sphere_contacts
+from dtcrit.packing.generators.lattices import COORDINATION, LATTICES, lattice
 from dtcrit.packing.model import Box, Packing
-from dtcrit.packing.random_packing import random_packing, sample_radii
+from dtcrit.packing.generators.random_packing import random_packing, sample_radii
 
 
 def _brute_force_contacts(packing, tol=1e-9):

@@ -67,7 +67,7 @@ def test_zero_matrix_with_stored_zeros_is_not_given_to_arpack():
     omega_max = 0; ARPACK is never started on it (it would start from a zero vector)."""
     import scipy.sparse as sps
 
-    from dtcrit.packing.eigen import largest_mode
+    from dtcrit.packing.solvers.largest_mode import largest_mode
 
     a = sps.random(900, 900, density=0.01, random_state=1, format="csr")
     a.data[:] = 0.0
@@ -87,8 +87,8 @@ def test_sphere_wider_than_its_periodic_box_is_refused(command, tmp_path):
 
 def test_sphere_touching_its_own_image_is_kept():
     """A box exactly one diameter wide (the sphere touches its images at zero overlap) stays valid."""
-    from dtcrit.packing.contacts import find_sphere_contacts
-    from dtcrit.packing.lattices import lattice
+    from dtcrit.packing.detection.overlaps import find_sphere_contacts
+    from dtcrit.packing.generators.lattices import lattice
 
     assert find_sphere_contacts(lattice("sc", 1)).count == 3
 
@@ -97,11 +97,11 @@ def test_not_converged_bracket_holds_the_dense_value():
     """ARPACK stopped after one restart: ``NotConvergedError`` carries a bracket on omega_max^2 that
     holds the value of a dense eigen-solve of the same matrix (the independent route)."""
     from dtcrit.errors import NotConvergedError
-    from dtcrit.packing.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
-    from dtcrit.packing.contacts import find_sphere_contacts
-    from dtcrit.packing.eigen import largest_mode
+    from dtcrit.packing.operators.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
+    from dtcrit.packing.detection.overlaps import find_sphere_contacts
+    from dtcrit.packing.solvers.largest_mode import largest_mode
     from dtcrit.packing.model import LinearLaw, apply_law
-    from dtcrit.packing.lattices import lattice
+    from dtcrit.packing.generators.lattices import lattice
 
     p = lattice("fcc", 3, radius=1e-3, density=2650.0)
     c = apply_law(find_sphere_contacts(p), LinearLaw(1e5, 3e4))
@@ -120,9 +120,9 @@ def test_not_converged_in_the_cli_reports_the_dt_bracket(monkeypatch, capsys):
 
     import dtcrit.packing.report as report
     from dtcrit.cli import main
-    from dtcrit.packing.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
-    from dtcrit.packing.contacts import find_sphere_contacts
-    from dtcrit.packing.lattices import lattice
+    from dtcrit.packing.operators.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
+    from dtcrit.packing.detection.overlaps import find_sphere_contacts
+    from dtcrit.packing.generators.lattices import lattice
     from dtcrit.packing.model import LinearLaw, apply_law
 
     real = report.largest_mode
@@ -148,10 +148,10 @@ def test_forward_euler_on_a_statically_unstable_packing_is_refused(tmp_path):
     growth per step reached the slack), then a step that let stiff modes grow as fast as the physical
     one; now one line naming the flag that set the contact law."""
     from dtcrit.errors import InputError
-    from dtcrit.packing.damped import damped_critical_dt, scaled_matrices
-    from dtcrit.packing.dump_io import read_dump
-    from dtcrit.packing.engines import engine_convention, engine_sphere_contacts, with_arms
-    from dtcrit.packing.pair_styles import apply_terms, parse_pair_style
+    from dtcrit.packing.solvers.damped_step import damped_critical_dt, scaled_matrices
+    from dtcrit.packing.readers.lammps_dump import read_dump
+    from dtcrit.packing.conventions.engines import engine_convention, engine_sphere_contacts, with_arms
+    from dtcrit.packing.conventions.pair_styles import apply_terms, parse_pair_style
 
     packing = read_dump(DUMP)
     style = parse_pair_style(PRELOADED_STYLE)
@@ -180,7 +180,7 @@ def test_memory_guard_reads_the_address_space_limit(tmp_path):
 
 
 def test_available_bytes_is_the_least_of_the_limits(monkeypatch, tmp_path):
-    import dtcrit.packing.memory as memory
+    import dtcrit.packing.solvers.memory as memory
 
     monkeypatch.setattr(memory, "_meminfo", lambda: 8e9)
     monkeypatch.setattr(memory, "_rlimit_as", lambda: 3e9)
@@ -207,7 +207,7 @@ def test_a_random_packing_that_would_not_finish_is_refused(tmp_path):
 def test_random_packing_draws_progress_on_a_terminal(monkeypatch, capsys):
     import importlib
 
-    rp = importlib.import_module("dtcrit.packing.random_packing")
+    rp = importlib.import_module("dtcrit.packing.generators.random_packing")
     monkeypatch.setattr(rp, "PROGRESS_SPHERES", 10)
     monkeypatch.setattr(sys.stderr, "isatty", lambda: True, raising=False)
     rp.random_packing(40, cn=6.0, max_steps=5)
@@ -217,7 +217,7 @@ def test_random_packing_draws_progress_on_a_terminal(monkeypatch, capsys):
 def test_default_certificate_costs_a_few_eigen_solves():
     """The automatic certificate is skipped when its factorisation would cost more than
     CERTIFY_BUDGET eigen-solves (FCC at 24k DOFs: was 107 s and 3.4 GiB)."""
-    from dtcrit.packing.certificate import factor_bytes, factor_seconds
+    from dtcrit.packing.solvers.certificate import factor_bytes, factor_seconds
     from dtcrit.packing.report import CERTIFY_BUDGET, auto_certifies
 
     assert auto_certifies(3000, 12.0, 0.01)  # the sparse route: under a second (measured 0.8 s)
@@ -256,10 +256,10 @@ def test_bad_values_name_the_flag(args, start, tmp_path):
 def test_damped_newton_not_converged_keeps_a_valid_bracket(monkeypatch):
     """The lagged (velocity-Verlet) route stopped early: the bracket it reports holds the step found
     when the eigen-solver is allowed to converge (Newton from above; the rigorous lower bound below)."""
-    import dtcrit.packing.damped as damped
+    import dtcrit.packing.solvers.damped_step as damped
     from dtcrit.errors import NotConvergedError
-    from dtcrit.packing.lattices import lattice
-    from dtcrit.packing.contacts import find_sphere_contacts
+    from dtcrit.packing.generators.lattices import lattice
+    from dtcrit.packing.detection.overlaps import find_sphere_contacts
     from dtcrit.packing.model import LinearLaw, apply_law
 
     p = lattice("fcc", 3, radius=1e-3, density=2650.0)
@@ -291,7 +291,7 @@ def test_forward_euler_without_dashpots_is_refused_at_once(tmp_path):
 @pytest.mark.parametrize("command", ["packing", "audit"])
 def test_memory_error_is_one_line(command, monkeypatch, capsys):
     """A MemoryError the guard did not foresee (another process took the memory) is one line, exit 2."""
-    import dtcrit.packing.audit as audit_module
+    import dtcrit.packing.audit.snapshot as audit_module
     import dtcrit.packing.report as report
     from dtcrit.cli import main
 

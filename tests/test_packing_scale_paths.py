@@ -12,15 +12,15 @@ import pytest
 import scipy.linalg as sla
 from scipy.spatial.transform import Rotation
 
-from dtcrit.packing import estimate_kernels
-from dtcrit.packing.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
-from dtcrit.packing.contacts import find_sphere_contacts
-from dtcrit.packing.eigen import chebyshev_start, largest_mode
-from dtcrit.packing.estimates import single_contact_frequencies
-from dtcrit.packing.lattices import lattice
+from dtcrit.packing.bounds import estimate_kernels
+from dtcrit.packing.operators.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
+from dtcrit.packing.detection.overlaps import find_sphere_contacts
+from dtcrit.packing.solvers.largest_mode import chebyshev_start, largest_mode
+from dtcrit.packing.bounds.estimates import single_contact_frequencies
+from dtcrit.packing.generators.lattices import lattice
 from dtcrit.packing.model import Box, LinearLaw, Packing, apply_law
-from dtcrit.packing.operator import stiffness_operator
-from dtcrit.packing.random_packing import random_packing
+from dtcrit.packing.operators.matrix_free import stiffness_operator
+from dtcrit.packing.generators.random_packing import random_packing
 
 FIELDS = ("i", "j", "normal", "arm_i", "arm_j", "overlap", "image", "radius_eff")
 
@@ -103,7 +103,7 @@ def test_compiled_single_contact_frequency_equals_its_two_body_eigenproblem():
     contact's 3 x 3 matrix formed and solved at 50 digits (mpmath)."""
     import mpmath as mp
 
-    from dtcrit.packing.assembly import contact_kinematics
+    from dtcrit.packing.operators.assembly import contact_kinematics
 
     p, c = _varied(4)[0]
     fast = single_contact_frequencies(p, c, compiled=True)
@@ -161,7 +161,7 @@ def test_chebyshev_start_raises_the_rayleigh_quotient_and_survives_a_zero_operat
 
 def test_the_lean_polish_of_very_large_operators_equals_the_dense_solve(monkeypatch):
     """Above ``LEAN_DOFS`` the Chebyshev start is polished by ARPACK on 4 Lanczos vectors."""
-    from dtcrit.packing import eigen
+    from dtcrit.packing.solvers import largest_mode as eigen
 
     op, a = _lattice_operator()
     monkeypatch.setattr(eigen, "LEAN_DOFS", 10)
@@ -171,7 +171,7 @@ def test_the_lean_polish_of_very_large_operators_equals_the_dense_solve(monkeypa
 
 
 def test_the_sphere_loop_equals_the_general_loop_and_is_chosen_only_for_sphere_contacts():
-    from dtcrit.packing import operator_kernels
+    from dtcrit.packing.operators import matrix_free_kernels as operator_kernels
 
     if not operator_kernels.available():
         pytest.skip("the compiled loops need Numba")

@@ -10,10 +10,10 @@ Velocity Verlet (the central-difference family) must stay bounded at 0.99 dt_cri
 import numpy as np
 import pytest
 
-from dtcrit.packing.contacts import find_sphere_contacts
-from dtcrit.packing.lattices import lattice
+from dtcrit.packing.detection.overlaps import find_sphere_contacts
+from dtcrit.packing.generators.lattices import lattice
 from dtcrit.packing.model import LinearLaw, apply_law
-from dtcrit.packing.random_packing import random_packing
+from dtcrit.packing.generators.random_packing import random_packing
 from dtcrit.packing.report import analyse
 
 

@@ -21,14 +21,14 @@ import numpy as np
 import pytest
 import scipy.sparse.linalg as spla
 
-from dtcrit.packing.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
-from dtcrit.packing.contacts import find_sphere_contacts, wrap_positions
-from dtcrit.packing.dump_io import read_dump, write_dump
-from dtcrit.packing.lattices import lattice
+from dtcrit.packing.operators.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
+from dtcrit.packing.detection.overlaps import find_sphere_contacts, wrap_positions
+from dtcrit.packing.readers.lammps_dump import read_dump, write_dump
+from dtcrit.packing.generators.lattices import lattice
 from dtcrit.packing.model import Box, HertzMindlinLaw, Packing, apply_law
-from dtcrit.packing.random_packing import random_packing
-from dtcrit.packing.scaling import jittered_fcc
-from dtcrit.packing.slab_contacts import morton_order, slab_sphere_contacts, split_rows
+from dtcrit.packing.generators.random_packing import random_packing
+from dtcrit.bench.packing_scaling import jittered_fcc
+from dtcrit.packing.distributed.slab_contacts import morton_order, slab_sphere_contacts, split_rows
 
 ROOT = Path(__file__).resolve().parents[1]
 MPI_PY = ROOT / ".venv-mpi" / "bin" / "python"
@@ -149,9 +149,9 @@ def test_a_slab_error_is_one_line_from_its_rank(tmp_path):
 
 
 def test_the_scale_benchmark_runs_on_two_ranks():
-    """``python -m dtcrit.packing.slepc_scaling`` (the README's measured table): one JSON line whose
+    """``python -m dtcrit.bench.slepc_scaling`` (the README's measured table): one JSON line whose
     ranks' contacts add up to the serial count."""
-    cmd = [_mpi_or_skip(), "-n", "2", str(MPI_PY), "-m", "dtcrit.packing.slepc_scaling", "500", "fcc"]
+    cmd = [_mpi_or_skip(), "-n", "2", str(MPI_PY), "-m", "dtcrit.bench.slepc_scaling", "500", "fcc"]
     proc = subprocess.run(cmd, capture_output=True, text=True, env=_mpi_env(), cwd=ROOT, timeout=300)
     assert proc.returncode == 0, proc.stderr[-3000:]
     doc = json.loads(proc.stdout)

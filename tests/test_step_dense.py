@@ -16,7 +16,7 @@ from hypothesis import given, settings, strategies as st
 
 from _packing_scene import sphere_sizes_toml
 from _multidof import spectral_radius
-from dtcrit.packing import LinearLaw, analyse, apply_law, find_sphere_contacts, lattice, mass_matrix, random_packing, stiffness_matrix
+from dtcrit.packing import LinearLaw, analyse, apply_law, find_sphere_contacts, lattice, mass_matrix, stiffness_matrix, random_packing
 from dtcrit.scenes.dense import DENSE_SCHEMES
 from dtcrit.scenes.scene import parse_scene
 from dtcrit.scenes.timestep import critical_step

@@ -22,7 +22,7 @@ from hypothesis import assume, given, settings, strategies as st
 
 from _packing_scene import sphere_sizes_toml
 from _multidof import spectral_radius
-from dtcrit.packing import LinearLaw, analyse, apply_law, find_sphere_contacts, lattice, mass_matrix, random_packing, stiffness_matrix
+from dtcrit.packing import LinearLaw, analyse, apply_law, find_sphere_contacts, lattice, mass_matrix, stiffness_matrix, random_packing
 from dtcrit.scenes.dense import block_terms, dense_step
 from dtcrit.scenes.laws import resolve_pair
 from dtcrit.scenes.pair_modes import pair_step

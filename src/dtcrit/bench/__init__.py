@@ -1,5 +1,5 @@
 """``dtcrit bench``: error against run time for every route to the critical step, the
-extreme-case suite and the stability check by simulation (issue 5).
+extreme-case suite and the stability check by simulation.
 
 Modules: ``suite`` (the named extreme cases and the random batch), ``reference`` (>= 50-digit
 references), ``routes`` (every route as a callable over arrays of (k, c, A)), ``fused`` (fused,

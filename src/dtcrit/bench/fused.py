@@ -1,4 +1,4 @@
-"""Fused, in-place forms of the closed-form critical steps (issue 5, section 4).
+"""Fused, in-place forms of the closed-form critical steps (section 4 of the benchmark).
 
 The generated kernels (``dtcrit._generated.critical_steps`` through ``critical_dt_array``) take
 every input through ``frexp``/``ldexp`` scaling and ``np.hypot``; both cost many passes over

@@ -1,5 +1,5 @@
 """``dtcrit bench``: error against run time for every route, the extreme-case suite, and the
-stability check by simulation (issue 5).
+stability check by simulation.
 
 ``run_bench(config)`` returns a plain dictionary (JSON-ready apart from ``float('inf')``, which
 ``dtcrit.bench.report.jsonable`` turns into the string "inf"):

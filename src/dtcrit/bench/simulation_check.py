@@ -1,4 +1,4 @@
-"""Stability by direct simulation on the extreme-case suite (issue 5, section 3).
+"""Stability by direct simulation on the extreme-case suite (section 3 of the benchmark).
 
 For every suite case and integrator the contact system is stepped with the integrator's own
 update rule (``dtcrit.integrators.simulate.run``, scaled units omega = 1, so inputs whose k A or c A would

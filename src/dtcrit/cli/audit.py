@@ -5,7 +5,7 @@
     dtcrit audit EXPORT.json --engine yade          (written by dtcrit/engine_scripts/yade_export.py)
     ... [--dt DT] [--json]
 
-The engine's conventions (``dtcrit.packing.engines``) decide which pairs touch, the contact arms,
+The engine's conventions (``dtcrit.packing.conventions.engines``) decide which pairs touch, the contact arms,
 the pre-load and the integrator; the dashpots enter the damping matrix contact by contact.
 """
 from __future__ import annotations
@@ -44,7 +44,7 @@ def _check_file(flag: str, path: str | None) -> None:
 
 def _read_dump(path: str, density, index):
     from dtcrit.errors import InputError
-    from dtcrit.packing.dump_io import read_dump
+    from dtcrit.packing.readers.lammps_dump import read_dump
 
     try:
         return read_dump(path, density=density, snapshot=index)
@@ -63,10 +63,10 @@ def _is_yade_export(path: str) -> bool:
 
 def _build(args):
     """``(packing, contacts, convention, law text, metadata)`` from the arguments."""
-    from dtcrit.packing.contact_tables import read_contact_table, read_local_dump
-    from dtcrit.packing.engines import engine_convention, engine_sphere_contacts, overlaps_of_pairs, with_arms
-    from dtcrit.packing.pair_styles import apply_terms, parse_pair_style
-    from dtcrit.packing.yade_export_io import check_schema, read_yade_audit
+    from dtcrit.packing.readers.contact_tables import read_contact_table, read_local_dump
+    from dtcrit.packing.conventions.engines import engine_convention, engine_sphere_contacts, overlaps_of_pairs, with_arms
+    from dtcrit.packing.conventions.pair_styles import apply_terms, parse_pair_style
+    from dtcrit.packing.readers.yade_export import check_schema, read_yade_audit
 
     yade_file = _is_yade_export(args.snapshot)
     if yade_file:
@@ -130,8 +130,8 @@ def run_command(args) -> int:
 
 
 def _run(args) -> int:
-    from dtcrit.packing.audit import audit
-    from dtcrit.packing.audit_output import audit_json, format_audit
+    from dtcrit.packing.audit.snapshot import audit
+    from dtcrit.packing.audit.output import audit_json, format_audit
 
     import math
 

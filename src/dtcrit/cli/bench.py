@@ -1,5 +1,5 @@
 """``dtcrit bench [--quick] [--out DIR] [--json]``: error against run time for every route to the
-critical step, the extreme-case suite and the stability check by simulation (issue 5).
+critical step, the extreme-case suite and the stability check by simulation.
 
 Parses, calls ``dtcrit.bench.runner.run_bench`` and ``dtcrit.bench.report.write_report``, prints.
 The bench imports SymPy for its reference step, so everything is imported inside ``run``.

@@ -9,10 +9,10 @@
 
 Contact law (required: the step scales with it): ``--kn/--ks`` linear springs (``--ks`` defaults to
 ``--kn``) or ``--youngs/--poisson`` for Hertz-Mindlin tangent stiffness at each contact's overlap.
-A FILE whose first character is ``{`` is a bodies file (``dtcrit.packing.bodies_file``); its own
+A FILE whose first character is ``{`` is a bodies file (``dtcrit.packing.readers.bodies_file``); its own
 ``contacts`` list, when given, replaces the command-line law.
 
-``--backend slepc`` (``dtcrit.packing.slepc_backend``) finds ``omega_max`` with PETSc and SLEPc on the
+``--backend slepc`` (``dtcrit.packing.distributed.slepc_backend``) finds ``omega_max`` with PETSc and SLEPc on the
 processes of an MPI launcher (one process without a launcher is a one-rank run); it needs petsc4py and
 slepc4py (the environment ``.venv-mpi`` of ``python3 dev.py mpi-env``), else one line says what to
 install (exit 2).  It reports ``omega_max``, ``dt_crit``, the Gershgorin lower bound and the solver's
@@ -90,7 +90,7 @@ def _law(args):
 
 def _bodies(args):
     """The ``dtcrit-bodies/1`` file FILE names, or None when FILE is not one (then it is a dump)."""
-    from dtcrit.packing.bodies_file import is_bodies_file, read_bodies_file
+    from dtcrit.packing.readers.bodies_file import is_bodies_file, read_bodies_file
 
     if args.file is None or args.lattice is not None or args.random is not None or not is_bodies_file(args.file):
         return None
@@ -114,9 +114,9 @@ def _bodies_and_law(args):
 
 
 def _packing(args, check_memory: bool = True):
-    from dtcrit.packing.dump_io import read_dump
-    from dtcrit.packing.lattices import lattice
-    from dtcrit.packing.random_packing import random_packing
+    from dtcrit.packing.readers.lammps_dump import read_dump
+    from dtcrit.packing.generators.lattices import lattice
+    from dtcrit.packing.generators.random_packing import random_packing
 
     chosen = [name for name, v in (("FILE", args.file), ("--lattice", args.lattice), ("--random", args.random))
               if v is not None]
@@ -127,8 +127,8 @@ def _packing(args, check_memory: bool = True):
         return read_dump(args.file, density=args.density, snapshot=args.snapshot)
     if args.snapshot != -1:
         raise ValueError(f"--snapshot: picks a snapshot of a dump FILE; {chosen[0]} has none")
-    from dtcrit.packing.lattices import COORDINATION, _BASIS
-    from dtcrit.packing.memory import check_fits
+    from dtcrit.packing.generators.lattices import COORDINATION, _BASIS
+    from dtcrit.packing.solvers.memory import check_fits
 
     density = DEFAULT_DENSITY if args.density is None else args.density
     if args.lattice is not None:
@@ -146,7 +146,7 @@ def _packing(args, check_memory: bool = True):
 
 def _certificate_cost(args, n: int, coordination: float) -> dict:
     """``check_fits``'s extra memory for ``--certify yes`` (``certificate.factor_bytes``)."""
-    from dtcrit.packing.certificate import SPARSE_DOFS, factor_bytes
+    from dtcrit.packing.solvers.certificate import SPARSE_DOFS, factor_bytes
 
     if args.certify != "yes" or 6 * n > SPARSE_DOFS:
         return {}
@@ -159,7 +159,7 @@ RANDOM_SECONDS_LIMIT = 1800.0
 
 
 def _check_generation_time(n: int) -> None:
-    from dtcrit.packing.random_packing import SECONDS_PER_SPHERE_STEP, generation_seconds
+    from dtcrit.packing.generators.random_packing import SECONDS_PER_SPHERE_STEP, generation_seconds
 
     seconds = generation_seconds(n)
     if seconds > RANDOM_SECONDS_LIMIT:
@@ -209,11 +209,11 @@ def _run(args) -> int:
     if args.backend == "slepc":
         return _run_slepc(args)
     if args.scale:
-        from dtcrit.packing.scaling import parse_sizes, run_sizes
+        from dtcrit.bench.packing_scaling import parse_sizes, run_sizes
 
         run_sizes(parse_sizes(args.scale), args.scale_packing)
         return 0
-    from dtcrit.packing.dump_io import write_dump
+    from dtcrit.packing.readers.lammps_dump import write_dump
     from dtcrit.packing.report import analyse, format_report
 
     if not math.isfinite(args.damping_ratio) or args.damping_ratio < 0:
@@ -263,8 +263,8 @@ def _run_slepc(args) -> int:
     alone (``slepc_backend.agree``); the other ranks exit with status 2 silently."""
     rank = int(next((os.environ[k] for k in LAUNCHER_RANK if os.environ.get(k, "").isdigit()), "0"))
     try:
-        from dtcrit.packing import slepc_backend as sb
-        from dtcrit.packing.mpi_support import world
+        from dtcrit.packing.distributed import slepc_backend as sb
+        from dtcrit.packing.distributed.mpi_support import world
 
         _, rank, _ = world()
         return _slepc_report(args, sb, rank)
@@ -276,7 +276,7 @@ def _run_slepc(args) -> int:
 
 
 def _slepc_report(args, sb, rank: int) -> int:
-    from dtcrit.packing.damping import integrator_dt
+    from dtcrit.packing.solvers.integrator_step import integrator_dt
 
     for flag, key, default in SLEPC_UNUSED:
         if getattr(args, key) != default:

@@ -16,7 +16,7 @@ here and used by ``dtcrit.integrators.stability``:
   (``paper_eq40_identity``).
 
 ``tests/test_precise.py`` checks symbolically that these forms are the derived closed forms.
-(First written for the bench's fused kernels, issue 5; moved here so every route shares them.)
+(First written for the bench's fused kernels; moved here so every route shares them.)
 
 ``fast_steps`` (used by ``critical_dt_array``) evaluates every scheme chunk by chunk in the unscaled
 rates where they cannot overflow, and falls back to the scaled forms above elsewhere:

@@ -14,13 +14,13 @@ Modules: ``model`` (Packing, Box, Contacts, contact laws), ``contacts`` (detecti
 ``dtcrit.integrators.stability``), ``report``, ``lattices``, ``random_packing``, ``dump_io`` (LAMMPS/LIGGGHTS
 dumps), ``study`` (alpha against CN_max), ``scaling`` (benchmark).
 """
-from dtcrit.packing.assembly import mass_matrix, scale_symmetric, stiffness_matrix
-from dtcrit.packing.contacts import find_contacts, find_convex_contacts, find_sphere_contacts
-from dtcrit.packing.dump_io import read_dump, write_dump
-from dtcrit.packing.eigen import largest_mode
-from dtcrit.packing.lattices import LATTICES, lattice
+from dtcrit.packing.operators.assembly import mass_matrix, scale_symmetric, stiffness_matrix
+from dtcrit.packing.detection.overlaps import find_contacts, find_convex_contacts, find_sphere_contacts
+from dtcrit.packing.readers.lammps_dump import read_dump, write_dump
+from dtcrit.packing.solvers.largest_mode import largest_mode
+from dtcrit.packing.generators.lattices import LATTICES, lattice
 from dtcrit.packing.model import Box, Contacts, HertzMindlinLaw, LinearLaw, Packing, apply_law
-from dtcrit.packing.random_packing import random_packing
+from dtcrit.packing.generators.random_packing import random_packing
 from dtcrit.packing.report import PackingReport, analyse, format_report
 
 __all__ = [

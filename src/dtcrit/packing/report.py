@@ -13,19 +13,19 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-import dtcrit.packing.estimates as est
-import dtcrit.packing.operator_kernels as operator_kernels
-from dtcrit.packing.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
-from dtcrit.packing.certificate import SPARSE_DOFS, Certificate, bracket, certify, factor_bytes, factor_seconds
-from dtcrit.packing.contacts import find_contacts
-from dtcrit.packing.damping import DEFAULT_INTEGRATOR, integrator_dt
-from dtcrit.packing.eigen import DEFAULT_TOL, TopMode, largest_mode, mode_character, rotational_fraction
+import dtcrit.packing.bounds.estimates as est
+import dtcrit.packing.operators.matrix_free_kernels as operator_kernels
+from dtcrit.packing.operators.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
+from dtcrit.packing.solvers.certificate import SPARSE_DOFS, Certificate, bracket, certify, factor_bytes, factor_seconds
+from dtcrit.packing.detection.overlaps import find_contacts
+from dtcrit.packing.solvers.integrator_step import DEFAULT_INTEGRATOR, integrator_dt
+from dtcrit.packing.solvers.largest_mode import DEFAULT_TOL, TopMode, largest_mode, mode_character, rotational_fraction
 from dtcrit.errors import InputError, NotConvergedError
 from dtcrit.packing.model import Contacts, HertzMindlinLaw, LinearLaw, Packing, apply_law
-from dtcrit.packing.operator import stiffness_operator
+from dtcrit.packing.operators.matrix_free import stiffness_operator
 
 OPERATOR_DOFS = 200_000
-"""Above this many DOFs ``analyse`` applies ``K`` matrix-free (``dtcrit.packing.operator``) when the
+"""Above this many DOFs ``analyse`` applies ``K`` matrix-free (``dtcrit.packing.operators.matrix_free``) when the
 compiled loops are available; at and below it the assembled route (and ``eigsh``'s 12 Ritz pairs for
 the degenerate-eigenspace label, ``eigen.ITERATIVE_SPACE_LIMIT``) is kept.  Measured on the jittered
 FCC benchmark at 585k DOFs: one compiled product 8.7 ms against 16 ms assembled, no 2.5 s assembly,
@@ -46,7 +46,7 @@ and its factor fits in half the available memory: the default's cost stays a few
 
 def auto_certifies(dofs: int, coordination: float, eigen_seconds: float) -> bool:
     """Whether ``certify="auto"`` factorises (``CERTIFY_BUDGET``)."""
-    from dtcrit.packing.memory import available_bytes
+    from dtcrit.packing.solvers.memory import available_bytes
 
     if dofs > CERTIFY_AUTO_DOFS:
         return False
@@ -149,9 +149,9 @@ def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, int
 
     ``law`` (default linear ``k_n = k_s = 1``) sets each contact's stiffness unless ``contacts``
     already carry one.  ``route``: ``"assembled"`` (sparse ``K``), ``"matrix-free"``
-    (``dtcrit.packing.operator``) or ``"auto"`` (matrix-free above ``OPERATOR_DOFS``).
+    (``dtcrit.packing.operators.matrix_free``) or ``"auto"`` (matrix-free above ``OPERATOR_DOFS``).
     ``certify_step``: ``True`` / ``False`` / ``"auto"`` (up to ``CERTIFY_AUTO_DOFS``) for the
-    certificate that no mode lies above ``omega_max^2 (1 + 1e-6)`` (``dtcrit.packing.certificate``).
+    certificate that no mode lies above ``omega_max^2 (1 + 1e-6)`` (``dtcrit.packing.solvers.certificate``).
     Returns the :class:`PackingReport`.
     """
     if contacts is None:

@@ -10,7 +10,7 @@ With ``A = L L^T`` and ``e = L y`` the block is ``y'' = -K~ y - C~ y'`` with the
   modes ``omega_i^2`` (eigenvalues of ``K^1/2 A K^1/2``) with modal dashpots ``alpha omega_i^2``, each solved
   exactly by :func:`dtcrit.integrators.stability.mode_dt`;
 * otherwise, for the lagged schemes (``leapfrog``, ``symplectic-euler``, ``velocity-verlet``): the root of
-  ``lambda_max(2 h C~ + h^2 K~) = 4``, exact (the proof is in :mod:`dtcrit.packing.damped`); for
+  ``lambda_max(2 h C~ + h^2 K~) = 4``, exact (the proof is in :mod:`dtcrit.packing.solvers.damped_step`); for
   ``leapfrog-centred``: ``2/sqrt(lambda_max(K~))``; for the other schemes: bisection on the spectral
   radius of the scheme's own amplification matrix (:mod:`dtcrit.integrators.schemes`) to ``BISECT_RTOL``.
 """

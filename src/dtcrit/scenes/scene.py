@@ -167,7 +167,7 @@ def _particle(number: int, table: Any) -> Particle:
 # ----------------------------------------------------------------------------------------------
 parse_particle = _particle
 """The scenes' ``[[particle]]`` table parser, ``parse_particle(number, table) -> Particle`` (also read
-by ``dtcrit.packing.bodies_file`` through the command line, which passes it in: the packing layer
+by ``dtcrit.packing.readers.bodies_file`` through the command line, which passes it in: the packing layer
 comes before the scenes)."""
 
 

@@ -1,0 +1,203 @@
+"""Scale benchmark of the global analysis (a benchmark, not a test).
+
+``python -m dtcrit.bench.packing_scaling 1e3,1e4,1e5`` (or ``dtcrit packing --scale 1e3,1e4,1e5``) runs
+each size in a fresh Python process (so that the peak memory of one size is not inherited by the
+next) and prints a table: time for generating the packing, finding contacts, assembling ``K``,
+the eigen-solve and the estimates, wall-clock and CPU time, peak resident memory, and, where
+``6N`` is small enough, the relative difference of ``omega_max`` from dense ``scipy.linalg.eigh``.
+Each size runs by the matrix-free route (``dtcrit.packing.operators.matrix_free``) and, up to ``ASSEMBLED_MAX``
+spheres, also by the assembled route in the same run, with the ratios printed; the matrix-free rows
+add ``floor x``, the eigen-solve time over a memory-bandwidth floor (one pass over the contact
+arrays per operator application at the measured copy bandwidth).  The growth exponent ``b`` of
+``time ~ N^b`` is fitted per route over the sizes with ``N >= 10^4``.
+
+Packings: ``"fcc"`` (default) is a periodic FCC lattice compressed by 0.2 % in radius and
+jittered by 5e-4 radii so every sphere keeps its 12 contacts but the contact normals are
+disordered (coordination 12: the densest sparsity pattern of the study, so the harshest case for
+memory); ``"random"`` uses ``dtcrit.packing.generators.random_packing`` (coordination 6).
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+import resource
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+DENSE_CHECK_DOFS = 6000
+
+
+def jittered_fcc(n_target: int, seed: int = 0):
+    from dtcrit.packing.generators.lattices import lattice_positions
+    from dtcrit.packing.model import Packing
+
+    cells = max(1, round((n_target / 4.0) ** (1.0 / 3.0)))
+    x, box = lattice_positions("fcc", cells, 1.0)
+    rng = np.random.default_rng(seed)
+    x = x + rng.uniform(-5e-4, 5e-4, x.shape)
+    return Packing.spheres(x, 1.002, density=1.0, box=box, label=f"jittered FCC, {cells}^3 cells")
+
+
+def memory_bandwidth(megabytes: int = 128) -> float:
+    """Bytes per second of a large array copy (read + write), best of three: the floor's rate."""
+    a = np.ones(megabytes * (1 << 20) // 8)
+    b = np.empty_like(a)
+    best = math.inf
+    for _ in range(3):
+        t = time.perf_counter()
+        np.copyto(b, a)
+        best = min(best, time.perf_counter() - t)
+    return 2.0 * a.nbytes / best
+
+
+def run_one(n: int, packing_kind: str = "fcc", method: str = "auto", dense_check: bool = True,
+            route: str = "assembled") -> dict:
+    """Time every stage for one size in this process; returns a dict of figures.  ``route``:
+    ``"assembled"`` (sparse ``K``, the route before the matrix-free operator) or ``"matrix-free"``
+    (``dtcrit.packing.operators.matrix_free``; its bandwidth floor is also reported)."""
+    from dtcrit.packing.operators.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
+    from dtcrit.packing.detection.overlaps import find_sphere_contacts
+    from dtcrit.packing.solvers.largest_mode import largest_mode
+    from dtcrit.packing.bounds import estimates as est
+    from dtcrit.packing.model import LinearLaw, apply_law
+    from dtcrit.packing.generators.random_packing import random_packing
+
+    out: dict = {"n_target": n, "packing": packing_kind}
+    clock, cpu = time.perf_counter(), time.process_time()
+    packing = jittered_fcc(n) if packing_kind == "fcc" else random_packing(n, cn=6.0, seed=1)
+    out["t_generate"] = time.perf_counter() - clock
+    t0, c0 = time.perf_counter(), time.process_time()
+    contacts = apply_law(find_sphere_contacts(packing), LinearLaw(1.0, 1.0))
+    t1 = time.perf_counter()
+    md = mass_diagonal(packing)
+    if route == "matrix-free":
+        from dtcrit.packing.operators.matrix_free import stiffness_operator
+
+        a = stiffness_operator(packing, contacts, mass_diag=md)
+    else:
+        a = scale_symmetric(stiffness_matrix(packing, contacts), md, inplace=True)
+    t2 = time.perf_counter()
+    def hint():  # all particles co-rotating: built inside the solver, released after its start
+        return est.co_rotation(packing, 0) + est.co_rotation(packing, 1) + est.co_rotation(packing, 2)
+
+    top = largest_mode(a, method, hint=hint)
+    t3 = time.perf_counter()
+    w_c = est.single_contact_frequencies(packing, contacts)
+    estimates = (est.gershgorin(a, md), est.block_diagonal(a), est.diagonal_stiffness(a), est.two_particle_amax(packing, contacts),
+                 est.two_particle_exact(packing, contacts, w_c), est.rayleigh(a, packing, contacts, w_c))
+    t4 = time.perf_counter()
+    out.update(
+        route=route, n=packing.n, dofs=packing.dofs, contacts=contacts.count, nnz=int(getattr(a, "nnz", 0)),
+        t_contacts=t1 - t0, t_assembly=t2 - t1, t_eigen=t3 - t2, t_estimates=t4 - t3,
+        t_analysis=t4 - t0, cpu_analysis=time.process_time() - c0, cpu_total=time.process_time() - cpu,
+        omega2=top.value, method=top.method, matvecs=top.matvecs, residual=top.residual,
+        estimates={e.name: e.omega2 for e in estimates},
+    )
+    out["peak_rss_mib"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    if route == "matrix-free":  # after the peak is read: the probe's arrays are not the analysis's
+        rate = memory_bandwidth()
+        floor = top.matvecs * a.memory_bytes() / rate
+        out.update(bandwidth_gbs=rate / 1e9, contact_bytes=a.memory_bytes(), floor_s=floor,
+                   floor_ratio=(t3 - t2) / floor if floor > 0 else math.nan)
+    if dense_check and packing.dofs <= DENSE_CHECK_DOFS:
+        dense = largest_mode(a, "dense")
+        out["dense_rel_diff"] = abs(top.value - dense.value) / dense.value
+    return out
+
+
+ASSEMBLED_MAX = 200_000
+"""Sizes up to which ``run_sizes`` also runs the assembled route, side by side (it needs about
+7 GiB at 1e6 spheres)."""
+
+
+def run_sizes(sizes, packing_kind: str = "fcc", method: str = "auto", stream=sys.stdout,
+              routes=("assembled", "matrix-free")) -> list[dict]:
+    """Each size and route in a fresh interpreter; prints a table as results arrive, then the
+    matrix-free/assembled ratios of each size run both ways and the growth exponents."""
+    rows = []
+    header = (f"{'N':>9} {'route':>11} {'DOFs':>9} {'contacts':>9} {'gen s':>7} {'assemble s':>10} {'eigen s':>8} "
+              f"{'estim s':>8} {'analysis s':>10} {'cpu s':>7} {'peak MiB':>9} {'solver':>7} {'matvecs':>7} "
+              f"{'vs dense':>9} {'floor x':>8}")
+    print(header, file=stream, flush=True)
+    jobs = [(n, r) for n in sizes for r in routes if r == "matrix-free" or n <= ASSEMBLED_MAX]
+    for n, route in jobs:
+        cmd = [sys.executable, "-m", "dtcrit.bench.packing_scaling", "--one", str(int(n)), "--packing", packing_kind,
+               "--method", method, "--route", route]
+        # one BLAS thread: ARPACK's small dense steps gain nothing from threads, and oversubscribed
+        # OpenBLAS threads on a busy 2-core machine slow them down by an order of magnitude
+        env = dict(os.environ, DTCRIT_PROGRESS="0", OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
+        done = subprocess.run(cmd, capture_output=True, text=True, env=env)
+        if done.returncode != 0:
+            print(f"{int(n):>9} failed: {done.stderr.strip().splitlines()[-1] if done.stderr.strip() else done.returncode}",
+                  file=stream, flush=True)
+            continue
+        r = json.loads(done.stdout.strip().splitlines()[-1])
+        rows.append(r)
+        dense = f"{r['dense_rel_diff']:.1e}" if "dense_rel_diff" in r else "-"
+        floor = f"{r['floor_ratio']:.1f}" if "floor_ratio" in r else "-"
+        print(f"{r['n']:>9} {route:>11} {r['dofs']:>9} {r['contacts']:>9} {r['t_generate']:>7.2f} "
+              f"{r['t_assembly']:>10.2f} {r['t_eigen']:>8.2f} {r['t_estimates']:>8.2f} {r['t_analysis']:>10.2f} "
+              f"{r['cpu_analysis']:>7.1f} {r['peak_rss_mib']:>9.0f} {r['method']:>7} {r['matvecs']:>7} {dense:>9} "
+              f"{floor:>8}", file=stream, flush=True)
+    for n in sizes:
+        pair = {r["route"]: r for r in rows if r["n_target"] == n}
+        if len(pair) == 2:
+            old, new = pair["assembled"], pair["matrix-free"]
+            print(f"N = {new['n']}: matrix-free {old['t_analysis'] / new['t_analysis']:.2f}x faster, "
+                  f"{new['peak_rss_mib'] / old['peak_rss_mib']:.2f}x the peak memory, omega^2 relative difference "
+                  f"{abs(new['omega2'] - old['omega2']) / old['omega2']:.1e}", file=stream, flush=True)
+    for route in routes:
+        big = [r for r in rows if r["n"] >= 10_000 and r["route"] == route]
+        if len(big) >= 2:
+            ns = [r["n"] for r in big]
+            b = fit_exponent(ns, [r["t_analysis"] for r in big])
+            c = fit_exponent(ns, [r["cpu_analysis"] for r in big])
+            print(f"{route}: fitted growth of the analysis time (sizes {min(ns)}..{max(ns)}): wall ~ N^{b:.2f}, "
+                  f"CPU ~ N^{c:.2f}", file=stream, flush=True)
+    return rows
+
+
+def fit_exponent(ns, ts) -> float:
+    """Least-squares slope of ``log t`` against ``log N``."""
+    x, y = np.log(np.asarray(ns, float)), np.log(np.asarray(ts, float))
+    return float(np.polyfit(x, y, 1)[0])
+
+
+def parse_sizes(text: str) -> list[int]:
+    from dtcrit.errors import InputError
+
+    sizes = []
+    for part in str(text).split(","):
+        try:
+            value = float(part)
+        except ValueError:
+            raise InputError("scale", f"sizes must be numbers like 1e3,1e4, got {part!r}") from None
+        if not math.isfinite(value) or value < 2 or value > 5e7:
+            raise InputError("scale", f"each size must lie in [2, 5e7], got {part!r}")
+        sizes.append(int(value))
+    return sizes
+
+
+def main(argv=None) -> int:
+    import argparse
+
+    parser = argparse.ArgumentParser(prog="python -m dtcrit.bench.packing_scaling")
+    parser.add_argument("sizes", nargs="?", default="1e3,1e4,1e5")
+    parser.add_argument("--one", type=int, help=argparse.SUPPRESS)
+    parser.add_argument("--packing", choices=("fcc", "random"), default="fcc")
+    parser.add_argument("--method", default="auto")
+    parser.add_argument("--route", choices=("assembled", "matrix-free"), default="assembled")
+    args = parser.parse_args(argv)
+    if args.one:
+        print(json.dumps(run_one(args.one, args.packing, args.method, route=args.route)))
+        return 0
+    run_sizes(parse_sizes(args.sizes), args.packing, args.method)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,78 @@
+"""Text and JSON (schema ``dtcrit-audit/1``, ``src/dtcrit/schemas/dtcrit-audit-1.json``) of an audit."""
+from __future__ import annotations
+
+import math
+
+from dtcrit.json_meta import envelope
+
+from dtcrit.packing.audit.snapshot import AuditReport
+
+JSON_SCHEMA = "dtcrit-audit/1"
+UNITS = {"dt_crit": "s", "dt_safe": "s", "dt_undamped": "s", "dt_user": "s", "estimators.*.dt": "s"}
+
+
+def _finite(x):
+    return float(x) if x is not None and math.isfinite(x) else None
+
+
+def audit_json(r: AuditReport) -> dict:
+    out = envelope(JSON_SCHEMA, UNITS)
+    out.update({
+        "snapshot": r.source, "engine": r.engine, "engine_conventions": r.engine_source, "integrator": r.integrator,
+        "law": r.law, "n_particles": r.n_particles, "n_contacts": r.n_contacts,
+        "coordination_mean": r.coordination_mean, "damped": r.damped, "preload": r.preload,
+        "dt_crit": _finite(r.dt_crit), "dt_safe": _finite(r.dt_safe), "dt_undamped": _finite(r.dt_undamped),
+        "method": r.method, "limiting": {"ids": r.limiting, "energy_share": r.limiting_share,
+                                           "participation_ratio": _finite(r.participation)},
+        "dt_user": _finite(r.dt_user), "dt_user_ratio": _finite(r.ratio),
+        "stable": None if r.ratio is None else bool(r.ratio < 1.0),
+        "estimators": {e["name"]: {k: (_finite(v) if isinstance(v, float) else v) for k, v in e.items() if k != "name"}
+                       for e in r.estimators},
+        "notes": list(r.notes),
+    })
+    return out
+
+
+def len_top(r: AuditReport) -> int:
+    from dtcrit.packing.audit.snapshot import LIMITING_COUNT
+
+    return min(LIMITING_COUNT, r.n_particles)
+
+
+def _ratio(x: float) -> str:
+    """Enough digits that a ratio other than 1 never prints as 1."""
+    text = f"{x:.4g}"
+    if float(text) == 1.0 and x != 1.0:
+        text = f"{x:.10g}"
+    return text
+
+
+def format_audit(r: AuditReport) -> str:
+    lines = [
+        f"snapshot: {r.source}",
+        f"engine: {r.engine} ({r.engine_source}); integrator {r.integrator}",
+        f"contact law: {r.law}",
+        f"particles {r.n_particles}, contacts {r.n_contacts}, mean coordination {r.coordination_mean:.4g}"
+        + (", dashpots in the damping matrix" if r.damped else ", no dashpots"),
+        "",
+        f"dt_crit = {r.dt_crit:.6g} s   ({r.method})",
+        f"dt_safe = {r.dt_safe:.6g} s   (rigorous lower bound; dt_safe/dt_crit = {_ratio(r.dt_safe / r.dt_crit)})",
+    ]
+    if r.damped:
+        lines.append(f"undamped 2/omega_max = {r.dt_undamped:.6g} s")
+    if r.limiting:
+        lines.append(f"limiting particles (ids): {' '.join(str(i) for i in r.limiting)}  "
+                     f"({100 * r.limiting_share:.3g} % of the governing mode's energy)")
+    elif math.isfinite(r.participation):
+        lines.append(f"governing mode: spread out, participation ratio {r.participation:.3g} (about "
+                     f"{r.participating:.3g} of {r.n_particles} particles share its energy; the {len_top(r)} with the "
+                     f"most hold {100 * r.limiting_share:.3g} %): no few particles limit the step")
+    if r.dt_user is not None:
+        verdict = "stable" if r.ratio < 1.0 else "UNSTABLE"
+        lines.append(f"your dt = {r.dt_user:.6g} s = {_ratio(r.ratio)} x dt_crit: {verdict}")
+    lines += [""] + r.notes + [""] if r.notes else [""]
+    lines.append(f"{'estimator':<26}{'dt [s]':>13}{'dt/dt_crit':>13}  {'safe':<5}what it is (what it bounds); detail")
+    for e in r.estimators:
+        lines.append(f"{e['name']:<26}{e['dt']:>13.6g}{_ratio(e['ratio']):>13}  {'yes' if e['safe'] else 'NO':<5}"
+                     f"{e['kind']}; {e['detail']}")
+    return "\n".join(lines)

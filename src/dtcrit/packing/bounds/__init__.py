@@ -1,0 +1,5 @@
+"""Cheap estimates and rigorous bounds on the critical step of a packing, rated against the exact step.
+
+Modules: ``estimates`` (Gershgorin, block and diagonal bounds, Rayleigh trials, the two-particle bound),
+``estimate_kernels`` (compiled single-contact frequencies).
+"""

@@ -1,0 +1,134 @@
+"""Compiled (Numba) loop for the single-contact frequencies of ``estimates.single_contact_frequencies``.
+
+For each contact, alone between its two free bodies (``dtcrit.packing.bounds.estimates``, module docstring):
+
+    omega_c^2 = lambda_max(K_c^(1/2) W K_c^(1/2)),   W = B_i M_i^-1 B_i^T + B_j M_j^-1 B_j^T,
+    B_i = [-1 | [a_i]_x R_i],   B_j = [1 | -[a_j]_x R_j]   (``assembly``, module docstring),
+
+``W = (B_i + B_j) M_i^-1 (B_i + B_j)^T`` for a contact with the particle's own periodic image, and
+``K_c^(1/2) = sqrt(k_n) n n^T + sqrt(k_s) (1 - n n^T)``.  The largest eigenvalue of the symmetric
+3 x 3 matrix comes from cyclic Jacobi rotations (Golub & Van Loan, Algorithm 8.5.2, with the stable
+rotation of Eq. (8.5.4)) swept until every off-diagonal entry is below ``eps`` times the diagonal's
+scale: absolute error of a few ulps of ``||S||``, as LAPACK's.  The vectorised NumPy path (batched
+``numpy.linalg.eigvalsh``) is the reference the tests compare this loop with, and is used when
+Numba is absent.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from dtcrit.packing.operators.matrix_free_kernels import _jit, available, cross_rotation
+
+__all__ = ["available", "contact_frequencies"]
+
+
+def _top_eigenvalue(s):
+    """Largest eigenvalue of the symmetric 3 x 3 ``s`` (overwritten) by cyclic Jacobi."""
+    eps = 2.220446049250313e-16
+    for _sweep in range(30):
+        off = abs(s[0, 1]) + abs(s[0, 2]) + abs(s[1, 2])
+        scale = abs(s[0, 0]) + abs(s[1, 1]) + abs(s[2, 2])
+        if off <= eps * scale:
+            break
+        for p in range(2):
+            for q in range(p + 1, 3):
+                apq = s[p, q]
+                if apq == 0.0:
+                    continue
+                tau = (s[q, q] - s[p, p]) / (2.0 * apq)
+                t = (1.0 if tau >= 0.0 else -1.0) / (abs(tau) + math.sqrt(1.0 + tau * tau))
+                if abs(tau) > 1e150:  # rotation angle below an ulp: the entry is negligible
+                    t = 0.5 / tau
+                c = 1.0 / math.sqrt(1.0 + t * t)
+                sn = t * c
+                for k in range(3):  # columns p, q
+                    skp = s[k, p]
+                    skq = s[k, q]
+                    s[k, p] = c * skp - sn * skq
+                    s[k, q] = sn * skp + c * skq
+                for k in range(3):  # rows p, q
+                    spk = s[p, k]
+                    sqk = s[q, k]
+                    s[p, k] = c * spk - sn * sqk
+                    s[q, k] = sn * spk + c * sqk
+                s[p, q] = 0.0
+                s[q, p] = 0.0
+    return max(s[0, 0], s[1, 1], s[2, 2])
+
+
+def _frequencies(ci, cj, nrm, arm_i, arm_j, kn, ks, rot, inv_mass, oriented, out):
+    """``out[c] = omega_c^2`` for every contact (module docstring); ``inv_mass`` (N, 6) holds
+    ``1/m, 1/m, 1/m, 1/I_1, 1/I_2, 1/I_3``; ``rot`` (N, 3, 3) is used when ``oriented``."""
+    bi = np.zeros((3, 6))
+    bj = np.zeros((3, 6))
+    w = np.zeros((3, 3))
+    root = np.zeros((3, 3))
+    rw = np.zeros((3, 3))
+    s = np.zeros((3, 3))
+    xi = np.zeros((3, 3))
+    yj = np.zeros((3, 3))
+    ri = np.eye(3)
+    rj = np.eye(3)
+    for c in range(ci.shape[0]):
+        i = ci[c]
+        j = cj[c]
+        if oriented:
+            ri = rot[i]
+            rj = rot[j]
+        cross_rotation(arm_i[c], ri, 1.0, xi)  # [a_i]_x R_i
+        cross_rotation(arm_j[c], rj, -1.0, yj)  # -[a_j]_x R_j
+        bi[:, 3:] = xi
+        bj[:, 3:] = yj
+        for r in range(3):
+            for col in range(3):
+                bi[r, col] = -1.0 if r == col else 0.0
+                bj[r, col] = 1.0 if r == col else 0.0
+        for r in range(3):
+            for col in range(3):
+                acc = 0.0
+                if i == j:
+                    for d in range(6):
+                        acc += (bi[r, d] + bj[r, d]) * inv_mass[i, d] * (bi[col, d] + bj[col, d])
+                else:
+                    for d in range(6):
+                        acc += bi[r, d] * inv_mass[i, d] * bi[col, d] + bj[r, d] * inv_mass[j, d] * bj[col, d]
+                w[r, col] = acc
+        sn = math.sqrt(kn[c])
+        st = math.sqrt(ks[c])
+        n = nrm[c]
+        for r in range(3):
+            for col in range(3):
+                root[r, col] = (sn - st) * n[r] * n[col] + (st if r == col else 0.0)
+        for r in range(3):
+            for col in range(3):
+                rw[r, col] = root[r, 0] * w[0, col] + root[r, 1] * w[1, col] + root[r, 2] * w[2, col]
+        for r in range(3):
+            for col in range(r, 3):
+                v = rw[r, 0] * root[0, col] + rw[r, 1] * root[1, col] + rw[r, 2] * root[2, col]
+                s[r, col] = v
+                s[col, r] = v
+        out[c] = _top_eigenvalue(s)
+
+
+if available():
+    _top_eigenvalue = _jit(_top_eigenvalue)
+    _frequencies_compiled = _jit(_frequencies)
+else:  # pragma: no cover
+    _frequencies_compiled = None
+
+
+def contact_frequencies(packing, contacts) -> np.ndarray:
+    """``omega_c^2`` of every contact by the compiled loop (Numba required: ``available()``)."""
+    oriented = packing.orientations is not None
+    rot = np.ascontiguousarray(packing.orientations) if oriented else np.zeros((1, 3, 3))
+    inv_mass = 1.0 / np.concatenate([np.repeat(packing.masses[:, None], 3, axis=1), packing.inertia], axis=1)
+    out = np.empty(contacts.count)
+    _frequencies_compiled(np.ascontiguousarray(contacts.i), np.ascontiguousarray(contacts.j),
+                          np.ascontiguousarray(contacts.normal, dtype=float),
+                          np.ascontiguousarray(contacts.arm_i, dtype=float),
+                          np.ascontiguousarray(contacts.arm_j, dtype=float),
+                          np.ascontiguousarray(contacts.kn, dtype=float), np.ascontiguousarray(contacts.ks, dtype=float),
+                          rot, inv_mass, oriented, out)
+    return out

@@ -1,0 +1,178 @@
+"""LAMMPS ``pair_style granular`` as per-contact springs and dashpots (LAMMPS docs ``pair_granular``;
+source ``src/GRANULAR/pair_granular.cpp``).
+
+Given as ``--pair-style 'granular MODEL ARGS ... [tangential ...] [damping ...] [rolling ...] [twisting ...]'``:
+the words of the ``pair_coeff`` line after ``* *`` (one coefficient set for every type pair).  With
+``a = sqrt(R* delta)``, ``R* = R_i R_j/(R_i + R_j)``, ``m_eff = m_i m_j/(m_i + m_j)``:
+
+* normal ``hooke kn eta``: ``F = kn delta`` (tangent ``kn``); ``hertz kn eta``: ``F = kn a delta``
+  (tangent ``3/2 kn a``); ``hertz/material E eta nu`` and ``dmt E eta nu gamma``:
+  ``F = 4/3 E_eff a delta`` (``- 4 pi gamma R*`` for DMT; tangent ``2 E_eff a``), ``E_eff = E/(2 (1 - nu^2))``
+  for one material;
+* ``damping velocity``: ``eta_n = eta``; ``mass_velocity``: ``eta m_eff``; ``viscoelastic`` (default):
+  ``eta a m_eff``; ``tsuji``: ``alpha(e) sqrt(m_eff k)`` with ``e = eta`` and ``k = F/delta``;
+* ``tangential linear_nohistory x mu``: dashpot ``x eta_n`` only; ``linear_history kt x mu``: spring
+  ``kt``; ``mindlin kt|NULL x mu`` (and ``mindlin_rescale``): spring ``kt a``, or ``8 G_eff a`` for NULL
+  with ``G_eff = E/(4 (2 - nu)(1 + nu))``; ``mu = 0`` removes the tangential force (Coulomb limit 0);
+* ``rolling sds k gamma mu``: the pseudo-force ``k xi_roll`` on ``v_roll = -R* (w_i - w_j) x n`` with
+  torque ``R* n x F``: rolling stiffness ``k R*^2`` [N m/rad], dashpot ``gamma R*^2``;
+* ``twisting sds k gamma mu``: ``k`` and ``gamma`` directly; ``twisting marshall``: ``k_t a^2/2`` and
+  ``eta_t a^2/2`` from the tangential spring and dashpot.
+
+Kinematics: the slip velocity uses the full radius, the torque the arm ``R - delta/2`` (checked in
+``tests/test_engine_lammps_pairs.py``); ``dtcrit.packing.conventions.engines`` uses their symmetric equivalent, arms
+``sqrt(R (R - delta/2))``, exact for two equal spheres.  ``jkr`` (its stiffness follows the
+hysteretic JKR branch) is refused.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from dtcrit.errors import InputError
+
+from dtcrit.packing.model import Contacts, Packing
+from dtcrit.packing.conventions.law_terms import FLAG, ContactTerms, number
+
+NORMAL_ARGS = {"hooke": ("kn", "eta"), "hertz": ("kn", "eta"), "hertz/material": ("E", "eta", "nu"),
+               "dmt": ("E", "eta", "nu", "gamma")}
+TANGENTIAL_ARGS = {"linear_nohistory": ("x", "mu"), "linear_history": ("kt", "x", "mu"),
+                   "mindlin": ("kt", "x", "mu"), "mindlin_rescale": ("kt", "x", "mu")}
+DAMPING = ("velocity", "mass_velocity", "viscoelastic", "tsuji")
+
+
+def _tsuji_alpha(e: float) -> float:
+    """LAMMPS pair_granular: alpha(e) = 1.2728 - 4.2783 e + 11.087 e^2 - 22.348 e^3 + 27.467 e^4 - 18.022 e^5 + 4.8218 e^6."""
+    coeffs = (1.2728, -4.2783, 11.087, -22.348, 27.467, -18.022, 4.8218)
+    return sum(c * e**k for k, c in enumerate(coeffs))
+
+
+@dataclass(frozen=True)
+class GranularStyle:
+    normal: str
+    normal_args: dict
+    tangential: str
+    tangential_args: dict
+    damping: str
+    rolling: dict | None
+    twisting: tuple[str, dict] | None
+    text: str
+    arm = "granular"  # slip velocity with the full radius, torque with R - delta/2 (module docstring)
+
+    def describe(self) -> str:
+        return f"LAMMPS pair_style granular, pair_coeff * * {self.text}"
+
+    def material(self) -> tuple[float, float] | None:
+        """(Young's modulus, Poisson's ratio) of a material normal model, else None."""
+        return (self.normal_args["E"], self.normal_args["nu"]) if "E" in self.normal_args else None
+
+    def _material(self) -> tuple[float, float]:
+        e, nu = self.normal_args["E"], self.normal_args["nu"]
+        return e / (2.0 * (1.0 - nu * nu)), e / (4.0 * (2.0 - nu) * (1.0 + nu))
+
+    def terms(self, packing: Packing, contacts: Contacts) -> ContactTerms:
+        m = packing.masses
+        m_eff = m[contacts.i] * m[contacts.j] / (m[contacts.i] + m[contacts.j])
+        delta = contacts.overlap
+        r_star = contacts.radius_eff
+        a = np.sqrt(r_star * delta)
+        if self.normal == "hooke":
+            force, kn = self.normal_args["kn"] * delta, np.full_like(delta, self.normal_args["kn"])
+        elif self.normal == "hertz":
+            force, kn = self.normal_args["kn"] * a * delta, 1.5 * self.normal_args["kn"] * a
+        else:
+            e_eff, _ = self._material()
+            force, kn = 4.0 / 3.0 * e_eff * a * delta, 2.0 * e_eff * a
+            if self.normal == "dmt":
+                force = force - 4.0 * math.pi * self.normal_args["gamma"] * r_star
+        eta = self.normal_args["eta"]
+        secant = np.divide(force if self.normal != "dmt" else force + 4.0 * math.pi * self.normal_args["gamma"] * r_star,
+                           delta, out=np.zeros_like(delta), where=delta > 0)
+        eta_n = {"velocity": np.full_like(delta, eta), "mass_velocity": eta * m_eff, "viscoelastic": eta * a * m_eff,
+                 "tsuji": _tsuji_alpha(eta) * np.sqrt(m_eff * secant)}[self.damping]
+        t = self.tangential_args
+        on = 1.0 if t["mu"] > 0 else 0.0
+        if self.tangential == "linear_nohistory":
+            ks = np.zeros_like(delta)
+        elif self.tangential == "linear_history":
+            ks = np.full_like(delta, t["kt"])
+        elif t["kt"] is None:
+            ks = 8.0 * self._material()[1] * a
+        else:
+            ks = t["kt"] * a
+        ks, cs = on * ks, on * t["x"] * eta_n
+        kr = cr = ktw = ctw = None
+        if self.rolling is not None and self.rolling["mu"] > 0:
+            kr, cr = self.rolling["k"] * r_star**2, self.rolling["gamma"] * r_star**2
+        if self.twisting is not None:
+            kind, tw = self.twisting
+            if kind == "marshall":
+                ktw, ctw = 0.5 * ks * a**2, 0.5 * cs * a**2
+            elif tw["mu"] > 0:
+                ktw, ctw = np.full_like(delta, tw["k"]), np.full_like(delta, tw["gamma"])
+        return ContactTerms(kn, ks, eta_n, cs, force, kr=kr, ktw=ktw, cr=cr, ctw=ctw)
+
+
+def _take(words: list[str], k: int, names: tuple[str, ...], what: str, *, nullable=("kt",)) -> tuple[dict, int]:
+    if len(words) < k + len(names):
+        raise InputError(FLAG, f"{what} takes {len(names)} values ({' '.join(names)}), found {len(words) - k}")
+    vals = {n: number(words[k + m], f"{what} {n}", allow_null=n in nullable) for m, n in enumerate(names)}
+    return vals, k + len(names)
+
+
+def parse_granular(words: list[str]) -> GranularStyle:
+    """The ``pair_coeff`` words of ``pair_style granular`` (module docstring)."""
+    if words[:2] == ["*", "*"]:
+        words = words[2:]
+    if not words:
+        raise InputError(FLAG, "granular: give the pair_coeff words after '* *', e.g. 'granular hooke 1e4 0.5 "
+                               "tangential linear_history 1e4 1 0.5 damping mass_velocity'")
+    normal = words[0]
+    if normal == "jkr":
+        raise InputError(FLAG, "granular jkr is not supported (its stiffness follows the hysteretic JKR branch): "
+                               "give a --contacts table")
+    if normal not in NORMAL_ARGS:
+        raise InputError(FLAG, f"granular: unknown normal model {normal!r}; supported: {', '.join(NORMAL_ARGS)}")
+    normal_args, k = _take(words, 1, NORMAL_ARGS[normal], normal, nullable=())
+    tangential, tangential_args, damping, rolling, twisting = None, None, "viscoelastic", None, None
+    while k < len(words):
+        key = words[k]
+        if key == "tangential":
+            if k + 1 >= len(words) or words[k + 1] not in TANGENTIAL_ARGS:
+                found = words[k + 1] if k + 1 < len(words) else "nothing"
+                raise InputError(FLAG, f"granular: unknown tangential model {found!r}; supported: {', '.join(TANGENTIAL_ARGS)}")
+            tangential = words[k + 1]
+            tangential_args, k = _take(words, k + 2, TANGENTIAL_ARGS[tangential], tangential)
+            if tangential.startswith("mindlin") and tangential_args["kt"] is None and normal in ("hooke", "hertz"):
+                raise InputError(FLAG, f"granular: mindlin with kt NULL needs a material normal model, not {normal}")
+        elif key == "damping":
+            if k + 1 >= len(words) or words[k + 1] not in DAMPING:
+                raise InputError(FLAG, f"granular: damping must be one of {', '.join(DAMPING)}")
+            damping, k = words[k + 1], k + 2
+        elif key == "rolling":
+            if words[k + 1:k + 2] == ["none"]:
+                k += 2
+                continue
+            if words[k + 1:k + 2] != ["sds"]:
+                raise InputError(FLAG, "granular: rolling must be 'sds k gamma mu' or 'none'")
+            rolling, k = _take(words, k + 2, ("k", "gamma", "mu"), "rolling sds")
+        elif key == "twisting":
+            model = words[k + 1] if k + 1 < len(words) else ""
+            if model == "none":
+                k += 2
+            elif model == "marshall":
+                twisting, k = ("marshall", {}), k + 2
+            elif model == "sds":
+                vals, k = _take(words, k + 2, ("k", "gamma", "mu"), "twisting sds")
+                twisting = ("sds", vals)
+            else:
+                raise InputError(FLAG, "granular: twisting must be 'marshall', 'sds k gamma mu' or 'none'")
+        elif key == "limit_damping":
+            k += 1
+        else:
+            raise InputError(FLAG, f"granular: unknown keyword {key!r}")
+    if tangential is None:
+        raise InputError(FLAG, "granular: the tangential model is required ('tangential linear_history kt x mu', ...)")
+    return GranularStyle(normal, normal_args, tangential, tangential_args, damping, rolling, twisting, " ".join(words))

@@ -1,0 +1,40 @@
+"""What a contact law gives each contact (``ContactTerms``) and the number parsing the LAMMPS pair-style
+readers share (``dtcrit.packing.conventions.pair_styles``, ``dtcrit.packing.conventions.granular_style``)."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from dtcrit.errors import InputError
+
+FLAG = "--pair-style"
+
+
+@dataclass(frozen=True)
+class ContactTerms:
+    """Per-contact springs [N/m], dashpots [N s/m], the normal force [N] (compressive positive) and,
+    when the law has them, rolling and twisting springs [N m/rad] and dashpots [N m s/rad]."""
+
+    kn: np.ndarray
+    ks: np.ndarray
+    cn: np.ndarray
+    cs: np.ndarray
+    force_n: np.ndarray
+    kr: np.ndarray | None = None
+    ktw: np.ndarray | None = None
+    cr: np.ndarray | None = None
+    ctw: np.ndarray | None = None
+
+
+def number(text: str, what: str, *, allow_null: bool = False) -> float | None:
+    if allow_null and text == "NULL":
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        raise InputError(FLAG, f"{what} must be a number{' or NULL' if allow_null else ''}, found {text!r}") from None
+    if not math.isfinite(value) or value < 0:
+        raise InputError(FLAG, f"{what} must be a finite number >= 0, found {text!r}")
+    return value

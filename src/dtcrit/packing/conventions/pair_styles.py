@@ -1,0 +1,108 @@
+"""LAMMPS / LIGGGHTS granular pair styles as the per-contact springs and dashpots they apply.
+
+The user gives the style exactly as in the input script, e.g.
+``--pair-style 'gran/hooke/history 1e4 1e4 0 0 1e4 0'``.  ``pair_style gran/*`` (LAMMPS docs
+``pair_gran``; sources ``src/GRANULAR/pair_gran_hooke.cpp``, ``pair_gran_hooke_history.cpp``,
+``pair_gran_hertz_history.cpp``) takes ``Kn Kt gamma_n gamma_t xmu dampflag [limit_damping]``:
+
+* ``Kt`` ``NULL`` -> ``2/7 Kn``; ``gamma_t`` ``NULL`` -> ``gamma_n / 2``; ``dampflag 0`` -> no tangential
+  dashpot; ``xmu = 0`` -> no tangential force at all (the Coulomb cap ``xmu |F_n|`` is zero);
+* normal force ``Kn delta - m_eff gamma_n v_n`` with ``m_eff = m_i m_j / (m_i + m_j)``: ``k_n = Kn``,
+  ``c_n = m_eff gamma_n``;
+* ``gran/hooke`` has no shear history: the tangential force is the dashpot ``-m_eff gamma_t v_t``
+  only (``k_s = 0``); ``gran/hooke/history`` adds the spring ``-Kt xi`` (``k_s = Kt``);
+* ``gran/hertz/history`` multiplies every term by ``sqrt(delta R*)``, ``R* = R_i R_j/(R_i + R_j)``:
+  the force ``Kn delta sqrt(R* delta)`` has the tangent stiffness ``k_n = 3/2 Kn sqrt(R* delta)``;
+  ``k_s = Kt sqrt(R* delta)``, ``c_n = m_eff gamma_n sqrt(R* delta)``, ``c_s = m_eff gamma_t sqrt(R* delta)``.
+
+The friction limit is taken as not reached (sticking contacts): the linear analysis of the step.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from dtcrit.errors import InputError
+
+from dtcrit.packing.conventions.granular_style import parse_granular
+from dtcrit.packing.conventions.law_terms import FLAG, ContactTerms, number
+from dtcrit.packing.model import Contacts, Packing
+
+GRAN_STYLES = ("gran/hooke", "gran/hooke/history", "gran/hertz/history")
+
+
+@dataclass(frozen=True)
+class GranPairStyle:
+    """A parsed ``pair_style gran/*`` line (module docstring)."""
+
+    style: str
+    kn: float
+    kt: float
+    gamma_n: float
+    gamma_t: float
+    xmu: float
+    dampflag: int
+    text: str
+
+    arm = "radius"  # slip velocity and torque with the full radius (module docstring)
+
+    def material(self) -> None:
+        return None  # the gran/* styles take spring constants, not a material
+
+    def describe(self) -> str:
+        return f"LAMMPS pair_style {self.text}"
+
+    def terms(self, packing: Packing, contacts: Contacts) -> ContactTerms:
+        m = packing.masses
+        m_eff = m[contacts.i] * m[contacts.j] / (m[contacts.i] + m[contacts.j])
+        delta = contacts.overlap
+        ones = np.ones_like(delta)
+        scale = np.sqrt(delta * contacts.radius_eff) if self.style == "gran/hertz/history" else ones
+        kn = (1.5 if self.style == "gran/hertz/history" else 1.0) * self.kn * scale
+        force = self.kn * delta * scale
+        tangential = self.xmu > 0
+        ks = (self.kt * scale if self.style != "gran/hooke" else 0.0 * ones) * tangential
+        cs = m_eff * self.gamma_t * scale * (tangential and self.dampflag == 1)
+        return ContactTerms(kn, ks, m_eff * self.gamma_n * scale, cs, force)
+
+
+def parse_pair_style(text: str):
+    """The law of the pair style line (without the leading ``pair_style``): a ``GranPairStyle``, or for
+    ``granular`` a ``dtcrit.packing.conventions.granular_style.GranularStyle`` from the ``pair_coeff`` words after it."""
+    words = str(text).split()
+    if words and words[0] == "pair_style":
+        words = words[1:]
+    if not words:
+        raise InputError(FLAG, "empty: give the style and its arguments, e.g. 'gran/hooke/history 1e4 NULL 0 NULL 0.5 0'")
+    style, args = words[0], words[1:]
+    if style == "granular":
+        return parse_granular(args)
+    if style.endswith("/omp") or style.endswith("/kk"):
+        style = style.rsplit("/", 1)[0]
+    if style not in GRAN_STYLES:
+        raise InputError(FLAG, f"unknown or unsupported pair style {style!r}; supported: {', '.join(GRAN_STYLES)}, granular")
+    if args and args[-1] == "limit_damping":
+        args = args[:-1]
+    if len(args) != 6:
+        raise InputError(FLAG, f"{style} takes 6 arguments (Kn Kt gamma_n gamma_t xmu dampflag), found {len(args)}")
+    kn = number(args[0], "Kn")
+    kt = number(args[1], "Kt", allow_null=True)
+    gamma_n = number(args[2], "gamma_n")
+    gamma_t = number(args[3], "gamma_t", allow_null=True)
+    xmu = number(args[4], "xmu")
+    if xmu > 1e4:
+        raise InputError(FLAG, f"xmu must lie in [0, 1e4] (LAMMPS's own limit), found {args[4]!r}")
+    if args[5] not in ("0", "1"):
+        raise InputError(FLAG, f"dampflag must be 0 or 1, found {args[5]!r}")
+    if kn == 0:
+        raise InputError(FLAG, "Kn must be positive")
+    return GranPairStyle(style, kn, 2.0 / 7.0 * kn if kt is None else kt, gamma_n,
+                         0.5 * gamma_n if gamma_t is None else gamma_t, xmu, int(args[5]), " ".join([words[0], *args]))
+
+
+def apply_terms(contacts: Contacts, terms: ContactTerms, *, preload: bool) -> Contacts:
+    """Contacts carrying the terms (the normal force only with ``preload``: geometric stiffness)."""
+    out = contacts.with_stiffness(terms.kn, terms.ks, terms.kr, terms.ktw)
+    out = out.with_damping(terms.cn, terms.cs, terms.cr, terms.ctw)
+    return out.with_normal_force(terms.force_n) if preload else out

@@ -1,0 +1,4 @@
+"""Contact detection: spheres by overlap (``scipy.spatial.cKDTree``), convex bodies and clumps.
+
+Modules: ``overlaps`` (spheres and convex shapes), ``body_contacts`` (bodies and clumps of a ``dtcrit-bodies/1`` file).
+"""

@@ -1,0 +1,373 @@
+"""Matrix-free mass-scaled stiffness and damping operators: ``A v`` straight from the contact list.
+
+``A = M^(-1/2) K M^(-1/2)`` (or ``M^(-1/2) C M^(-1/2)``) is applied without forming ``K``: for each
+contact ``c`` between ``i`` and ``j`` (``dtcrit.packing.operators.assembly``, module docstring, for the
+element matrices), with ``q = M^(-1/2) v`` split into translations ``u`` and body rotations ``t``
+(global rotation ``theta = R t``),
+
+    delta = u_j - u_i + a_i x theta_i - a_j x theta_j        (= B_i q_i + B_j q_j)
+    f     = K_c delta = k_s delta + (k_n - k_s) (n . delta) n
+    K q  += B_i^T f on i:  (-f, -R_i^T (a_i x f));   B_j^T f on j:  (f, R_j^T (a_j x f))
+
+plus, when the contacts carry them, the rolling/twisting springs on ``w = theta_j - theta_i``
+(moment ``m = k_r w + (k_tw - k_r)(n . w) n``: ``-R_i^T m`` on i, ``R_j^T m`` on j) and the
+pre-load geometric term on the centre displacement ``d = u_j - u_i`` (force
+``p = -(F/r)(d - (n . d) n)``: ``-p`` on i, ``p`` on j).  A contact with its own periodic image
+(``i == j``) scatters both sides onto the same particle, which is ``(B_i + B_j)^T K_c (B_i + B_j)``,
+as assembled.  The dashpot operator ``C`` uses ``c_n, c_s`` (``c_r, c_tw``) in place of the springs
+and has no pre-load term.
+
+The product is one compiled loop over the contacts (``operator_kernels``, Numba) or, without
+Numba, vectorised NumPy in chunks of contacts scattered with ``numpy.add.at`` on flat indices
+(measured faster than per-column ``numpy.bincount``).  Memory beyond the contact arrays is O(N)
+for the vectors (O(chunk) more on the NumPy path) plus one per-contact pre-load coefficient.
+
+A second kind of pass gives what the rigorous bounds need without assembling: the 6 x 6 diagonal
+blocks ``A_pp`` (``diagonal_blocks``) and the Gershgorin row sums ``sum_q |A_pq| w_q`` (``abs_row_sums``:
+each contact's coupling block counted on its own, which equals the assembled row sum unless two
+particles touch through several periodic images, where it is larger, still a valid bound).
+"""
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse.linalg as spla
+
+from dtcrit.errors import InputError
+import dtcrit.packing.operators.matrix_free_kernels as kernels
+from dtcrit.packing.operators.assembly import _centre_distance, _element_blocks, mass_diagonal
+from dtcrit.packing.model import Contacts, Packing
+
+CHUNK = 1 << 16  # contacts per vectorised chunk (measured: larger chunks gain nothing, cost memory)
+KINDS = ("stiffness", "damping")
+SPHERE_LOOP_MAX_DOFS = 20_000_000
+"""Above this the sphere loop is not used: its two arm lengths per contact (1 GB at 6e7 contacts)
+would not fit beside the rest in 16 GiB at 1e7 spheres, and it saves only about 15 % of a product."""
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise ``a x b`` of two (n, 3) arrays (cheaper than ``np.cross`` for small rows)."""
+    out = np.empty_like(b)
+    out[:, 0] = a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1]
+    out[:, 1] = a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2]
+    out[:, 2] = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    return out
+
+
+def _rows(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise dot product of two (n, 3) arrays, shape (n, 1)."""
+    return (a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1] + a[:, 2] * b[:, 2])[:, None]
+
+
+class ContactOperator(spla.LinearOperator):
+    """``A = M^(-1/2) K M^(-1/2)`` (``kind="stiffness"``) or ``M^(-1/2) C M^(-1/2)`` (``"damping"``) of
+    a packing as a symmetric ``scipy.sparse.linalg.LinearOperator`` (module docstring).
+
+    ``mass_diag`` defaults to the packing's mass diagonal; ``ones`` gives ``K`` (``C``) itself.
+    ``scale`` multiplies the operator (``damped`` combines two of them with ``combined``).
+    ``applications`` counts the operator applications (one per vector).  ``compiled`` (default: when
+    Numba is installed) runs the loops of ``operator_kernels``; ``False`` the vectorised NumPy path.
+    """
+
+    def __init__(self, packing: Packing, contacts: Contacts, kind: str = "stiffness", *,
+                 mass_diag: np.ndarray | None = None, chunk: int = CHUNK, compiled: bool | None = None):
+        if kind not in KINDS:
+            raise InputError("kind", f"unknown operator kind {kind!r}; choose one of {', '.join(KINDS)}")
+        if kind == "stiffness" and (contacts.kn is None or contacts.ks is None):
+            raise InputError("contacts", "no stiffness: apply a contact law first (model.apply_law)")
+        n = packing.n
+        super().__init__(dtype=np.dtype(float), shape=(6 * n, 6 * n))
+        self.packing, self.contacts, self.kind, self.chunk = packing, contacts, kind, int(chunk)
+        md = mass_diagonal(packing) if mass_diag is None else np.asarray(mass_diag, float)
+        self.mass_diag = md
+        self.scale6 = (1.0 / np.sqrt(md)).reshape(n, 6)
+        self.applications = 0
+        zero = None
+        if kind == "stiffness":
+            self.along, self.across = contacts.kn, contacts.ks
+            self.twist, self.roll = contacts.ktw, contacts.kr
+        else:
+            self.along, self.across = contacts.cn, contacts.cs
+            self.twist, self.roll = contacts.ctw, contacts.cr
+        self.translational = self.along is not None or self.across is not None
+        self.rotational = self.twist is not None or self.roll is not None
+        self.preload = zero
+        if kind == "stiffness" and contacts.force_n is not None and np.any(contacts.force_n != 0):
+            self.preload = contacts.force_n / _centre_distance(packing, contacts, slice(None))
+        self.orientations = packing.orientations
+        self.compiled = kernels.available() if compiled is None else bool(compiled)
+        if self.compiled and not kernels.available():
+            raise InputError("compiled", "the compiled operator needs Numba (pip install numba)")
+        if self.compiled:
+            self._kernel_args = self._pack_kernel_args()
+            self._sphere_args = self._pack_sphere_args()
+
+    def _pack_kernel_args(self):
+        """Contiguous arrays for the compiled loops (no copy where the contacts already are)."""
+        c = self.contacts
+        nc = c.count
+        empty = np.zeros(0)
+
+        def arr(a, use):
+            if not use:
+                return empty
+            return np.zeros(nc) if a is None else np.ascontiguousarray(a, dtype=float)
+
+        index = lambda a: np.ascontiguousarray(a, dtype=np.int64)  # noqa: E731
+        arms = self.translational
+        flags = np.array([self.translational, self.rotational, self.preload is not None,
+                          self.orientations is not None], dtype=np.int64)
+        rot = np.zeros((0, 3, 3)) if self.orientations is None else np.ascontiguousarray(self.orientations)
+        return (index(c.i), index(c.j), np.ascontiguousarray(c.normal, dtype=float),
+                np.ascontiguousarray(c.arm_i, dtype=float) if arms else np.zeros((0, 3)),
+                np.ascontiguousarray(c.arm_j, dtype=float) if arms else np.zeros((0, 3)),
+                arr(self.along, arms), arr(self.across, arms), arr(self.twist, self.rotational),
+                arr(self.roll, self.rotational), arr(self.preload, self.preload is not None), rot, flags)
+
+    def _pack_sphere_args(self):
+        """Arguments of ``operator_kernels.apply_sphere_contacts`` when every contact is a sphere
+        contact (arms along the normal: ``a_i = l_i n``, ``a_j = -l_j n`` to 4 ulps), with springs
+        (and pre-load) only and no body rotations; otherwise ``None`` (the general loop)."""
+        c = self.contacts
+        if (not self.translational or self.rotational or self.orientations is not None or c.count == 0
+                or self.along is None or self.across is None or self.shape[0] > SPHERE_LOOP_MAX_DOFS):
+            return None
+        li, lj = np.empty(c.count), np.empty(c.count)
+        for lo in range(0, c.count, self.chunk):
+            sl = slice(lo, min(lo + self.chunk, c.count))
+            n = c.normal[sl]
+            for arm, out, sign in ((c.arm_i[sl], li, 1.0), (c.arm_j[sl], lj, -1.0)):
+                length = sign * _rows(arm, n)[:, 0]
+                off = np.abs(arm - sign * length[:, None] * n).max(axis=1)
+                if np.any(off > 4 * np.finfo(float).eps * np.abs(arm).max(axis=1)):
+                    return None
+                out[sl] = length
+        pre = self.preload is not None
+        c_args = self._kernel_args
+        return (c_args[0], c_args[1], c_args[2], li, lj, c_args[5], c_args[6],
+                c_args[9] if pre else np.zeros(0), pre)
+
+    # -- the product -------------------------------------------------------------------------------
+    def _scatter(self, out: np.ndarray, idx: np.ndarray, values: np.ndarray) -> None:
+        """``out[idx[c]] += values[c]`` for rows of ``values`` (repeated indices summed)."""
+        w = values.shape[1]
+        flat = (idx[:, None] * w + np.arange(w)).reshape(-1)
+        np.add.at(out.reshape(-1), flat, values.reshape(-1))
+
+    def apply_into(self, x: np.ndarray, out: np.ndarray) -> np.ndarray:
+        """``out = A x`` into a given (6N,) array, with no array allocated on the compiled path
+        (``eigen.chebyshev_start`` calls it: at 1e6 particles a fresh vector costs as much time
+        as a third of the product)."""
+        if not self.compiled:
+            out[:] = self._matvec(x)
+            return out
+        self.applications += 1
+        work = getattr(self, "_work", None)
+        if work is None or work.shape != self.scale6.shape:
+            work = self._work = np.empty_like(self.scale6)
+        np.multiply(np.asarray(x, float).reshape(-1, 6), self.scale6, out=work)
+        y = out.reshape(-1, 6)
+        y[:] = 0.0
+        self._compiled_product(work, y)
+        y *= self.scale6
+        return out
+
+    def _matvec(self, x):
+        x = np.asarray(x, float).reshape(-1)
+        self.applications += 1
+        q = x.reshape(-1, 6) * self.scale6
+        y = np.zeros_like(q)
+        if self.compiled:
+            self._compiled_product(q, y)
+            y *= self.scale6
+            return y.reshape(-1)
+        nc = self.contacts.count
+        for start in range(0, nc, self.chunk):
+            sl = slice(start, min(start + self.chunk, nc))
+            oi, oj = self._chunk_forces(q, sl)
+            self._scatter(y, self.contacts.i[sl], oi)
+            self._scatter(y, self.contacts.j[sl], oj)
+        y *= self.scale6
+        return y.reshape(-1)
+
+    def _compiled_product(self, q: np.ndarray, y: np.ndarray) -> None:
+        if self._sphere_args is not None:
+            kernels.apply_sphere_contacts(q, y, *self._sphere_args)
+        else:
+            kernels.apply_contacts(q, y, *self._kernel_args)
+
+    def _matmat(self, xs):
+        xs = np.asarray(xs, float)
+        return np.column_stack([self._matvec(xs[:, k]) for k in range(xs.shape[1])])
+
+    def _adjoint(self):
+        return self
+
+    def _chunk_forces(self, q: np.ndarray, sl: slice):
+        """``(B_i^T f, B_j^T f)`` per contact of the chunk, each (m, 6) (module docstring)."""
+        c = self.contacts
+        ci, cj = c.i[sl], c.j[sl]
+        qi, qj = q[ci], q[cj]
+        m = qi.shape[0]
+        oi, oj = np.zeros((m, 6)), np.zeros((m, 6))
+        theta_i, theta_j = qi[:, 3:], qj[:, 3:]
+        rot = self.orientations
+        if rot is not None:
+            theta_i = np.einsum("nab,nb->na", rot[ci], theta_i)
+            theta_j = np.einsum("nab,nb->na", rot[cj], theta_j)
+        n = c.normal[sl]
+        mom_i = mom_j = None
+        if self.translational:
+            ai, aj = c.arm_i[sl], c.arm_j[sl]
+            d = qj[:, :3] - qi[:, :3]
+            delta = d + _cross(ai, theta_i) - _cross(aj, theta_j)
+            along = 0.0 if self.along is None else self.along[sl][:, None]
+            across = 0.0 if self.across is None else self.across[sl][:, None]
+            f = across * delta + (along - across) * _rows(n, delta) * n
+            oi[:, :3] -= f
+            oj[:, :3] += f
+            mom_i, mom_j = -_cross(ai, f), _cross(aj, f)
+        if self.preload is not None:
+            d = qj[:, :3] - qi[:, :3]
+            p = -self.preload[sl][:, None] * (d - _rows(n, d) * n)
+            oi[:, :3] -= p
+            oj[:, :3] += p
+        if self.rotational:
+            w = theta_j - theta_i
+            twist = 0.0 if self.twist is None else self.twist[sl][:, None]
+            roll = 0.0 if self.roll is None else self.roll[sl][:, None]
+            mr = roll * w + (twist - roll) * _rows(n, w) * n
+            mom_i = -mr if mom_i is None else mom_i - mr
+            mom_j = mr if mom_j is None else mom_j + mr
+        if mom_i is not None:
+            if rot is not None:
+                mom_i = np.einsum("nba,nb->na", rot[ci], mom_i)
+                mom_j = np.einsum("nba,nb->na", rot[cj], mom_j)
+            oi[:, 3:] = mom_i
+            oj[:, 3:] = mom_j
+        return oi, oj
+
+    # -- what the bounds need ----------------------------------------------------------------------
+    def _block_pass(self, weights: list[np.ndarray]):
+        """One pass over the element blocks: the scaled diagonal blocks (N, 6, 6) and, per weight
+        vector ``w`` (6N,), the coupling part of ``sum_q |A_pq| w_q`` (N, 6) (module docstring)."""
+        p, c = self.packing, self.contacts
+        n = p.n
+        s = self.scale6
+        wk = np.empty((n, 6, len(weights)))  # one (N, 6, K) array: 0.5 GB per weight at 1e7 particles
+        for k, w in enumerate(weights):
+            wk[:, :, k] = np.asarray(w, float).reshape(n, 6)
+        w6 = [wk[:, :, k] for k in range(len(weights))]
+        if self.compiled:
+            diag = np.zeros((n, 6, 6))
+            rows = np.zeros((n, 6, len(weights)) if weights else (0, 6, 0))
+            kernels.element_pass(*self._kernel_args, np.ascontiguousarray(s), wk, diag, rows)
+            sums = [rows[:, :, k] for k in range(len(weights))]
+        else:
+            diag = np.zeros((n, 36))
+            sums = [np.zeros((n, 6)) for _ in weights]
+            for start in range(0, c.count, self.chunk):
+                sl = slice(start, min(start + self.chunk, c.count))
+                k_ii, k_jj, k_ij = _element_blocks(p, c, sl, self.kind)
+                ci, cj = c.i[sl], c.j[sl]
+                same = ci == cj
+                if same.any():
+                    k_ii = k_ii.copy()
+                    k_ii[same] += k_ij[same] + np.swapaxes(k_ij[same], 1, 2)
+                    k_ij = k_ij.copy()
+                    k_ij[same] = 0.0
+                self._scatter(diag, ci, k_ii.reshape(-1, 36))
+                self._scatter(diag, cj, k_jj.reshape(-1, 36))
+                if weights:
+                    scaled = np.abs(k_ij * s[ci][:, :, None] * s[cj][:, None, :])
+                    for w, out in zip(w6, sums):
+                        self._scatter(out, ci, np.einsum("cab,cb->ca", scaled, w[cj]))
+                        self._scatter(out, cj, np.einsum("cab,ca->cb", scaled, w[ci]))
+            diag = diag.reshape(n, 6, 6)
+        diag *= s[:, :, None]  # in place: at 1e7 particles each (N, 6, 6) array is 2.9 GB
+        diag *= s[:, None, :]
+        self._blocks = blocks = diag
+        for w, out in zip(w6, sums):
+            for lo in range(0, n, self.chunk):
+                part = slice(lo, min(lo + self.chunk, n))
+                out[part] += np.einsum("pab,pb->pa", np.abs(blocks[part]), w[part])
+        return blocks, [out.reshape(-1) for out in sums]
+
+    def diagonal_blocks(self) -> np.ndarray:
+        """The 6 x 6 diagonal blocks ``A_pp`` of the scaled operator, shape (N, 6, 6) (kept)."""
+        if getattr(self, "_blocks", None) is None:
+            self._block_pass([])
+        return self._blocks
+
+    def abs_row_sums(self, weights: np.ndarray | None = None) -> np.ndarray:
+        """``|A| w`` (``w`` = ones by default; rows of ``M^-1 K`` need ``w = sqrt(m)``, see
+        ``estimates.gershgorin``).  The first call computes the unit and the ``sqrt(mass)`` weights
+        together and keeps both."""
+        root = np.sqrt(self.mass_diag)
+        w = None if weights is None else np.asarray(weights, float).reshape(-1)
+        if getattr(self, "_row_cache", None) is None:
+            _, (r1, r2) = self._block_pass([np.ones(self.shape[0]), root])
+            self._row_cache = {"ones": r1, "root": r2}
+        if w is None or np.all(w == 1.0):
+            return self._row_cache["ones"]
+        if np.array_equal(w, root):
+            return self._row_cache["root"]
+        return self._block_pass([w])[1][0]
+
+    def assembled(self):
+        """The same operator assembled (``scipy.sparse`` BSR, ``dtcrit.packing.operators.assembly``): for the
+        certificate's factorisation and for tests."""
+        from dtcrit.packing.operators.assembly import damping_matrix, scale_symmetric, stiffness_matrix
+
+        build = stiffness_matrix if self.kind == "stiffness" else damping_matrix
+        return scale_symmetric(build(self.packing, self.contacts), self.mass_diag, inplace=True)
+
+    def diagonal(self) -> np.ndarray:
+        return np.einsum("nii->ni", self.diagonal_blocks()).reshape(-1)
+
+    @property
+    def is_zero(self) -> bool:
+        """No contact carries a non-zero coefficient of this kind (a zero operator)."""
+        coeffs = [a for a in (self.along, self.across, self.twist, self.roll, self.preload) if a is not None]
+        return self.contacts.count == 0 or not any(np.any(a != 0) for a in coeffs)
+
+    def memory_bytes(self) -> int:
+        """Bytes of the contact arrays one application reads (the bandwidth floor's pass)."""
+        c = self.contacts
+        arrays = [c.i, c.j, c.normal]
+        if getattr(self, "_sphere_args", None) is not None:
+            return int(sum(a.nbytes for a in arrays + list(self._sphere_args[3:8])))
+        if self.translational:
+            arrays += [c.arm_i, c.arm_j] + [a for a in (self.along, self.across) if a is not None]
+        if self.rotational:
+            arrays += [a for a in (self.twist, self.roll) if a is not None]
+        if self.preload is not None:
+            arrays.append(self.preload)
+        return int(sum(a.nbytes for a in arrays))
+
+
+class CombinedOperator(spla.LinearOperator):
+    """``alpha * A + beta * B`` of two operators of the same shape (``damped``: ``2h C~ + h^2 K~``)."""
+
+    def __init__(self, a, alpha: float, b, beta: float):
+        super().__init__(dtype=np.dtype(float), shape=a.shape)
+        self.a, self.alpha, self.b, self.beta = a, float(alpha), b, float(beta)
+
+    def _matvec(self, x):
+        x = np.asarray(x, float).reshape(-1)
+        return self.alpha * (self.a @ x) + self.beta * (self.b @ x)
+
+    def _adjoint(self):
+        return self
+
+
+def stiffness_operator(packing: Packing, contacts: Contacts, **kw) -> ContactOperator:
+    """Matrix-free ``K~ = M^(-1/2) K M^(-1/2)``."""
+    return ContactOperator(packing, contacts, "stiffness", **kw)
+
+
+def damping_operator(packing: Packing, contacts: Contacts, **kw) -> ContactOperator:
+    """Matrix-free ``C~ = M^(-1/2) C M^(-1/2)``."""
+    return ContactOperator(packing, contacts, "damping", **kw)
+
+
+__all__ = ["ContactOperator", "CombinedOperator", "stiffness_operator", "damping_operator", "CHUNK"]

@@ -1,0 +1,386 @@
+"""Packings of non-spherical bodies from a JSON file, schema ``dtcrit-bodies/1``.
+
+The file (UTF-8 JSON, one object)::
+
+    {"schema": "dtcrit-bodies/1",
+     "box": {"lo": [x, y, z], "hi": [x, y, z], "periodic": [true, true, false]},   (or null: no box)
+     "bodies": [
+       {"id": 1,
+        "shape": {"shape": "ellipsoid", "semi_axes": [a, b, c], "density": 2650.0},
+        "position": [x, y, z],
+        "orientation": [qw, qx, qy, qz]},
+       ...],
+     "contacts": [{"id1": 1, "id2": 2, "kn": 1e5, "ks": 8e4}, ...]}               (optional)
+
+* ``shape`` holds the keys of a scene's ``[[particle]]`` table (README, Scene files) and is read by
+  the scenes' own parser: ``shape`` is one of ``sphere`` (``radius``), ``ellipsoid`` (``semi_axes``,
+  largest first), ``superquadric`` (``semi_axes``, ``exponents``), ``box`` (``half_lengths``),
+  ``polyhedron`` (``vertices``), ``clump`` (``spheres`` ``[[x, y, z, r], ...]``), with exactly one
+  of ``density`` [kg/m^3] or ``mass`` [kg].  A body is one particle: size distributions (``radii``,
+  ``lognormal``) and the elastic constants (the contact law comes from ``contacts`` or the command
+  line) are refused.
+* ``position`` [m] places the origin of the frame the shape's dimensions are given in: the centre
+  of a sphere, ellipsoid, superquadric or box; the origin of a polyhedron's ``vertices`` or a
+  clump's ``spheres``, whose centre of mass is then at ``position + R(q) c`` (``c`` the centroid in
+  that frame, ``ConvexPolyhedron.centroid``, ``Clump.centre_of_mass``).
+* ``orientation`` (optional, default ``[1, 0, 0, 0]``) is the unit quaternion of the body's
+  orientation, body to world, ``v_world = R(q) v_body`` (README, One rotation convention; Peng et
+  al. 2020, Eq. (7)); it must have unit length to 1e-6 and is then normalised.  Polyhedra and
+  clumps are analysed in their principal frame, ``R(q)`` times the shape's own frame rotation.
+* ``id`` distinct integers, the names bodies carry in messages and contacts.
+* ``contacts`` (optional) gives each touching pair its springs ``kn``, ``ks`` [N/m].  Contact
+  points and normals always come from the geometry (below); every listed pair must touch, and
+  every touching pair must be listed (``kn = ks = 0`` leaves one out).  Without the list the
+  command line's ``--kn/--ks`` (or ``--youngs`` for sphere and clump-member contacts) applies.
+
+Contacts (:func:`find_body_contacts`): convex bodies by their support-function penetration
+(``dtcrit.packing.detection.overlaps.find_convex_contacts``: normal along the minimum-translation
+direction, contact point halfway between the two deepest support points).  A clump is its member
+spheres: members of different bodies meet like convex bodies, the arms are measured from the
+clump's centre of mass (contacts sit at member surfaces), and members of one clump never
+touch each other.  Periodic axes use the box's images as for spheres.
+
+Bad input raises one ``InputError`` whose key names the file and the entry,
+``FILE: bodies[3].shape.semi_axes``: arrays of the file count from 0, as JSON does; entries inside
+a shape table count from 1, as in scene files.
+"""
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from dtcrit.errors import InputError
+from dtcrit._generated import mass_properties as _mp
+from dtcrit.packing.readers.bodies_values import (_array, _fail, _integer, _keys, _numbers, _short, _sphere_table,
+                                          _stiffness)
+from dtcrit.packing.detection.body_contacts import find_body_contacts
+from dtcrit.packing.detection.overlaps import wrap_positions
+from dtcrit.packing.model import Box, Contacts, Packing
+from dtcrit.packing.readers.limits import check_inertia, check_lengths, check_rates, contact_rates
+from dtcrit.packing.readers.yade_clumps import rotation_from_quaternion
+
+SCHEMA = "dtcrit-bodies/1"
+TOP_KEYS = ("schema", "box", "bodies", "contacts")
+BOX_KEYS = ("lo", "hi", "periodic")
+BODY_KEYS = ("id", "shape", "position", "orientation")
+BODY_SET = frozenset(BODY_KEYS)
+NEEDED = frozenset(("id", "shape", "position"))
+CONTACT_KEYS = ("id1", "id2", "kn", "ks")
+REFUSED_SHAPE_KEYS = {
+    "radii": "a body is one sphere: give its radius",
+    "fractions": "a body is one sphere: give its radius",
+    "lognormal": "a body is one sphere: give its radius",
+    "youngs_modulus": "not used in a bodies file: the contact law comes from 'contacts' or --kn/--ks/--youngs",
+    "poisson_ratio": "not used in a bodies file: the contact law comes from 'contacts' or --kn/--ks/--youngs",
+}
+UNIT_TOLERANCE = 1e-6
+"""Largest accepted ``| |q| - 1 |`` of an orientation (eight digits of 0.70710678 pass)."""
+MAX_BYTES = 64 << 20
+
+ParticleTable = Callable[[int, dict], object]
+"""``(number, table) -> particle`` with ``.shape`` (a ``dtcrit.bodies`` object), raising ``InputError``
+keyed ``particle[number].<key>``: the scenes' parser ``dtcrit.scenes.scene._particle``.  The packing
+layer sits below the scenes, so the caller hands the parser in (``dtcrit.cli.packing`` does)."""
+
+
+@dataclass(frozen=True)
+class BodiesFile:
+    """A read ``dtcrit-bodies/1`` file: the ``packing`` (``Packing.from_shapes`` with the file's ids),
+    its geometric ``contacts`` (with the file's ``kn``/``ks`` when ``stiffness_given``) and the
+    number of bodies of each shape ``kinds``."""
+
+    packing: Packing
+    contacts: Contacts
+    stiffness_given: bool
+    kinds: dict
+
+
+def is_bodies_file(path) -> bool:
+    """Whether ``path`` starts (after blanks and a byte-order mark) with ``{``; unreadable: False."""
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(4096)
+    except (OSError, ValueError):
+        return False
+    return head.removeprefix(b"\xef\xbb\xbf").lstrip().startswith(b"{")
+
+
+def _load(path: Path) -> dict:
+    try:
+        with path.open("rb") as handle:
+            data = handle.read(MAX_BYTES + 1)
+    except OSError as exc:
+        raise _fail(str(path), f"cannot read: {exc.strerror or exc}") from None
+    if len(data) > MAX_BYTES:
+        raise _fail(f"{path}: bodies", f"more than {MAX_BYTES >> 20} MiB of JSON (some 450,000 spheres), more than a "
+                    "bodies file holds; give a larger sphere packing as a LAMMPS dump")
+    try:
+        doc = json.loads(data.decode("utf-8-sig"))
+    except UnicodeDecodeError as exc:
+        line = data[:exc.start].count(b"\n") + 1
+        raise _fail(f"{path}:{line}", f"not UTF-8 text (byte {exc.start}); a bodies file is JSON") from None
+    except json.JSONDecodeError as exc:
+        raise _fail(f"{path}:{exc.lineno}", f"not valid JSON: {exc.msg}") from None
+    except RecursionError:
+        raise _fail(f"{path}: bodies", "arrays nested too deeply: not a bodies file") from None
+    if not isinstance(doc, dict):
+        raise _fail(f"{path}:1", f"a {SCHEMA} file is one JSON object, found {_short(type(doc).__name__)}")
+    return doc
+
+
+def _box(where: str, value) -> Box | None:
+    if value is None:
+        return None
+    if not isinstance(value, dict):
+        raise _fail(where, f"expected an object with lo, hi and periodic, or null; found {_short(value)}")
+    _keys(where, value, BOX_KEYS)
+    for key in BOX_KEYS:
+        if key not in value:
+            raise _fail(f"{where}.{key}", "missing: a box needs lo, hi and periodic")
+    lo, hi = _numbers(f"{where}.lo", value["lo"], 3), _numbers(f"{where}.hi", value["hi"], 3)
+    periodic = value["periodic"]
+    if not (isinstance(periodic, list) and len(periodic) == 3 and all(isinstance(p, bool) for p in periodic)):
+        raise _fail(f"{where}.periodic", f"expected three booleans, found {_short(periodic)}")
+    if np.any(hi <= lo):
+        raise _fail(f"{where}.hi", f"each upper bound must exceed its lower bound (lo = {lo.tolist()}, hi = {hi.tolist()})")
+    return Box(lo, hi, tuple(periodic))
+
+
+def _shape(where: str, table, particle_table: ParticleTable):
+    if not isinstance(table, dict):
+        raise _fail(where, f"expected an object with the keys of a scene's [[particle]] table, found {_short(table)}")
+    for key, why in REFUSED_SHAPE_KEYS.items():
+        if key in table:
+            raise _fail(f"{where}.{key}", why)
+    try:
+        return particle_table(1, table).shape
+    except InputError as exc:
+        tail = exc.key.removeprefix("particle[1]")
+        raise _fail(where + tail, exc.reason) from None
+
+
+def _orientation(where: str, value) -> np.ndarray:
+    if value is None:
+        return np.eye(3)
+    q = _numbers(where, value, 4)
+    with np.errstate(over="ignore"):
+        norm = float(np.linalg.norm(q))
+    if abs(norm - 1.0) > UNIT_TOLERANCE:
+        raise _fail(where, f"not a unit quaternion (|q| = {norm:.9g}); give [qw, qx, qy, qz] with unit length")
+    return rotation_from_quaternion(where, list(q / norm))
+
+
+def _frame(shape) -> tuple[np.ndarray, np.ndarray]:
+    """``(G, c)`` with ``given = G principal + c`` for the shape's given frame (module docstring)."""
+    if hasattr(shape, "frame_rotation"):  # clump: x_given = Q x_principal + centre
+        return np.asarray(shape.frame_rotation, float), np.asarray(shape.centre_of_mass, float)
+    if hasattr(shape, "centroid") and hasattr(shape, "rotation"):  # polyhedron: local = rot (input - centroid)
+        return np.asarray(shape.rotation, float).T, np.asarray(shape.centroid, float)
+    return np.eye(3), np.zeros(3)
+
+
+def _sphere_properties(where: list, tables: list, found: np.ndarray, particle_table: ParticleTable):
+    """``(radius, mass, inertia)`` of plain sphere tables (``found`` their rows of ``_sphere_table``),
+    for all at once: ``m = rho 4/3 pi R^3`` or the given mass, ``I = 2/5 m R^2`` (the formulas of
+    ``dtcrit.bodies.Sphere``).  A table whose numbers do not give a positive finite radius, density,
+    mass and moment is read by the scenes' parser, which names the key."""
+    r, rho, given = found[:, 0], found[:, 1], found[:, 2]
+    with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
+        volume = _mp.sphere_volume(r)
+        mass = np.where(np.isnan(rho), given, rho * volume)
+        density = np.where(np.isnan(rho), given / volume, rho)
+        inertia = mass * _mp.sphere_inertia_per_mass(r)
+    ok = np.ones(len(r), bool)
+    for v in (r, volume, mass, density, inertia):
+        ok &= np.isfinite(v) & (v > 0)
+    if not ok.all():
+        k = int(np.argmin(ok))
+        _shape(where[k], tables[k], particle_table)
+        raise _fail(where[k], "the radius and density (or mass) give a moment of inertia outside double precision")
+    return r, mass, inertia
+
+
+def _entries(path, bodies: list):
+    """Per-body checks of keys and ids: ``(ids, shape tables, positions, orientations)`` as given."""
+    ids, tables, positions, quats, seen = [], [], [], [], {}
+    for k, body in enumerate(bodies):
+        if type(body) is not dict:
+            raise _fail(f"{path}: bodies[{k}]", "expected an object with id, shape, position (and orientation), "
+                                                 f"found {_short(body)}")
+        if not body.keys() <= BODY_SET or not body.keys() >= NEEDED:
+            where = f"{path}: bodies[{k}]"
+            _keys(where, body, BODY_KEYS)
+            key = next(key for key in BODY_KEYS if key not in body)
+            raise _fail(f"{where}.{key}", "missing: a body needs id, shape and position")
+        bid = body["id"]
+        if type(bid) is not int or abs(bid) >= 2**63:
+            _integer(f"{path}: bodies[{k}].id", bid)
+        if bid in seen:
+            raise _fail(f"{path}: bodies[{k}].id", f"id {bid} is already used by bodies[{seen[bid]}]")
+        seen[bid] = k
+        ids.append(bid)
+        tables.append(body["shape"])
+        positions.append(body["position"])
+        quats.append(body.get("orientation"))
+    return ids, tables, positions, quats
+
+
+def _rotations(path, quats: list) -> np.ndarray:
+    """Body-to-world rotations of every body's unit quaternion ``[qw, qx, qy, qz]`` (module
+    docstring; the matrix of ``dtcrit.packing.readers.yade_clumps.rotation_from_quaternion``)."""
+    q = _array(path, "orientation", quats, 4, [1.0, 0.0, 0.0, 0.0])
+    with np.errstate(over="ignore"):  # |q| = inf is refused below
+        norm = np.linalg.norm(q, axis=1)
+    bad = np.flatnonzero(np.abs(norm - 1.0) > UNIT_TOLERANCE)
+    if bad.size:
+        _orientation(f"{path}: bodies[{bad[0]}].orientation", quats[bad[0]])
+    w, x, y, z = (q / norm[:, None]).T
+    return np.stack([np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)], -1),
+                     np.stack([2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)], -1),
+                     np.stack([2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)], -1)], -2)
+
+
+def _shapes(path, tables: list, particle_table: ParticleTable, sphere_rows: list):
+    """One shape object per body: equal tables share one (parsed once), plain spheres are built
+    from their checked numbers."""
+    from dtcrit.bodies import Sphere
+
+    parsed: dict = {}
+    out = []
+    for k, table in enumerate(tables):
+        row = sphere_rows[k]
+        if row is not None:
+            key = ("sphere",) + tuple(row)
+            if key not in parsed:
+                r, rho, m = (float(v) for v in row)
+                parsed[key] = Sphere(r, density=None if math.isnan(rho) else rho, mass=None if math.isnan(m) else m)
+        else:
+            key = json.dumps(table, sort_keys=True)
+            if key not in parsed:
+                parsed[key] = _shape(f"{path}: bodies[{k}].shape", table, particle_table)
+        out.append(parsed[key])
+    return out
+
+
+def _bodies(path, doc: dict, particle_table: ParticleTable, box: Box | None):
+    bodies = doc.get("bodies")
+    if not isinstance(bodies, list) or not bodies:
+        raise _fail(f"{path}: bodies", "missing: a non-empty array of bodies")
+    ids, tables, positions, quats = _entries(path, bodies)
+    rows = [_sphere_table(t) for t in tables]
+    spheres = [k for k, row in enumerate(rows) if row is not None]
+    found = np.array([rows[k] for k in spheres], dtype=float).reshape(-1, 3)
+    radius, mass, inertia = _sphere_properties([f"{path}: bodies[{k}].shape" for k in spheres],
+                                               [tables[k] for k in spheres], found, particle_table)
+    shapes = None if len(spheres) == len(ids) else _shapes(path, tables, particle_table, rows)
+    position = _array(path, "position", positions, 3)
+    check_lengths(position, lambda k: f"{path}: bodies[{k}].position", "a coordinate")
+    rot = _rotations(path, quats)
+    if shapes is None:  # spheres only: a sphere packing (a sphere's orientation changes nothing)
+        kinds = {"sphere": len(ids)}
+        packing = Packing(wrap_positions(position, box), mass, inertia, radius, box=box,
+                          half_lengths=np.repeat(radius[:, None], 3, axis=1))
+    else:
+        frames = {id(s): _frame(s) for s in shapes}
+        g = np.array([frames[id(s)][0] for s in shapes])
+        c = np.array([frames[id(s)][1] for s in shapes])
+        x = wrap_positions(position + np.einsum("nij,nj->ni", rot, c), box)
+        packing = Packing.from_shapes(shapes, x, rot @ g, box=box)
+        kinds = {}
+        for s in shapes:
+            kinds[s.kind] = kinds.get(s.kind, 0) + 1
+    text = ", ".join(f"{n} {kind}{'s' if n > 1 else ''}" for kind, n in kinds.items())
+    label = f"{Path(path).name}: {text}" + (", periodic" if box is not None and any(box.periodic) else "")
+    return replace(packing, ids=np.array(ids, dtype=np.int64), label=label), kinds
+
+
+def _periodic_room(path, box: Box | None, packing: Packing) -> None:
+    """Refuse a periodic length shorter than the largest body's bounding radius: that body would
+    reach through its own nearest image into the next (and the image search would not end)."""
+    if box is None:
+        return
+    k = int(np.argmax(packing.radii))
+    for a in range(3):
+        if box.periodic[a] and box.lengths[a] < packing.radii[k]:
+            raise _fail(f"{path}: box.hi", f"the periodic length along {'xyz'[a]}, {box.lengths[a]:g} m, is shorter "
+                        f"than the bounding radius {packing.radii[k]:g} m of body {packing.particle_id(k)}: it would "
+                        "overlap its own periodic images more than one deep; give a longer periodic box")
+
+
+def _listed_stiffness(path, doc: dict, packing: Packing, contacts: Contacts) -> Contacts:
+    rows = doc["contacts"]
+    if not isinstance(rows, list):
+        raise _fail(f"{path}: contacts", f"expected an array of {{id1, id2, kn, ks}} objects, found {_short(rows)}")
+    index = {int(b): k for k, b in enumerate(packing.ids)}
+    pairs = [frozenset((int(packing.ids[a]), int(packing.ids[b]))) for a, b in zip(contacts.i, contacts.j)]
+    springs: dict = {}
+    for k, row in enumerate(rows):
+        where = f"{path}: contacts[{k}]"
+        if not isinstance(row, dict):
+            raise _fail(where, f"expected an object with id1, id2, kn and ks, found {_short(row)}")
+        _keys(where, row, CONTACT_KEYS)
+        for key in CONTACT_KEYS:
+            if key not in row:
+                raise _fail(f"{where}.{key}", "missing: a contact needs id1, id2, kn and ks")
+        ids = []
+        for key in ("id1", "id2"):
+            bid = _integer(f"{where}.{key}", row[key])
+            if bid not in index:
+                raise _fail(f"{where}.{key}", f"no body has id {bid}")
+            ids.append(bid)
+        pair = frozenset(ids)
+        if pair in springs:
+            raise _fail(where, f"bodies {ids[0]} and {ids[1]} are already listed in contacts[{springs[pair][0]}]")
+        if pair not in pairs:
+            raise _fail(where, f"bodies {ids[0]} and {ids[1]} do not touch (no penetration between their surfaces)")
+        springs[pair] = (k, _stiffness(f"{where}.kn", row["kn"]), _stiffness(f"{where}.ks", row["ks"]))
+    missing = [p for p in pairs if p not in springs]
+    if missing:
+        a, b = (sorted(missing[0]) * 2)[:2] if len(missing[0]) == 1 else sorted(missing[0])
+        raise _fail(f"{path}: contacts", f"bodies {a} and {b} touch but are not listed; list every touching pair "
+                    "(kn = ks = 0 leaves one out)")
+    kn = np.array([springs[p][1] for p in pairs])
+    ks = np.array([springs[p][2] for p in pairs])
+    rate = contact_rates(packing.masses, packing.inertia, contacts.i, contacts.j, contacts.arm_i, contacts.arm_j,
+                         np.maximum(kn, ks))
+    check_rates(rate, lambda c: f"{path}: contacts[{springs[pairs[c]][0]}]")
+    return contacts.with_stiffness(kn, ks)
+
+
+def load_bodies(doc, path, particle_table: ParticleTable, tolerance: float = 1e-9) -> BodiesFile:
+    """Validate a parsed ``dtcrit-bodies/1`` document (``path`` names it in messages) and build it."""
+    if not isinstance(doc, dict):
+        raise _fail(str(path), f"a {SCHEMA} file is one JSON object")
+    if doc.get("schema") != SCHEMA:
+        raise _fail(f"{path}: schema", f"expected {SCHEMA!r}, found {_short(doc.get('schema'))}")
+    for key in doc:
+        if key not in TOP_KEYS:
+            raise _fail(f"{path}: {key}", f"unknown key; valid keys here: {', '.join(TOP_KEYS)}")
+    if "box" not in doc:
+        raise _fail(f"{path}: box", "missing: give the box object, or null for none")
+    box = _box(f"{path}: box", doc["box"])
+    if box is not None:
+        check_lengths(np.vstack([box.lo, box.hi]).T, lambda a: f"{path}: box", "a bound")
+    packing, kinds = _bodies(path, doc, particle_table, box)
+    check_lengths(packing.radii, lambda k: f"{path}: bodies[{k}].shape", "the bounding radius")
+    check_inertia(packing.masses, lambda k: f"{path}: bodies[{k}].shape", "the mass [kg]")
+    check_inertia(packing.inertia, lambda k: f"{path}: bodies[{k}].shape", "a principal moment of inertia [kg m^2]")
+    _periodic_room(path, box, packing)
+    try:
+        contacts = find_body_contacts(packing, tolerance)
+    except InputError as exc:
+        raise _fail(f"{path}: bodies", exc.reason) from None
+    given = doc.get("contacts") is not None
+    if given:
+        contacts = _listed_stiffness(path, doc, packing, contacts)
+    return BodiesFile(packing, contacts, given, kinds)
+
+
+def read_bodies_file(path, particle_table: ParticleTable, tolerance: float = 1e-9) -> BodiesFile:
+    """Read and validate a ``dtcrit-bodies/1`` file (module docstring)."""
+    return load_bodies(_load(Path(path)), path, particle_table, tolerance)

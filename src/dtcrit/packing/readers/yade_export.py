@@ -1,0 +1,259 @@
+"""Read the YADE export (``dtcrit-yade-export/1``) that ``dtcrit/engine_scripts/yade_export.py`` writes
+inside YADE: bodies (id, position, radius, mass, principal inertia, fixed) and the real interactions
+with YADE's own per-contact ``kn``, ``ks`` (and ``kr``, ``ktw``, ``cn``, ``cs`` when its physics has them).
+
+A fixed body (all degrees of freedom blocked) is a wall to the others: it enters with an inertia
+``FIXED_INERTIA`` times the largest free one, which leaves the free bodies' frequencies unchanged to
+~1e-150 relative.  The periodic cell must be orthogonal.
+
+Two readers:
+
+* ``read_yade_export`` -- spheres only: the packing and the exported contacts with centre-line arms,
+  for ``dtcrit.packing.conventions.engines.with_arms(..., "yade")`` to apply YADE's kinematics;
+* ``read_yade_audit`` -- any export, clumps included (``dtcrit.packing.readers.yade_clumps``): each clump one
+  rigid body, the contacts already carrying YADE's kinematics (arms from each body's centre of
+  mass, ``alpha k_s``); for a sphere-only export with ``avoidGranularRatcheting`` on (YADE's default)
+  it gives what ``with_arms`` gives on ``read_yade_export``'s contacts, and it also follows the
+  export's ``avoid_granular_ratcheting`` when that is off.
+"""
+from __future__ import annotations
+
+import json
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+
+from dtcrit.errors import InputError
+
+from dtcrit.packing.conventions.engines import overlaps_of_pairs
+from dtcrit.packing.model import Box, Contacts, Packing
+from dtcrit.packing.readers.limits import check_inertia, check_lengths
+from dtcrit.packing.readers.yade_clumps import _finite, _triple, show, whole
+
+SCHEMA = "dtcrit-yade-export/1"
+FIXED_INERTIA = 1e300
+
+
+def _number(where: str, value, *, positive: bool = False, allow_none: bool = False):
+    return _finite(where, value, positive=positive, allow_none=allow_none)
+
+
+def _vector(where: str, value) -> np.ndarray:
+    return _triple(where, value)
+
+
+def _box(doc: dict, path: Path) -> Box | None:
+    if not doc.get("periodic"):
+        return None
+    h = doc.get("cell_hsize")
+    if not isinstance(h, list) or len(h) != 3:
+        raise InputError(f"{path}: cell_hsize", f"a periodic export needs the 3 x 3 cell_hsize, found {show(h)}")
+    cell = np.array([_vector(f"{path}: cell_hsize[{a}]", row) for a, row in enumerate(h)])
+    check_lengths(cell, lambda a: f"{path}: cell_hsize[{a}]", "a cell vector component")
+    if np.abs(cell - np.diag(np.diag(cell))).max() > 1e-12 * np.abs(cell).max():
+        raise InputError(f"{path}: cell_hsize", "triclinic (sheared) periodic cells are not supported yet")
+    for a in range(3):
+        if not cell[a, a] > 0:
+            raise InputError(f"{path}: cell_hsize[{a}][{a}]", f"the cell length must be positive, found {cell[a, a]:g}")
+    return Box(np.zeros(3), np.diag(cell).copy(), (True, True, True))
+
+
+_SCHEMA_KEY = re.compile(rb'"schema"\s*:\s*"([^"\\]{0,80})"')
+
+
+def check_schema(path) -> None:
+    """Refuse, before anything else is read, a JSON file whose ``schema`` (looked for in its first
+    64 KiB; both writers put it first) names another format than a YADE export."""
+    path = Path(path)
+    try:
+        with path.open("rb") as handle:
+            head = handle.read(1 << 16)
+    except OSError:
+        return  # the reader says why
+    found = _SCHEMA_KEY.search(head)
+    if found and found.group(1) != SCHEMA.encode():
+        name = found.group(1).decode("utf-8", "replace")
+        why = (": a file of bodies, which dtcrit packing reads (dtcrit audit reads dumps and YADE exports)"
+               if name == "dtcrit-bodies/1" else "")
+        raise InputError(f"{path}: schema", f"expected {SCHEMA!r} (written by yade_export.py), found {name!r}{why}")
+
+
+def _json_line(data: bytes, offset: int) -> int:
+    return data[:offset].count(b"\n") + 1
+
+
+def _load(path: Path) -> tuple[dict, list, list]:
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise InputError(str(path), f"cannot read: {exc.strerror or exc}") from None
+    try:
+        doc = json.loads(data.decode("utf-8-sig"))
+    except UnicodeDecodeError as exc:
+        raise InputError(f"{path}:{_json_line(data, exc.start)}", "not UTF-8 text: not a JSON YADE export") from None
+    except json.JSONDecodeError as exc:
+        raise InputError(f"{path}:{exc.lineno}", f"not valid JSON ({exc.msg}): not a YADE export") from None
+    except RecursionError:
+        raise InputError(f"{path}: bodies", "arrays nested too deeply: not a YADE export") from None
+    if not isinstance(doc, dict):
+        raise InputError(f"{path}:1", f"a {SCHEMA} export is one JSON object, found {show(type(doc).__name__)}")
+    if doc.get("schema") != SCHEMA:
+        found = doc.get("schema")
+        why = (": a file of bodies, which dtcrit packing reads (dtcrit audit reads dumps and YADE exports)"
+               if found == "dtcrit-bodies/1" else "")
+        raise InputError(f"{path}: schema", f"expected {SCHEMA!r} (written by yade_export.py), found {show(found)}{why}")
+    bodies, inters = doc.get("bodies"), doc.get("interactions")
+    if not isinstance(bodies, list) or not bodies:
+        raise InputError(f"{path}: bodies", f"the export needs a non-empty 'bodies' list, found {show(bodies)}")
+    if not isinstance(inters, list):
+        raise InputError(f"{path}: interactions", f"the export needs an 'interactions' list, found {show(inters)}")
+    return doc, bodies, inters
+
+
+def _meta(doc: dict, path: Path) -> dict:
+    """The export's run data: ``dt`` [s] (positive) and ``newton_damping`` (in [0, 1)) when given,
+    ``iter`` a whole number, ``yade_version`` a string."""
+    dt = _finite(f"{path}: dt", doc.get("dt"), positive=True, allow_none=True)
+    damping = _finite(f"{path}: newton_damping", doc.get("newton_damping"), allow_none=True)
+    if damping is not None and damping >= 1.0:
+        raise InputError(f"{path}: newton_damping", f"must lie in [0, 1), found {show(damping)}")
+    it = doc.get("iter")
+    if it is not None and (isinstance(it, bool) or not isinstance(it, int)):
+        raise InputError(f"{path}: iter", f"expected the iteration number, found {show(it)}")
+    version = doc.get("yade_version")
+    if version is not None and not isinstance(version, str):
+        raise InputError(f"{path}: yade_version", f"expected a string, found {show(version)}")
+    return {"dt": dt, "iter": it, "yade_version": version, "newton_damping": damping}
+
+
+def _heavy(path: Path, values: np.ndarray, fixed: np.ndarray, what: str) -> np.ndarray:
+    """``values`` with the fixed bodies' set to ``FIXED_INERTIA`` times the largest free one."""
+    with np.errstate(over="ignore"):
+        big = FIXED_INERTIA * values[~fixed].max()
+    if not np.isfinite(big):
+        raise InputError(f"{path}: bodies", f"a fixed body enters with {FIXED_INERTIA:g} times the largest free {what}, "
+                                            f"which overflows for {values[~fixed].max():g}")
+    out = values.copy()
+    out[fixed] = big
+    return out
+
+
+def _keyed(path: Path, exc: InputError) -> InputError:
+    """A check of the packing layer (key ``masses``, ``force_n``, ...) named in the export."""
+    return exc if exc.key.startswith(str(path)) else InputError(f"{path}: bodies", f"{exc.key}: {exc.reason}")
+
+
+def _label(path: Path, doc: dict, clumps: int = 0) -> str:
+    extra = f", {clumps} clumps as rigid bodies" if clumps else ""
+    return f"{path.name}, YADE iteration {doc.get('iter', '?')}{extra}"
+
+
+def read_yade_audit(path) -> tuple[Packing, Contacts, dict]:
+    """``(packing, contacts with YADE's terms and kinematics, metadata)`` from any export, clumps
+    included (module docstring; ``dtcrit.packing.readers.yade_clumps``).  The packing's ``radii`` are bounding
+    radii and ``orientations`` the clumps' (identity for spheres)."""
+    from dtcrit.packing.readers.yade_clumps import rigid_bodies, yade_contacts
+
+    path = Path(path)
+    doc, bodies, inters = _load(path)
+    meta = _meta(doc, path)
+    rb = rigid_bodies(bodies, path)
+    if rb.fixed.all():
+        raise InputError(f"{path}: bodies", "every body is fixed: nothing moves")
+    masses, inertia = rb.masses, rb.inertia
+    if rb.fixed.any():
+        masses, inertia = _heavy(path, masses, rb.fixed, "mass"), _heavy(path, inertia, rb.fixed, "moment of inertia")
+    box = _box(doc, path)
+    x = rb.positions if box is None else np.mod(rb.positions, box.lengths)
+    ratcheting = doc.get("avoid_granular_ratcheting")
+    try:
+        packing = Packing(x, masses, inertia, rb.radii, box=box, orientations=rb.rotations if rb.clumps else None,
+                          half_lengths=np.repeat(rb.radii[:, None], 3, 1), label=_label(path, doc, rb.clumps),
+                          ids=rb.ids)
+        contacts = yade_contacts(rb, inters, path, box=box, wrapped=x, ratcheting=ratcheting is not False)
+    except InputError as exc:
+        raise _keyed(path, exc) from None
+    return packing, contacts, {**meta, "clumps": rb.clumps}
+
+
+def read_yade_export(path) -> tuple[Packing, Contacts, dict]:
+    """``(packing, contacts with YADE's terms, metadata)`` from a sphere-only export; arms along the
+    centre line, to be given YADE's kinematics by ``with_arms`` (an export with clumps: use
+    ``read_yade_audit``)."""
+    path = Path(path)
+    doc, bodies, inters = _load(path)
+    meta = _meta(doc, path)
+    ids, x, radii, masses, inertia, fixed, seen = [], [], [], [], [], [], {}
+    for k, b in enumerate(bodies):
+        where = f"{path}: bodies[{k}]"
+        if not isinstance(b, dict):
+            raise InputError(where, f"expected an object, found {show(b)}")
+        if b.get("is_clump") or b.get("clump_id") is not None:
+            raise InputError(where, "a clump: this reader takes spheres only (clump exports are read by "
+                                    "dtcrit.packing.readers.yade_export.read_yade_audit)")
+        if b.get("radius") is None:
+            raise InputError(where, "only spheres are analysed (this body has no radius)")
+        bid = whole(f"{where}.id", b.get("id"))
+        if bid in seen:
+            raise InputError(f"{where}.id", f"id {bid} is already used by bodies[{seen[bid]}]")
+        seen[bid] = k
+        ids.append(bid)
+        x.append(_vector(f"{where}.pos", b.get("pos")))
+        radii.append(_number(f"{where}.radius", b.get("radius"), positive=True))
+        check_lengths([x[-1], [radii[-1]] * 3], lambda a: f"{where}.{('pos', 'radius')[a]}", "a length")
+        masses.append(_number(f"{where}.mass", b.get("mass"), positive=True))
+        inertia.append(_triple(f"{where}.inertia", b.get("inertia"), positive=True))
+        check_inertia([inertia[-1], [masses[-1]] * 3], lambda a: f"{where}.{('inertia', 'mass')[a]}",
+                      "a mass or moment of inertia")
+        fixed.append(bool(b.get("fixed")))
+    masses, inertia, fixed = np.array(masses), np.array(inertia), np.array(fixed)
+    if fixed.all():
+        raise InputError(f"{path}: bodies", "every body is fixed: nothing moves")
+    if fixed.any():
+        masses, inertia = _heavy(path, masses, fixed, "mass"), _heavy(path, inertia, fixed, "moment of inertia")
+    box = _box(doc, path)
+    x = np.array(x)
+    if box is not None:
+        x = np.mod(x, box.lengths)
+    try:
+        packing = Packing(x, masses, inertia, np.array(radii), box=box,
+                          half_lengths=np.repeat(np.array(radii)[:, None], 3, 1), label=_label(path, doc),
+                          ids=np.array(ids))
+    except InputError as exc:
+        raise _keyed(path, exc) from None
+    lookup = {v: k for k, v in enumerate(ids)}
+    pairs, terms = [], {key: [] for key in ("kn", "ks", "kr", "ktw", "cn", "cs", "fn")}
+    for k, it in enumerate(inters):
+        where = f"{path}: interactions[{k}]"
+        if not isinstance(it, dict):
+            raise InputError(where, f"expected an object, found {show(it)}")
+        pair = []
+        for key in ("id1", "id2"):
+            bid = whole(f"{where}.{key}", it.get(key))
+            if bid not in lookup:
+                raise InputError(f"{where}.{key}", f"{bid} is not the id of an exported body")
+            pair.append(lookup[bid])
+        pairs.append(tuple(pair))
+        for key in terms:
+            value = it.get(key)
+            if key == "fn" and isinstance(value, (int, float)) and not isinstance(value, bool) and value < 0:
+                value = -_number(f"{where}.fn", -value)  # a bond in tension: negative normal force
+            else:
+                value = _number(f"{where}.{key}", value, allow_none=key not in ("kn", "ks"))
+            terms[key].append(value)
+        if terms["fn"][-1] is None:  # linear law: the normal force is kn times the penetration
+            pen = _number(f"{where}.penetration", it.get("penetration", 0.0))
+            terms["fn"][-1] = terms["kn"][-1] * pen
+    if not pairs:
+        raise InputError(f"{path}: interactions", "no interactions: no contact limits the step")
+    ij = np.array(pairs, dtype=np.int64)
+    col = {key: np.array([0.0 if v is None else v for v in vals]) for key, vals in terms.items()}
+    try:
+        contacts = overlaps_of_pairs(packing, ij[:, 0], ij[:, 1])
+        contacts = contacts.with_stiffness(col["kn"], col["ks"], col["kr"], col["ktw"])
+        contacts = contacts.with_damping(col["cn"], col["cs"]).with_normal_force(col["fn"])
+    except InputError as exc:
+        raise _keyed(path, exc) from None
+    return packing, contacts, meta

@@ -1,0 +1,315 @@
+"""The exact critical step of a packing with per-contact dashpots (any, non-proportional, damping).
+
+The packing obeys ``M x'' + C x' + K x = 0`` with ``C`` the assembled contact dashpots
+(``dtcrit.packing.operators.assembly.damping_matrix``).  When ``C`` is not diagonalised by the undamped modes the
+modal route (``dtcrit.packing.solvers.integrator_step``: top undamped mode, its modal damping ratio) is only an
+approximation; with strong dashpots another mode governs.  This module gives the exact answer.
+
+**Lagged-damping central difference** (``leapfrog``; ``symplectic-euler`` and ``velocity-verlet`` have
+the same amplification polynomial: LAMMPS's ``fix nve/sphere`` with its dashpots on the half-step
+velocity, YADE's leapfrog with the lagged velocity).  Eliminating the velocities, ``x_n = lambda^n x``
+solves ``P(lambda) x = 0`` with
+
+    P(lambda) = (lambda - 1)^2 M + h (lambda - 1) C + h^2 lambda K.
+
+For an eigenpair, ``x^H P(lambda) x = 0`` is the scalar polynomial with the Rayleigh quotients
+``m = x^H M x > 0``, ``c = x^H C x >= 0``, ``k = x^H K x >= 0``, whose roots lie in the closed unit disk
+iff ``4m - 2hc - h^2 k >= 0`` (Jury conditions of ``lambda^2 - (2 - hc/m - h^2 k/m) lambda + 1 - hc/m``).
+Hence every eigenvalue satisfies ``|lambda| <= 1`` while ``4M - 2hC - h^2 K`` is positive definite, and
+at the first ``h`` where it turns singular its null vector ``x`` gives ``P(-1) x = 0``: ``lambda = -1``
+is an eigenvalue.  The critical step is therefore exactly the root of
+
+    g(h) = lambda_max(2h C~ + h^2 K~) - 4,   C~ = M^(-1/2) C M^(-1/2),  K~ = M^(-1/2) K M^(-1/2),
+
+a convex increasing function of ``h`` (a maximum of convex Rayleigh quotients ``2hc + h^2 k``), solved
+by Newton's method from the undamped step ``2/omega_max`` downwards (monotone for a convex increasing
+function) with ``g'(h) = v^T (2 C~ + 2h K~) v`` (Hellmann-Feynman).  With ``C = 0`` it is ``2/omega_max``;
+for one contact it is the closed form ``2/(omega (zeta + sqrt(zeta^2 + 1)))``.
+
+``leapfrog-centred`` (damping on the mean of the half-step velocities):
+``P(lambda) = (lambda - 1)^2 M + (h/2)(lambda^2 - 1) C + h^2 lambda K`` and the same argument gives the
+condition ``4M - h^2 K > 0``: ``2/omega_max`` whatever the dashpots.
+
+Every other scheme is solved by ``spectral_radius`` (the largest ``|lambda|`` of its amplification
+operator, ARPACK, built from the scheme's own update rule ``dtcrit.integrators.schemes``) and bisection.
+
+``dt_lower`` is a rigorous lower bound: ``lambda_max(2h C~ + h^2 K~) <= 2h beta + h^2 alpha`` with
+``alpha``, ``beta`` upper bounds of ``lambda_max(K~)``, ``lambda_max(C~)`` (block-diagonal and Gershgorin
+bounds of ``dtcrit.packing.bounds.estimates``, the smaller; both need positive semi-definite elements, so
+``alpha`` is taken for the springs with the tensile pre-loads only: the compressive pre-load terms are
+negative semi-definite and can only lower ``lambda_max(K~)``), so ``h = 4/(beta + sqrt(beta^2 + 4 alpha))``
+is stable.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+import scipy.sparse.linalg as spla
+
+from dtcrit.errors import InputError, NotConvergedError
+from dtcrit.integrators.schemes import INTEGRATORS
+
+from dtcrit.packing.operators.assembly import damping_matrix, mass_diagonal, scale_symmetric, stiffness_matrix
+from dtcrit.packing.solvers.largest_mode import largest_mode
+from dtcrit.packing.bounds.estimates import block_diagonal, gershgorin
+from dtcrit.packing.model import Contacts, Packing
+from dtcrit.packing.operators.matrix_free import CombinedOperator, damping_operator, stiffness_operator
+
+
+LAGGED = ("leapfrog", "symplectic-euler", "velocity-verlet")
+CENTRED = ("leapfrog-centred",)
+UNCONDITIONALLY_UNSTABLE = ("forward-euler",)
+"""Schemes with no stable step on an undamped oscillator: without dashpots they are refused (asked of
+the spectral-radius bisection, it was an ill-posed search that ARPACK could not converge on)."""
+NEWTON_RTOL = 1e-10
+
+
+@dataclass(frozen=True)
+class DampedStep:
+    """Critical step ``dt`` of the damped packing, a rigorous lower bound ``dt_lower``, the undamped
+    step ``dt_undamped = 2/omega_max``, the governing mode ``vector`` (mass-scaled coordinates, the
+    null vector of ``4M - 2hC - h^2 K`` at ``dt``; ``None`` for the spectral route), the route taken,
+    and the number of eigen-solves."""
+
+    dt: float
+    dt_lower: float
+    dt_undamped: float
+    method: str
+    vector: np.ndarray | None
+    solves: int
+
+
+def use_operator(packing: Packing, route: str = "auto") -> bool:
+    """Whether ``route`` (``"auto"``, ``"assembled"``, ``"matrix-free"``) means matrix-free here: ``"auto"``
+    follows ``dtcrit.packing.report``'s measured threshold."""
+    import dtcrit.packing.operators.matrix_free_kernels as operator_kernels
+    from dtcrit.packing.report import NUMPY_OPERATOR_DOFS, OPERATOR_DOFS
+
+    if route == "auto":
+        return packing.dofs > (OPERATOR_DOFS if operator_kernels.available() else NUMPY_OPERATOR_DOFS)
+    if route not in ("assembled", "matrix-free"):
+        raise InputError("route", f"unknown route {route!r}; choose one of auto, assembled, matrix-free")
+    return route == "matrix-free"
+
+
+def scaled_matrices(packing: Packing, contacts: Contacts, route: str = "assembled"):
+    """``(K~, C~)`` in the symmetric mass-scaled form (module docstring), assembled or, with
+    ``route="matrix-free"`` (or ``"auto"`` above the threshold), as ``dtcrit.packing.operators.matrix_free``s."""
+    d = mass_diagonal(packing)
+    if use_operator(packing, route):
+        return (stiffness_operator(packing, contacts, mass_diag=d), damping_operator(packing, contacts, mass_diag=d))
+    k = scale_symmetric(stiffness_matrix(packing, contacts), d, inplace=True)
+    c = scale_symmetric(damping_matrix(packing, contacts), d, inplace=True, key="damping")
+    return k, c
+
+
+def _upper_bound(a, d_ones) -> float:
+    return min(block_diagonal(a).omega2, gershgorin(a, d_ones).omega2)
+
+
+def lagged_lower_bound(k, c) -> float:
+    """Rigorous lower bound on the lagged central difference's step (module docstring); ``k`` must be
+    positive semi-definite element by element (springs only: no pre-load term)."""
+    ones = np.ones(k.shape[0])
+    alpha = _upper_bound(k, ones)
+    zero = c.is_zero if hasattr(c, "is_zero") else c.nnz == 0
+    beta = _upper_bound(c, ones) if not zero else 0.0
+    if alpha <= 0:
+        return math.inf
+    return 4.0 / (beta + math.sqrt(beta * beta + 4.0 * alpha))
+
+
+def _lagged_root(k, c, omega2: float, method: str):
+    """Newton's method on ``g(h)`` from ``h = 2/omega_max`` (module docstring)."""
+    h = 2.0 / math.sqrt(omega2)
+    operator = isinstance(k, spla.LinearOperator)
+    if not operator:
+        k, c = k.tocsr(), c.tocsr()
+    solves, v = 0, None
+    for _ in range(60):
+        a = CombinedOperator(c, 2.0 * h, k, h * h) if operator else (2.0 * h) * c + (h * h) * k
+        try:
+            top = largest_mode(a, method)
+        except NotConvergedError as exc:  # Newton descends from above: h is still an upper bound
+            raise NotConvergedError("dt_crit [s]", 0.0, h, exc.solver,
+                                    f"{exc.reason}, Newton step {solves + 1}") from None
+        solves += 1
+        v = top.vector
+        slope = float(v @ (2.0 * (c @ v) + 2.0 * h * (k @ v)))
+        g = top.value - 4.0
+        if slope <= 0:
+            break
+        step = g / slope
+        h_new = h - step
+        if abs(step) <= NEWTON_RTOL * h:
+            h = h_new
+            break
+        h = h_new
+    return h, v, solves
+
+
+def damped_critical_dt(packing: Packing, contacts: Contacts, integrator: str = "velocity-verlet", *,
+                       method: str = "auto", route: str = "auto") -> DampedStep:
+    """The exact critical step of ``integrator`` on the packing with its contact dashpots (``route``:
+    assembled or matrix-free ``K~``, ``C~``, see ``scaled_matrices``)."""
+    if integrator not in INTEGRATORS:
+        raise InputError("integrator", f"unknown integrator {integrator!r}")
+    k, c = scaled_matrices(packing, contacts, route)
+    try:
+        top = largest_mode(k, method)
+    except NotConvergedError as exc:  # the lagged and centred steps are at most 2/omega_max (docstring)
+        family = integrator in LAGGED or integrator in CENTRED
+        upper = 2.0 / math.sqrt(exc.lower) if exc.lower > 0 and family else math.inf
+        raise NotConvergedError("dt_crit [s]", 0.0, upper, exc.solver, f"{exc.reason}, undamped omega_max") from None
+    if top.value <= 0:
+        raise InputError("contacts", "the packing has no stiffness: no vibrating mode")
+    dt_undamped = 2.0 / math.sqrt(top.value)
+
+    def bound(c_part) -> float:
+        # a compressive pre-load term is negative semi-definite: the springs with only the tensile
+        # pre-loads (positive semi-definite elements) bound the packing from above
+        if contacts.force_n is None or not np.any(contacts.force_n > 0):
+            return lagged_lower_bound(k, c_part)
+        tensile = replace(contacts, force_n=np.minimum(contacts.force_n, 0.0))
+        return lagged_lower_bound(scaled_matrices(packing, tensile, route)[0], c_part)
+
+    if integrator in CENTRED or (integrator in LAGGED and not contacts.damped):
+        undamped_c = c.multiply(0.0) if not isinstance(c, spla.LinearOperator) else damping_operator(
+            packing, replace(contacts, cn=None, cs=None, cr=None, ctw=None))
+        return DampedStep(dt_undamped, min(bound(undamped_c), dt_undamped), dt_undamped,
+                          "2/omega_max (4M - h^2 K > 0)", top.vector, 1)
+    if integrator in LAGGED:
+        try:
+            h, v, solves = _lagged_root(k, c, top.value, method)
+        except NotConvergedError as exc:
+            raise NotConvergedError(exc.quantity, min(bound(c), exc.upper), exc.upper, exc.solver, exc.reason) from None
+        return DampedStep(h, min(bound(c), h), dt_undamped, "root of lambda_max(2h C~ + h^2 K~) = 4", v, solves + 1)
+    if integrator in UNCONDITIONALLY_UNSTABLE and not contacts.damped:
+        raise InputError("integrator", f"{integrator!r} has no stable step on a packing without dashpots "
+                                       "(|lambda|^2 = 1 + h^2 omega^2 > 1 for every mode and step)")
+    if contacts.force_n is not None and np.any(contacts.force_n > 0):
+        growth = physical_growth(k)
+        if growth**2 > STATIC_INSTABILITY * top.value:
+            raise InputError("stiffness", f"the compressive pre-loads make the packing statically unstable "
+                                          f"(lambda_min(M^-1 K) = {-growth**2:.4g} 1/s^2 < 0): its motion grows "
+                                          f"whatever the step, and the critical step of {integrator!r} is not defined there")
+    h, solves = critical_by_spectral_radius(k, c, integrator, dt_undamped)
+    return DampedStep(h, 0.0, dt_undamped, "bisection on the amplification operator's spectral radius",
+                      None, solves + 1)
+
+
+def amplification_operator(k, c, integrator: str, h: float) -> spla.LinearOperator:
+    """One step of ``integrator``'s update rule on the mass-scaled packing, ``y'' = -K~ y - C~ y'``,
+    as a linear operator on the stacked state (two or three blocks of ``n``)."""
+    scheme = INTEGRATORS[integrator]
+    if integrator in CENTRED:
+        raise InputError("integrator", "leapfrog-centred needs a linear solve per step; its step is 2/omega_max")
+    n, parts = k.shape[0], len(scheme.state)
+
+    class _Force:
+        dv = None
+
+        def __call__(self, x, v):
+            return -(k @ x) - (c @ v)
+
+    force = _Force()
+
+    def matvec(s):
+        s = np.asarray(s).reshape(-1)
+        out = scheme.step([s[p * n:(p + 1) * n] for p in range(parts)], h, force)
+        return np.concatenate(out)
+
+    return spla.LinearOperator((parts * n, parts * n), matvec=matvec, dtype=float)
+
+
+STATIC_INSTABILITY = 1e-9
+"""A lowest eigenvalue of ``K~`` below ``-STATIC_INSTABILITY * lambda_max`` is a physically growing mode
+(above it: rounding of the rigid-body modes at zero).  The spectral-radius route then refuses: the
+growth of the exact motion cannot be told apart from the scheme's, mode by mode, from the spectral radius
+alone (an allowance ``exp(h g)`` on the whole spectrum would admit a stiff mode growing by as much)."""
+
+DENSE_STATES = 600
+FALLBACK_STATES = 2400
+"""Up to ``DENSE_STATES`` states the amplification operator's spectrum is computed densely (LAPACK
+``geev``); above, by ARPACK's "largest magnitude" iteration, which near the critical step meets many
+eigenvalues crowding the unit circle (the rigid modes sit at ``+1``) and can stop unconverged: up to
+``FALLBACK_STATES`` the dense solve then answers (seconds at 2400 states), above it the failure
+propagates to ``critical_by_spectral_radius``, which reports its bracket."""
+
+
+def spectral_radius(k, c, integrator: str, h: float) -> float:
+    """Largest ``|lambda|`` of the amplification operator (``DENSE_STATES``, ``FALLBACK_STATES``)."""
+    op = amplification_operator(k, c, integrator, h)
+    size = op.shape[0]
+    if size > DENSE_STATES:
+        v0 = np.random.default_rng(20170601).standard_normal(size)
+        try:
+            w = spla.eigs(op, k=1, which="LM", v0=v0, tol=1e-10, return_eigenvectors=False)
+            return float(np.max(np.abs(w)))
+        except spla.ArpackNoConvergence:
+            if size > FALLBACK_STATES:
+                raise
+    dense = op @ np.eye(size)
+    return float(np.max(np.abs(np.linalg.eigvals(dense))))
+
+
+def physical_growth(k) -> float:
+    """``sqrt(max(-lambda_min(K~), 0))`` [1/s]: the fastest exponential growth rate of the exact motion
+    ``y'' = -K~ y - C~ y'`` (``C~`` positive semi-definite: a real root ``s`` of ``s^2 + c s + k = 0``
+    with Rayleigh quotients ``c >= 0``, ``k >= lambda_min`` is at most ``sqrt(-k)``).  Compressive
+    pre-loads can make ``K~`` indefinite (a statically unstable packing): that growth is physics, not
+    the integrator's instability, and ``damped_critical_dt`` refuses it on the spectral-radius route."""
+    n = k.shape[0]
+    if n <= FALLBACK_STATES:
+        dense = k.toarray() if hasattr(k, "toarray") else k @ np.eye(n)
+        lowest = float(np.linalg.eigvalsh(0.5 * (dense + dense.T))[0])
+    else:
+        try:
+            lowest = float(spla.eigsh(k, k=1, which="SA", tol=1e-8, return_eigenvectors=False,
+                                      v0=np.random.default_rng(20170601).standard_normal(n))[0])
+        except spla.ArpackNoConvergence:
+            raise NotConvergedError("lambda_min(K~) [1/s^2]", -math.inf, math.inf, "ARPACK eigsh",
+                                    "the lowest eigenvalue of the pre-loaded stiffness (its physical growth)") from None
+    return math.sqrt(max(-lowest, 0.0))
+
+
+def critical_by_spectral_radius(k, c, integrator: str, h_hi: float, *, rtol: float = 1e-7,
+                                slack: float = 1e-6) -> tuple[float, int]:
+    """Bisection for the largest ``h`` with spectral radius ``<= 1 + slack``, searched below ``h_hi``
+    (doubled while stable; a statically unstable packing is refused before, ``STATIC_INSTABILITY``).  The
+    slack covers rounding: undamped modes of a stable step sit on the unit circle, and the rigid-body
+    modes of a packing are Jordan blocks at ``+1``, which rounding spreads by about ``sqrt(eps)``; a
+    mode growing by less than ``1e-6`` a step is taken as stable.  An ARPACK failure raises
+    ``NotConvergedError`` with the bracket ``[lo, hi]`` reached so far."""
+    solves = 0
+    lo, hi = 0.0, h_hi  # lo: the largest step known stable; hi: unstable once the doubling is over
+    doubling = True
+
+    def stable(h: float) -> bool:
+        try:
+            return spectral_radius(k, c, integrator, h) <= 1.0 + slack
+        except spla.ArpackNoConvergence:
+            raise NotConvergedError("dt_crit [s]", lo, math.inf if doubling else hi, "ARPACK eigs (spectral radius)",
+                                    f"at dt = {h:.6g} s after {solves} bisection steps") from None
+
+    while stable(hi):
+        solves += 1
+        lo, hi = hi, 2.0 * hi
+        if hi > 1e6 * h_hi:
+            return math.inf, solves
+    doubling = False
+    lo = 0.0  # the bisection searches all of [0, hi] (as it always has)
+    while hi - lo > rtol * hi:
+        mid = 0.5 * (lo + hi)
+        solves += 1
+        if stable(mid):
+            lo = mid
+        else:
+            hi = mid
+    return lo, solves
+
+
+__all__ = ["DampedStep", "damped_critical_dt", "spectral_radius", "amplification_operator",
+           "critical_by_spectral_radius", "scaled_matrices"]
