@@ -183,7 +183,7 @@ def ensure_mpi_env() -> str | None:
     pins = [line.split("#")[0].strip() for line in (ROOT / "constraints.txt").read_text().splitlines()]
     pins = [pin for pin in pins if pin.split("==")[0] in MPI_RUNTIME]
     quiet = ["-q"] if os.environ.get("CI") else []
-    check = "from petsc4py import PETSc; from slepc4py import SLEPc; import dtcrit.packing.slepc_backend"
+    check = "from petsc4py import PETSc; from slepc4py import SLEPc; import dtcrit.packing.distributed.slepc_backend"
     if (run(MPI_PY, "-m", "pip", "install", *quiet, "numpy>=1.26,<2", *pins)
             or run(MPI_PY, "-m", "pip", "install", *quiet, "--no-deps", "-e", ".") or run(MPI_PY, "-c", check)):
         return "installing dtcrit's runtime into .venv-mpi, or importing petsc4py and slepc4py there, failed"
