@@ -20,7 +20,8 @@ class NotConvergedError(ArithmeticError):
     """An iterative solver stopped before its tolerance: the answer is only known to lie in
     ``[lower, upper]`` (``quantity`` names it, with its unit; either end may be ``0`` or ``inf`` when
     nothing better is known).  ``solver`` names the solver, ``reason`` says what happened.  The
-    command line prints it as one line with the bracket, exit status 2."""
+    command line prints it as one line with the bracket, exit status 2.
+    """
 
     def __init__(self, quantity: str, lower: float, upper: float, solver: str, reason: str):
         self.quantity = quantity

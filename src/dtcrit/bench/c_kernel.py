@@ -90,7 +90,8 @@ def _library() -> ctypes.CDLL:
 
 def critical_dt_c(integrator: str, k, c, A) -> np.ndarray:
     """Critical step [s] by the compiled C kernel, for float arrays k, c, A (broadcast): 0 where no
-    positive float64 step is stable, inf where the step lies beyond float64, NaN for bad input."""
+    positive float64 step is stable, inf where the step lies beyond float64, NaN for bad input.
+    """
     k, c, A = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (k, c, A)))
     k, c, A = (np.ascontiguousarray(v.ravel()) for v in (k, c, A))
     out = np.empty(k.size)

@@ -69,7 +69,8 @@ def _centred(k, c, A, out, K, g, t):
 
 def critical_dt_fused(integrator: str, k, c, A, chunk: int = CHUNK) -> np.ndarray:
     """Critical step [s] for float arrays k [N/m], c [N s/m], A [1/kg] (same values as the
-    generated closed forms, within 4 ulp of the exact step; see the module docstring)."""
+    generated closed forms, within 4 ulp of the exact step; see the module docstring).
+    """
     name = check_integrator(integrator)
     k, c, A = np.broadcast_arrays(*(np.ascontiguousarray(np.atleast_1d(v), dtype=float) for v in (k, c, A)))
     k, c, A = (np.ascontiguousarray(v.ravel()) for v in (k, c, A))

@@ -94,7 +94,8 @@ def equal_sphere_rows(rows):
 
 def plot(rows, fit: PowerFit, path) -> None:
     """alpha against CN_max, by packing family, with the equal-sphere power-law fit ``fit``, the
-    lattice law and the two-sphere value (the legend outside the axes, clear of the points and fits)."""
+    lattice law and the two-sphere value (the legend outside the axes, clear of the points and fits).
+    """
     import matplotlib
 
     matplotlib.use("Agg")

@@ -58,7 +58,8 @@ def run_one(n: int, packing_kind: str = "fcc", method: str = "auto", dense_check
             route: str = "assembled") -> dict:
     """Time every stage for one size in this process; returns a dict of figures.  ``route``:
     ``"assembled"`` (sparse ``K``, the route before the matrix-free operator) or ``"matrix-free"``
-    (``dtcrit.packing.operators.matrix_free``; its bandwidth floor is also reported)."""
+    (``dtcrit.packing.operators.matrix_free``; its bandwidth floor is also reported).
+    """
     from dtcrit.packing.operators.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
     from dtcrit.packing.detection.overlaps import find_sphere_contacts
     from dtcrit.packing.solvers.largest_mode import largest_mode
@@ -117,7 +118,8 @@ ASSEMBLED_MAX = 200_000
 def run_sizes(sizes, packing_kind: str = "fcc", method: str = "auto", stream=sys.stdout,
               routes=("assembled", "matrix-free")) -> list[dict]:
     """Each size and route in a fresh interpreter; prints a table as results arrive, then the
-    matrix-free/assembled ratios of each size run both ways and the growth exponents."""
+    matrix-free/assembled ratios of each size run both ways and the growth exponents.
+    """
     rows = []
     header = (f"{'N':>9} {'route':>11} {'DOFs':>9} {'contacts':>9} {'gen s':>7} {'assemble s':>10} {'eigen s':>8} "
               f"{'estim s':>8} {'analysis s':>10} {'cpu s':>7} {'peak MiB':>9} {'solver':>7} {'matvecs':>7} "

@@ -1,5 +1,6 @@
 """Section 4 of ``dtcrit bench``: the closed forms against the eigen route and the NumPy kernels against
-two floors, all timed in the same run (figures only; nothing here is ever a pass/fail on time)."""
+two floors, all timed in the same run (figures only; nothing here is ever a pass/fail on time).
+"""
 from __future__ import annotations
 
 import math
@@ -19,7 +20,8 @@ def ratios(config, batch, timing_raw) -> dict:
     * ``kernel_vs_floor_by_integrator``: the NumPy kernels (generated through ``critical_dt_array``, and
       the fused form) over two floors on the same arrays: the *arithmetic floor* 2/sqrt(k A) (the
       cheapest closed form: a product, a square root and a division per scene) and the *memory floor*,
-      one NumPy pass reading k and A and writing one array (``np.multiply(k, A, out=...)``)."""
+      one NumPy pass reading k and A and writing one array (``np.multiply(k, A, out=...)``).
+    """
     from dtcrit.bench.fused import FUSED, critical_dt_fused
     from dtcrit.integrators.stability import critical_dt_array
 

@@ -51,7 +51,8 @@ def _pieces(name: str):
 
 def _positive_real_roots(coeffs):
     """Positive real roots of a monic polynomial, located by mpmath's ``polyroots`` at 30 digits
-    (slow when roots cluster; used only when the float64 locator below is not conclusive)."""
+    (slow when roots cluster; used only when the float64 locator below is not conclusive).
+    """
     with mp.workdps(30):
         roots = mp.polyroots([mp.mpf(c) for c in coeffs], maxsteps=400, extraprec=90)
         tol = mp.mpf(10) ** -20
@@ -70,7 +71,8 @@ def _locate(coeffs, pick):
 
 def _smallest_positive_verified(a2, a1, a0, t, dps) -> bool:
     """True when ``t`` (a root of t^3 + a2 t^2 + a1 t + a0) is its smallest positive real root:
-    the deflated quadratic t'^2 + (a2 + t) t' + (a1 + t (a2 + t)) has no real root in (0, t)."""
+    the deflated quadratic t'^2 + (a2 + t) t' + (a1 + t (a2 + t)) has no real root in (0, t).
+    """
     b1 = a2 + t
     b0 = a1 + t * b1
     disc = b1 * b1 - 4 * b0
@@ -165,7 +167,8 @@ def _dt_at(name: str, k, c, A, dps: int):
 def _agreeing(evaluate, dps: int, limit: int = 1300):
     """``evaluate(d)`` at d = dps, dps + 40, ... (doubling) until two successive values agree to
     10^-dps relative: a cancellation inside the form (zeta^2 - 1 one ulp above critical damping,
-    sqrt(zeta^2 + 1) - zeta at zeta = 1e290) only costs working digits, never a wrong reference."""
+    sqrt(zeta^2 + 1) - zeta at zeta = 1e290) only costs working digits, never a wrong reference.
+    """
     d = dps
     prev = evaluate(d)
     while True:
@@ -182,7 +185,8 @@ def _agreeing(evaluate, dps: int, limit: int = 1300):
 
 def dt_reference(name: str, k, c, A, dps: int = DPS):
     """Exact critical step [s] for the exact float inputs, to ``dps`` digits (mpmath number);
-    the working precision is raised until two evaluations agree (``_agreeing``)."""
+    the working precision is raised until two evaluations agree (``_agreeing``).
+    """
     return _agreeing(lambda d: _dt_at(name, k, c, A, d), dps)
 
 
@@ -259,7 +263,8 @@ NEEDS_MASS = frozenset({"eq36", "eq58", "eq59", "eq60"})
 
 def paper_form_reference(form: str, k, c, A, m=None, dps: int = DPS):
     """The printed form ``form`` to ``dps`` digits for the exact float inputs (NaN where not real);
-    the working precision is raised until two evaluations agree (``_agreeing``)."""
+    the working precision is raised until two evaluations agree (``_agreeing``).
+    """
 
     def at(d):
         with mp.workdps(d + 10):

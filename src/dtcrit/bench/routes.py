@@ -88,7 +88,8 @@ def closed_form_fused(integrator, k, c, A):
 
 def closed_form_c(integrator, k, c, A):
     """The emitted careful C step over arrays; a step outside float64 (inf, or 0 for a stable
-    contact) is refused as by the other dtcrit routes."""
+    contact) is refused as by the other dtcrit routes.
+    """
     from dtcrit.bench.c_kernel import critical_dt_c
     from dtcrit.integrators.stability import refuse_unrepresentable
 

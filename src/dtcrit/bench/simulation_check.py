@@ -65,7 +65,8 @@ def _growth(name: str, tau_below: np.ndarray, tau_above: np.ndarray, zeta: np.nd
     steps to show.  Starting from both makes every mode visible within the step count.  v0 = 1
     for the two-variable schemes; for the schemes that store the acceleration a0 = -2 zeta v0,
     v0 = 1/max(1, 2 zeta) keeps |a0| <= 1 (the growth ratio does not depend on the scale, and the
-    state norm must not overflow when zeta is ~1e290)."""
+    state norm must not overflow when zeta is ~1e290).
+    """
     m = zeta.size
     v0 = np.ones(m) if len(INTEGRATORS[name].state) == 2 else 1.0 / np.maximum(1.0, 2.0 * zeta)
     tau = np.concatenate([tau_below, tau_below, tau_above, tau_above])
@@ -87,7 +88,8 @@ def _rho_minus_one(name: str, tau: float, zeta) -> float:
 
 def _growth_mp(name: str, tau, zeta, n: int, x0, v0):
     """Late/early amplitude of the update rule iterated in mpmath (30 digits): for damping ratios
-    beyond float64 even in scaled units.  No renormalisation is needed (unbounded exponent)."""
+    beyond float64 even in scaled units.  No renormalisation is needed (unbounded exponent).
+    """
     integ = INTEGRATORS[name]
     with mp.workdps(30):
         f = LinearForce(mp.mpf(1), 2 * mp.mpf(zeta))
@@ -130,7 +132,8 @@ def check(cases, integrators, tau_ref: dict, zeta_ref: dict, budget: int) -> lis
     ``zeta_ref[case]`` the exact damping ratio (mpmath).  ``budget``: most steps per run.
 
     Unobservable rows are still stepped for ``budget`` steps: the run at 0.99 tau* must stay
-    bounded (else the row ``disagrees``), and both growth factors are recorded."""
+    bounded (else the row ``disagrees``), and both growth factors are recorded.
+    """
     plan = []  # (case, name, tau*, zeta float, rho - 1, steps needed, steps run)
     rows: list[SimulationRow] = []
     for case in cases:

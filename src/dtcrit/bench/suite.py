@@ -185,7 +185,8 @@ class Batch:
 def random_batch(n: int, seed: int = 20200501) -> Batch:
     """``n`` scenes: m log-uniform 1e-18 ... 1e6 kg (A = 7/m), k A log-uniform 1e-12 ... 1e24 s^-2;
     zeta log-uniform 1e-6 ... 1e6 (80 %), 0 (5 %), 1 + 10^U(-15, -2) or 1 - 10^U(-15, -2) (15 %).
-    Deterministic for a given seed."""
+    Deterministic for a given seed.
+    """
     rng = np.random.default_rng(seed)
     m = 10.0 ** rng.uniform(-18, 6, n)
     A = 7.0 / m

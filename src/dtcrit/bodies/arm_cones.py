@@ -47,7 +47,8 @@ _TRIPLES = np.array(list(itertools.combinations(range(11), 3)))
 
 def _corner_directions(face: np.ndarray, u0, u1, v0, v1) -> np.ndarray:
     """(N, 4, 3) corner rays, in cyclic order, of the squares ``[u0, u1] x [v0, v1]`` on cube face
-    ``face`` (the coordinate equal to 1); ``u`` and ``v`` are the other two coordinates in order."""
+    ``face`` (the coordinate equal to 1); ``u`` and ``v`` are the other two coordinates in order.
+    """
     n = face.shape[0]
     D = np.empty((n, 4, 3))
     uu = np.stack([u0, u1, u1, u0], axis=1)
@@ -63,7 +64,8 @@ def _corner_directions(face: np.ndarray, u0, u1, v0, v1) -> np.ndarray:
 
 def _cell_planes(shape, D: np.ndarray, P: np.ndarray, Nrm: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Planes ``n . x <= h`` (unit ``n``) of each cone's polytope: 4 cone sides, 4 supporting
-    half-spaces at the corner surface points, 3 faces of the bounding box; shapes (N, 11, 3), (N, 11)."""
+    half-spaces at the corner surface points, 3 faces of the bounding box; shapes (N, 11, 3), (N, 11).
+    """
     n_cells = D.shape[0]
     centre = D.sum(axis=1)
     side = np.cross(D, np.roll(D, -1, axis=1))
@@ -106,7 +108,8 @@ def _chunk_bounds(normals: np.ndarray, offsets: np.ndarray, inertia, scale: floa
 def octant_cone_supremum(shape, inertia, crude: float, rtol: float) -> ArmSupremum:
     """Bounds on ``S`` for a superquadric-family ``shape`` (it provides ``support``,
     ``radial_surface_points``, ``outward_normals``, ``half_lengths`` and ``max_arm``; module
-    docstring); ``crude = max_arm^2 max(1/I)`` caps the bound."""
+    docstring); ``crude = max_arm^2 max(1/I)`` caps the bound.
+    """
     inertia = np.asarray(inertia, dtype=float)
     scale = float(shape.max_arm)
     grid = np.arange(START_SPLITS) / START_SPLITS

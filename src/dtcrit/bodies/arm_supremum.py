@@ -126,7 +126,8 @@ def _floats(v) -> tuple[float, float, float]:
 
 def _vertex_normal(shape, vertex: np.ndarray) -> tuple[float, float, float]:
     """A unit direction whose support point is ``vertex`` (in its normal cone): the vertex's own
-    direction when that works, else the sampled vertex normal (mean of the adjacent face normals)."""
+    direction when that works, else the sampled vertex normal (mean of the adjacent face normals).
+    """
     d = vertex / np.linalg.norm(vertex)
     if np.allclose(shape.support(d), vertex, rtol=0, atol=1e-12 * np.linalg.norm(vertex)):
         return tuple(d)
@@ -136,7 +137,8 @@ def _vertex_normal(shape, vertex: np.ndarray) -> tuple[float, float, float]:
 
 def _farthest_support_point(shape) -> tuple[np.ndarray, np.ndarray]:
     """Direction and support point of largest norm (a surface point at distance ~ ``max_arm``):
-    dense directions, then a few rounds of local random refinement."""
+    dense directions, then a few rounds of local random refinement.
+    """
     rng = np.random.default_rng(0)
     d = fibonacci_sphere(2000)
     r = np.linalg.norm(shape.support(d), axis=1)
@@ -160,7 +162,8 @@ def _farthest_support_point(shape) -> tuple[np.ndarray, np.ndarray]:
 # ============================================================================================
 def support_planes(shape, normals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Support points of unit ``normals`` and offsets ``h(n)`` inflated by ``SUPPORT_SLACK |p|``:
-    every half-space ``n.x <= h`` contains the body despite rounding."""
+    every half-space ``n.x <= h`` contains the body despite rounding.
+    """
     pts = np.asarray(shape.support(normals), dtype=float)
     h = np.einsum("ij,ij->i", normals, pts)
     return pts, h + SUPPORT_SLACK * np.linalg.norm(pts, axis=1)
@@ -169,7 +172,8 @@ def support_planes(shape, normals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def _cut_directions(shape, outside: np.ndarray, start: np.ndarray) -> np.ndarray:
     """Directions ``n`` with (ideally) ``n.v > h(n)`` for points ``v`` outside the body: gradient ascent
     of the violation ``n.v - h(n)`` (concave in ``n``; its supergradient is ``v - support(n)``) on
-    the sphere from each row of ``start``, keeping only improving steps."""
+    the sphere from each row of ``start``, keeping only improving steps.
+    """
     scale = np.linalg.norm(outside, axis=1, keepdims=True)
     n = start / np.linalg.norm(start, axis=1, keepdims=True)
 

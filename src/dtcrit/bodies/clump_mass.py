@@ -58,7 +58,8 @@ def _cap_integrals(r: float, a: float) -> tuple[float, float, float, float]:
 
 def _axial_moments(c: np.ndarray, axis: np.ndarray, ints) -> tuple[float, np.ndarray, np.ndarray]:
     """Volume, first and second moments (about the origin) of a solid of revolution about ``axis``
-    through ``c`` with axial integrals ``ints`` measured from ``c``."""
+    through ``c`` with axial integrals ``ints`` measured from ``c``.
+    """
     v, mz, mzz, mrr = ints
     first = v * c + mz * axis
     local = mzz * np.outer(axis, axis) + 0.5 * mrr * (np.eye(3) - np.outer(axis, axis))

@@ -45,7 +45,8 @@ __all__ = ["a_max", "a_bound", "b_max", "b_bound", "coefficient_matrix"]
 # ============================================================================================
 def _shape(key: str, p):
     """Accept anything with the dtcrit shape interface: positive finite ``mass``, ``inertia`` (3),
-    ``half_lengths`` (3) and ``max_arm``."""
+    ``half_lengths`` (3) and ``max_arm``.
+    """
     try:
         mass = float(p.mass)
         inertia = tuple(float(i) for i in p.inertia)
@@ -74,7 +75,8 @@ def _vector(key: str, v) -> np.ndarray:
 def _rotation(key: str, R) -> np.ndarray:
     """A particle's orientation ``Q``, body to world (``v_world = Q v_body``), from ``None`` (identity), a
     unit quaternion ``(qw, qx, qy, qz)`` (normalised here; ``Q`` is its Eq (7) matrix) or a proper
-    orthogonal 3x3 body-to-world matrix."""
+    orthogonal 3x3 body-to-world matrix.
+    """
     if R is None:
         return np.eye(3)
     try:
@@ -134,7 +136,8 @@ corners has ``B ~ 3e-16``) are equal moments: ``b_max`` below this is 0, not a r
 
 def b_max(p) -> float:
     """Peng et al. 2020, Eq (54): ``max(|Ixx-Iyy|/Izz, |Ixx-Izz|/Iyy, |Iyy-Izz|/Ixx)`` (dimensionless),
-    0 below ``B_ROUNDING``."""
+    0 below ``B_ROUNDING``.
+    """
     p = _shape("p", p)
     b = float(_k.b_max(*p.inertia))
     return b if b > B_ROUNDING else 0.0

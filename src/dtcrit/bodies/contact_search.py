@@ -73,7 +73,8 @@ def axis_angle(axis: np.ndarray, angle) -> np.ndarray:
 
 def random_rotations(rng: np.random.Generator, n: int) -> np.ndarray:
     """Uniformly distributed body-to-world rotations: normalised Gaussian quaternions, the transposes of their
-    Eq 7 matrices, i.e. the body-to-world matrices of the conjugate quaternions (uniform on SO(3) either way)."""
+    Eq 7 matrices, i.e. the body-to-world matrices of the conjugate quaternions (uniform on SO(3) either way).
+    """
     q = rng.normal(size=(n, 4))
     q /= np.linalg.norm(q, axis=1, keepdims=True)
     R = np.stack([np.asarray(e, float) for e in _k.rotation_matrix(q[:, 0], q[:, 1], q[:, 2], q[:, 3])], -1)
@@ -118,7 +119,8 @@ class Contacts:
 
 def contact_frames(p1, n1, p2, n2, spin, Q1=None) -> Contacts:
     """Place particle 2 against particle 1: its outward normal ``n2`` (local) is turned onto minus
-    the global normal ``Q1 n1`` and then spun by ``spin`` [rad] about that normal."""
+    the global normal ``Q1 n1`` and then spun by ``spin`` [rad] about that normal.
+    """
     p1, n1, p2, n2 = (np.atleast_2d(np.asarray(x, float)) for x in (p1, n1, p2, n2))
     N = max(x.shape[0] for x in (p1, n1, p2, n2))
     p1, n1, p2, n2 = (np.broadcast_to(x, (N, 3)) for x in (p1, n1, p2, n2))
@@ -133,7 +135,8 @@ def contact_frames(p1, n1, p2, n2, spin, Q1=None) -> Contacts:
 
 def _support_samples(shape, rng: np.random.Generator, n: int) -> tuple[np.ndarray, np.ndarray]:
     """Support points of random directions with those directions as normals (for a polyhedron: its
-    vertices, with normals spread over their normal cones)."""
+    vertices, with normals spread over their normal cones).
+    """
     d = unit_vectors(rng, n)
     return np.asarray(shape.support(d), float), d
 
@@ -141,7 +144,8 @@ def _support_samples(shape, rng: np.random.Generator, n: int) -> tuple[np.ndarra
 def surface_samples(shape, rng: np.random.Generator, n: int, n_surface: int = 400) -> tuple[np.ndarray, np.ndarray]:
     """``n`` surface points and outward normals (local frame): half support points of random
     directions (every vertex with normals spread over its cone for polyhedra), half drawn from
-    ``shape.surface_points`` (faces, edges and smooth regions with their normals)."""
+    ``shape.surface_points`` (faces, edges and smooth regions with their normals).
+    """
     k = n // 2
     p_a, n_a = _support_samples(shape, rng, k)
     pts, nrm = shape.surface_points(n_surface)
@@ -151,7 +155,8 @@ def surface_samples(shape, rng: np.random.Generator, n: int, n_surface: int = 40
 
 def random_contacts(shape1, shape2, n: int, seed: int = 0) -> Contacts:
     """``n`` random admissible contacts: random surface points and normals on both particles, a
-    random orientation of particle 1 and a random spin of particle 2 about the common normal."""
+    random orientation of particle 1 and a random spin of particle 2 about the common normal.
+    """
     rng = np.random.default_rng(seed)
     p1, n1 = surface_samples(shape1, rng, n)
     p2, n2 = surface_samples(shape2, rng, n)
@@ -233,7 +238,8 @@ def mirror_contact(shape, point, normal) -> Contacts:
     """Two copies of ``shape`` touching at the same local ``point`` with outward ``normal`` (local,
     in the normal cone at ``point``), particle 2 turned by a half-turn about the axis normal to
     both the contact normal and the top eigenvector ``v`` of ``[p]x^T I^-1 [p]x``: then particle
-    2's top eigenvector is ``-v`` and ``lambda_max(A) = 2/m + 2 lambda_max(T(p))``."""
+    2's top eigenvector is ``-v`` and ``lambda_max(A) = 2/m + 2 lambda_max(T(p))``.
+    """
     p = np.asarray(point, float)
     nrm = np.asarray(normal, float) / np.linalg.norm(normal)
     _, vecs = np.linalg.eigh(arm_terms_local(p[None, :], shape.inertia)[0])

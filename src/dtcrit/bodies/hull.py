@@ -36,7 +36,8 @@ class HullError(ValueError):
 
 def connected_components(n: int, first, second) -> np.ndarray:
     """Component label of each of ``n`` nodes joined by the edges ``(first[k], second[k])``: the
-    smallest node of its component (``scipy.sparse.csgraph.connected_components``)."""
+    smallest node of its component (``scipy.sparse.csgraph.connected_components``).
+    """
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components as components
 
@@ -156,7 +157,8 @@ def _distinct_points(q: np.ndarray, tol: float) -> np.ndarray:
 
 def _merged_faces(q: np.ndarray, hull, tol: float) -> list[np.ndarray]:
     """Qhull facets grouped into planar faces: neighbours each of whose vertices lie within ``tol``
-    of the other's plane are one face."""
+    of the other's plane are one face.
+    """
     eq = hull.equations
     simp = hull.simplices
     f = np.repeat(np.arange(simp.shape[0]), 3)

@@ -63,13 +63,15 @@ class _SuperquadricFamily(_Shape):
 
     def radial_surface_points(self, directions: np.ndarray) -> np.ndarray:
         """Where the rays from the centre along the (non-zero) rows of ``directions`` leave the body
-        (:func:`_superquadric_radial_projection`); shape (N, 3), local frame."""
+        (:func:`_superquadric_radial_projection`); shape (N, 3), local frame.
+        """
         d = np.atleast_2d(np.asarray(directions, dtype=float))
         return _superquadric_radial_projection(d, self._axes_arr, self._e1, self._e2)
 
     def outward_normals(self, points: np.ndarray) -> np.ndarray:
         """Outward unit normals (normalised gradient of the inside-outside function) at the surface
-        ``points`` (rows, local frame; :func:`_superquadric_normals`)."""
+        ``points`` (rows, local frame; :func:`_superquadric_normals`).
+        """
         p = np.atleast_2d(np.asarray(points, dtype=float))
         return _superquadric_normals(p, self._axes_arr, self._e1, self._e2)
 

@@ -119,7 +119,8 @@ def superquadric_max_arm(a: float, b: float, c: float, eps1: float, eps2: float)
 
 def _half_offset_grid(half_length: float, delta: float) -> np.ndarray:
     """``(k + 1/2) delta`` for every integer ``k`` with ``|(k + 1/2) delta| <= half_length``
-    (symmetric about 0, which it never contains)."""
+    (symmetric about 0, which it never contains).
+    """
     m = math.floor(half_length / delta - 0.5)
     return (np.arange(-m - 1, m + 1) + 0.5) * delta
 

@@ -122,7 +122,8 @@ def flag_of(key: str, args) -> str | None:
 
 def run_command(args) -> int:
     """``dtcrit audit``: library keys become the flags that set them; a solver that stops early, or
-    memory that runs out, is one line too (``dtcrit.cli.library_errors``)."""
+    memory that runs out, is one line too (``dtcrit.cli.library_errors``).
+    """
     from dtcrit.cli.library_errors import run_naming_flags
 
     return run_naming_flags(_run, args, args.snapshot, flag_of, lambda exc: f"--integrator: {exc}",

@@ -68,7 +68,8 @@ def run(args) -> int:
 
 def _checked_name(name: str, then=None, args=None):
     """``check_name(name)`` (or ``then()``, which checks it against the kernel's own names), with a
-    refusal of the name reported as ``--name: reason`` (a flag, not a key of the scene)."""
+    refusal of the name reported as ``--name: reason`` (a flag, not a key of the scene).
+    """
     from dtcrit.codegen.names import check_name
     from dtcrit.errors import InputError
 
@@ -85,7 +86,8 @@ def _checked_name(name: str, then=None, args=None):
 def _refuse_what_the_kernel_leaves_out(scene) -> None:
     """The emitted kernel has the normal and tangential springs and dashpots only: a scene with
     rotational springs or dashpots (rolling, twisting, bonds) would get a step above its own, so it is
-    refused until the kernel carries them (``dtcrit step`` gives the scene's step)."""
+    refused until the kernel carries them (``dtcrit step`` gives the scene's step).
+    """
     law = scene.contact
     walls = [w for w in scene.walls if any(getattr(w, k, 0.0) for k in ("kr", "ktw", "cr", "ctw"))]
     if law.bond is not None or law.rotational is not None or walls:

@@ -19,7 +19,8 @@ from dtcrit.errors import InputError
 def number(kind: type = float, *, positive: bool = True, maximum: float | None = None, what: str = "number"):
     """An argparse ``type``: ``kind`` (``int`` or ``float``) from the text, finite, above zero
     (``positive``) or at least zero, and at most ``maximum`` when given; ``what`` names it in the
-    message (``"number of seconds"``)."""
+    message (``"number of seconds"``).
+    """
     adjective = "positive" if positive else "non-negative"
     bound = "" if maximum is None else f", at most {maximum}" if isinstance(maximum, int) else f", at most {maximum:g}"
     message = f"must be a {adjective} {'whole ' if kind is int and what == 'number' else ''}{what}{bound}"

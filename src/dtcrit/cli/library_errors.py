@@ -1,6 +1,7 @@
 """Library errors as the one line a command prints: a key of the library becomes the flag or the
 ``SOURCE:key`` that set it, a solver that stopped early is reported with its bracket, and memory that
-runs out after all is one line too (``dtcrit.cli.main`` prints ``ValueError``s, exit status 2)."""
+runs out after all is one line too (``dtcrit.cli.main`` prints ``ValueError``s, exit status 2).
+"""
 from __future__ import annotations
 
 from typing import Callable
@@ -11,7 +12,8 @@ from dtcrit.errors import InputError, NotConvergedError
 def run_naming_flags(run: Callable, args, source, flag_of: Callable, not_converged: Callable[[NotConvergedError], str],
                      out_of_memory: str) -> int:
     """``run(args)``, with its ``InputError`` keys renamed by ``flag_of(key, args)`` (``None``: keep the
-    error as it is); a flag ``f"{source}:key"`` is printed as ``SOURCE:key: reason``."""
+    error as it is); a flag ``f"{source}:key"`` is printed as ``SOURCE:key: reason``.
+    """
     try:
         return run(args)
     except InputError as exc:

@@ -1,6 +1,7 @@
 """Check, before any work starts, that a command can write where it was told to (``--out``,
 ``--write-dump``): one line and exit 2 instead of a traceback after minutes of work.  Nothing is
-created: the nearest existing folder on the path must be a folder that accepts a file."""
+created: the nearest existing folder on the path must be a folder that accepts a file.
+"""
 from __future__ import annotations
 
 import tempfile

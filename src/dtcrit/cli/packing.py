@@ -195,7 +195,8 @@ def flag_of(key: str, args) -> str | None:
 
 def run_command(args) -> int:
     """``dtcrit packing``: library keys become the flags that set them; a solver that stops early, or
-    memory that runs out after all, is one line too (``dtcrit.cli.library_errors``)."""
+    memory that runs out after all, is one line too (``dtcrit.cli.library_errors``).
+    """
     from dtcrit.cli.library_errors import run_naming_flags
 
     return run_naming_flags(_run, args, args.file, flag_of,
@@ -260,7 +261,8 @@ rank exits with status 2, and rank 0 is then still writing the one line."""
 def _run_slepc(args) -> int:
     """``--backend slepc``: every rank builds the packing and its share of the contacts; rank 0 prints.
     Bad input is one line from rank 0 (the same on every rank) or from the lowest rank that met it
-    alone (``slepc_backend.agree``); the other ranks exit with status 2 silently."""
+    alone (``slepc_backend.agree``); the other ranks exit with status 2 silently.
+    """
     rank = int(next((os.environ[k] for k in LAUNCHER_RANK if os.environ.get(k, "").isdigit()), "0"))
     try:
         from dtcrit.packing.distributed import slepc_backend as sb

@@ -34,7 +34,8 @@ def _s(x) -> str:
 
 def ratio_text(r: float, digits: int = 4) -> str:
     """``r`` with ``digits`` significant digits, or as many more as it takes (up to 17, round-trip) for a
-    ratio that is not exactly 1 never to read as 1 (1.0024 x dt_crit UNSAFE printed as '1' misleads)."""
+    ratio that is not exactly 1 never to read as 1 (1.0024 x dt_crit UNSAFE printed as '1' misleads).
+    """
     for d in range(digits, 18):
         text = f"{r:.{d}g}"
         if r == 1.0 or float(text) != 1.0:

@@ -37,7 +37,8 @@ CODEGEN_UNITS = {"dt": "s", "kn": "N/m", "ks": "N/m", "cn": "N s/m", "cs": "N s/
 def metadata(scene, lang: str, name: str = DEFAULT_NAME, command: str | None = None) -> dict:
     """The ``dtcrit codegen --json`` document (schema ``dtcrit-codegen/1``): what the emitted code computes
     and from what -- language, integrator, function and arguments with units, the equations, the
-    specialisations, the derivation hash of the kernel and of the careful step it calls -- and the source."""
+    specialisations, the derivation hash of the kernel and of the careful step it calls -- and the source.
+    """
     import dtcrit.codegen.step as step
     from dtcrit.json_meta import envelope
     from dtcrit.symbolic.closed_forms import formula_text
@@ -77,7 +78,8 @@ def emit_for_scene(scene, lang: str, name: str = DEFAULT_NAME, command: str | No
 
 def scene_label(scene) -> str:
     """``FILE (TITLE)``: the scene's file name and title as given (the header's comment makes any text safe,
-    ``dtcrit.codegen.comment_text``; the JSON keeps it verbatim)."""
+    ``dtcrit.codegen.comment_text``; the JSON keeps it verbatim).
+    """
     from pathlib import Path
 
     return Path(scene.source).name + (f" ({scene.title})" if scene.title else "")

@@ -64,7 +64,8 @@ def comment_safe(text: str) -> str:
 def comment_lines(text: str, width: int = WIDTH) -> list[str]:
     """``comment_safe(text)``, wrapped at spaces (or, in a longer word, between characters and whole
     escapes) into lines of at most ``width`` characters when it is longer; continuation lines are
-    indented by two spaces.  The split never separates an escape's backslash from its digits."""
+    indented by two spaces.  The split never separates an escape's backslash from its digits.
+    """
     safe = comment_safe(text).rstrip(" ")
     if len(safe) <= width:
         return [safe]

@@ -6,7 +6,8 @@ import sympy as sp
 
 class cubic_positive_root(sp.Function):
     """Smallest (largest when the fourth argument is true) positive real root of
-    t^3 + a2 t^2 + a1 t + a0 (0 when there is none); emitted as a helper function."""
+    t^3 + a2 t^2 + a1 t + a0 (0 when there is none); emitted as a helper function.
+    """
 
     nargs = 4
     is_real = True
@@ -15,7 +16,8 @@ class cubic_positive_root(sp.Function):
 
 class critical_step(sp.Function):
     """The careful critical step of one mode, dt(k, c, A) (``dtcrit.symbolic.careful_forms``),
-    emitted as a helper function beside the kernel (``dtcrit.codegen.step``)."""
+    emitted as a helper function beside the kernel (``dtcrit.codegen.step``).
+    """
 
     nargs = 3
     is_real = True

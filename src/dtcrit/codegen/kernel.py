@@ -127,7 +127,8 @@ class ContactKernel:
         """See :meth:`statements`.
 
         Assignments nothing uses (a name CSE made redundant) are dropped; a bare copy ``y = x`` is
-        folded into its uses."""
+        folded into its uses.
+        """
         temps, steps = self.cse()
         items = temps + steps
         changed = True
@@ -146,7 +147,8 @@ class ContactKernel:
 
     def op_count(self) -> int:
         """Arithmetic and function operations after CSE (``sympy.count_ops``, each emitted statement,
-        including those of the careful steps it calls)."""
+        including those of the careful steps it calls).
+        """
         from dtcrit.codegen.step import chain
 
         own = sum(sp.count_ops(e) for _, e in self.statements())

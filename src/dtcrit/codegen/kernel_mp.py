@@ -17,7 +17,8 @@ from dtcrit.codegen.kernel import ContactKernel
 def mp_cubic_positive_root(a2, a1, a0, largest) -> mp.mpf:
     """Smallest (largest if ``largest``) positive real root of t^3 + a2 t^2 + a1 t + a0, at the
     working precision (mpmath ``polyroots`` with extra precision on the cubic with its exact roots at 0
-    deflated, then Newton steps at twice the precision); 0 if none."""
+    deflated, then Newton steps at twice the precision); 0 if none.
+    """
     dps = mp.mp.dps
     coeffs = [mp.mpf(1), mp.mpf(a2), mp.mpf(a1), mp.mpf(a0)]
     poly = list(coeffs)

@@ -60,7 +60,8 @@ RESERVED = frozenset(
 
 def check_name(name: str) -> str:
     """``name`` if it can name the emitted function in C, Fortran and Python; ``InputError('name', ...)``
-    otherwise (the command line reports it as ``--name: ...``)."""
+    otherwise (the command line reports it as ``--name: ...``).
+    """
     if not isinstance(name, str) or not _IDENT.fullmatch(name):
         raise InputError("name", f"must be an identifier valid in C, Fortran and Python (letter first, then letters, "
                          f"digits or _; at most {MAX_NAME} characters) (got {name!r:.80})")

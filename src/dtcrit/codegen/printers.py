@@ -16,7 +16,8 @@ from dtcrit.symbolic.emit import hypot_arguments as _hypot_args
 
 def nested_branches(printer, expr: sp.Piecewise, template: str) -> str:
     """A Piecewise with a default branch as nested inline choices, ``template`` with the fields
-    ``cond``, ``then`` and ``other`` (C ternary, ``np.where``)."""
+    ``cond``, ``then`` and ``other`` (C ternary, ``np.where``).
+    """
     if expr.args[-1].cond != sp.true:
         raise ValueError("Piecewise without a default branch")
     text = printer._print(expr.args[-1].expr)
@@ -29,7 +30,8 @@ class _Primitives:
     """The floating-point primitives of ``dtcrit.symbolic.careful_forms`` and the careful step
     ``critical_step(k, c, A)``, printed as calls to helpers emitted beside the kernel
     (``dtcrit.codegen.helpers``): ``PRIMITIVE`` maps a primitive to the helper's name pattern, with
-    ``{p}`` the prefix of the file's helpers."""
+    ``{p}`` the prefix of the file's helpers.
+    """
 
     PRIMITIVE: dict = {}
     prefix = ""
@@ -67,7 +69,8 @@ class _Primitives:
 
 class _CompiledCalls(_Primitives):
     """Calls shared by the compiled languages: the ``hypot`` function and the cubic-root helper
-    ``helper_name`` (its last argument a logical, spelled ``LOGICAL[False]`` / ``LOGICAL[True]``)."""
+    ``helper_name`` (its last argument a logical, spelled ``LOGICAL[False]`` / ``LOGICAL[True]``).
+    """
 
     LOGICAL = ("0", "1")
     helper_name = ""

@@ -41,7 +41,8 @@ suffix could exceed Fortran's 63-character limit on names)."""
 
 def check_name_for(kernel: ContactKernel, name: str) -> str:
     """``name`` is not one the emitted code already uses: the kernel's arguments and intermediate
-    values, the functions it calls, a keyword.  Compared without case, as Fortran does."""
+    values, the functions it calls, a keyword.  Compared without case, as Fortran does.
+    """
     taken = {a.name.lower() for a in kernel.arguments} | {str(s).lower() for s, _ in kernel.statements()}
     if kernel.uses_step:
         taken |= {n.lower() for n in step.local_names(kernel.structure.integrator, kernel.step_variants)} | {"k", "c"}
@@ -85,7 +86,8 @@ def header_lines(kernel: ContactKernel, lang: str, scene_label: str, command: st
 def _comment(lines: list[str], lang: str) -> str:
     """``lines`` as a comment block of ``lang``.  The one place where text enters a comment: every line
     passes through ``comment_lines`` (printable ASCII that cannot end the comment or the line, e.g. a
-    scene title with ``*/`` or a newline; ``dtcrit.codegen.comment_text``)."""
+    scene title with ``*/`` or a newline; ``dtcrit.codegen.comment_text``).
+    """
     lines = [part for ln in lines for part in comment_lines(ln)]
     if lang == "c":
         return "/*\n" + "\n".join((" * " + ln).rstrip() for ln in lines) + "\n */\n"
@@ -192,7 +194,8 @@ def render(kernel: ContactKernel, lang: str, name: str = DEFAULT_NAME, scene_lab
 
 def count_c_operations(source: str) -> int:
     """Arithmetic operators and calls in the bodies of the emitted C kernel and of the careful steps
-    it calls (an independent count; the shared primitive helpers are left out)."""
+    it calls (an independent count; the shared primitive helpers are left out).
+    """
     starts = [m.start() for m in re.finditer(r"^(?:static )?double \w+\((?:double \w+(?:, )?)+\)\n\{", source, flags=re.M)]
     bodies = [source[s:source.index("\n}\n", s)] for s in starts]
     body = "\n".join(b for b in bodies if "_critical_step" in b.split("(")[0] or b is bodies[-1])

@@ -32,7 +32,8 @@ FORTRAN_IEEE = ("  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee
 @lru_cache(maxsize=None)
 def chain(integrator: str, damped: bool = True) -> Chain:
     """The careful chain with the cubic root as the codegen's helper function (``damped=False``:
-    the chain of an undamped mode, arguments k and A)."""
+    the chain of an undamped mode, arguments k and A).
+    """
     ch = careful_chain(integrator, damped)
     steps = [(s, e.replace(CUBIC_ROOT, cubic_positive_root)) for s, e in ch.steps]
     needed, kept = {ch.result}, []
@@ -48,7 +49,8 @@ def check_emittable(integrator: str) -> None:
     closed form: more than three state variables (Jury conditions of degree <= 3), a characteristic
     polynomial with terms in h^5 or higher (boundary factors beyond the cubic), or a derivation the symbolic
     layer does not support.  The
-    degree checks come first, so the refusal is quick; ``dtcrit step`` still gives such a scheme's step."""
+    degree checks come first, so the refusal is quick; ``dtcrit step`` still gives such a scheme's step.
+    """
     from dtcrit.errors import InputError
     from dtcrit.integrators.schemes import USER_INTEGRATORS
     from dtcrit.integrators.user_rules import h_degree_of

@@ -180,7 +180,8 @@ def _floor_15_digits(x: float) -> float:
     """The largest number of 15 significant digits not above ``x`` (> 0), as a double: LAMMPS (29Sep2021)
     keeps a python-style variable's float as text of 15 significant digits (measured: a function returning
     1e-5/3 gives the variable 3.33333333333333e-06), which this survives unchanged (15 digits round-trip
-    through a double); rounding to nearest could land above ``x``."""
+    through a double); rounding to nearest could land above ``x``.
+    """
     exact = decimal.Decimal(x)
     quantum = decimal.Decimal(1).scaleb(exact.adjusted() - 14)
     return float(exact.quantize(quantum, rounding=decimal.ROUND_FLOOR))
@@ -189,7 +190,8 @@ def _floor_15_digits(x: float) -> float:
 def timestep_function(pair_style: str, dump: str = "dtcrit.dump", **options):
     """For the ``lmp`` binary route (module docstring): a function ``f(dt_now=None) -> float``
     auditing the dump file LAMMPS has just written; ``f.audit`` is its ``DumpAudit`` (``history``).
-    ``options``: ``safety``, ``dtcrit``, ``extra_args``, ``timeout``, ``on_error`` of ``DumpAudit``."""
+    ``options``: ``safety``, ``dtcrit``, ``extra_args``, ``timeout``, ``on_error`` of ``DumpAudit``.
+    """
     auditor = DumpAudit(pair_style, **options)
 
     def dtcrit_timestep(dt_now=None):
@@ -299,7 +301,8 @@ class DtcritLammpsHook:
 
     def run(self, nsteps: int, run_options: str = "") -> None:
         """``run nsteps`` in chunks of at most ``every`` steps, ``update`` before each (module docstring).
-        ``run_options``: more ``run`` keywords for every chunk (e.g. ``"post no"``)."""
+        ``run_options``: more ``run`` keywords for every chunk (e.g. ``"post no"``).
+        """
         nsteps = int(nsteps)
         if nsteps < 0:
             raise ValueError(f"nsteps must be >= 0, got {nsteps!r}")

@@ -66,6 +66,7 @@ def save_figure(fig, path: Path) -> Path:
 
 def critical_steps(integrator: str, k, c, A) -> np.ndarray:
     """``dtcrit.integrators.stability.critical_dt_array`` with its inputs broadcast first, so the result always
-    has the broadcast shape (a kernel that ignores the damping would otherwise return fewer values)."""
+    has the broadcast shape (a kernel that ignores the damping would otherwise return fewer values).
+    """
     k, c, A = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (k, c, A)))
     return np.asarray(critical_dt_array(integrator, k, c, A), dtype=float)

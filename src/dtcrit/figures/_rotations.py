@@ -47,7 +47,8 @@ def rotvec_matrix(v) -> np.ndarray:
 
 def quaternion_matrix(q) -> np.ndarray:
     """Peng et al. 2020, Eq. (7): the body-to-world matrix ``Q`` of the unit orientation quaternion
-    ``(qw, qx, qy, qz)`` (``v_world = Q v_body``)."""
+    ``(qw, qx, qy, qz)`` (``v_world = Q v_body``).
+    """
     w, x, y, z = (float(t) for t in q)
     return np.array([
         [w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)],
@@ -58,7 +59,8 @@ def quaternion_matrix(q) -> np.ndarray:
 
 def matrix_quaternion(Q) -> tuple[float, float, float, float]:
     """Unit orientation quaternion ``(qw, qx, qy, qz)`` (qw >= 0) of the body-to-world matrix ``Q``
-    (Eq. (7) inverted: ``quaternion_matrix(matrix_quaternion(Q)) == Q``)."""
+    (Eq. (7) inverted: ``quaternion_matrix(matrix_quaternion(Q)) == Q``).
+    """
     Q = np.asarray(Q, dtype=float)
     t = np.trace(Q)
     if t > 0:

@@ -70,7 +70,8 @@ def paper_base_orientation(roll: float = 0.0) -> np.ndarray:
 def _orientation_with_long_axis(u, roll: float) -> np.ndarray:
     """Long (local x) axis along ``u``, reached from the axis-aligned pose by the smallest rotation,
     after a ``roll`` about the local x axis.  For ``u`` in the x-z plane the local y axis stays on
-    global y (roll 0), as in the paper's 'rotation about -y' (scenario 1)."""
+    global y (roll 0), as in the paper's 'rotation about -y' (scenario 1).
+    """
     return align_x_to(u) @ rotation_about((1.0, 0.0, 0.0), roll)
 
 

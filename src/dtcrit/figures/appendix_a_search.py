@@ -44,7 +44,8 @@ def paper_ellipsoid(density: float = 1.0):
 
 def comparison_shapes(density: float = 1.0) -> dict:
     """The shapes of the extended search: the paper's ellipsoid, a superquadric and a box of the
-    same half-lengths 3, 2, 1 m (superquadric exponents eps1 = eps2 = 0.5, a rounded box)."""
+    same half-lengths 3, 2, 1 m (superquadric exponents eps1 = eps2 = 0.5, a rounded box).
+    """
     import warnings
 
     from dtcrit.bodies import Box, Superquadric
@@ -63,7 +64,8 @@ def comparison_shapes(density: float = 1.0) -> dict:
 # ============================================================================================
 def batch_coefficient_matrices(body1, body2, normals, p1, p2, Q2) -> np.ndarray:
     """``A`` for many contacts at once, through ``dtcrit.bodies.contact_search.Contacts`` (particle 1 axis
-    aligned: its local contact point ``p1`` is also its global arm)."""
+    aligned: its local contact point ``p1`` is also its global arm).
+    """
     from dtcrit.bodies.contact_search import Contacts
 
     Q2 = np.asarray(Q2, dtype=float)
@@ -74,7 +76,8 @@ def batch_coefficient_matrices(body1, body2, normals, p1, p2, Q2) -> np.ndarray:
 
 def coefficient_matrix_single(body1, body2, r1, r2, Q2) -> np.ndarray:
     """One contact's ``A`` through ``dtcrit.bodies.contact.coefficient_matrix`` (particle 1 axis aligned,
-    ``Q2`` the body-to-world orientation of particle 2, as that function takes it)."""
+    ``Q2`` the body-to-world orientation of particle 2, as that function takes it).
+    """
     from dtcrit.bodies.contact import coefficient_matrix
 
     return np.asarray(coefficient_matrix(body1, body2, np.asarray(r1, float), np.asarray(r2, float),
@@ -102,7 +105,8 @@ class ContactConfig:
     @property
     def quaternion(self) -> tuple[float, float, float, float]:
         """(qw, qx, qy, qz) of particle 2, body to world: its Eq. (7) matrix is ``Q2`` (qw >= 0).  Passed as
-        ``body_to_world=(None, q)`` to ``dtcrit.bodies.contact.coefficient_matrix`` it gives ``matrix``."""
+        ``body_to_world=(None, q)`` to ``dtcrit.bodies.contact.coefficient_matrix`` it gives ``matrix``.
+        """
         return matrix_quaternion(np.array(self.orientation))
 
     def describe(self, digits: int = 6) -> dict:
@@ -207,7 +211,8 @@ class PairSearch:
     # ----- grid + polish ----------------------------------------------------------------------
     def _values(self, params: np.ndarray, which: int) -> np.ndarray:
         """Objective ``which`` (0: |A F|, 1: largest eigenvalue) for rows of 5 parameters
-        (polar angle and azimuth of ``n``, rotation vector of ``Q2``)."""
+        (polar angle and azimuth of ``n``, rotation vector of ``Q2``).
+        """
         params = np.atleast_2d(params)
         n = unit_from_angles(params[:, 0], params[:, 1])
         Q2 = rotvec_matrices(params[:, 2:5])

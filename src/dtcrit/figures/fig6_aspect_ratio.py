@@ -221,7 +221,8 @@ def _csv_rows(d: AspectRatioData):
 def plot_fig6(d: AspectRatioData, path: Path) -> Path:
     """Four panels on the full grid: the translation-dominant step with Eq. (26)'s ``A_max`` (Eq. (48)) and
     with the verified ``a_bound`` on one colour scale (so their fall with aspect ratio compares directly),
-    the rotation-dominant step (Eq. (57)) and the ratio of Eq. (57) to Eq. (48)."""
+    the rotation-dominant step (Eq. (57)) and the ratio of Eq. (57) to Eq. (48).
+    """
     plt = pyplot()
     from matplotlib.colors import LogNorm, Normalize
 

@@ -54,7 +54,8 @@ def plot_sweep(report: dict, path) -> None:
 
 def plot_hertz(study: dict, path) -> None:
     """Hertz impact: v_exit/v_entry band over phases vs omega_t dt, and the energy error vs the step
-    (Hertz in omega_t dt, linear contact in omega dt) with the threshold and the linearised bound."""
+    (Hertz in omega_t dt, linear contact in omega dt) with the threshold and the linearised bound.
+    """
     grid = study["_grid"]
     rows = study["numerical"]
     fig = _figure(7.0, 5.6)
@@ -90,7 +91,8 @@ def plot_hertz(study: dict, path) -> None:
 
 def plot_phase_curve(report: dict, path) -> None:
     """v_exit/v_entry vs entry phase at the single step of a report made with ``omega_dt``: one marker per
-    simulated entry phase, the exact impact and the line v_exit = v_entry, every one named in the legend."""
+    simulated entry phase, the exact impact and the line v_exit = v_entry, every one named in the legend.
+    """
     run: ImpactRun = report["_run"]
     fig = _figure(6.0, 3.4)
     ax = fig.add_subplot(1, 1, 1)

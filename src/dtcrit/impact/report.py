@@ -174,5 +174,6 @@ def _plain(value):
 
 def to_json(report: dict) -> dict:
     """The documented JSON form of a report (schema ``dtcrit-impact/1``): the envelope of every dtcrit JSON
-    (:func:`dtcrit.json_meta.envelope`), then the report without its private entries."""
+    (:func:`dtcrit.json_meta.envelope`), then the report without its private entries.
+    """
     return {**envelope(JSON_SCHEMA, JSON_UNITS), **_plain(report)}

@@ -213,7 +213,8 @@ def central_difference_bounds(omega_dt) -> tuple[np.ndarray, np.ndarray]:
 
 def unit_ratio_steps(tau_min: float = 0.05, tau_max: float = 2.0) -> list[tuple[int, float]]:
     """(N, tau_N = 2 sin(pi/(2N))) in [tau_min, tau_max]: undamped central difference has
-    v_exit = v0 for every entry phase exactly at these steps (the contact lasts N steps)."""
+    v_exit = v0 for every entry phase exactly at these steps (the contact lasts N steps).
+    """
     out = []
     n = 1
     while True:

@@ -54,7 +54,8 @@ AMBIGUOUS: dict[str, str] = {
 def resolve_integrator(name, key: str = "integrator") -> tuple[str, str]:
     """(scheme key, note) for a scheme key or a DEM code's name; InputError for an ambiguous one.
 
-    Unknown names are returned unchanged with note "" (the caller's check names the choices)."""
+    Unknown names are returned unchanged with note "" (the caller's check names the choices).
+    """
     if not isinstance(name, str):
         return name, ""
     if name in INTEGRATORS or name in USER_INTEGRATORS:

@@ -99,7 +99,8 @@ def lyapunov(x, u, h, K, inv_mass, alpha):
 
 def grows(x0, u0, h, K, inv_mass, alpha, law, n_steps, blowup=1e6, check_every=16):
     """Per system: True if the energy norm exceeds ``blowup`` times its start within ``n_steps`` (growing),
-    False if it stays below (bounded over the run).  A grown system is zeroed and stays flagged."""
+    False if it stays below (bounded over the run).  A grown system is zeroed and stays flagged.
+    """
     x, u = np.array(x0, dtype=float), np.array(u0, dtype=float)
     start = energy_norm(x, u, K, inv_mass)
     grown = np.zeros(x.shape[0], dtype=bool)
@@ -118,7 +119,8 @@ def bisect_threshold(x0, u0, K, inv_mass, alpha, law, omega_max, lo, hi, iterati
     """Bisect, per system, the largest ``omega_max dt`` whose run from ``(x0, u0)`` stays bounded.
 
     ``lo`` must be bounded and ``hi`` growing for every system (checked; a bracket that fails raises).
-    Returns the upper end of the final bracket (growing side), shape ``(B,)``."""
+    Returns the upper end of the final bracket (growing side), shape ``(B,)``.
+    """
     batch = x0.shape[0]
     w = np.broadcast_to(np.asarray(omega_max, dtype=float), (batch,))
     lo = np.broadcast_to(np.asarray(lo, dtype=float), (batch,)).copy()
@@ -137,7 +139,8 @@ def bisect_threshold(x0, u0, K, inv_mass, alpha, law, omega_max, lo, hi, iterati
 
 def chain(masses, springs):
     """Stiffness matrix and inverse masses of a 1-D chain: ``springs[0]`` ties mass 0 to a wall,
-    ``springs[i]`` masses i-1 and i; one more spring than masses ties the last to a second wall."""
+    ``springs[i]`` masses i-1 and i; one more spring than masses ties the last to a second wall.
+    """
     m = np.asarray(masses, dtype=float)
     k = np.asarray(springs, dtype=float)
     n = m.size
@@ -157,7 +160,8 @@ def chain(masses, springs):
 
 def sphere_wall_sphere(normal, m1, m2, kn_wall, ks_wall, kn, ks):
     """6-DOF translational stiffness (global x, y, z of each sphere) of sphere 1 on a fixed wall and
-    sphere 2 on sphere 1, both contacts along the unit ``normal`` (normal and tangential springs)."""
+    sphere 2 on sphere 1, both contacts along the unit ``normal`` (normal and tangential springs).
+    """
     n = np.asarray(normal, dtype=float)
     n = n / np.linalg.norm(n)
     P = np.outer(n, n)

@@ -106,7 +106,8 @@ def scaled_closed_form(integrator: str, k, c, A) -> np.ndarray:
     alone, so gamma/omega beyond float64 -- k = 1e-300, c = 1e300, A = 1e-10 -- overflows there and
     the step comes out as 0).  The kernels are homogeneous of degree -1, so
     dt = 2^-s dt(omega 2^-s, gamma 2^-s) exactly; the smaller rate may underflow harmlessly.
-    The centred leapfrog (dt = 2/omega whatever gamma) is scaled by omega alone."""
+    The centred leapfrog (dt = 2/omega whatever gamma) is scaled by omega alone.
+    """
     k, c, A = (np.asarray(v, dtype=float) for v in (k, c, A))
     mk, ek = np.frexp(k)
     mc, ec = np.frexp(c)
@@ -135,7 +136,8 @@ def paper_eq40_identity(k, c, A) -> np.ndarray:
 
     where c/(2k) = gamma/omega^2 comes straight from the inputs (one rounding) and the root tau*
     (the generated cubic solver) enters only through a correction term.  Used for zeta <= 1; for
-    zeta > 1 (tau* ~ 1/(2 zeta)) the generated reciprocal-cubic branch is kept."""
+    zeta > 1 (tau* ~ 1/(2 zeta)) the generated reciprocal-cubic branch is kept.
+    """
     k, c, A = (np.asarray(v, dtype=float) for v in (k, c, A))
     mk, ek = np.frexp(k)
     mA, eA = np.frexp(A)
@@ -176,7 +178,8 @@ def eq40_bounded_cubic(w, m):
     multiple of h(r) = b r^3 - a r^2 + r - 1 with a = w m, b = a m/4, whose wanted root is its only
     root in (1, 3/2) for every zeta >= 0: h < 0 on [0, 1], h(3/2) > 0 and h' >= 1/4 on [1, 3/2]
     (derived from ``dtcrit.symbolic.closed_forms`` in ``tests/test_precise.py``).  In delta = r - 1,
-    h = c3 delta^3 + c2 delta^2 + c1 delta + c0.  Plain arithmetic (the test calls it on symbols)."""
+    h = c3 delta^3 + c2 delta^2 + c1 delta + c0.  Plain arithmetic (the test calls it on symbols).
+    """
     a = w * m
     b = a * m * 0.25
     return b, 3 * b - a, 1 - 2 * a + 3 * b, b - a
@@ -213,7 +216,8 @@ def _eq40_chunk(k, c, A, o, B) -> bool:
     by a Halley step from delta = 0, a Halley step and a Newton step (h' >= 1/4 on [1, 3/2]; the
     three steps reach the root to about an ulp for every zeta, ``tests/test_precise.py``).  False when the chunk is outside the unscaled
     range (k + c^2 A/2 outside [2^-1000, 2^1000], A < 2^-511, or a NaN): inside it nothing
-    overflows, and a c A or c^2 A that underflows is negligible against k."""
+    overflows, and a c A or c^2 A that underflows is negligible against k.
+    """
     d, c3, c2, c1, c0, t1, t2, t3, t4 = B
     np.multiply(c, A, out=d)
     d *= c
@@ -250,7 +254,8 @@ def _forward_euler_chunk(k, c, A, o, B):
     (c/k <= 4/u exactly when zeta <= 1, and 4/(u + sqrt(u^2 - 4K)) < c/k when zeta > 1).  Returns the
     (local) indices of the scenes with |u^2 - 4K| < 4K/8 (7/8 < zeta^2 < 9/8, where the rounded rates
     lose digits), which the caller redoes with the exact residual (``_forward_euler_redo``), all chunks
-    at once; False when K or u is outside the unscaled range."""
+    at once; False when K or u is outside the unscaled range.
+    """
     K, u, t, a = B
     np.multiply(k, A, out=K)
     np.multiply(c, A, out=u)
@@ -274,7 +279,8 @@ def _forward_euler_chunk(k, c, A, o, B):
 def _forward_euler_redo(k, c, A):
     """The near-critical scenes of ``_forward_euler_chunk`` with the exact residual: unscaled
     error-free products (``_forward_euler_near``) where 2^-450 <= c <= 2^450 and k, A lie in
-    [2^-900, 2^900] (no split overflows, no error term underflows), ``forward_euler_exact`` elsewhere."""
+    [2^-900, 2^900] (no split overflows, no error term underflows), ``forward_euler_exact`` elsewhere.
+    """
     ok = (c >= _C_LO) & (c <= _C_HI) & (k >= _KA_LO) & (k <= _KA_HI) & (A >= _KA_LO) & (A <= _KA_HI)
     if ok.all():
         return _forward_euler_near(k, c, A)
@@ -294,7 +300,8 @@ def _forward_euler_near(k, c, A):
     """c/k or 4/(c A + sqrt(A R)), R = c^2 A - 4k summed from error-free products, for scenes with
     7/8 < zeta^2 < 9/8 and the ranges of ``_forward_euler_redo``: c^2 = p + e, p A = q + f and
     e A = r + r2 exactly (Dekker), q - 4k is exact (Sterbenz: q/4k lies in [1/2, 2]), and the small
-    terms f + r + r2 are summed last (their rounding, ~2^-106 c^2 A, moves dt by less than an ulp)."""
+    terms f + r + r2 are summed last (their rounding, ~2^-106 c^2 A, moves dt by less than an ulp).
+    """
     ch, cl = _split(c)
     p = c * c
     e = ((ch * ch - p) + 2.0 * ch * cl) + cl * cl
@@ -365,7 +372,8 @@ def fast_steps(integrator: str, k, c, A, chunk: int = _CHUNK) -> tuple[np.ndarra
     ``_eq40_chunk``); other chunks take the scaled forms (``scaled_closed_form``,
     ``forward_euler_exact``, ``paper_eq40_identity``), which have no limits.  ``checked`` is True when
     every chunk was fast and none holds a step outside float64 (inf, NaN, or 0 for a damped contact),
-    so that ``stability.refuse_unrepresentable`` has nothing to find."""
+    so that ``stability.refuse_unrepresentable`` has nothing to find.
+    """
     k, c, A = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (k, c, A)))
     k, c, A = (np.ascontiguousarray(v.ravel()) for v in (k, c, A))
     if integrator in precise_onstep.CAREFUL:  # whole-array forms; the caller checks the range

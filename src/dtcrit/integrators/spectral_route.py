@@ -43,7 +43,8 @@ def _dashpot_radius(integrator, t):
 def tau_crit(integrator, zeta) -> float:
     """tau* (float) of ``integrator`` at damping ratio ``zeta`` (0: no stable step; inf: none found up to 1e4).
 
-    ``zeta = None``: a dashpot without spring (K = 0, C = 1): the critical ``c A dt``."""
+    ``zeta = None``: a dashpot without spring (K = 0, C = 1): the critical ``c A dt``.
+    """
     with mp.workdps(DPS):
         z = None if zeta is None else mp.mpf(zeta)
         grid = [mp.mpf(10) ** (mp.mpf(e) / 10) for e in range(-120, 41)]
@@ -86,7 +87,8 @@ def critical_dt_spectral(integrator, k, c, A) -> float:
 def dashpot_dt_spectral(integrator, c, A) -> float:
     """dt* [s] of a dashpot without spring (``xddot = -c A xdot``, c > 0, A > 0): by dimensional
     consistency the amplification matrix depends on ``c A dt`` only (the critical value is scanned
-    as ``tau`` above), confirmed by stepping the rules in physical units like every other mode."""
+    as ``tau`` above), confirmed by stepping the rules in physical units like every other mode.
+    """
     with mp.workdps(DPS):
         rate = mp.mpf(c) * mp.mpf(A)
         t = tau_crit(integrator, None)

@@ -47,7 +47,8 @@ class CriticalStep:
 
 def check_integrator(name: str) -> str:
     """The scheme key of ``name``: a built-in or registered user scheme, or a DEM code's name
-    (``dtcrit.integrators.engines.resolve_integrator``); InputError otherwise."""
+    (``dtcrit.integrators.engines.resolve_integrator``); InputError otherwise.
+    """
     name, _note = resolve_integrator(name)
     if name in INTEGRATORS or name in USER_INTEGRATORS:
         return name
@@ -95,7 +96,8 @@ def _exact_steps(name: str, k, c, A) -> np.ndarray:
 def refuse_unrepresentable(integrator: str, dt: np.ndarray, k, c, A) -> np.ndarray:
     """Raise InputError where the exact step lies beyond float64 (inf) or below it (0
     although the contact has a stable step: every scheme has one when damped, and all but forward
-    Euler and the Eq. (40) scheme have one when undamped).  Subnormal steps are returned."""
+    Euler and the Eq. (40) scheme have one when undamped).  Subnormal steps are returned.
+    """
     k, c, A = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (k, c, A)))
     has_step = (c > 0) | (integrator not in UNSTABLE_UNDAMPED)
     bad = ~np.isfinite(dt) | ((dt == 0) & has_step)

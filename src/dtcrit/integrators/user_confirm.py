@@ -120,7 +120,8 @@ def _literal_matches(integrator, G: np.ndarray, h: float, K, C) -> bool:
 def confirm_step(integrator, dt: float, K, C) -> None:
     """Refuse (InputError on ``integrator``) a printed step ``dt`` [s] that stepping the rules in physical
     units does not confirm: stable at 0.99 dt, growing at 1.01 dt.  ``K`` [1/s^2] and ``C`` [1/s] are
-    scalars (one mode) or matrices (a coupled block, ``x'' = -K x - C x'``)."""
+    scalars (one mode) or matrices (a coupled block, ``x'' = -K x - C x'``).
+    """
     name = getattr(integrator, "name", integrator)
     if dt == 0.0:
         return

@@ -94,7 +94,8 @@ def _value(e, env: dict, K: Fraction, C: Fraction):
 
 def amplification_exact(state, rules, K, C) -> list[list[dict]]:
     """``G[i][j]`` as a Laurent polynomial in ``h`` (exact) at rational ``K, C``, and per rule the
-    lowest power of ``h`` its value carries (to name a rule with a term in 1/h)."""
+    lowest power of ``h`` its value carries (to name a rule with a term in 1/h).
+    """
     d = len(state)
     env = {n: {j: {0: Fraction(1)}} for j, n in enumerate(state)}
     lowest = []
@@ -137,7 +138,8 @@ def _sum(items) -> dict:
 def _residual_lowest(P: list[dict], lam: tuple[Fraction, Fraction]) -> int:
     """Lowest power m <= MAX_M of h with a non-zero coefficient in ``P(e^{h lam}, h)`` (MAX_M + 1: none).
 
-    ``lam = (re, im)``; ``P`` as from ``_charpoly``: the coefficient of ``mu^{d-i}`` is ``P[i]``."""
+    ``lam = (re, im)``; ``P`` as from ``_charpoly``: the coefficient of ``mu^{d-i}`` is ``P[i]``.
+    """
     d = len(P) - 1
     total = [[Fraction(0), Fraction(0)] for _ in range(MAX_M + 1)]
     for i, p in enumerate(P):
@@ -182,7 +184,8 @@ def _form(row: list, names, h_power: int) -> str:
 def order_of_accuracy(state, rules, keys, where: str) -> tuple[int, int]:
     """(order with damping, order undamped) of a dimensionally consistent scheme, or InputError
     naming the rule (``keys[i]``) or ``where.update`` when the scheme is not consistent with
-    ``x'' = f(x, v)``.  Orders above ``MAX_ORDER`` are reported as ``MAX_ORDER``."""
+    ``x'' = f(x, v)``.  Orders above ``MAX_ORDER`` are reported as ``MAX_ORDER``.
+    """
     d = len(state)
     if d < 2:
         raise InputError(f"{where}.state", "needs a position and a velocity (x'' = f(x, v) is second order)")

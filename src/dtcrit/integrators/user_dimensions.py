@@ -101,7 +101,8 @@ def check_dimensions(state: tuple[str, ...], rules, keys) -> None:
     """Refuse (InputError naming ``keys[i]``) the first rule that is not dimensionally consistent.
 
     ``rules`` are ``(target, tree)`` pairs; the first state variable is a position (time exponent 0)
-    and the second, if any, a velocity (-1)."""
+    and the second, if any, a velocity (-1).
+    """
     units = _Units()
     version = {n: f"{n}@0" for n in state}
     units.unify((version[state[0]], 0), (_ABS, 0))

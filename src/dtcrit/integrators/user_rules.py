@@ -250,7 +250,8 @@ def parse_integrator(table: dict, where: str = "integrator", check: bool = True)
     ``check`` (default): refuse, naming the rule, a scheme that is not dimensionally consistent
     (``dtcrit.integrators.user_dimensions``) or not consistent with ``x'' = f(x, v)``
     (``dtcrit.integrators.user_consistency``); the order of accuracy found is kept (:func:`order_of`).
-    ``check=False`` only parses (tests of the rule reader use it)."""
+    ``check=False`` only parses (tests of the rule reader use it).
+    """
     if not isinstance(table, dict):
         raise InputError(where, "must be a scheme name or a table {name, state, update}")
     for key in table:
@@ -322,7 +323,8 @@ def register(integ: Integrator, where: str = "integrator") -> str:
     """Make a parsed scheme known by its name to the runtime and codegen; returns the name.
 
     The same name with the same rules may be registered again (a scene read twice); the same name
-    with different rules in one run is refused (the derivations are cached by name)."""
+    with different rules in one run is refused (the derivations are cached by name).
+    """
     old = USER_INTEGRATORS.get(integ.name)
     if old is not None and (old.state, old.summary) != (integ.state, integ.summary):
         raise InputError(f"{where}.name", f"a different scheme named '{integ.name}' is already defined in this run")
@@ -347,7 +349,8 @@ def same_update_as(integ, candidates) -> str | None:
 
     Tested at three seeded random points (vectors of 4, symmetric K and C, h in [0.1, 1]) to 1e-9:
     both maps are polynomials in (h, K, C), so a difference vanishes at random points with
-    probability 0 (Schwartz-Zippel)."""
+    probability 0 (Schwartz-Zippel).
+    """
     import numpy as np
 
     from dtcrit.integrators.schemes import INTEGRATORS

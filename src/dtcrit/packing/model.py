@@ -170,7 +170,8 @@ class Packing:
                     label: str = "") -> "Packing":
         """Convex, centrally symmetric bodies (``dtcrit.bodies`` objects: ``mass``, ``inertia``,
         ``half_lengths``, ``max_arm``, ``support``) at ``positions`` with body-to-global rotation
-        matrices ``orientations`` (identity when omitted)."""
+        matrices ``orientations`` (identity when omitted).
+        """
         shapes = list(shapes)
         x = np.asarray(positions, dtype=float)
         if len(shapes) != x.shape[0]:
@@ -248,12 +249,14 @@ class Contacts:
 
     def with_damping(self, cn, cs, cr=None, ctw=None) -> "Contacts":
         """Per-contact dashpots ``cn`` (normal), ``cs`` (tangential) [N s/m]; rolling ``cr`` and twisting
-        ``ctw`` [N m s/rad] on the relative angular velocity."""
+        ``ctw`` [N m s/rad] on the relative angular velocity.
+        """
         return replace(self, **self._per_contact(cn=cn, cs=cs, cr=cr, ctw=ctw))
 
     def with_normal_force(self, force_n) -> "Contacts":
         """The normal force [N] of each pre-loaded contact, compressive positive (a bond in tension is
-        negative), for its geometric stiffness."""
+        negative), for its geometric stiffness.
+        """
         arr = np.broadcast_to(np.asarray(force_n, dtype=float), self.i.shape).copy()
         if not np.all(np.isfinite(arr)):
             raise InputError("force_n", "every normal force must be a finite number")

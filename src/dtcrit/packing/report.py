@@ -70,7 +70,8 @@ number is dimensionless (counts, coordination, ``alpha``, ratios, residuals, fra
 class PackingReport:
     """Everything ``dtcrit packing`` prints: sizes, coordination, ``omega_max`` [rad/s], ``dt_crit``
     [s], ``alpha``, the integrator's (damped) bound, the top mode's character, solver diagnostics and
-    the cheap estimates (``estimates.Estimate``) keyed by name."""
+    the cheap estimates (``estimates.Estimate``) keyed by name.
+    """
 
     label: str
     law: str
@@ -234,7 +235,8 @@ spheres that only touch): a Hertz stiffness ``2 E* sqrt(R* delta)`` computed fro
 
 def check_hertz_overlaps(packing: Packing, contacts: Contacts) -> None:
     """InputError (key ``youngs``) when every contact's overlap is zero or at the rounding level of the
-    coordinates: the Hertz tangent stiffness vanishes there (no vibrating mode) or is noise."""
+    coordinates: the Hertz tangent stiffness vanishes there (no vibrating mode) or is noise.
+    """
     if not contacts.count:
         return
     scale = float(np.max(np.abs(packing.positions), initial=0.0))
@@ -250,7 +252,8 @@ def check_hertz_overlaps(packing: Packing, contacts: Contacts) -> None:
 
 def dt_bracket_error(exc: NotConvergedError, a, md, packing: Packing) -> NotConvergedError:
     """The eigen-solver's bracket on ``omega_max^2`` as one on ``dt_crit = 2/omega_max``, its lower end
-    raised to ``dt_safe`` (the Gershgorin and block-diagonal bounds) when that is larger."""
+    raised to ``dt_safe`` (the Gershgorin and block-diagonal bounds) when that is larger.
+    """
     bounds = [est.gershgorin(a, md).dt, est.block_diagonal(a, packing.particle_id).dt]
     lower = max([b for b in bounds if math.isfinite(b)] + [2.0 / math.sqrt(exc.upper) if exc.upper > 0 else 0.0])
     upper = 2.0 / math.sqrt(exc.lower) if exc.lower > 0 else math.inf

@@ -55,7 +55,8 @@ class BondLaw:
 def parallel_bond_springs(E: float, radius: float, length: float, *, kappa: float | None = None,
                           G: float | None = None) -> tuple[float, float, float, float]:
     """``(k_n, k_s, k_r, k_tw)`` of PFC's linear parallel bond with ``kn_bar = E/L`` and ``ks_bar = kn_bar/kappa``
-    (or ``G/L``): ``kn_bar A``, ``ks_bar A``, ``kn_bar I``, ``ks_bar J`` (module docstring)."""
+    (or ``G/L``): ``kn_bar A``, ``ks_bar A``, ``kn_bar I``, ``ks_bar J`` (module docstring).
+    """
     area = math.pi * radius * radius
     second = area * radius * radius / 4.0  # I = pi r^4/4
     polar = 2.0 * second  # J = pi r^4/2
@@ -106,7 +107,7 @@ def parse_bond(prefix: str, table: dict) -> BondLaw:
     else:
         missing = [k for k in SPRINGS if k not in table]
         if missing:
-            raise InputError(prefix + missing[0], f"missing: a bond given by its springs needs kn, ks, kr, ktw "
+            raise InputError(prefix + missing[0], "missing: a bond given by its springs needs kn, ks, kr, ktw "
                              "(LAMMPS bpm/rotational K_r, K_s, K_b, K_t); 0 is allowed for ks, kr, ktw")
         springs = (_number(prefix + "kn", table["kn"]),) + tuple(
             _number(prefix + k, table[k], allow_zero=True) for k in SPRINGS[1:])

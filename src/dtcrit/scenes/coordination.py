@@ -41,7 +41,8 @@ ROUND = 1e-12  # relative inflation of the interval bound on cos(theta): covers 
 @dataclass(frozen=True)
 class Coordination:
     """``z``: the largest number of contacts any particle of the scene can have; ``where``: which particle
-    attains it; ``how``: the argument, in words (printed with the headline)."""
+    attains it; ``how``: the argument, in words (printed with the headline).
+    """
 
     z: int
     where: str
@@ -50,7 +51,8 @@ class Coordination:
 
 def _cos_bound_binned(lo: np.ndarray, hi: np.ndarray, overlap: float) -> np.ndarray:
     """Per bin i: an upper bound on cos(angle between two contact normals) of a sphere with radius in
-    ``[lo_i, hi_i]`` against neighbours with radii in any bins (interval form of Lemma 5)."""
+    ``[lo_i, hi_i]`` against neighbours with radii in any bins (interval form of Lemma 5).
+    """
     q, s_hi = 1.0 - overlap, 1.0 + CONTACT_TOLERANCE
     ri_lo, ri_hi = lo[:, None, None], hi[:, None, None]
     rj_lo, rj_hi = lo[None, :, None], hi[None, :, None]
@@ -69,7 +71,8 @@ def _cos_bound_binned(lo: np.ndarray, hi: np.ndarray, overlap: float) -> np.ndar
 
 def sphere_cos_bounds(radii, overlap: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(lo, hi, cos_max)``: groups of radii ``[lo, hi]`` (single radii up to ``EXACT_SPECIES``, else bins)
-    and for each an upper bound on the cosine of the smallest angle between two contact normals."""
+    and for each an upper bound on the cosine of the smallest angle between two contact normals.
+    """
     r = np.unique(np.asarray(radii, float))
     if len(r) <= EXACT_SPECIES:
         c = min_contact_angle_cos(r[:, None, None], r[None, :, None], r[None, None, :], overlap, CONTACT_TOLERANCE)
@@ -86,7 +89,8 @@ def sphere_volume_count(lo: np.ndarray, hi: np.ndarray, r_min: float, r_max: flo
     """Volume count for a sphere of radius in ``[lo, hi]`` (the other-shapes argument of the module
     docstring with balls): its neighbours shrunk by ``1 - eps`` are disjoint balls of radius at least
     ``(1 - eps) r_min`` inside the ball of radius ``(1 + tau)(hi + r_max) + (1 - eps) r_max``, outside its
-    own shrunken ball.  Finite for every size ratio, where the angle argument may bound nothing."""
+    own shrunken ball.  Finite for every size ratio, where the angle argument may bound nothing.
+    """
     q = 1.0 - overlap
     rho = (1.0 + CONTACT_TOLERANCE) * (hi + r_max) + q * r_max
     return np.floor((rho**3 - (q * lo) ** 3) / (q * r_min) ** 3 * (1.0 + 1e-12))
@@ -94,7 +98,8 @@ def sphere_volume_count(lo: np.ndarray, hi: np.ndarray, r_min: float, r_max: flo
 
 def sphere_coordination(radii, overlap: float) -> tuple[int, float]:
     """The largest number of sphere neighbours a sphere with one of ``radii`` can have (the smaller of
-    the contact-angle and the volume count), and the radius (lower end of its group) where it is attained."""
+    the contact-angle and the volume count), and the radius (lower end of its group) where it is attained.
+    """
     lo, hi, cos_max = sphere_cos_bounds(radii, overlap)
     r = np.asarray(radii, float)
     volume = sphere_volume_count(lo, hi, float(r.min()), float(r.max()), overlap)

@@ -136,7 +136,8 @@ def damping_kind(restitution, damping_ratio, cn, cs) -> str:
 def parse_damping(prefix: str, table: dict) -> tuple[float | None, float | None, float | None, float | None]:
     """``(cn, cs, restitution, damping_ratio)`` of a table that gives damping one way only
     (coefficients ``cn``/``cs``, ``restitution`` or ``damping_ratio``); a restitution coefficient
-    sets the damping ratio ``zeta(e)``."""
+    sets the damping ratio ``zeta(e)``.
+    """
     from dtcrit.scenes.fields import _number
 
     given = [k for k in DAMPING_KEYS if k in table]

@@ -51,7 +51,8 @@ DENSE_SCHEMES = ("symplectic-euler", "leapfrog", "leapfrog-centred", "velocity-v
 
 def dense_reason(integrator: str) -> str | None:
     """None when the packing bound applies to ``integrator`` (a ``DENSE_SCHEMES`` entry, or a user-written
-    scheme whose update is the same map as one of them for matrix K and C), else why it does not."""
+    scheme whose update is the same map as one of them for matrix K and C), else why it does not.
+    """
     from dtcrit.integrators.schemes import USER_INTEGRATORS
 
     if integrator in DENSE_SCHEMES:
@@ -90,7 +91,8 @@ def _rotational_block(kind: str, shape, k_n: float, k_s: float, k_r: float, k_tw
     """The block of step 1 with rotational springs: a sphere's own block of the element is the element of
     that sphere against a fixed wall (normal, shear-rolling 2x2, twisting: exact); another shape's is at
     most ``max(k_n, k_s)(1/m + S) + max(k_r, k_tw)/I_min`` (``lambda_max`` of a PSD block matrix is at most
-    the sum of its diagonal blocks' ``lambda_max``)."""
+    the sum of its diagonal blocks' ``lambda_max``).
+    """
     if kind != "sphere":
         from dtcrit.bodies.arm_supremum import arm_term_supremum
 
@@ -128,7 +130,8 @@ def block_terms(scene, steps) -> list[tuple[float, float, str]]:
 def sphere_bound(scene, steps, z: int, rtol: float = 2e-3, n_theta: int = 96) -> tuple[float, float] | None:
     """``(lambda_K, lambda_C)`` from the geometric sphere-packing bound (:mod:`dtcrit.scenes.dense_spheres`),
     or None where it does not apply (other shapes, walls, more than ``SPHERE_BOUND_MAX_SPECIES`` sizes).
-    ``rtol``, ``n_theta``: the branch-and-bound tolerance and sphere grid (tightness and time, never validity)."""
+    ``rtol``, ``n_theta``: the branch-and-bound tolerance and sphere grid (tightness and time, never validity).
+    """
     if scene.walls or any(p.kind != "sphere" for p in scene.particles) or any(s.contact.rotational for s in steps):
         return None  # the geometric bound covers normal and shear springs only
     if sum(len(part.radii) for part in scene.particles) > SPHERE_BOUND_MAX_SPECIES:
@@ -151,7 +154,8 @@ def sphere_bound(scene, steps, z: int, rtol: float = 2e-3, n_theta: int = 96) ->
 def dense_step(integrator: str, terms: list[tuple[float, float, str]], z: int,
                spheres: tuple[float, float] | None = None, overlap: float | None = None) -> DenseStep:
     """The step that holds for every packing with at most ``z`` contacts per particle: the block bound,
-    or the smaller geometric sphere bound ``spheres = (lambda_K, lambda_C)`` where it applies."""
+    or the smaller geometric sphere bound ``spheres = (lambda_K, lambda_C)`` where it applies.
+    """
     lam_k = z * max(t[0] for t in terms)
     lam_c = z * max(t[1] for t in terms)
     where = max(terms, key=lambda t: t[0])[2]

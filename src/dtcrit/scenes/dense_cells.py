@@ -59,7 +59,8 @@ def end_matrix(n, pars):
 
 def _variants(pars):
     """The end parameters at the two extreme arms: full radius, and ``t0 R`` when ``t0 = pars[5] < 1``
-    (Remark 3 of dense_packing_bound.md: the end form is convex in the arm, so the two extremes dominate)."""
+    (Remark 3 of dense_packing_bound.md: the end form is convex in the arm, so the two extremes dominate).
+    """
     alpha, beta, gamma, gr, gw = (float(t) for t in pars[:5])
     t0 = float(pars[5]) if len(pars) > 5 else 1.0
     out = [(alpha, beta, gamma, gr, gw)]
@@ -77,7 +78,8 @@ def _trivial(pars) -> float:
 
 class _SphereCells:
     """A partition of the unit sphere into (theta, phi) cells with exact polynomial moments,
-    centres and rigorous circumradii (chordal distance from the centre to any point of the cell)."""
+    centres and rigorous circumradii (chordal distance from the centre to any point of the cell).
+    """
 
     def __init__(self, n_theta: int = 96):
         edges = np.linspace(0.0, math.pi, n_theta + 1)
@@ -138,7 +140,8 @@ def max_code_size(theta: float) -> float:
     above (Lemma 5b): Fejes Toth's inequality ``sin^2(theta/2) <= 1 - 1/(4 sin^2(pi N/(6(N-2))))``
     for every N >= 3 points, sharpened to 12 (13) when theta exceeds the Tammes angle of 13 (14)
     points (Musin & Tarasov 2012, 2015) with a margin of 1e-6 deg.  ``math.inf`` when ``theta <= 0``
-    (no angle between the normals: the angle argument bounds nothing)."""
+    (no angle between the normals: the angle argument bounds nothing).
+    """
     if theta <= 0:
         return math.inf
     deg = math.degrees(theta)
@@ -167,7 +170,8 @@ def max_code_size(theta: float) -> float:
 
 def _species_geometry(r, z, overlap, contact_tolerance):
     """Per species: half the smallest admissible angle between two of its contact normals (Lemma 5)
-    and the effective contact cap ``z_eff = min(z, max_code_size(theta))`` (Lemma 5b)."""
+    and the effective contact cap ``z_eff = min(z, max_code_size(theta))`` (Lemma 5b).
+    """
     s = len(r)
     psi = np.empty(s)
     z_eff = np.empty(s, dtype=int)

@@ -33,7 +33,8 @@ from dtcrit.scenes.dense_cells import SAFETY, _SphereCells, _cells, _species_geo
 def _f_coefficients(v, pars, psi):
     """For reduced test vectors ``v`` (nv, 3) -- ``x = v1 e1``, ``y = v2 e1 + v3 e2`` (Lemma 4) -- the
     cap-inverted kernel ``F_v(m) = kappa + 2 g'.m + m^T H' m`` (Lemma 6) as (nv,) kappa, (nv, 3) g',
-    (nv, 3, 3) traceless H'."""
+    (nv, 3, 3) traceless H'.
+    """
     alpha, beta, gamma, gr, gw = pars[:5]
     c = math.cos(psi)
     lam1, lam2 = 0.5 * (1.0 + c), 0.5 * c * (1.0 + c)
@@ -60,7 +61,8 @@ def _coefficient_vector(kappa, gp, hp):
 
 def _cell_bounds(coef, gp, hp, cells: _SphereCells):
     """Per cell: centre value, exact integral and rigorous upper / lower bounds of the quadratic
-    ``F = kappa + 2 g'.m + m^T H' m`` (Lemma 8: second-order Taylor with the radial/tangential split)."""
+    ``F = kappa + 2 g'.m + m^T H' m`` (Lemma 8: second-order Taylor with the radial/tangential split).
+    """
     f_c = coef @ cells.basis_at_centre.T  # (nv, K) values at the centres
     integral = coef @ cells.moments.T  # (nv, K) exact integrals over the cells
     cen = cells.centre
@@ -213,7 +215,8 @@ def _phi_bound(z_eff: int, psi: float, pars, rtol: float = 2e-3, n_theta: int = 
 class DenseBound:
     """Result: ``omega2`` [1/s^2] (rigorous upper bound on omega_max^2), ``dt = 2/sqrt(omega2)`` (a
     rigorous lower bound on the undamped central-difference critical step), the weight exponent
-    ``p`` used, the governing species and per-species details."""
+    ``p`` used, the governing species and per-species details.
+    """
 
     omega2: float
     p: float
@@ -244,7 +247,8 @@ def _as_species(masses, radii, inertia, z):
 
 def _pars(kn, ks, kr, ktw, m, r, i, p, t0):
     """Per-species end parameters ``(alpha, beta, gamma, gamma_r, gamma_w, t0)`` with the splitting
-    weights ``w = 1 + max_j (c_j / c_i)^p`` (Lemma 2) and the smallest arm ratio ``t0``."""
+    weights ``w = 1 + max_j (c_j / c_i)^p`` (Lemma 2) and the smallest arm ratio ``t0``.
+    """
     cn, ct, cr = 1.0 / m, 1.0 / m + r * r / i, 1.0 / i
     wn = 1.0 + (cn.max() / cn) ** p
     wt = 1.0 + (ct.max() / ct) ** p
@@ -255,7 +259,8 @@ def _pars(kn, ks, kr, ktw, m, r, i, p, t0):
 def _domination(pars_i, pars_n):
     """Factor ``c`` with ``D(pars_i) <= c D_s D(pars_n) D_s`` (Loewner) for every arrangement, ``D_s``
     diagonal with ``max(D_s)^2 <= 1``-normalised scale folded into ``c`` (dense_packing_bound.md, Lemma 9, remark
-    on species), so that ``Phi(pars_i) <= c Phi(pars_n)``; ``None`` when no such factor is found."""
+    on species), so that ``Phi(pars_i) <= c Phi(pars_n)``; ``None`` when no such factor is found.
+    """
     a, b, g, gr, gw, t0 = (float(t) for t in pars_i)
     an, bn, gn, grn, gwn, t0n = (float(t) for t in pars_n)
     if (bn == 0 and b > 0) or (gn == 0 and g > 0) or t0 < t0n:
@@ -319,7 +324,8 @@ def dense_omega2_bound(kn, ks, masses, radii, inertia=None, z=12, *, kr: float =
 
     def node_bound(pars_s, z_s, psi_s, exact=False):
         """Best rigorous bound from the computed nodes; with ``exact`` only nodes of the same
-        ``(z_eff, psi)`` (then as good as the species' own branch and bound up to the scale)."""
+        ``(z_eff, psi)`` (then as good as the species' own branch and bound up to the scale).
+        """
         ub = math.inf
         for pn, zn, psin, phin in nodes:
             if (z_s == zn and psi_s == psin) if exact else (z_s <= zn and psi_s >= psin):

@@ -60,7 +60,8 @@ def _dashpots(conv, damping: str, cn, cs, zeta, kn: float, ks: float, m_eff: flo
 
 def resolve_pair(scene, i: int, j: int, r1: float | None = None, r2: float | None = None) -> PairContact:
     """The contact of particle types ``i`` and ``j`` (counted from 1) at radii ``r1``, ``r2`` (spheres;
-    default: each type's smallest radius)."""
+    default: each type's smallest radius).
+    """
     p, q = scene.particle(i), scene.particle(j)
     r1 = p.radii[0] if r1 is None and p.radii else r1
     r2 = q.radii[0] if r2 is None and q.radii else r2
@@ -110,7 +111,8 @@ def _rotational(law, kn, ks, cs, p_shape, q_shape, r1, r2, m1, m2, delta, label)
 
 def wall_convention(name: str | None, model: str):
     """The convention of a (linear) wall contact: the scene's, or its model's default; EDEM, whose
-    law is Hertz-Mindlin only, maps to LIGGGHTS's linear (hooke) law."""
+    law is Hertz-Mindlin only, maps to LIGGGHTS's linear (hooke) law.
+    """
     chosen = name or DEFAULT_CONVENTION["linear" if model == "bond" else model]
     return CONVENTIONS["liggghts" if chosen == "edem" else chosen]
 

@@ -1,5 +1,6 @@
 """What a scene describes, once parsed: particle types, the contact law, walls, the pairs that can touch
-and the keys a scene file may hold."""
+and the keys a scene file may hold.
+"""
 from __future__ import annotations
 
 import bisect
@@ -204,7 +205,8 @@ class Scene:
 
     def pair_numbers(self) -> tuple[tuple[int, int], ...]:
         """The pairs of particle types that can touch: every ``(i, j)`` with ``i <= j``
-        (``pairs = "all"``), or only ``i < j`` (``pairs = "unlike"``)."""
+        (``pairs = "all"``), or only ``i < j`` (``pairs = "unlike"``).
+        """
         n = len(self.particles)
         if self.pairs == "unlike" and n > 1:
             return tuple((i, j) for i in range(1, n + 1) for j in range(i + 1, n + 1))

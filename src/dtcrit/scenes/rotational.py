@@ -123,7 +123,8 @@ def _r_star(r1: float, r2: float | None) -> float:
 def resolve_rotational(law: RotationalLaw, kn: float, ks: float, cs: float, r1: float | None, r2: float | None,
                        m1: float, m2: float, delta: float | None, label: str) -> tuple[float, float, float, float]:
     """``(k_r, k_tw, c_r, c_tw)`` of one particle pair (radii ``r1``, ``r2``; ``None`` for non-spheres),
-    each code's definition in the module docstring; ``delta`` the (Hertz) overlap when known."""
+    each code's definition in the module docstring; ``delta`` the (Hertz) overlap when known.
+    """
     kr, ktw, cr, ctw = law.kr or 0.0, law.ktw or 0.0, law.cr or 0.0, law.ctw or 0.0
     if law.rolling_model is None and law.twisting_model is None:
         return kr, ktw, cr, ctw

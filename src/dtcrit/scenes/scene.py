@@ -294,7 +294,8 @@ def _integrator(value) -> tuple[str, str]:
     """(scheme key, note) of the ``integrator`` entry: a scheme key, a DEM code's name (resolved by
     ``dtcrit.integrators.engines``: the note says which scheme it means), or an ``[integrator]`` table
     of update rules (``dtcrit.integrators.user_rules``: parsed from an allow-listed AST, never evaluated,
-    and registered for this run)."""
+    and registered for this run).
+    """
     from dtcrit.integrators.engines import resolve_integrator
     from dtcrit.integrators.stability import check_integrator
 

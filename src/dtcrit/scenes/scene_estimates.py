@@ -17,7 +17,8 @@ def _min_or_none(values):
 
 def scene_estimates(scene, steps) -> list[est.Estimate]:
     """The estimates DEM codes use, for this scene (smallest over particle types, sizes and pairs;
-    ``steps`` are the pair steps of :mod:`dtcrit.scenes.pair_modes`, wall contacts included)."""
+    ``steps`` are the pair steps of :mod:`dtcrit.scenes.pair_modes`, wall contacts included).
+    """
     pairs = [s for s in steps if s.contact.wall is None]
     out = []
     parts = scene.particles

@@ -98,7 +98,8 @@ def _lognormal(key: str, table: Any) -> SizeDistribution:
 class SizeShapes:
     """The bodies of a size distribution, one per radius, built by ``build(radius)`` when first asked for
     (a scene may list 10^5 radii of which the step needs two).  The smallest and largest are built at
-    once: the mass is monotone in the radius, so they carry every range check the others could fail."""
+    once: the mass is monotone in the radius, so they carry every range check the others could fail.
+    """
 
     def __init__(self, build, radii: tuple):
         self._build = build

@@ -1,5 +1,6 @@
 """The documented JSON form of a ``dtcrit step`` result (schema ``dtcrit-step/1``; README.md, section
-"JSON").  New keys may be added; existing keys keep their meaning."""
+"JSON").  New keys may be added; existing keys keep their meaning.
+"""
 from __future__ import annotations
 
 from dtcrit.json_meta import envelope
@@ -217,7 +218,8 @@ def step_json(result) -> dict:
 
 def order_of_accuracy_json(integrator: str) -> dict | None:
     """The order of accuracy found for a user-written scheme (``dtcrit.integrators.user_consistency``:
-    its principal eigenvalues are e^{h lambda} + O(h^{p+1})), with and without damping; None for a built-in."""
+    its principal eigenvalues are e^{h lambda} + O(h^{p+1})), with and without damping; None for a built-in.
+    """
     from dtcrit.integrators.schemes import USER_INTEGRATORS
     from dtcrit.integrators.user_rules import order_of
 

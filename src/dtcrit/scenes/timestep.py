@@ -116,7 +116,8 @@ def _reducible(scene: Scene) -> bool:
     sign at most once (from - to +): its maximum over a box of radii sits at a corner.  The dense block
     terms (:func:`dtcrit.scenes.dense.block_terms`) ``k/m_i``, ``c/m_i`` decrease in the particle's own radius
     and increase in its partner's: the corner (smallest, largest) carries them.  Rotational springs,
-    bonds, Hertz and given YADE dashpots are evaluated size pair by size pair."""
+    bonds, Hertz and given YADE dashpots are evaluated size pair by size pair.
+    """
     return _not_reducible(scene) is None
 
 

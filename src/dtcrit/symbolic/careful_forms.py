@@ -80,7 +80,8 @@ class is_nan(BooleanFunction):
 
 class is_negative(BooleanFunction):
     """x < 0, never decided by SymPy from a symbol's assumptions (an argument declared positive may
-    still arrive negative in the emitted code)."""
+    still arrive negative in the emitted code).
+    """
 
     nargs = 1
 
@@ -133,7 +134,8 @@ def _omega_scaled(steps, mk, ek, mA, eA):
 
 def cubic_identity(cp) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
     """(P0, h, q0) with P(tau) = tau ((tau - h)^2 + q0) + P0 for the monic cubic P of a cubic piece,
-    coefficients in zeta: the root satisfies tau* = -P0 / ((tau* - h)^2 + q0)."""
+    coefficients in zeta: the root satisfies tau* = -P0 / ((tau* - h)^2 + q0).
+    """
     P = sp.expand(tau**3 + sum(c * tau ** (2 - i) for i, c in enumerate(cp.cubic)))
     P0 = P.subs(tau, 0)
     Q = sp.Poly(sp.cancel((P - P0) / tau), tau)
@@ -188,7 +190,8 @@ def _small_zeta_step(steps, body, small, sw, sg, mk, ek, mc, ec, mA, eA) -> sp.E
     """``cubic_small_zeta``'s leading order dt = (p1 c / (2 k^2 A))^(1/3) where zeta <= 2^E, written as
     2^q (x 2^r)^(1/3), x = (p1/2) mc / (mk^2 mA) and ec - 2 ek - eA = 3q + r (no k^2, c A or zeta is formed:
     at k = 1e300, c = 5e-324 zeta is 2.5e-474 while dt = 2.7e-308).  zeta < 2^(s_gamma - s_omega) since
-    gamma's and omega's mantissa ratio is below 1; finite c, k and A only (their mantissas are below 1)."""
+    gamma's and omega's mantissa ratio is below 1; finite c, k and A only (their mantissas are below 1).
+    """
     p1, e_max = small
     e3, q3, x3 = _r("e_small"), _r("q_small"), _r("x_small")
     steps += [(e3, ec - 2 * ek - eA), (q3, sp.floor(e3 / 3)), (x3, ldexp((p1 / 2) * mc / (mk * mk * mA), e3 - 3 * q3))]
@@ -250,7 +253,8 @@ def _undamped_chain(name: str) -> Chain:
 @lru_cache(maxsize=None)
 def careful_chain(name: str, damped: bool = True) -> Chain:
     """The careful dt(k, c, A) of integrator ``name`` (see the module docstring); ``damped=False``:
-    dt(k, A) of an undamped mode (integrators with a stable undamped step only)."""
+    dt(k, A) of an undamped mode (integrators with a stable undamped step only).
+    """
     if not damped:
         return _undamped_chain(name)
     steps: list[tuple[sp.Symbol, sp.Expr]] = []

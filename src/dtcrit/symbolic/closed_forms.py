@@ -198,7 +198,8 @@ def _cubic_tau_mp(cp: ClosedPiece, z, dps: int):
 
 def _tiny_zeta_root(cp: ClosedPiece, z, dps: int):
     """Smallest positive root of the cubic in tau for zeta < 1e-6 (0 when it has none), from the cubic's
-    two-term balances (``dtcrit.mp_roots.balance_roots``) at ``2 dps`` digits."""
+    two-term balances (``dtcrit.mp_roots.balance_roots``) at ``2 dps`` digits.
+    """
     with mp.workdps(2 * dps):
         found = balance_roots([sp.lambdify(zeta, c, modules="mpmath")(z) for c in cp.cubic], dps)
     return +min(found) if found else mp.mpf(0)

@@ -36,7 +36,8 @@ def ellipsoid_tip_values(d=(da, db, dc), inertia=(Ixx, Iyy, Izz)) -> list[sp.Exp
     """Eigenvalues of ``arm_term`` at the six tips ``+-d_i e_i`` of an ellipsoid with semi-axes
     ``d`` along the principal axes: ``d_i^2 / I_j`` for ``j != i`` (taken from the generated
     kinematics, not typed in).  Their maximum is the supremum over the whole ellipsoid (the
-    proof is an inequality, written out in ``derivations/records/sec2_3_kinematics.md``)."""
+    proof is an inequality, written out in ``derivations/records/sec2_3_kinematics.md``).
+    """
     I = kin.inertia_tensor(*inertia)
     values = []
     for i, di in enumerate(d):

@@ -42,7 +42,8 @@ def square_root_of_term(term: sp.Expr) -> sp.Expr | None:
 
 def hypot_arguments(expr: sp.Pow):
     """(x, y) when ``expr`` is sqrt(x^2 + y^2) or 1/sqrt(x^2 + y^2) with x, y free of radicals, else None:
-    such a root is printed as ``hypot(x, y)`` (no overflow of the squares, no cancellation)."""
+    such a root is printed as ``hypot(x, y)`` (no overflow of the squares, no cancellation).
+    """
     base, exp = expr.args
     if exp in (sp.S.Half, -sp.S.Half) and base.is_Add and len(base.args) == 2:
         roots = [square_root_of_term(t) for t in base.args]

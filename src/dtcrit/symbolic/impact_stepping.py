@@ -34,7 +34,8 @@ class _SwitchedForce:
     """Undamped unit contact force ``-x``, or 0 where the position is known to be out of contact.
 
     Symbolic stand-in for the simulation's sign test (SymPy cannot test the sign of a symbol):
-    ``contact(x)`` says whether the position at which a force is evaluated is in contact."""
+    ``contact(x)`` says whether the position at which a force is evaluated is in contact.
+    """
 
     dv = sp.Integer(0)
 

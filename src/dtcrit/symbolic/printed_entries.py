@@ -20,7 +20,8 @@ from dtcrit.symbolic.tip_configurations import P1, P2, candidate_configurations
 class PrintedEntry:
     """One entry of a printed equation: the extracted text, the readings it admits (SymPy syntax in
     the names of :func:`printed_symbols`; several when the extraction is ambiguous, none when it is
-    illegible) and the fixes applied."""
+    illegible) and the fixes applied.
+    """
 
     equation: str
     entry: str
@@ -223,7 +224,8 @@ class CandidateScore:
 @lru_cache(maxsize=None)
 def _general_pair_function(w_is_local: bool):
     """NumPy function of (particle symbols..., R1 (9), R2 (9), local arm 1 (3), local arm 2 (3))
-    returning the 9 entries of A, the 3 of Omega and the 3 of wdot_c, from the general kinematics."""
+    returning the 9 entries of A, the 3 of Omega and the 3 of wdot_c, from the general kinematics.
+    """
     import numpy as np  # noqa: F401  (lambdify target)
 
     Rs = [sp.Matrix(3, 3, sp.symbols(f"R{j}_0:9")) for j in (1, 2)]
@@ -315,7 +317,8 @@ def score_candidates(points: int = 2, seed: int = 20200) -> tuple[CandidateScore
 def best_candidates(panel: str) -> list[CandidateScore]:
     """The highest-scoring candidates of a panel (ties kept, in a fixed order): most reproduced
     legible entries; ties broken by preferring the literal reading of a2, then admissible
-    contacts (opposite normals at the two tips)."""
+    contacts (opposite normals at the two tips).
+    """
     cands = candidate_configurations()
     scores = [s for s in score_candidates() if s.panel == panel]
     top = max(s.total for s in scores)

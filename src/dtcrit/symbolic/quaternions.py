@@ -101,7 +101,8 @@ def quaternion_from_matrix(R: sp.Matrix) -> tuple:
 def check_rotation_convention() -> dict[str, bool]:
     """Symbolic checks that Eq (7) with Eq (5) is a self-consistent convention (see module docstring):
     ``R(q)`` is a rotation, its inverse (the paper's Eq (5) matrix when ``R(q)`` is body to world) is the
-    matrix of the conjugate quaternion, and products of quaternions compose the rotations."""
+    matrix of the conjugate quaternion, and products of quaternions compose the rotations.
+    """
     qw, qx, qy, qz, pw, px, py, pz = sp.symbols("q_w q_x q_y q_z p_w p_x p_y p_z", real=True)
     q, p = (qw, qx, qy, qz), (pw, px, py, pz)
     unit_q = {qw: sp.sqrt(1 - qx**2 - qy**2 - qz**2)}

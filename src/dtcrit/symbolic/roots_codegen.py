@@ -243,7 +243,8 @@ def discriminant_numeric(name: str) -> tuple[sp.Expr, sp.Expr]:
 
 def discriminant_scale(name: str) -> sp.Expr:
     """The discriminant with every coefficient replaced by its absolute value: the size of the terms
-    that cancel in it, from which the kernel bounds the double-double rounding error."""
+    that cancel in it, from which the kernel bounds the double-double rounding error.
+    """
     const, factors = R.discriminant_factors(name)
     out = abs(const)
     for f, m in factors:

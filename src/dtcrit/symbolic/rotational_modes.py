@@ -45,7 +45,8 @@ def _cross_matrix(v: sp.Matrix) -> sp.Matrix:
 def deformation_matrix(r1: float | sp.Expr, r2: float | sp.Expr) -> sp.Matrix:
     """``B`` (6 x 12): ``(u, phi)`` of the coordinates ``(x_1, theta_1, x_2, theta_2)``, ``n = e_z``.
 
-    ``theta x r = -[r]x theta``, so ``u = x_2 - [r_2]x theta_2 - x_1 + [r_1]x theta_1``."""
+    ``theta x r = -[r]x theta``, so ``u = x_2 - [r_2]x theta_2 - x_1 + [r_1]x theta_1``.
+    """
     n = sp.Matrix([0, 0, 1])
     a1, a2 = r1 * n, -r2 * n
     eye, zero = sp.eye(3), sp.zeros(3)
@@ -79,7 +80,8 @@ def coefficient_blocks(masses=(m1, m2), moments=(I1, I2), radii=(R1, R2)) -> dic
 
 def equal_sphere_frequencies() -> tuple[sp.Expr, sp.Expr, sp.Expr]:
     """``omega^2`` of the shear, rolling and twisting modes of two equal spheres (``I = 2/5 m R^2``),
-    the eigenvalues of ``K^1/2 A K^1/2`` of each block."""
+    the eigenvalues of ``K^1/2 A K^1/2`` of each block.
+    """
     ks, kr, ktw = sp.symbols("k_s k_r k_tw", positive=True)
     inertia = sp.Rational(2, 5) * m * R**2
     b = coefficient_blocks((m, m), (inertia, inertia), (R, R))
@@ -91,7 +93,8 @@ def equal_sphere_frequencies() -> tuple[sp.Expr, sp.Expr, sp.Expr]:
 
 def _as_sum(expr: sp.Expr, terms: tuple) -> sp.Expr:
     """``expr`` rewritten as the unevaluated sum of ``terms`` (no products of moments: no overflow for
-    huge moments), after checking that the two are equal."""
+    huge moments), after checking that the two are equal.
+    """
     form = sp.Add(*terms, evaluate=False)
     if sp.simplify(expr - form) != 0:
         raise AssertionError(f"{expr} is not {form}")

@@ -70,7 +70,8 @@ P1, P2 = ParticleSymbols(1), ParticleSymbols(2)
 @dataclass(frozen=True)
 class TipConfiguration:
     """A tip-to-tip configuration: each particle's rotation (global -> local, Eq 5) and the body axis
-    (0 = x, 1 = y, 2 = z) and sign of its contact arm, ``r_local = sign * half_length * e_axis``."""
+    (0 = x, 1 = y, 2 = z) and sign of its contact arm, ``r_local = sign * half_length * e_axis``.
+    """
 
     label: str
     R1: sp.ImmutableMatrix
@@ -89,12 +90,14 @@ class TipConfiguration:
 
     def quaternions(self) -> tuple[tuple, tuple]:
         """The particles' orientation quaternions, body to world (dtcrit's one convention): ``R_j^T = R(q_j)``
-        with ``R_j`` the paper's Eq. (5) matrix (world to body)."""
+        with ``R_j`` the paper's Eq. (5) matrix (world to body).
+        """
         return quaternion_from_matrix(sp.Matrix(self.R1).T), quaternion_from_matrix(sp.Matrix(self.R2).T)
 
     def particles(self, w_is_local: bool = False, rotate=None) -> tuple[RigidParticle, RigidParticle]:
         """Both particles, optionally with the whole pair turned by the global rotation ``rotate``
-        (a matrix ``Q``: global vectors ``v -> Q v``, so ``R_j -> R_j Q^T`` and ``r_j -> Q r_j``)."""
+        (a matrix ``Q``: global vectors ``v -> Q v``, so ``R_j -> R_j Q^T`` and ``r_j -> Q r_j``).
+        """
         Q = sp.eye(3) if rotate is None else sp.Matrix(rotate)
         out = []
         for j, ps in ((1, P1), (2, P2)):
@@ -104,7 +107,8 @@ class TipConfiguration:
 
     def normals_opposite(self) -> bool:
         """At a tip of a centrally symmetric body aligned with its principal axes the outward normal is
-        along the arm; a contact of two smooth bodies needs opposite normals, i.e. antiparallel arms."""
+        along the arm; a contact of two smooth bodies needs opposite normals, i.e. antiparallel arms.
+        """
         u1, u2 = self.arm_global(1), self.arm_global(2)
         return sp.simplify(u1.dot(u2) + u1.norm() * u2.norm()) == 0
 
@@ -137,7 +141,8 @@ FIG2 = {
 
 def candidate_configurations() -> list[TipConfiguration]:
     """Every axis-aligned tip-to-tip candidate with particle 1 axis aligned: 6 arms of particle 1 x
-    24 rotations x 6 arms of particle 2 (864 in all), in a fixed order."""
+    24 rotations x 6 arms of particle 2 (864 in all), in a fixed order.
+    """
     out = []
     tips = [(axis, sign) for axis in range(3) for sign in (1, -1)]
     for arm1 in tips:
@@ -149,7 +154,8 @@ def candidate_configurations() -> list[TipConfiguration]:
 
 def ordering_substitution() -> tuple[dict, list[sp.Symbol]]:
     """Assumption 3 as a substitution with non-negative slacks, for both particles:
-    ``I_yy = I_xx + u``, ``I_zz = I_xx + u + v``, ``b = c + p``, ``a = c + p + q``."""
+    ``I_yy = I_xx + u``, ``I_zz = I_xx + u + v``, ``b = c + p``, ``a = c + p + q``.
+    """
     subs, slack = {}, []
     for ps in (P1, P2):
         j = ps.j
@@ -163,7 +169,8 @@ def ordering_substitution() -> tuple[dict, list[sp.Symbol]]:
 def nonnegativity_certificate(expr: sp.Expr) -> bool:
     """True when ``expr`` (after :func:`ordering_substitution`) is a ratio of polynomials in
     positive symbols and non-negative slacks whose coefficients are all non-negative, so that
-    ``expr >= 0`` under assumption 3 for every admissible value."""
+    ``expr >= 0`` under assumption 3 for every admissible value.
+    """
     subs, _ = ordering_substitution()
     num, den = sp.fraction(sp.together(sp.expand(expr.subs(subs))))
     num, den = sp.expand(num), sp.expand(den)

@@ -109,7 +109,8 @@ def _limiting(packing: Packing, vector: np.ndarray | None) -> tuple[list[int], f
 def _rayleigh_rows(packing: Packing, material) -> list[tuple]:
     """Rayleigh time of the smallest particle, ``T_R = pi R sqrt(rho/G)/(0.1631 nu + 0.8766)`` (Li et al.
     2005, as EDEM and LIGGGHTS use it), and the fractions the codes step with: EDEM's 20-40 % guidance,
-    LIGGGHTS' check/timestep/gran warning (the fraction its input sets, 0.1-0.2 in its examples)."""
+    LIGGGHTS' check/timestep/gran warning (the fraction its input sets, 0.1-0.2 in its examples).
+    """
     if material is None:
         return []
     youngs, nu = material
@@ -159,7 +160,8 @@ def audit(packing: Packing, contacts: Contacts, convention: EngineConvention, *,
           integrator: str | None = None, dt_user: float | None = None, method: str = "auto",
           material: tuple[float, float] | None = None) -> AuditReport:
     """The audit of a snapshot (module docstring); ``material`` (Young's modulus, Poisson's ratio), when
-    the contact law has one, adds the Rayleigh-time estimators."""
+    the contact law has one, adds the Rayleigh-time estimators.
+    """
     _check_terms(contacts)
     integrator = integrator or convention.integrator
     step = damped_critical_dt(packing, contacts, integrator, method=method)

@@ -60,7 +60,8 @@ def _top_eigenvalue(s):
 
 def _frequencies(ci, cj, nrm, arm_i, arm_j, kn, ks, rot, inv_mass, oriented, out):
     """``out[c] = omega_c^2`` for every contact (module docstring); ``inv_mass`` (N, 6) holds
-    ``1/m, 1/m, 1/m, 1/I_1, 1/I_2, 1/I_3``; ``rot`` (N, 3, 3) is used when ``oriented``."""
+    ``1/m, 1/m, 1/m, 1/I_1, 1/I_2, 1/I_3``; ``rot`` (N, 3, 3) is used when ``oriented``.
+    """
     bi = np.zeros((3, 6))
     bj = np.zeros((3, 6))
     w = np.zeros((3, 3))

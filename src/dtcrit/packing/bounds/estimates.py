@@ -90,7 +90,8 @@ def _one_based(p: int) -> int:
 
 def diagonal_stiffness(a, particle_id=_one_based) -> Estimate:
     """YADE / PFC per-body diagonal estimate ``omega^2 = 2 max_d K_dd / M_dd`` (heuristic).
-    ``particle_id`` names particle ``p`` in the detail (``Packing.particle_id``; default ``p + 1``)."""
+    ``particle_id`` names particle ``p`` in the detail (``Packing.particle_id``; default ``p + 1``).
+    """
     d = np.asarray(a.diagonal())
     k = int(np.argmax(d))
     part = "rotation" if k % 6 >= 3 else "translation"
@@ -144,7 +145,8 @@ def single_contact_frequencies(packing: Packing, contacts: Contacts, chunk: int 
                                compiled: bool | None = None) -> np.ndarray:
     """``omega_c^2`` of every contact alone between its two free bodies (real arms): the compiled
     loop of ``estimate_kernels`` when Numba is installed (``compiled``, default), else batched
-    ``numpy.linalg.eigvalsh`` of ``K_c^(1/2) W K_c^(1/2)`` in chunks."""
+    ``numpy.linalg.eigvalsh`` of ``K_c^(1/2) W K_c^(1/2)`` in chunks.
+    """
     import dtcrit.packing.bounds.estimate_kernels as estimate_kernels
 
     if (estimate_kernels.available() if compiled is None else compiled) and contacts.count:
@@ -227,7 +229,8 @@ def _span_quotient(a, vectors: list[np.ndarray]) -> float:
     """Largest Rayleigh quotient of ``a`` over the span of ``vectors`` (Rayleigh-Ritz: the top
     eigenvalue of ``Q^T A Q`` for an orthonormal basis ``Q`` of the span; never above
     ``lambda_max(A)``, and independent of which basis of the span is given).  One product with
-    ``a`` per vector; only the small Gram matrices are kept."""
+    ``a`` per vector; only the small Gram matrices are kept.
+    """
     if len(vectors) == 1:
         v = vectors[0]
         norm = float(v @ v)

@@ -77,7 +77,8 @@ def engine_convention(name: str) -> EngineConvention:
 def with_arms(packing: Packing, contacts: Contacts, arm: str) -> Contacts:
     """Contacts whose arms follow ``arm``: ``"radius"`` (``R_i n``, ``-R_j n``), ``"mid-overlap"``, or
     ``"yade"`` (the symmetric equivalent of YADE's kinematics, module docstring; it also scales ``ks``,
-    so apply it to contacts that already carry their stiffness)."""
+    so apply it to contacts that already carry their stiffness).
+    """
     r = packing.radii
     if arm == "yade":
         if contacts.ks is None:
@@ -111,7 +112,8 @@ def engine_sphere_contacts(packing: Packing, convention: EngineConvention) -> Co
 
 def overlaps_of_pairs(packing: Packing, i: np.ndarray, j: np.ndarray) -> Contacts:
     """Contacts for the given pairs (a contact table or the engine's own list), nearest periodic
-    image, with normals from ``i`` to ``j`` and the overlaps of the positions (may be zero)."""
+    image, with normals from ``i`` to ``j`` and the overlaps of the positions (may be zero).
+    """
     x = packing.positions
     sep = x[j] - x[i]
     image = np.zeros((len(i), 3), dtype=np.int64)

@@ -1,5 +1,6 @@
 """What a contact law gives each contact (``ContactTerms``) and the number parsing the LAMMPS pair-style
-readers share (``dtcrit.packing.conventions.pair_styles``, ``dtcrit.packing.conventions.granular_style``)."""
+readers share (``dtcrit.packing.conventions.pair_styles``, ``dtcrit.packing.conventions.granular_style``).
+"""
 from __future__ import annotations
 
 import math
@@ -15,7 +16,8 @@ FLAG = "--pair-style"
 @dataclass(frozen=True)
 class ContactTerms:
     """Per-contact springs [N/m], dashpots [N s/m], the normal force [N] (compressive positive) and,
-    when the law has them, rolling and twisting springs [N m/rad] and dashpots [N m s/rad]."""
+    when the law has them, rolling and twisting springs [N m/rad] and dashpots [N m s/rad].
+    """
 
     kn: np.ndarray
     ks: np.ndarray

@@ -69,7 +69,8 @@ class GranPairStyle:
 
 def parse_pair_style(text: str):
     """The law of the pair style line (without the leading ``pair_style``): a ``GranPairStyle``, or for
-    ``granular`` a ``dtcrit.packing.conventions.granular_style.GranularStyle`` from the ``pair_coeff`` words after it."""
+    ``granular`` a ``dtcrit.packing.conventions.granular_style.GranularStyle`` from the ``pair_coeff`` words after it.
+    """
     words = str(text).split()
     if words and words[0] == "pair_style":
         words = words[1:]

@@ -31,7 +31,8 @@ PROGRESS_AFTER = 2.0
 
 class Progress:
     """``done/total`` of a long loop on standard error, rewritten in place, only when standard error
-    is a terminal and the loop has run for ``after`` seconds; :meth:`close` ends the line."""
+    is a terminal and the loop has run for ``after`` seconds; :meth:`close` ends the line.
+    """
 
     def __init__(self, what: str, total: int, after: float = PROGRESS_AFTER, stream=None):
         self.what, self.total, self.after = what, total, after
@@ -61,7 +62,8 @@ class Progress:
 def _parts(packing: Packing):
     """Convex parts: a convex body is one part, a clump one sphere per member (module docstring).
     Returns ``(owner, offset, shapes, radius)``: ``offset`` the part's centre from its body's (world
-    frame), ``radius`` the sphere radius of a sphere part, NaN for other shapes."""
+    frame), ``radius`` the sphere radius of a sphere part, NaN for other shapes.
+    """
     from dtcrit.bodies import Clump, Sphere
 
     owner, offset, parts, radius = [], [], [], []
@@ -92,7 +94,8 @@ def _sphere_pairs(a, b, sep, ra, rb, tolerance):
 
 def _convex_pairs(parts, radius, rot, a, b, sep, bound, tolerance):
     """Rows of the other candidate pairs, one penetration at a time (with progress); a clump member
-    meeting a non-spherical body becomes a ``Sphere`` here."""
+    meeting a non-spherical body becomes a ``Sphere`` here.
+    """
     from dtcrit.bodies import Sphere
 
     for k in np.unique(np.concatenate([a, b])):
@@ -124,7 +127,8 @@ def _convex_pairs(parts, radius, rot, a, b, sep, bound, tolerance):
 def find_body_contacts(packing: Packing, tolerance: float = 1e-9) -> Contacts:
     """Contacts of a packing of convex bodies and clumps (module docstring), arms from each body's
     centre of mass; ``radius_eff = R_1 R_2 / (R_1 + R_2)`` where two spheres (or clump members) meet,
-    NaN otherwise."""
+    NaN otherwise.
+    """
     if packing.is_spheres:
         return find_sphere_contacts(packing, tolerance)
     owner, offset, parts, radius = _parts(packing)

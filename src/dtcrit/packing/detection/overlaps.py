@@ -43,7 +43,8 @@ def _search_frame(x: np.ndarray, cutoff: float, box: Box | None):
     """``(y, boxsize)`` for ``cKDTree``: positions shifted so that periodic axes are a torus of the
     box lengths (``cKDTree`` wants data strictly inside ``[0, L)``) and non-periodic ones a box too
     wide to wrap; ``(x, None)`` without periodic axes.  ``None`` as ``y`` when some periodic axis is
-    narrower than twice the cutoff (no unique minimum image)."""
+    narrower than twice the cutoff (no unique minimum image).
+    """
     periodic = np.zeros(3, bool) if box is None else np.array(box.periodic)
     if not periodic.any():
         return x, None
@@ -67,7 +68,8 @@ def _image_of(sep: np.ndarray, box: Box | None) -> np.ndarray:
 
 def _chunk_pairs(tree: cKDTree, y: np.ndarray, size, lo: int, hi: int, cutoff: float):
     """Pairs ``(i, j)``, ``lo <= i < hi``, ``i < j``, with (minimum-image) distance within
-    ``cutoff``, sorted by ``(i, j)``: a dual-tree search of the chunk against all particles."""
+    ``cutoff``, sorted by ``(i, j)``: a dual-tree search of the chunk against all particles.
+    """
     part = cKDTree(y[lo:hi], boxsize=size)
     found = part.sparse_distance_matrix(tree, cutoff, output_type="ndarray")
     i = found["i"].astype(np.int64) + lo
@@ -84,7 +86,8 @@ AXES = "xyz"
 def check_box_holds_particles(packing: Packing) -> None:
     """InputError (key ``box``) when a periodic length is shorter than the widest particle's diameter:
     that particle overlaps its own periodic image (it touching its image, length = diameter, is kept),
-    which is not a packing; the image search of such a box also grows as ``(diameter / length)^3``."""
+    which is not a packing; the image search of such a box also grows as ``(diameter / length)^3``.
+    """
     box = packing.box
     if box is None or not any(box.periodic) or packing.n == 0:
         return
@@ -111,7 +114,8 @@ def _widths_along(packing: Packing, axis: int) -> np.ndarray:
 
 def _narrow_box_pairs(x: np.ndarray, cutoff: float, box: Box):
     """``(i, j, image)`` of a periodic box narrower than twice the cutoff: every image in range is
-    searched explicitly, so a particle may touch its own image or a neighbour through several."""
+    searched explicitly, so a particle may touch its own image or a neighbour through several.
+    """
     lengths = box.lengths
     periodic = np.array(box.periodic)
     reach = [int(np.ceil(cutoff / lengths[a])) if periodic[a] else 0 for a in range(3)]
@@ -132,7 +136,8 @@ def _narrow_box_pairs(x: np.ndarray, cutoff: float, box: Box):
 
 def _candidate_pairs(x: np.ndarray, cutoff: float, box: Box | None, chunk: int = DETECT_CHUNK):
     """Pairs ``(i, j, image)`` with centre distance within ``cutoff``, each physical pair once
-    (the chunked search of ``find_sphere_contacts``, all pairs at once)."""
+    (the chunked search of ``find_sphere_contacts``, all pairs at once).
+    """
     y, size = _search_frame(x, cutoff, box)
     if y is None:
         return _narrow_box_pairs(x, cutoff, box)
@@ -165,7 +170,8 @@ def _touching(packing: Packing, x, i, j, image, tolerance):
 
 def _joined(parts: list[dict]) -> Contacts:
     """One ``Contacts`` from per-chunk field arrays, joined one field at a time (each field's
-    pieces are released as it is joined, so the peak is the result plus one field)."""
+    pieces are released as it is joined, so the peak is the result plus one field).
+    """
     if not parts:
         return Contacts.empty()
     fields = {}
@@ -178,7 +184,8 @@ def find_sphere_contacts(packing: Packing, tolerance: float = 1e-9, chunk: int =
     """Every touching or overlapping pair of spheres of ``packing`` (periodic images included),
     sorted by ``(i, j, image)``.  Without periodic axes, or with a unique minimum image, the search
     runs over chunks of ``chunk`` particles against one ``cKDTree`` of all (toroidal along periodic
-    axes: ``boxsize``), so its temporaries stay O(chunk); narrower periodic boxes search every image."""
+    axes: ``boxsize``), so its temporaries stay O(chunk); narrower periodic boxes search every image.
+    """
     if not packing.is_spheres:
         raise InputError("packing", "find_sphere_contacts needs a sphere packing; use find_convex_contacts")
     if not np.isfinite(tolerance) or tolerance < 0:

@@ -32,7 +32,8 @@ def petsc():
 
 def world():
     """``(comm, rank, size)`` of ``PETSc.COMM_WORLD``; an ``InputError`` when a launcher started several
-    processes that do not see each other (an ``mpirun`` of another MPI than petsc4py's)."""
+    processes that do not see each other (an ``mpirun`` of another MPI than petsc4py's).
+    """
     PETSc, _ = petsc()
     comm = PETSc.COMM_WORLD
     launched = next((int(os.environ[k]) for k in ("OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE")
@@ -59,7 +60,8 @@ def allgather(values) -> np.ndarray:
 
 def agree(error: Exception | None) -> None:
     """A collective check point: when any rank failed, every rank raises: the lowest failing rank its
-    own error, marked ``report_here`` (the one line printed), the others a bare ``SystemExit(2)``."""
+    own error, marked ``report_here`` (the one line printed), the others a bare ``SystemExit(2)``.
+    """
     _, rank, size = world()
     failed = allgather([0.0 if error is None else float(size - rank)])[:, 0]
     if failed.max() == 0:
@@ -73,7 +75,8 @@ def agree(error: Exception | None) -> None:
 def release_memory() -> None:
     """Give the heap that freed temporaries leave back to the system (glibc's ``malloc_trim``; a no-op
     elsewhere): otherwise the contact search's and the assembly's small blocks stay resident under
-    the solve's basis (measured: 1.1 GiB of 5.1 at 10^6 spheres on one rank)."""
+    the solve's basis (measured: 1.1 GiB of 5.1 at 10^6 spheres on one rank).
+    """
     try:
         import ctypes
 

@@ -36,7 +36,8 @@ the rounding of the distance (computed from either end)."""
 
 def split_rows(n: int, size: int, rank: int) -> tuple[int, int]:
     """``(lo, hi)``: the particles rank ``rank`` of ``size`` owns, as PETSc splits ``n`` blocks
-    (``PetscSplitOwnership``: ``n // size`` each, one more on the first ``n % size`` ranks)."""
+    (``PetscSplitOwnership``: ``n // size`` each, one more on the first ``n % size`` ranks).
+    """
     base, extra = divmod(int(n), int(size))
     lo = rank * base + min(rank, extra)
     return lo, lo + base + (1 if rank < extra else 0)
@@ -46,7 +47,8 @@ def split_rows(n: int, size: int, rank: int) -> tuple[int, int]:
 class SlabContacts:
     """A rank's share: ``contacts`` (global particle indices, each pair on one rank only, in the
     serial order) and the block sparsity of its own rows: ``pattern_rows`` (own particle) and
-    ``pattern_cols`` (any particle), one entry per distinct off-diagonal block."""
+    ``pattern_cols`` (any particle), one entry per distinct off-diagonal block.
+    """
 
     lo: int
     hi: int
@@ -69,7 +71,8 @@ def _spread_bits(q: np.ndarray) -> np.ndarray:
 
 def morton_order(x: np.ndarray) -> np.ndarray:
     """Indices that sort the points ``x`` along a Morton (Z-order) curve over their bounding box, cells
-    of ``1/2^21`` of its longest side: consecutive indices are near in space."""
+    of ``1/2^21`` of its longest side: consecutive indices are near in space.
+    """
     lo = x.min(axis=0)
     span = float((x.max(axis=0) - lo).max()) or 1.0
     key = np.zeros(len(x), dtype=np.uint64)
@@ -81,7 +84,8 @@ def morton_order(x: np.ndarray) -> np.ndarray:
 
 def halo(x: np.ndarray, lo: int, hi: int, reach: float, box: Box | None) -> np.ndarray:
     """Indices of the particles within ``reach`` (per axis, minimum image on periodic axes) of the
-    bounding box of particles ``lo..hi-1``: every possible neighbour of the slab."""
+    bounding box of particles ``lo..hi-1``: every possible neighbour of the slab.
+    """
     own = x[lo:hi]
     keep = np.ones(len(x), bool)
     slack = reach * (1.0 + 1e-6)
@@ -100,7 +104,8 @@ def halo(x: np.ndarray, lo: int, hi: int, reach: float, box: Box | None) -> np.n
 
 def _slab_pairs(x: np.ndarray, lo: int, hi: int, reach: float, box: Box | None):
     """``(p, q, image)``: every pair with ``lo <= p < hi`` and centre distance <= ``reach``, both
-    orders of a pair of own particles, ``p == q`` only through a non-zero image."""
+    orders of a pair of own particles, ``p == q`` only through a non-zero image.
+    """
     periodic = np.zeros(3, bool) if box is None else np.array(box.periodic)
     lengths = np.ones(3) if box is None else box.lengths
     sub = halo(x, lo, hi, reach, box)
@@ -187,7 +192,8 @@ def slab_sphere_contacts(packing: Packing, lo: int, hi: int, tolerance: float = 
 def slab_of_list(contacts: Contacts, n: int, lo: int, hi: int, rank: int, size: int) -> SlabContacts:
     """A rank's share of a contact list every rank holds (non-spherical bodies, given contacts): the
     ``rank``-th of ``size`` contiguous parts of the list, and the block pattern of rows ``lo..hi-1``
-    from the whole list."""
+    from the whole list.
+    """
     c_lo, c_hi = split_rows(contacts.count, size, rank)
     pick = np.zeros(contacts.count, bool)
     pick[c_lo:c_hi] = True

@@ -91,7 +91,8 @@ class RankShare:
     solve's numbering: Morton order for sphere packings), a local packing of its own particles and
     their contact partners (local particle ``k`` is particle ``glob[k]`` of that numbering), its
     contacts in local numbering with their stiffness, the preallocation of its block rows (``d_nnz``,
-    ``o_nnz``), and the stage times [s] and peak memory [MiB] so far."""
+    ``o_nnz``), and the stage times [s] and peak memory [MiB] so far.
+    """
 
     n: int
     lo: int
@@ -170,7 +171,8 @@ def distribute(packing: Packing, law=None, contacts: Contacts | None = None, *, 
 
 def assemble(share: RankShare):
     """The PETSc matrix ``A`` (``MPISBAIJ``, or ``MPIBAIJ`` without ``SYMMETRIC``; block size 6) from
-    every rank's share (collective)."""
+    every rank's share (collective).
+    """
     PETSc, _ = petsc()
     comm, _, _ = world()
     rows_local = 6 * (share.hi - share.lo)
@@ -207,7 +209,8 @@ def assemble(share: RankShare):
 @dataclass
 class SlepcResult:
     """``omega_max`` [rad/s] and ``dt_crit = 2/omega_max`` [s] from SLEPc, with the solver's figures,
-    sizes, stage times (slowest rank) [s] and peak memory per rank [MiB] (module docstring)."""
+    sizes, stage times (slowest rank) [s] and peak memory per rank [MiB] (module docstring).
+    """
 
     label: str
     law: str
@@ -245,7 +248,8 @@ class SlepcResult:
 def solve(mat, tolerance: float = TOLERANCE, ncv: int = NCV) -> dict:
     """The top eigenpair of ``mat`` by Krylov-Schur (collective): ``theta``, ``residual``, ``iterations``
     (restarts), ``matvecs``, ``rotational_fraction``, ``norm_inf`` (``|A|_inf``), ``matvec_time`` (this
-    rank's seconds in MatMult), and the ``tolerance`` and ``ncv`` used (PETSC_OPTIONS may set them)."""
+    rank's seconds in MatMult), and the ``tolerance`` and ``ncv`` used (PETSC_OPTIONS may set them).
+    """
     PETSc, SLEPc = petsc()
     PETSc.Log.begin()
     matmult = PETSc.Log.Event("MatMult")
@@ -281,7 +285,8 @@ def solve(mat, tolerance: float = TOLERANCE, ncv: int = NCV) -> dict:
 
 def _local_figures(share: RankShare) -> tuple[int, float, float]:
     """``(contacts, K_max, m_min)`` of this rank: its contact count, largest ``max(k_n, k_s)``, and the
-    smallest mass among the particles its contacts with a stiffness touch."""
+    smallest mass among the particles its contacts with a stiffness touch.
+    """
     c = share.contacts
     stiff = np.maximum(c.kn, c.ks)
     touched = np.unique(np.concatenate([c.i[stiff > 0], c.j[stiff > 0]]))
@@ -290,7 +295,8 @@ def _local_figures(share: RankShare) -> tuple[int, float, float]:
 
 def analyse_share(share: RankShare, tolerance: float = TOLERANCE) -> SlepcResult:
     """Assemble and solve ``share`` (collective); the result, identical on every rank.  The share's
-    packing and contacts are dropped once the matrix holds them."""
+    packing and contacts are dropped once the matrix holds them.
+    """
     _, rank, size = world()
     n_local, k_max, m_min = _local_figures(share)
     clock = time.perf_counter()
@@ -334,7 +340,8 @@ def analyse_share(share: RankShare, tolerance: float = TOLERANCE) -> SlepcResult
 
 def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, tolerance: float = TOLERANCE) -> SlepcResult:
     """``distribute`` then ``analyse_share`` (the caller's ``packing`` stays alive meanwhile; the command
-    line drops its own reference in between, so that the O(N) input is freed before the matrix)."""
+    line drops its own reference in between, so that the O(N) input is freed before the matrix).
+    """
     return analyse_share(distribute(packing, law, contacts), tolerance)
 
 

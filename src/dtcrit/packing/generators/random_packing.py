@@ -42,14 +42,16 @@ PROGRESS_SPHERES = 20_000  # from this size on, the relaxation draws a tqdm bar 
 
 def generation_seconds(n: int, max_steps: int = 250) -> float:
     """Estimated wall time [s] of ``random_packing(n)``: the FIRE relaxation dominates (at most
-    ``max_steps`` steps, each linear in ``n``)."""
+    ``max_steps`` steps, each linear in ``n``).
+    """
     return SECONDS_PER_SPHERE_STEP * float(n) * float(max_steps)
 
 
 def spatial_order(x: np.ndarray, cell: float) -> np.ndarray:
     """Rows of ``x`` sorted along a space-filling order of cells of side ``cell`` (cache locality:
     neighbours end up close in memory, which makes the gathers of large packings several times
-    faster)."""
+    faster).
+    """
     c = np.floor((x - x.min(axis=0)) / cell).astype(np.int64)
     # snake (boustrophedon) order over z, y, x keeps consecutive cells adjacent
     cy = np.where(c[:, 2] % 2 == 1, c[:, 1].max() - c[:, 1], c[:, 1])
@@ -86,7 +88,8 @@ class RelaxationStats:
 
 def _overlap_forces(xt, i, j, offset, sum_r):
     """Overlap forces, coordinates stored as rows ``xt`` (3, n): per-axis gathers are the fast
-    memory pattern for large packings."""
+    memory pattern for large packings.
+    """
     sep = [xt[a][j] - xt[a][i] + offset[a] for a in range(3)]
     d = np.sqrt(sep[0] * sep[0] + sep[1] * sep[1] + sep[2] * sep[2])
     over = sum_r - d

@@ -108,7 +108,8 @@ def _pair_blocks(b_i, b_j, tensor):
 
 def _element_blocks(packing: Packing, contacts: Contacts, sl, kind: str):
     """The 6 x 6 blocks ``(ii, jj, ij)`` of each contact's element of ``K`` (``kind="stiffness"``)
-    or ``C`` (``kind="damping"``) for the contacts ``sl`` (module docstring)."""
+    or ``C`` (``kind="damping"``) for the contacts ``sl`` (module docstring).
+    """
     normal = contacts.normal[sl]
     b_i, b_j = contact_kinematics(packing, contacts, sl)
     if kind == "stiffness":
@@ -233,7 +234,8 @@ def scale_symmetric(k: sps.bsr_matrix, mass_diag: np.ndarray, *, inplace: bool =
                     key: str = "stiffness") -> sps.bsr_matrix:
     """``A = M^(-1/2) K M^(-1/2)``: the symmetric standard form of ``K phi = omega^2 M phi``.
     InputError (``key``: ``"stiffness"``, or ``"damping"`` for ``C``) when an entry of ``A`` leaves
-    the floating-point range (a huge stiffness over a tiny mass: ``omega^2`` would be inf)."""
+    the floating-point range (a huge stiffness over a tiny mass: ``omega^2`` would be inf).
+    """
     s = 1.0 / np.sqrt(mass_diag)
     a = k if inplace else k.copy()
     nb = a.indptr.size - 1

@@ -126,7 +126,8 @@ class ContactOperator(spla.LinearOperator):
     def _pack_sphere_args(self):
         """Arguments of ``operator_kernels.apply_sphere_contacts`` when every contact is a sphere
         contact (arms along the normal: ``a_i = l_i n``, ``a_j = -l_j n`` to 4 ulps), with springs
-        (and pre-load) only and no body rotations; otherwise ``None`` (the general loop)."""
+        (and pre-load) only and no body rotations; otherwise ``None`` (the general loop).
+        """
         c = self.contacts
         if (not self.translational or self.rotational or self.orientations is not None or c.count == 0
                 or self.along is None or self.across is None or self.shape[0] > SPHERE_LOOP_MAX_DOFS):
@@ -156,7 +157,8 @@ class ContactOperator(spla.LinearOperator):
     def apply_into(self, x: np.ndarray, out: np.ndarray) -> np.ndarray:
         """``out = A x`` into a given (6N,) array, with no array allocated on the compiled path
         (``eigen.chebyshev_start`` calls it: at 1e6 particles a fresh vector costs as much time
-        as a third of the product)."""
+        as a third of the product).
+        """
         if not self.compiled:
             out[:] = self._matvec(x)
             return out
@@ -249,7 +251,8 @@ class ContactOperator(spla.LinearOperator):
     # -- what the bounds need ----------------------------------------------------------------------
     def _block_pass(self, weights: list[np.ndarray]):
         """One pass over the element blocks: the scaled diagonal blocks (N, 6, 6) and, per weight
-        vector ``w`` (6N,), the coupling part of ``sum_q |A_pq| w_q`` (N, 6) (module docstring)."""
+        vector ``w`` (6N,), the coupling part of ``sum_q |A_pq| w_q`` (N, 6) (module docstring).
+        """
         p, c = self.packing, self.contacts
         n = p.n
         s = self.scale6
@@ -301,7 +304,8 @@ class ContactOperator(spla.LinearOperator):
     def abs_row_sums(self, weights: np.ndarray | None = None) -> np.ndarray:
         """``|A| w`` (``w`` = ones by default; rows of ``M^-1 K`` need ``w = sqrt(m)``, see
         ``estimates.gershgorin``).  The first call computes the unit and the ``sqrt(mass)`` weights
-        together and keeps both."""
+        together and keeps both.
+        """
         root = np.sqrt(self.mass_diag)
         w = None if weights is None else np.asarray(weights, float).reshape(-1)
         if getattr(self, "_row_cache", None) is None:
@@ -315,7 +319,8 @@ class ContactOperator(spla.LinearOperator):
 
     def assembled(self):
         """The same operator assembled (``scipy.sparse`` BSR, ``dtcrit.packing.operators.assembly``): for the
-        certificate's factorisation and for tests."""
+        certificate's factorisation and for tests.
+        """
         from dtcrit.packing.operators.assembly import damping_matrix, scale_symmetric, stiffness_matrix
 
         build = stiffness_matrix if self.kind == "stiffness" else damping_matrix

@@ -44,7 +44,8 @@ def _apply(q, y, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags):
     """``y[i] += B_i^T f``, ``y[j] += B_j^T f`` for every contact (module docstring).
 
     ``flags``: (translational, rotational, preload, oriented) as 0/1; arrays not in use may be
-    empty.  ``q`` and ``y`` are (N, 6)."""
+    empty.  ``q`` and ``y`` are (N, 6).
+    """
     trans, rotl, pre, orient = flags[0], flags[1], flags[2], flags[3]
     for c in range(ci.shape[0]):
         i = ci[c]
@@ -134,7 +135,8 @@ def _apply_spheres(q, y, ci, cj, nrm, li, lj, kn, ks, g, pre):
         i: (-f, -l_i k_s n x delta),   j: (f, -l_j k_s n x delta)
 
     (``n . (n x w) = 0``, ``n x n = 0``): half the arithmetic of ``_apply`` and 48 bytes fewer per
-    contact to read.  The tests compare it with ``_apply`` and the assembled matrix."""
+    contact to read.  The tests compare it with ``_apply`` and the assembled matrix.
+    """
     for c in range(ci.shape[0]):
         i = ci[c]
         j = cj[c]
@@ -203,7 +205,8 @@ def _tmul(a, b, out):
 def _element_pass(ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags, scale, weights, diag, rows):
     """Accumulate the unscaled diagonal blocks ``diag`` (N, 6, 6) and, when ``rows`` is not empty,
     the weighted absolute row sums ``sum_q |A_pq| w_q`` of the scaled coupling blocks, one set
-    ``rows[:, :, k]`` (N, 6, K) per weight vector ``weights[:, :, k]`` (N, 6, K) (module docstring)."""
+    ``rows[:, :, k]`` (N, 6, K) per weight vector ``weights[:, :, k]`` (N, 6, K) (module docstring).
+    """
     trans, rotl, pre, orient = flags[0], flags[1], flags[2], flags[3]
     want_rows = rows.shape[0] > 0
     nw = weights.shape[2]

@@ -92,7 +92,8 @@ layer sits below the scenes, so the caller hands the parser in (``dtcrit.cli.pac
 class BodiesFile:
     """A read ``dtcrit-bodies/1`` file: the ``packing`` (``Packing.from_shapes`` with the file's ids),
     its geometric ``contacts`` (with the file's ``kn``/``ks`` when ``stiffness_given``) and the
-    number of bodies of each shape ``kinds``."""
+    number of bodies of each shape ``kinds``.
+    """
 
     packing: Packing
     contacts: Contacts
@@ -188,7 +189,8 @@ def _sphere_properties(where: list, tables: list, found: np.ndarray, particle_ta
     """``(radius, mass, inertia)`` of plain sphere tables (``found`` their rows of ``_sphere_table``),
     for all at once: ``m = rho 4/3 pi R^3`` or the given mass, ``I = 2/5 m R^2`` (the formulas of
     ``dtcrit.bodies.Sphere``).  A table whose numbers do not give a positive finite radius, density,
-    mass and moment is read by the scenes' parser, which names the key."""
+    mass and moment is read by the scenes' parser, which names the key.
+    """
     r, rho, given = found[:, 0], found[:, 1], found[:, 2]
     with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
         volume = _mp.sphere_volume(r)
@@ -232,7 +234,8 @@ def _entries(path, bodies: list):
 
 def _rotations(path, quats: list) -> np.ndarray:
     """Body-to-world rotations of every body's unit quaternion ``[qw, qx, qy, qz]`` (module
-    docstring; the matrix of ``dtcrit.packing.readers.yade_clumps.rotation_from_quaternion``)."""
+    docstring; the matrix of ``dtcrit.packing.readers.yade_clumps.rotation_from_quaternion``).
+    """
     q = _array(path, "orientation", quats, 4, [1.0, 0.0, 0.0, 0.0])
     with np.errstate(over="ignore"):  # |q| = inf is refused below
         norm = np.linalg.norm(q, axis=1)
@@ -247,7 +250,8 @@ def _rotations(path, quats: list) -> np.ndarray:
 
 def _shapes(path, tables: list, particle_table: ParticleTable, sphere_rows: list):
     """One shape object per body: equal tables share one (parsed once), plain spheres are built
-    from their checked numbers."""
+    from their checked numbers.
+    """
     from dtcrit.bodies import Sphere
 
     parsed: dict = {}
@@ -301,7 +305,8 @@ def _bodies(path, doc: dict, particle_table: ParticleTable, box: Box | None):
 
 def _periodic_room(path, box: Box | None, packing: Packing) -> None:
     """Refuse a periodic length shorter than the largest body's bounding radius: that body would
-    reach through its own nearest image into the next (and the image search would not end)."""
+    reach through its own nearest image into the next (and the image search would not end).
+    """
     if box is None:
         return
     k = int(np.argmax(packing.radii))

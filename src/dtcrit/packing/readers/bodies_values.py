@@ -1,5 +1,6 @@
 """Checks of single values of a ``dtcrit-bodies/1`` file (``dtcrit.packing.readers.bodies_file``): each
-problem is one ``InputError`` keyed by the file and the entry (``FILE: bodies[3].position``)."""
+problem is one ``InputError`` keyed by the file and the entry (``FILE: bodies[3].position``).
+"""
 from __future__ import annotations
 
 import itertools
@@ -54,7 +55,8 @@ def _stiffness(where: str, value) -> float:
 def _sphere_table(table):
     """``(radius, density, mass)`` (NaN for the one not given) of a plain sphere table -- ``shape``
     ``"sphere"``, a ``radius`` and one of ``density`` or ``mass``, each a JSON number -- else None:
-    then the scenes' parser reads the table and names what is wrong with it."""
+    then the scenes' parser reads the table and names what is wrong with it.
+    """
     if type(table) is not dict or len(table) != 3 or table.get("shape") != "sphere" or "radius" not in table:
         return None
     if "density" in table:
@@ -71,7 +73,8 @@ def _sphere_table(table):
 
 def _array(path, name: str, values: list, size: int, default=None) -> np.ndarray:
     """``bodies[k].<name>`` of every body as an ``(n, size)`` array of finite numbers (``default``
-    where absent); the first entry that is not one is named by ``_numbers``."""
+    where absent); the first entry that is not one is named by ``_numbers``.
+    """
     rows = [default if v is None else v for v in values]
     out = None
     try:

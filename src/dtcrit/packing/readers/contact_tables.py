@@ -45,7 +45,8 @@ class ContactTable:
 
 def _text(path: Path) -> list[str]:
     """The file's lines (``\n`` ends one; a trailing ``\r`` and a leading byte-order mark are
-    dropped), each decoded as UTF-8: a byte that is not is named by its line."""
+    dropped), each decoded as UTF-8: a byte that is not is named by its line.
+    """
     try:
         data = path.read_bytes()
     except OSError as exc:
@@ -61,7 +62,8 @@ def _text(path: Path) -> list[str]:
 
 def _in_range(path: Path, packing: Packing, ij: np.ndarray, values: dict, lines: list[int]) -> None:
     """Refuse a row whose springs and dashpots overflow the mass-scaled matrices (``reader_limits``;
-    arms at most the radii)."""
+    arms at most the radii).
+    """
     zero = np.zeros(len(ij))
     arm_i = np.zeros((len(ij), 3))
     arm_j = np.zeros((len(ij), 3))
@@ -77,7 +79,8 @@ def _in_range(path: Path, packing: Packing, ij: np.ndarray, values: dict, lines:
 
 def _apart(path: Path, packing: Packing, ij: np.ndarray, lines: list[int]) -> None:
     """Refuse a listed pair whose centres coincide in the atom dump (nearest periodic image; |sep| = 0 in
-    double precision): no normal."""
+    double precision): no normal.
+    """
     sep = packing.positions[ij[:, 1]] - packing.positions[ij[:, 0]]
     box = packing.box
     if box is not None:

@@ -65,7 +65,8 @@ MAX_LINE = 1 << 20
 class _Lines:
     """The lines of a binary stream read one at a time (``\n`` ends one, a trailing ``\r`` is
     dropped), each decoded as UTF-8 and numbered from 1: a dump is read no further than the
-    snapshot asked for, and a byte that is not UTF-8 is named by its line."""
+    snapshot asked for, and a byte that is not UTF-8 is named by its line.
+    """
 
     def __init__(self, handle):
         self._handle = handle
@@ -293,7 +294,8 @@ def packing_from_snapshot(snap: _Snapshot, density: float | None = None, label: 
 
 def _check_sizes(snap: _Snapshot, x: np.ndarray, r: np.ndarray, masses, density) -> None:
     """Values a double cannot carry through the analysis, named by their line: a mass or moment of
-    inertia ``2/5 m R^2`` that overflows or underflows to zero."""
+    inertia ``2/5 m R^2`` that overflows or underflows to zero.
+    """
     if density is not None and not (math.isfinite(density) and density > 0):
         raise InputError("density", f"must be a positive finite number, got {density:g}")
     with np.errstate(over="ignore", under="ignore"):
@@ -314,7 +316,8 @@ def _check_sizes(snap: _Snapshot, x: np.ndarray, r: np.ndarray, masses, density)
 
 def _periodic_room(snap: _Snapshot, r: np.ndarray) -> None:
     """Refuse a sphere whose radius exceeds a periodic length: it would overlap its own periodic
-    images more than one deep (and the image search would not end)."""
+    images more than one deep (and the image search would not end).
+    """
     k = int(np.argmax(r))
     for a in range(3):
         if snap.box.periodic[a] and snap.box.lengths[a] < r[k]:
@@ -327,7 +330,8 @@ def read_dump(path, *, density: float | None = None, snapshot: int = -1) -> Pack
     """The sphere packing in snapshot ``snapshot`` (default: the last) of a LAMMPS/LIGGGHTS dump.
 
     The file is read one line at a time: no further than the snapshot asked for when ``snapshot >= 0``,
-    and only the chosen snapshot's atom rows are parsed."""
+    and only the chosen snapshot's atom rows are parsed.
+    """
     path = Path(path)
     try:
         with path.open("rb") as handle:

@@ -28,7 +28,8 @@ MAX_RATE = 1e200
 
 def contact_rates(masses, inertia, i, j, arm_i, arm_j, k, k_rot=None, c=None) -> np.ndarray:
     """``rate_c`` of the module docstring for contacts ``(i, j)``; ``k`` the largest translational
-    spring, ``k_rot`` the largest rotational one, ``c`` the largest dashpot of each contact."""
+    spring, ``k_rot`` the largest rotational one, ``c`` the largest dashpot of each contact.
+    """
     masses, inertia = np.asarray(masses, float), np.asarray(inertia, float).reshape(len(masses), -1).min(axis=1)
     with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
         arm_i2 = np.einsum("ij,ij->i", arm_i, arm_i)
@@ -67,7 +68,8 @@ multiply lengths (``|x|^2``, ``k |a|^2``), which must stay far inside double pre
 
 def check_lengths(values, key_of: Callable[[int], str], what: str) -> None:
     """Refuse the first row of ``values`` (one row per particle, or a flat array) holding a length
-    beyond ``MAX_LENGTH``; ``key_of(k)`` names row ``k``."""
+    beyond ``MAX_LENGTH``; ``key_of(k)`` names row ``k``.
+    """
     v = np.abs(np.asarray(values, float))
     bad = ~(v.reshape(len(v), -1) <= MAX_LENGTH).all(axis=1)
     if bad.any():

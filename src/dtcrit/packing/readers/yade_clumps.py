@@ -118,7 +118,8 @@ def rotation_from_quaternion(where: str, wxyz) -> np.ndarray:
 class RigidBodies:
     """The rigid bodies of an export (module docstring): engine ``ids``, centres of mass ``positions``
     (as exported), ``masses``, principal ``inertia``, body-to-global ``rotations``, bounding ``radii``,
-    ``fixed``, ``is_clump``; ``members`` maps every sphere's export id to ``(body index, centre, radius)``."""
+    ``fixed``, ``is_clump``; ``members`` maps every sphere's export id to ``(body index, centre, radius)``.
+    """
 
     ids: np.ndarray
     positions: np.ndarray
@@ -137,7 +138,8 @@ class RigidBodies:
 
 def _one_body(where: str, b, rows: list, members: dict, clump_index: dict, pending: list) -> int:
     """Read one exported body into ``rows`` (bodies), ``members`` (spheres) or ``pending`` (members);
-    returns its id."""
+    returns its id.
+    """
     if not isinstance(b, dict):
         raise InputError(where, f"expected an object, found {show(b)}")
     bid = whole(f"{where}.id", b.get("id"))
@@ -215,7 +217,8 @@ def yade_contacts(bodies: RigidBodies, interactions: list, path, *, box: Box | N
                   ratcheting: bool = True) -> Contacts:
     """Contacts between the rigid bodies with YADE's kinematics (module docstring): arms, ``alpha k_s``,
     per-contact ``kr``, ``ktw``, ``cn``, ``cs`` and the pre-load of sphere-sphere contacts.  ``wrapped``
-    are the packing's positions (the exported ones mapped into the periodic cell)."""
+    are the packing's positions (the exported ones mapped into the periodic cell).
+    """
     rows = []
     lengths = None if box is None else box.lengths
     for k, it in enumerate(interactions):

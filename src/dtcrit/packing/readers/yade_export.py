@@ -65,7 +65,8 @@ _SCHEMA_KEY = re.compile(rb'"schema"\s*:\s*"([^"\\]{0,80})"')
 
 def check_schema(path) -> None:
     """Refuse, before anything else is read, a JSON file whose ``schema`` (looked for in its first
-    64 KiB; both writers put it first) names another format than a YADE export."""
+    64 KiB; both writers put it first) names another format than a YADE export.
+    """
     path = Path(path)
     try:
         with path.open("rb") as handle:
@@ -114,7 +115,8 @@ def _load(path: Path) -> tuple[dict, list, list]:
 
 def _meta(doc: dict, path: Path) -> dict:
     """The export's run data: ``dt`` [s] (positive) and ``newton_damping`` (in [0, 1)) when given,
-    ``iter`` a whole number, ``yade_version`` a string."""
+    ``iter`` a whole number, ``yade_version`` a string.
+    """
     dt = _finite(f"{path}: dt", doc.get("dt"), positive=True, allow_none=True)
     damping = _finite(f"{path}: newton_damping", doc.get("newton_damping"), allow_none=True)
     if damping is not None and damping >= 1.0:
@@ -153,7 +155,8 @@ def _label(path: Path, doc: dict, clumps: int = 0) -> str:
 def read_yade_audit(path) -> tuple[Packing, Contacts, dict]:
     """``(packing, contacts with YADE's terms and kinematics, metadata)`` from any export, clumps
     included (module docstring; ``dtcrit.packing.readers.yade_clumps``).  The packing's ``radii`` are bounding
-    radii and ``orientations`` the clumps' (identity for spheres)."""
+    radii and ``orientations`` the clumps' (identity for spheres).
+    """
     from dtcrit.packing.readers.yade_clumps import rigid_bodies, yade_contacts
 
     path = Path(path)
@@ -181,7 +184,8 @@ def read_yade_audit(path) -> tuple[Packing, Contacts, dict]:
 def read_yade_export(path) -> tuple[Packing, Contacts, dict]:
     """``(packing, contacts with YADE's terms, metadata)`` from a sphere-only export; arms along the
     centre line, to be given YADE's kinematics by ``with_arms`` (an export with clumps: use
-    ``read_yade_audit``)."""
+    ``read_yade_audit``).
+    """
     path = Path(path)
     doc, bodies, inters = _load(path)
     meta = _meta(doc, path)

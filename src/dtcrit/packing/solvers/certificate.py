@@ -74,7 +74,8 @@ def _effective_dofs(n: int, coordination: float) -> float:
 
 def factor_seconds(n: int, coordination: float = 12.0) -> float:
     """Estimated time [s] of the certificate on ``n`` DOFs (``FACTOR_*``; the dense route below
-    ``DENSE_DOFS`` costs well under a second)."""
+    ``DENSE_DOFS`` costs well under a second).
+    """
     if n <= DENSE_DOFS:
         return 1e-7 * n ** 2
     return FACTOR_REF_SECONDS * (_effective_dofs(n, coordination) / FACTOR_REF_DOFS) ** FACTOR_TIME_EXPONENT
@@ -82,7 +83,8 @@ def factor_seconds(n: int, coordination: float = 12.0) -> float:
 
 def factor_bytes(n: int, coordination: float = 12.0) -> float:
     """Estimated memory [bytes] of the certificate's factorisation on ``n`` DOFs (dense: ``n^2``
-    doubles for the matrix, its factor and the pivot work)."""
+    doubles for the matrix, its factor and the pivot work).
+    """
     if n <= DENSE_DOFS:
         return 3.0 * 8.0 * n * n
     entries = FACTOR_REF_ENTRIES * (_effective_dofs(n, coordination) / FACTOR_REF_DOFS) ** FACTOR_FILL_EXPONENT
@@ -93,7 +95,8 @@ def factor_bytes(n: int, coordination: float = 12.0) -> float:
 class Certificate:
     """``certified``: no eigenvalue of ``A`` lies above ``sigma`` [1/s^2] (so ``dt >= 2/sqrt(sigma)``);
     ``method`` how that was decided; ``above`` the number of eigenvalues above ``sigma`` when the
-    route counts them (dense LDL^T), else ``None``; ``detail`` one line for people."""
+    route counts them (dense LDL^T), else ``None``; ``detail`` one line for people.
+    """
 
     certified: bool
     method: str
@@ -113,7 +116,8 @@ class Certificate:
 
 def _shifted(a, sigma: float) -> sps.csc_matrix:
     """``sigma I - A`` as a CSC matrix (``A`` sparse, dense, or a matrix-free operator that can
-    assemble itself: ``dtcrit.packing.operators.matrix_free.ContactOperator.assembled``)."""
+    assemble itself: ``dtcrit.packing.operators.matrix_free.ContactOperator.assembled``).
+    """
     n = a.shape[0]
     if isinstance(a, spla.LinearOperator):
         a = a.assembled()
@@ -164,7 +168,8 @@ def _sytrf_negative_inertia(s: np.ndarray) -> int:
     """Negative eigenvalues of the symmetric ``s`` from LAPACK ``dsytrf`` (Bunch-Kaufman
     ``P L D L^T P^T``, lower): ``D``'s 1 x 1 blocks where ``ipiv[k] >= 0`` (0-based), its 2 x 2 blocks
     where ``ipiv[k] = ipiv[k+1] < 0``.  The same factorisation as ``scipy.linalg.ldl``, without that
-    function's O(n^2) Python assembly of ``L`` (measured: 9 s against 0.1 s at 1,536 DOFs)."""
+    function's O(n^2) Python assembly of ``L`` (measured: 9 s against 0.1 s at 1,536 DOFs).
+    """
     from scipy.linalg.lapack import dsytrf
 
     ldu, ipiv, info = dsytrf(s, lower=1, overwrite_a=True)
@@ -200,7 +205,8 @@ def _negative_inertia(d: np.ndarray) -> int:
 @dataclass(frozen=True)
 class Bracket:
     """``lower <= dt_crit_true <= upper`` [s]: ``upper = 2/sqrt(theta)`` (a Rayleigh quotient),
-    ``lower`` the certified ``2/sqrt(sigma)`` or else ``dt_safe``; ``lower_from`` says which."""
+    ``lower`` the certified ``2/sqrt(sigma)`` or else ``dt_safe``; ``lower_from`` says which.
+    """
 
     lower: float
     upper: float

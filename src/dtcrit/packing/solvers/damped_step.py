@@ -71,7 +71,8 @@ class DampedStep:
     """Critical step ``dt`` of the damped packing, a rigorous lower bound ``dt_lower``, the undamped
     step ``dt_undamped = 2/omega_max``, the governing mode ``vector`` (mass-scaled coordinates, the
     null vector of ``4M - 2hC - h^2 K`` at ``dt``; ``None`` for the spectral route), the route taken,
-    and the number of eigen-solves."""
+    and the number of eigen-solves.
+    """
 
     dt: float
     dt_lower: float
@@ -83,7 +84,8 @@ class DampedStep:
 
 def use_operator(packing: Packing, route: str = "auto") -> bool:
     """Whether ``route`` (``"auto"``, ``"assembled"``, ``"matrix-free"``) means matrix-free here: ``"auto"``
-    follows ``dtcrit.packing.report``'s measured threshold."""
+    follows ``dtcrit.packing.report``'s measured threshold.
+    """
     import dtcrit.packing.operators.matrix_free_kernels as operator_kernels
     from dtcrit.packing.report import NUMPY_OPERATOR_DOFS, OPERATOR_DOFS
 
@@ -96,7 +98,8 @@ def use_operator(packing: Packing, route: str = "auto") -> bool:
 
 def scaled_matrices(packing: Packing, contacts: Contacts, route: str = "assembled"):
     """``(K~, C~)`` in the symmetric mass-scaled form (module docstring), assembled or, with
-    ``route="matrix-free"`` (or ``"auto"`` above the threshold), as ``dtcrit.packing.operators.matrix_free``s."""
+    ``route="matrix-free"`` (or ``"auto"`` above the threshold), as ``dtcrit.packing.operators.matrix_free``s.
+    """
     d = mass_diagonal(packing)
     if use_operator(packing, route):
         return (stiffness_operator(packing, contacts, mass_diag=d), damping_operator(packing, contacts, mass_diag=d))
@@ -111,7 +114,8 @@ def _upper_bound(a, d_ones) -> float:
 
 def lagged_lower_bound(k, c) -> float:
     """Rigorous lower bound on the lagged central difference's step (module docstring); ``k`` must be
-    positive semi-definite element by element (springs only: no pre-load term)."""
+    positive semi-definite element by element (springs only: no pre-load term).
+    """
     ones = np.ones(k.shape[0])
     alpha = _upper_bound(k, ones)
     zero = c.is_zero if hasattr(c, "is_zero") else c.nnz == 0
@@ -153,7 +157,8 @@ def _lagged_root(k, c, omega2: float, method: str):
 def damped_critical_dt(packing: Packing, contacts: Contacts, integrator: str = "velocity-verlet", *,
                        method: str = "auto", route: str = "auto") -> DampedStep:
     """The exact critical step of ``integrator`` on the packing with its contact dashpots (``route``:
-    assembled or matrix-free ``K~``, ``C~``, see ``scaled_matrices``)."""
+    assembled or matrix-free ``K~``, ``C~``, see ``scaled_matrices``).
+    """
     if integrator not in INTEGRATORS:
         raise InputError("integrator", f"unknown integrator {integrator!r}")
     k, c = scaled_matrices(packing, contacts, route)
@@ -202,7 +207,8 @@ def damped_critical_dt(packing: Packing, contacts: Contacts, integrator: str = "
 
 def amplification_operator(k, c, integrator: str, h: float) -> spla.LinearOperator:
     """One step of ``integrator``'s update rule on the mass-scaled packing, ``y'' = -K~ y - C~ y'``,
-    as a linear operator on the stacked state (two or three blocks of ``n``)."""
+    as a linear operator on the stacked state (two or three blocks of ``n``).
+    """
     scheme = INTEGRATORS[integrator]
     if integrator in CENTRED:
         raise InputError("integrator", "leapfrog-centred needs a linear solve per step; its step is 2/omega_max")
@@ -260,7 +266,8 @@ def physical_growth(k) -> float:
     ``y'' = -K~ y - C~ y'`` (``C~`` positive semi-definite: a real root ``s`` of ``s^2 + c s + k = 0``
     with Rayleigh quotients ``c >= 0``, ``k >= lambda_min`` is at most ``sqrt(-k)``).  Compressive
     pre-loads can make ``K~`` indefinite (a statically unstable packing): that growth is physics, not
-    the integrator's instability, and ``damped_critical_dt`` refuses it on the spectral-radius route."""
+    the integrator's instability, and ``damped_critical_dt`` refuses it on the spectral-radius route.
+    """
     n = k.shape[0]
     if n <= FALLBACK_STATES:
         dense = k.toarray() if hasattr(k, "toarray") else k @ np.eye(n)
@@ -282,7 +289,8 @@ def critical_by_spectral_radius(k, c, integrator: str, h_hi: float, *, rtol: flo
     slack covers rounding: undamped modes of a stable step sit on the unit circle, and the rigid-body
     modes of a packing are Jordan blocks at ``+1``, which rounding spreads by about ``sqrt(eps)``; a
     mode growing by less than ``1e-6`` a step is taken as stable.  An ARPACK failure raises
-    ``NotConvergedError`` with the bracket ``[lo, hi]`` reached so far."""
+    ``NotConvergedError`` with the bracket ``[lo, hi]`` reached so far.
+    """
     solves = 0
     lo, hi = 0.0, h_hi  # lo: the largest step known stable; hi: unstable once the doubling is over
     doubling = True

@@ -50,7 +50,8 @@ class TopMode:
     the residual norm ``|A v - value v|``.  ``space`` is an orthonormal basis of the top eigenspace
     (dense: eigenvalues within ``DEGENERATE_RTOL`` of the top one; ``eigsh`` up to
     ``ITERATIVE_SPACE_LIMIT`` DOFs: its Ritz vectors within ``ITERATIVE_DEGENERATE_RTOL``), ``None`` if
-    not computed: in a degenerate eigenspace ``vector`` is an arbitrary member."""
+    not computed: in a degenerate eigenspace ``vector`` is an arbitrary member.
+    """
 
     value: float
     vector: np.ndarray
@@ -66,7 +67,8 @@ class TopMode:
 
 def _start_vector(n: int) -> np.ndarray:
     """A fixed, generic start vector (reproducible runs; no eigenvector is orthogonal to it
-    except on a set of measure zero)."""
+    except on a set of measure zero).
+    """
     rng = np.random.default_rng(20170601)
     return rng.standard_normal(n)
 
@@ -182,7 +184,8 @@ def largest_mode(a, method: str = "auto", *, tol: float = DEFAULT_TOL, maxiter: 
 
 def row_sum_bound(a) -> float:
     """``max_i sum_j |a_ij|`` (Gershgorin): an upper bound on every eigenvalue of the symmetric ``a``;
-    ``inf`` for a matrix-free operator (not known here)."""
+    ``inf`` for a matrix-free operator (not known here).
+    """
     if isinstance(a, spla.LinearOperator):
         return math.inf
     if sps.issparse(a):
@@ -192,7 +195,8 @@ def row_sum_bound(a) -> float:
 
 def _not_converged(a, start: np.ndarray, ritz, count: int) -> NotConvergedError:
     """The bracket ARPACK leaves when it stops early: every Rayleigh quotient (the start's, the
-    converged Ritz values) is a lower bound on ``lambda_max``; the row-sum bound an upper one."""
+    converged Ritz values) is a lower bound on ``lambda_max``; the row-sum bound an upper one.
+    """
     lower = float(start @ (a @ start)) / float(start @ start)
     if ritz is not None and len(ritz):
         lower = max(lower, float(np.max(np.real(ritz))))
@@ -220,7 +224,8 @@ def chebyshev_start(product, v: np.ndarray, degree: int = FILTER_DEGREE, stop: f
     eigenvalues at or below ``theta`` while those above grow like ``exp(m arccosh(2 lambda/theta - 1))``:
     repeated, the filter is an accelerated power method.  It only chooses where LOBPCG starts; the
     answer and its residual are LOBPCG's.  The three-term recurrence is renormalised at each
-    degree (no overflow)."""
+    degree (no overflow).
+    """
     if hasattr(product, "shape"):  # a matrix or LinearOperator (the latter is also callable)
         matrix = product
         product = lambda x, out: np.copyto(out, matrix @ x) or out  # noqa: E731

@@ -110,14 +110,16 @@ def _cgroup_room(root: Path = Path("/sys/fs/cgroup")) -> float | None:
 
 def available_bytes() -> float | None:
     """The least of MemAvailable, the ``RLIMIT_AS`` room and the cgroup room (module docstring);
-    None when none is known (then no check)."""
+    None when none is known (then no check).
+    """
     known = [v for v in (_meminfo(), _rlimit_as(), _cgroup_room()) if v is not None]
     return min(known) if known else None
 
 
 def estimated_bytes(n_spheres: int, coordination: float, route: str = "auto", extra: float = 0.0) -> float:
     """Estimated peak [bytes] of ``dtcrit packing`` on ``n_spheres`` (module docstring); ``extra`` is
-    added before the margin (the certificate's factor)."""
+    added before the margin (the certificate's factor).
+    """
     if route == "auto":
         route = "matrix-free" if 6 * n_spheres > MATRIX_FREE_DOFS else "assembled"
     return MARGIN * (FIXED_BYTES + BYTES_PER_SPHERE[route] * n_spheres * max(coordination, 1.0) / 12.0 + extra)
@@ -126,7 +128,8 @@ def estimated_bytes(n_spheres: int, coordination: float, route: str = "auto", ex
 def check_fits(n_spheres: int, coordination: float, route: str = "auto", key: str = "packing",
                available: float | None = None, extra: float = 0.0, what: str = "") -> None:
     """InputError when the estimated peak exceeds the available memory (module docstring).
-    ``extra`` [bytes] is a further cost (``what`` names it in the message)."""
+    ``extra`` [bytes] is a further cost (``what`` names it in the message).
+    """
     have = available_bytes() if available is None else available
     need = estimated_bytes(n_spheres, coordination, route, extra)
     if have is not None and need > have:
