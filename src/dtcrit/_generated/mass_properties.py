@@ -12,8 +12,7 @@ import math
 
 def gamma(x):
     """Gamma function element-wise through ``math.gamma`` (scalars or arrays; no SciPy import,
-    which keeps ``dtcrit step`` start-up short).
-    """
+    which keeps ``dtcrit step`` start-up short)."""
     if np.ndim(x) == 0:
         return math.gamma(float(x))
     return np.vectorize(math.gamma, otypes=[float])(x)
