@@ -13,9 +13,8 @@ import warnings
 
 import numpy as np
 import sympy as sp
-from _sec2_3_symbolic import (
-    _latex,
-    _n,
+from _shared.text import latex, num
+from _shared.kinematics_symbolic import (
     _overlap_witness,
     section_convention,
     section_eq26_configs,
@@ -93,11 +92,11 @@ def _cube_counterexample() -> list[str]:
         "**Counter-example (exact, from the general kinematics).**  Two axis-aligned cubes of half-length $a$, mass $m$ "
         "($I = \\tfrac23 m a^2$) touching corner to corner: $r_1 = a(1,1,1)$, $r_2 = -a(1,1,1)$, common normal "
         "$(1,1,1)/\\sqrt3$, which lies in the normal cone of both corners (the octant spanned by the three face "
-        f"normals), so the contact is admissible.  $A = {_latex(A)}$ with eigenvalues "
-        + ", ".join(f"${_latex(k)}$ (multiplicity {v})" for k, v in sorted(eig.items(), key=lambda kv: float(kv[0].subs(m, 1))))
-        + f".  $\\lambda_{{\\max}} = {_latex(lam)}$ but Eq. (26) gives $A_{{\\max}} = {_latex(sp.simplify(amax))}$: Eq. (26) "
-        f"**fails** by the factor ${_latex(sp.nsimplify(lam / amax))}$, and Eq. (48) with $A_{{\\max}}$ would give a step "
-        f"${_latex(sp.sqrt(sp.nsimplify(lam / amax)))} \\approx {_n(float(sp.sqrt(lam / amax)), 4)}$ times the value with "
+        f"normals), so the contact is admissible.  $A = {latex(A)}$ with eigenvalues "
+        + ", ".join(f"${latex(k)}$ (multiplicity {v})" for k, v in sorted(eig.items(), key=lambda kv: float(kv[0].subs(m, 1))))
+        + f".  $\\lambda_{{\\max}} = {latex(lam)}$ but Eq. (26) gives $A_{{\\max}} = {latex(sp.simplify(amax))}$: Eq. (26) "
+        f"**fails** by the factor ${latex(sp.nsimplify(lam / amax))}$, and Eq. (48) with $A_{{\\max}}$ would give a step "
+        f"${latex(sp.sqrt(sp.nsimplify(lam / amax)))} \\approx {num(float(sp.sqrt(lam / amax)), 4)}$ times the value with "
         "$\\lambda_{\\max}$.  (Eq. (26) assumes the largest arm is $a$ along $x$ acting against $I_{xx}$; a corner's arm is "
         "$\\sqrt3 a$.)",
         "",
@@ -114,9 +113,9 @@ def _ellipsoid_closed_form() -> list[str]:
         planes = asup.cutting_plane_supremum(e, e.inertia)  # independent: Qhull outer polytopes
         formula = 5 * d[0] ** 2 / (e.mass * (d[0] ** 2 + d[2] ** 2))
         ok = planes.lower <= closed * (1 + 1e-12) and closed <= planes.upper * (1 + 1e-12)
-        rows.append(f"| {_n(d[0], 4)}, {_n(d[1], 4)}, {_n(d[2], 4)} | {_n(closed * e.mass)} | {_n(formula * e.mass)} | "
-                    f"[{_n(planes.lower * e.mass, 9)}, {_n(planes.upper * e.mass, 9)}] | {'yes' if ok else '**no**'} |")
-    tips = ", ".join(f"${_latex(v)}$" for v in cc.ellipsoid_tip_values())
+        rows.append(f"| {num(d[0], 4)}, {num(d[1], 4)}, {num(d[2], 4)} | {num(closed * e.mass)} | {num(formula * e.mass)} | "
+                    f"[{num(planes.lower * e.mass, 9)}, {num(planes.upper * e.mass, 9)}] | {'yes' if ok else '**no**'} |")
+    tips = ", ".join(f"${latex(v)}$" for v in cc.ellipsoid_tip_values())
     return [
         "**Ellipsoids (proved).**  Write $W = I^{-1}$ and let $h$ be the support function of a convex body $K$.",
         "",
@@ -200,13 +199,13 @@ def section_full_matrix() -> list[str]:
             sup = max(sup, float(mirror))
         frac = float(np.mean(lam > amax * (1 + 1e-12)))
         gap = bound / sup - 1
-        gap_text = "< 1e-12" if abs(gap) < 1e-12 else ("< 1e-7" if gap < 1e-7 else _n(gap, 3))
+        gap_text = "< 1e-12" if abs(gap) < 1e-12 else ("< 1e-7" if gap < 1e-7 else num(gap, 3))
         holds = sup <= amax * (1 + 1e-12)
         verdicts[(n1, n2)] = holds
         m1 = s1.mass
         out.append(
-            f"| {n1} / {n2} | {_n(amax * m1)} | {_n(bound * m1)} | {_n(sup * m1)} | {_n(sup / amax, 4)} | {gap_text} | "
-            f"{_n(100 * frac, 3)} % | {'yes' if holds else '**no**'} |"
+            f"| {n1} / {n2} | {num(amax * m1)} | {num(bound * m1)} | {num(sup * m1)} | {num(sup / amax, 4)} | {gap_text} | "
+            f"{num(100 * frac, 3)} % | {'yes' if holds else '**no**'} |"
         )
     out += [
         "",
@@ -227,11 +226,11 @@ def section_full_matrix() -> list[str]:
             vals.update(dict(zip(ps.half_lengths, e.half_lengths)))
         best_fig2 = max(best_fig2, max(float(A[k, k].subs(vals)) for k in range(3)))
     out += [
-        f"Paper's ellipsoids ($a=3,b=2,c=1$, $m = {_n(e.mass)}$ kg): largest diagonal entry over the three Figure 2 "
-        f"configurations $= {_n(best_fig2 * e.mass, 5)}/m$; admissible supremum `a_bound` $= {_n(dtcrit.a_bound(e) * e.mass, 6)}/m$ "
-        f"(exactly $2/m + 2\\cdot 9/(2m) = 11/m$ by the ellipsoid formula); Eq. (26) $= {_n(dtcrit.a_max(e) * e.mass, 6)}/m$.  So "
+        f"Paper's ellipsoids ($a=3,b=2,c=1$, $m = {num(e.mass)}$ kg): largest diagonal entry over the three Figure 2 "
+        f"configurations $= {num(best_fig2 * e.mass, 5)}/m$; admissible supremum `a_bound` $= {num(dtcrit.a_bound(e) * e.mass, 6)}/m$ "
+        f"(exactly $2/m + 2\\cdot 9/(2m) = 11/m$ by the ellipsoid formula); Eq. (26) $= {num(dtcrit.a_max(e) * e.mass, 6)}/m$.  So "
         "Eq. (26) is conservative for this pair by $\\sqrt{20/11} = "
-        f"{_n(np.sqrt(20 / 11), 4)}$ in the time step, while the Figure 2 configurations alone would under-estimate "
+        f"{num(np.sqrt(20 / 11), 4)}$ in the time step, while the Figure 2 configurations alone would under-estimate "
         "the coefficient.",
         "",
     ]

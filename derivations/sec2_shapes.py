@@ -131,7 +131,7 @@ def section_assumption3() -> list[str]:
     kxy = sp.simplify(ms["xx"] / a**2)
     kz = sp.simplify(ms["zz"] / c**2)
     out += [
-        f"* superquadric: $(I_{{yy}}-I_{{xx}})/m = (a^2-b^2)k_{{xy}} \\ge 0$ always, but $(I_{{zz}}-I_{{yy}})/m = b^2k_{{xy}}-c^2k_z$ "
+        "* superquadric: $(I_{yy}-I_{xx})/m = (a^2-b^2)k_{xy} \\ge 0$ always, but $(I_{zz}-I_{yy})/m = b^2k_{xy}-c^2k_z$ "
         "with $k_{xy}=\\langle x^2\\rangle/a^2$ (depends on $\\varepsilon_1,\\varepsilon_2$) and $k_z=\\langle z^2\\rangle/c^2$ "
         "(depends on $\\varepsilon_1$ only).  It is negative when $b/c<\\sqrt{k_z/k_{xy}}$, which exceeds 1 when the profile along "
         "$z$ is fuller than the cross-section (small $\\varepsilon_1$, large $\\varepsilon_2$).  Critical $b/c$ "

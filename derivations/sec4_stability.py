@@ -14,8 +14,8 @@ formulas), ``dtcrit.symbolic.closed_forms`` (closed forms of the critical step).
 from __future__ import annotations
 
 import mpmath as mp
-from _sec4_schemes import section_belytschko, section_minus_one, section_scheme
-from _sec4_tables import (
+from _shared.stability_schemes import section_belytschko, section_minus_one, section_scheme
+from _shared.stability_tables import (
     section_cardano_numerics,
     section_cfl,
     section_labelled,
@@ -23,7 +23,7 @@ from _sec4_tables import (
     section_spheres,
     section_table,
 )
-from _sec4_tools import DPS, _n, rho
+from _shared.stability_tools import DPS, _n, rho
 
 RECORD = "sec4_stability.md"
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 import sympy as sp
+from _shared.text import entry_verdict, latex, num
 
 import dtcrit
 from dtcrit.bodies import contact
@@ -19,20 +20,6 @@ from dtcrit.symbolic import printed_entries as printed
 from dtcrit.symbolic import tip_configurations as tips
 
 RECORD = "sec5_rotation.md"
-
-
-def _n(x: float, digits: int = 6) -> str:
-    return f"{float(x):.{digits}g}"
-
-
-def _latex(e) -> str:
-    return sp.latex(e, mul_symbol=None)
-
-
-def _verdict(k) -> str:
-    if k is None:
-        return "illegible"
-    return "**reproduced**" if k >= 0 else "**differs**"
 
 
 # ============================================================================================
@@ -56,7 +43,7 @@ def section_eqs50_52() -> list[str]:
             d = printed.derived_entry(local, e.entry)
             k = printed.compare_entry(d, e)
             kg = printed.compare_entry(printed.derived_entry(glob, e.entry), e)
-            out.append(f"| {panel}, Eq. ({eqw}) | {e.entry} | ${_latex(sp.expand(d))}$ | {_verdict(k)} | {_verdict(kg)} |")
+            out.append(f"| {panel}, Eq. ({eqw}) | {e.entry} | ${latex(sp.expand(d))}$ | {entry_verdict(k)} | {entry_verdict(kg)} |")
     out += [
         "",
         "All nine entries are **reproduced** when $\\omega_{x1}, \\dots, \\omega_{z2}$ denote each particle's *local* "
@@ -93,7 +80,7 @@ def section_eq53() -> list[str]:
         "",
         "Eq. (54) transcribed without fixes.  From Euler's equations (11)-(12) with $M_L = 0$ the torque-free "
         "accelerations are $\\dot\\omega_x = c_x\\omega_y\\omega_z$, $\\dot\\omega_y = c_y\\omega_z\\omega_x$, "
-        f"$\\dot\\omega_z = c_z\\omega_x\\omega_y$ with $(c_x, c_y, c_z) = ({', '.join(_latex(x) for x in c)})$ "
+        f"$\\dot\\omega_z = c_z\\omega_x\\omega_y$ with $(c_x, c_y, c_z) = ({', '.join(latex(x) for x in c)})$ "
         f"(generated kernel `gyroscopic_coefficients`), and $\\max_i |c_i|$ equals Eq. (54)'s $B_{{\\max}}$: "
         f"{'**reproduced**' if same else '**differs**'}.",
         "",
@@ -120,14 +107,14 @@ def section_eq53() -> list[str]:
             k1 = sum(abs(float(cf.subs(vals))) for cf, _ in t1)
             k2 = sum(abs(float(cf.subs(vals))) for cf, _ in t2)
             tight_everywhere = max(tight_everywhere, (k1 + k2) / 2)
-            cell1 = ", ".join(f"${_latex(cf)}$ on ${_latex(mo)}$" for cf, mo in t1)
-            cell2 = ", ".join(f"${_latex(cf)}$ on ${_latex(mo)}$" for cf, mo in t2)
-            out.append(f"| {panel} | {'xyz'[i]} | {cell1} | {cell2} | {_n((k1 + k2) / 2, 5)} | {_n(B, 5)} |")
+            cell1 = ", ".join(f"${latex(cf)}$ on ${latex(mo)}$" for cf, mo in t1)
+            cell2 = ", ".join(f"${latex(cf)}$ on ${latex(mo)}$" for cf, mo in t2)
+            out.append(f"| {panel} | {'xyz'[i]} | {cell1} | {cell2} | {num((k1 + k2) / 2, 5)} | {num(B, 5)} |")
     out += [
         "",
-        f"For the paper's ellipsoids ($a=3,b=2,c=1$) $B_{{\\max}} = {_n(B, 6)}$ ($= (a^2-c^2)/(a^2+c^2)$, the $|c_y|$ "
+        f"For the paper's ellipsoids ($a=3,b=2,c=1$) $B_{{\\max}} = {num(B, 6)}$ ($= (a^2-c^2)/(a^2+c^2)$, the $|c_y|$ "
         f"term) and the largest attainable $|\\dot\\omega_{{c,k}}|/\\omega_{{\\max}}^2$ over the three configurations is "
-        f"{_n(tight_everywhere, 6)} $= (B_1+B_2)/2$.  So Eq. (53) holds but is **loose by exactly a factor 2** in the "
+        f"{num(tight_everywhere, 6)} $= (B_1+B_2)/2$.  So Eq. (53) holds but is **loose by exactly a factor 2** in the "
         "configurations it was derived for.",
         "",
     ]
@@ -161,7 +148,7 @@ def section_general_orientation() -> list[str]:
         u = rng.normal(size=(200000, 3))
         u /= np.linalg.norm(u, axis=1, keepdims=True)
         acc = np.linalg.norm(np.cross(u, u * I) / I, axis=1)
-        rows.append(f"| {name} | {_n(B, 6)} | {_n(G, 6)} | {_n(G / B, 5)} | {_n(acc.max() / G, 6)} |")
+        rows.append(f"| {name} | {num(B, 6)} | {num(G, 6)} | {num(G / B, 5)} | {num(acc.max() / G, 6)} |")
     return [
         "## 3. Arbitrary orientations: the tight constant",
         "",
@@ -213,18 +200,18 @@ def section_eq55_57() -> list[str]:
         "integrator.  Computed facts about the actual update of the rotational equations:",
         "",
         f"* Linearising the torque-free Euler equations about steady spin $\\omega_0$ about body axis $x$, the "
-        f"Jacobian has characteristic polynomial ${_latex(charpoly)}$; about the minor or major axis "
-        f"($c_yc_z < 0$) the non-zero eigenvalues are $\\pm i\\Omega$ with $\\Omega^2 = {_latex(Omega2)}$ (precession), "
+        f"Jacobian has characteristic polynomial ${latex(charpoly)}$; about the minor or major axis "
+        f"($c_yc_z < 0$) the non-zero eigenvalues are $\\pm i\\Omega$ with $\\Omega^2 = {latex(Omega2)}$ (precession), "
         "and $\\Omega \\le B_{\\max}\\,\\omega_0$ because $|c_yc_z| \\le B_{\\max}^2$.",
         f"* Forward Euler, the paper's integrator (Eqs. 38-39), multiplies these modes by $1 \\pm i\\Omega\\Delta t$, of "
-        f"squared modulus ${_latex(amp2)} > 1$ for every $\\Delta t > 0$: in the amplification-matrix sense the "
+        f"squared modulus ${latex(amp2)} > 1$ for every $\\Delta t > 0$: in the amplification-matrix sense the "
         "rotational update has no critical step at all (slow growth, $\\tfrac12\\Omega^2\\Delta t^2$ per step); about the "
         "intermediate axis the motion itself is unstable.  Eq. (56) therefore limits the per-step change of the "
         "angular velocity; it is not derived from stability.",
         "",
-        f"Algebra: Eqs. (53) and (55) with equality give $\\Delta t = {_latex(eq56[0])}$ = Eq. (56): **reproduced**; "
-        f"with $B_1 = B_2 = B_{{\\max}}$, $\\Delta t = {_latex(eq57)}$ = Eq. (57): **reproduced**.  With the tight "
-        f"constants instead of Eq. (53), the same heuristic gives $\\Delta t = {_latex(tight_fig2)}$ in the Figure 2 "
+        f"Algebra: Eqs. (53) and (55) with equality give $\\Delta t = {latex(eq56[0])}$ = Eq. (56): **reproduced**; "
+        f"with $B_1 = B_2 = B_{{\\max}}$, $\\Delta t = {latex(eq57)}$ = Eq. (57): **reproduced**.  With the tight "
+        f"constants instead of Eq. (53), the same heuristic gives $\\Delta t = {latex(tight_fig2)}$ in the Figure 2 "
         "configurations (twice Eq. (56)) and $2/(\\omega_{\\max}(G_1+G_2))$ for arbitrary orientations (between "
         "$\\sqrt3$ and 2 times Eq. (56)).",
         "",

@@ -19,6 +19,7 @@ import math
 import mpmath as mp
 import numpy as np
 import sympy as sp
+from _shared.text import num
 
 from dtcrit.integrators.amplification import spectral_radius_mp
 from dtcrit.figures.ellipsoid_pair import N_VALUES, describe_trend, pair_steps
@@ -31,15 +32,6 @@ FIG = "figures"  # image folder, relative to derivations/records
 
 
 # ----------------------------------------------------------------------------- helpers
-def _n(x, digits: int = 6) -> str:
-    x = float(x)
-    if math.isnan(x):
-        return "n/a"
-    if math.isinf(x):
-        return "inf"
-    return f"{x:.{digits}g}"
-
-
 def _rho(name: str, tau, zeta) -> mp.mpf:
     """Spectral radius of the amplification matrix of ``name`` (omega = 1, step tau, damping zeta)."""
     return spectral_radius_mp(name, tau, zeta, dps=DPS)
@@ -108,14 +100,14 @@ def summary_section(f6) -> list[str]:
         "Verlet falls with $N$ and that of the centred leapfrog does not depend on it: **differs**.  With "
         "$a_{bound}=11/m$ instead of $A_{max}=20/m$ every verified step is $\\sqrt{20/11}=1.348$ times larger.",
         "* Fig. 6: both steps fall as $e_1$ or $e_2$ grows, but the strong fall of the translation-dominant step "
-        f"is an artefact of Eq. (26): from the sphere to $e_1=e_2=5$ Eq. (48) falls {_n(100 * f6['fall_printed'], 4)} %, "
-        f"the verified step only {_n(100 * f6['fall_verified'], 4)} % (**differs** in size; the direction holds).  "
+        f"is an artefact of Eq. (26): from the sphere to $e_1=e_2=5$ Eq. (48) falls {num(100 * f6['fall_printed'], 4)} %, "
+        f"the verified step only {num(100 * f6['fall_verified'], 4)} % (**differs** in size; the direction holds).  "
         "'More than four "
         f"orders of magnitude smaller' holds on {f6['points_over_1e4']} of {f6['points']} grid points (the sphere, "
         "where the rotation-dominant step is unbounded): only within a distance "
-        f"{_n(f6['region']['t_min'], 3)}-{_n(f6['region']['t_max'], 3)} of $e_1=e_2=1$.  Elsewhere the ratio is "
-        f"{_n(f6['min'], 4)}-{_n(f6['max'], 4)}; for the paper's own a=3, b=2, c=1 ellipsoid it is "
-        f"{_n(f6['paper'], 4)} (10^{_n(math.log10(f6['paper']), 3)}): **differs**.",
+        f"{num(f6['region']['t_min'], 3)}-{num(f6['region']['t_max'], 3)} of $e_1=e_2=1$.  Elsewhere the ratio is "
+        f"{num(f6['min'], 4)}-{num(f6['max'], 4)}; for the paper's own a=3, b=2, c=1 ellipsoid it is "
+        f"{num(f6['paper'], 4)} (10^{num(math.log10(f6['paper']), 3)}): **differs**.",
         "",
         "Images: "
         f"[Fig. 3]({FIG}/fig3_damping.png), [Fig. 4]({FIG}/fig4_stiffness.png), [Fig. 5]({FIG}/fig5_density.png), "
@@ -166,7 +158,7 @@ def section_fig3() -> list[str]:
         "",
         f"* Asymptotes: (58) at $\\beta={sp.latex(asym58[0])}$, (59) at $\\beta={sp.latex(asym59[0])}$ (SymPy): "
         "**reproduced** ('at $2/\\sqrt7$ and $2\\sqrt2$').",
-        f"* Library: $A\\,m$ = {_n(d.a_max_times_m)} (Eq. (26)) and {_n(d.a_bound_times_m)} (verified bound) for "
+        f"* Library: $A\\,m$ = {num(d.a_max_times_m)} (Eq. (26)) and {num(d.a_bound_times_m)} (verified bound) for "
         "two identical spheres: the same, so one set of verified curves is drawn.",
         "",
         "Values of $\\Delta t\\sqrt{k/m}$ (library; curves that coincide are merged):",
@@ -175,9 +167,9 @@ def section_fig3() -> list[str]:
         "| --- | --- | --- | --- | " + " | ".join("---" for _ in group_names) + " |",
     ]
     for i, b in enumerate(betas):
-        cells = [_n(d.printed[k][i]) for k in ("eq58", "eq59", "eq60")]
-        cells += [_n(d.verified[g[0]][i]) for g in d.groups]
-        lines.append(f"| {_n(b)} | " + " | ".join(cells) + " |")
+        cells = [num(d.printed[k][i]) for k in ("eq58", "eq59", "eq60")]
+        cells += [num(d.verified[g[0]][i]) for g in d.groups]
+        lines.append(f"| {num(b)} | " + " | ".join(cells) + " |")
     # spectral radius at the printed Eq. (60) step, beta = 0.5: zeta = beta sqrt(7)/2, tau = sqrt(7) * y
     with mp.workdps(DPS):
         bb = mp.mpf("0.5")
@@ -187,11 +179,11 @@ def section_fig3() -> list[str]:
     lines += [
         "",
         "* Claim 'Equation (60) ... is applicable at all levels of damping': at $\\beta=0.5$ ($\\zeta=\\sqrt7/4$) "
-        f"the step of Eq. (60) is $\\tau={_n(tau60)}$, where $\\rho$ = "
-        + ", ".join(f"{_n(v)} (`{k}`)" for k, v in radii.items())
+        f"the step of Eq. (60) is $\\tau={num(tau60)}$, where $\\rho$ = "
+        + ", ".join(f"{num(v)} (`{k}`)" for k, v in radii.items())
         + ": unstable for every integrator.  **differs** (see `sec4_stability.md`, Section 8, for all $\\beta$).",
         "* Claim 'for low damping (58) and (60) are similar, identical undamped': both are $2/\\sqrt7="
-        f"{_n(2 / math.sqrt(7))}$ at $\\beta=0$: **reproduced**; this is also the undamped bound of every "
+        f"{num(2 / math.sqrt(7))}$ at $\\beta=0$: **reproduced**; this is also the undamped bound of every "
         "central-difference variant, the only point where (58) and (60) are critical steps (Eq. (59), a collision "
         "duration, is $\\pi/\\sqrt2$ there).",
         "",
@@ -208,11 +200,11 @@ def _pair_table(steps, j, unit=1e3) -> list[str]:
     for i, n in enumerate(steps.n_values):
         zeta = steps.damping[i, j] * steps.a_max[j] / (2 * math.sqrt(steps.stiffness[j] * steps.a_max[j]))
         out.append(
-            f"| {n} | {_n(zeta, 4)} | {_n(steps.printed_eq46[i, j] * unit)} | "
-            f"{_n(steps.verified_a_max['velocity-verlet'][i, j] * unit)} | "
-            f"{_n(steps.verified_a_bound['velocity-verlet'][i, j] * unit)} | "
-            f"{_n(steps.verified_a_max['leapfrog-centred'][i, j] * unit)} | "
-            f"{_n(steps.verified_a_bound['leapfrog-centred'][i, j] * unit)} |"
+            f"| {n} | {num(zeta, 4)} | {num(steps.printed_eq46[i, j] * unit)} | "
+            f"{num(steps.verified_a_max['velocity-verlet'][i, j] * unit)} | "
+            f"{num(steps.verified_a_bound['velocity-verlet'][i, j] * unit)} | "
+            f"{num(steps.verified_a_max['leapfrog-centred'][i, j] * unit)} | "
+            f"{num(steps.verified_a_bound['leapfrog-centred'][i, j] * unit)} |"
         )
     return out
 
@@ -241,8 +233,8 @@ def section_fig45() -> list[str]:
         "",
         f"* With $A=A_{{max}}$ the damping ratio is $\\zeta=cA/(2\\sqrt{{kA}})={sp.latex(zeta_expr)}$ (SymPy): N = 0..5 "
         "is $\\zeta$ = 0 ... 2.5, up to strongly overdamped.",
-        f"* $A_{{max}}$ = {_n(s4.a_max[0])} 1/kg, $a_{{bound}}$ = {_n(s4.a_bound[0])} 1/kg at 1000 kg/m$^3$ "
-        f"(ratio {_n(s4.a_bound[0] / s4.a_max[0])} = 11/20 within the 1e-7 tolerance of `a_bound`).",
+        f"* $A_{{max}}$ = {num(s4.a_max[0])} 1/kg, $a_{{bound}}$ = {num(s4.a_bound[0])} 1/kg at 1000 kg/m$^3$ "
+        f"(ratio {num(s4.a_bound[0] / s4.a_max[0])} = 11/20 within the 1e-7 tolerance of `a_bound`).",
         "",
         "Fig. 4 at $k_n=10^{10}$ N/m, $\\rho=1000$ kg/m$^3$ (steps in ms):",
         "",
@@ -253,14 +245,14 @@ def section_fig45() -> list[str]:
         *_pair_table(s5, 1),
         "",
         "* Claim 'Decreasing the particle stiffness increases the critical time step irrespective of damping': "
-        f"$\\Delta t(10^{{10}})/\\Delta t(10^{{11}})$ = {_n(ratio_k46[0])} ... {_n(ratio_k46[-1])} (Eq. (46)) and "
-        f"{_n(ratio_k[0])} ... {_n(ratio_k[-1])} (velocity Verlet) for N = 0..5, i.e. $\\sqrt{{10}}$: **reproduced**.",
+        f"$\\Delta t(10^{{10}})/\\Delta t(10^{{11}})$ = {num(ratio_k46[0])} ... {num(ratio_k46[-1])} (Eq. (46)) and "
+        f"{num(ratio_k[0])} ... {num(ratio_k[-1])} (velocity Verlet) for N = 0..5, i.e. $\\sqrt{{10}}$: **reproduced**.",
         "* Claim 'increasing the particle density ... increases the critical time step': "
-        f"$\\Delta t(5000)/\\Delta t(500)$ = {_n(ratio_r[0])} ... {_n(ratio_r[-1])} = $\\sqrt{{10}}$: **reproduced**.",
+        f"$\\Delta t(5000)/\\Delta t(500)$ = {num(ratio_r[0])} ... {num(ratio_r[-1])} = $\\sqrt{{10}}$: **reproduced**.",
         f"* Trend with N (the curves of Figs. 4-5): Eq. (46) {describe_trend(s4.printed_eq46[:, 0])}; the verified "
         f"bound of velocity Verlet {describe_trend(s4.verified_a_max['velocity-verlet'][:, 0])}; that of the centred "
         f"leapfrog {describe_trend(s4.verified_a_max['leapfrog-centred'][:, 0])}.  At the printed step for N = 1 "
-        f"($\\zeta=1/2$, $\\tau={_n(tau46)}$) $\\rho$ = {_n(r_vv)} (velocity-verlet), {_n(r_lc)} (leapfrog-centred): "
+        f"($\\zeta=1/2$, $\\tau={num(tau46)}$) $\\rho$ = {num(r_vv)} (velocity-verlet), {num(r_lc)} (leapfrog-centred): "
         "the plotted damped steps are unstable.  **differs**.",
         "",
     ]
@@ -326,33 +318,33 @@ def section_fig6() -> tuple[list[str], dict]:
         "| --- | --- | --- | --- | --- | --- | --- |",
     ]
     for e1, e2, a, b, c, trans, rotd, ratio, lib in spots:
-        lines.append(f"| {_n(e1)} | {_n(e2)} | {_n(a, 4)}, {_n(b, 4)}, {_n(c, 4)} | {_n(trans * 1e3)} | "
-                     f"{_n(rotd)} | {_n(ratio)} | {_n(lib)} |")
+        lines.append(f"| {num(e1)} | {num(e2)} | {num(a, 4)}, {num(b, 4)}, {num(c, 4)} | {num(trans * 1e3)} | "
+                     f"{num(rotd)} | {num(ratio)} | {num(lib)} |")
     lines += [
         "",
         "* Claim 'the critical time step decreases as the aspect ratios $e_1$ or $e_2$ increase' (translation-"
         f"dominant) and 'the same is true using the rotation-dominant expression': strictly decreasing along both "
         f"grid directions: Eq. (48) {dec_t}, verified translation step {dec_v}, rotation {dec_r}.  The direction is "
         "reproduced; the size is not.  From the sphere $e_1=e_2=1$ to $e_1=e_2=5$ the translation-dominant step of "
-        f"Eq. (48) falls by {_n(100 * fall_p, 4)} % (independently, with quadrature inertia: {_n(100 * fall_p_ind, 4)} %), "
-        f"the verified step ($a_{{bound}}$) by only {_n(100 * fall_v, 4)} % (independently, with quadrature inertia "
-        f"and the arm term's supremum sampled on 320 000 surface points: {_n(100 * fall_v_ind, 4)} %).  $A\\,m$ is "
-        f"{_n(am[0], 4)} for both at the sphere; at (5, 5) Eq. (26) gives {_n(am[1], 4)}, the verified bound "
-        f"{_n(ab[1], 4)}, {_n(am[1] / ab[1], 4)} times less.  The strong decrease with aspect ratio that Fig. 6A "
+        f"Eq. (48) falls by {num(100 * fall_p, 4)} % (independently, with quadrature inertia: {num(100 * fall_p_ind, 4)} %), "
+        f"the verified step ($a_{{bound}}$) by only {num(100 * fall_v, 4)} % (independently, with quadrature inertia "
+        f"and the arm term's supremum sampled on 320 000 surface points: {num(100 * fall_v_ind, 4)} %).  $A\\,m$ is "
+        f"{num(am[0], 4)} for both at the sphere; at (5, 5) Eq. (26) gives {num(am[1], 4)}, the verified bound "
+        f"{num(ab[1], 4)}, {num(am[1] / ab[1], 4)} times less.  The strong decrease with aspect ratio that Fig. 6A "
         "shows therefore comes from the looseness of Eq. (26), not from the contact mechanics: Eq. (26) divides the "
         "longest semi-axis squared by the moment about that same axis, $a^2/I_{xx}$, which grows fast with "
         "elongation, but a force applied at the tip of the $x$ axis has no moment about it, and the verified bound "
         "pairs each semi-axis only with the moments about the other axes ($\\max_{i\\ne j} d_i^2/I_j$): "
         "**differs** (direction reproduced, magnitude an artefact of Eq. (26)).",
         "* Claim 'the translation-dominant time step is more than four orders of magnitude smaller than the "
-        f"rotation-dominant time step': ratio Eq. (57)/Eq. (48) over the grid: minimum {_n(st['min_ratio'])}, largest "
-        f"finite {_n(st['max_finite_ratio'])}, unbounded at $e_1=e_2=1$ ($B_{{max}}=0$); above $10^4$ on "
-        f"{st['points_over_1e4']} of {st['points']} points (fraction {_n(st['fraction_over_1e4'], 4)}).  Along rays "
-        f"from (1, 1) the ratio falls through $10^4$ at distance {_n(region['t_min'], 4)} to {_n(region['t_max'], 4)} "
+        f"rotation-dominant time step': ratio Eq. (57)/Eq. (48) over the grid: minimum {num(st['min_ratio'])}, largest "
+        f"finite {num(st['max_finite_ratio'])}, unbounded at $e_1=e_2=1$ ($B_{{max}}=0$); above $10^4$ on "
+        f"{st['points_over_1e4']} of {st['points']} points (fraction {num(st['fraction_over_1e4'], 4)}).  Along rays "
+        f"from (1, 1) the ratio falls through $10^4$ at distance {num(region['t_min'], 4)} to {num(region['t_max'], 4)} "
         f"(Brent's method, 19 directions) and stays below it out to the grid edge ({region['monotone_beyond']}).  "
-        f"At a=3, b=2, c=1 the ratio is {_n(paper)} ({_n(math.log10(paper), 3)} orders); with the verified "
-        f"$a_{{bound}}$ it is {_n(paper_v)} (the verified step is larger, so the ratio smaller; over the grid "
-        f"{_n(np.nanmin(stv))} to {_n(np.nanmax(stv[np.isfinite(stv)]))} away from the sphere).  **differs**: the "
+        f"At a=3, b=2, c=1 the ratio is {num(paper)} ({num(math.log10(paper), 3)} orders); with the verified "
+        f"$a_{{bound}}$ it is {num(paper_v)} (the verified step is larger, so the ratio smaller; over the grid "
+        f"{num(np.nanmin(stv))} to {num(np.nanmax(stv[np.isfinite(stv)]))} away from the sphere).  **differs**: the "
         "claim holds only in a neighbourhood of the sphere of radius < 0.1 in $(e_1, e_2)$; it fails for the "
         f"'representative situation' itself.  With $\\omega_{{max}}$ = 1 rad/s the ratio scales as "
         "$1/\\omega_{max}$, so the statement depends on that choice as well.",

@@ -5,7 +5,6 @@ relative 1e-9 (``_records_compare``: they carry the last bits of floating point,
 processor's SIMD loops); ``test_records_dispatch.py`` rebuilds the records under another NumPy
 dispatch.
 """
-import importlib.util
 import sys
 from pathlib import Path
 
@@ -13,18 +12,11 @@ import pytest
 from _records_compare import differences
 
 DERIVATIONS = Path(__file__).resolve().parents[1] / "derivations"
+sys.path.insert(0, str(DERIVATIONS))
+import run_all  # noqa: E402  (derivations/ is not a package: its runner and scripts load from the folder)
 
-
-def _load(path):
-    if str(path.parent) not in sys.path:  # the scripts share helper modules (derivations/_*.py)
-        sys.path.insert(0, str(path.parent))
-    spec = importlib.util.spec_from_file_location(f"derivations_{path.stem}", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-SCRIPTS = sorted(DERIVATIONS.glob("sec*.py"))
+_load = run_all.load
+SCRIPTS = run_all.scripts()
 
 
 def test_there_are_records():
@@ -34,6 +26,7 @@ def test_there_are_records():
 @pytest.mark.parametrize("script", SCRIPTS, ids=lambda p: p.stem)
 def test_record_has_not_drifted(script):
     module = _load(script)
+    assert module.RECORD == script.stem + ".md", f"{script.name} writes {module.RECORD}: name them alike"
     record = DERIVATIONS / "records" / module.RECORD
     assert record.exists(), f"{record.name} missing: run `python3 dev.py generate`"
     diff = differences(record.read_text(), module.build(), record.name)

@@ -137,7 +137,7 @@ def build() -> str:
     out = [
         "# Clumps: mass properties and the critical step (`dtcrit.bodies.clump`)",
         "",
-        "Produced by `derivations/secC_clumps.py`.",
+        "Produced by `derivations/clumps.py`.",
         "",
         "## The union of two overlapping spheres",
         "",

@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 import sympy as sp
+from _shared.text import num
 
 from dtcrit.integrators.schemes import NAMES
 from dtcrit.packing import LinearLaw, analyse, find_sphere_contacts, lattice, random_packing
@@ -21,10 +22,6 @@ from dtcrit.symbolic.integrators import C, K, characteristic_polynomial, h, lam
 
 RECORD = "dense_bound.md"
 KS_RATIOS = (0.0, 0.1, 2 / 7, 1.0, 2.0)
-
-
-def g(x: float, digits: int = 4) -> str:
-    return f"{x:.{digits}g}"
 
 
 def affine_in_k_and_c(name: str) -> bool:
@@ -70,7 +67,7 @@ def ratio_rows() -> list[tuple[str, float, float, float]]:
             z = int(rep.cn_max)
             res = critical_step(parse_scene(_poly_scene(packing, kn, ratio * kn, z)))
             how = "sphere" if "sphere-packing" in res.dense.reason else "block"
-            rows.append((f"{label}, ks/kn = {g(ratio, 3)}, z = {z}", res.dt_dense / rep.dt_crit,
+            rows.append((f"{label}, ks/kn = {num(ratio, 3)}, z = {z}", res.dt_dense / rep.dt_crit,
                          res.dt_isolated / rep.dt_crit, how))
     return rows
 
@@ -80,7 +77,7 @@ def build() -> str:
         "# A step for any packing with at most z contacts per particle (`coordination_max`)",
         "",
         "Source: Otsubo, O'Sullivan & Shire 2017 (the two-particle step is an upper bound on a packing's step, "
-        "unsafe in dense packings); the bound and its proof are dtcrit's.  Built by `derivations/secD_dense.py`; "
+        "unsafe in dense packings); the bound and its proof are dtcrit's.  Built by `derivations/dense_bound.py`; "
         "regenerate with `python3 dev.py generate`.",
         "",
         "## The bound",
@@ -147,14 +144,14 @@ def build() -> str:
     ]
     rows = ratio_rows()
     for label, dense, iso, how in rows:
-        out.append(f"| {label} | {how} | {g(dense)} | {g(iso)} |")
+        out.append(f"| {label} | {how} | {num(dense, 4)} | {num(iso, 4)} |")
     dense = sorted(r[1] for r in rows)
     iso = sorted(r[2] for r in rows)
     out += [
         "",
-        f"dt_dense / dt_exact over {len(rows)} cases: min {g(dense[0])}, median {g(dense[len(dense) // 2])}, "
-        f"max {g(dense[-1])} (never above 1).  The isolated-contact step is above the exact one in every case: "
-        f"min {g(iso[0])}, median {g(iso[len(iso) // 2])}, max {g(iso[-1])}.",
+        f"dt_dense / dt_exact over {len(rows)} cases: min {num(dense[0], 4)}, median {num(dense[len(dense) // 2], 4)}, "
+        f"max {num(dense[-1], 4)} (never above 1).  The isolated-contact step is above the exact one in every case: "
+        f"min {num(iso[0], 4)}, median {num(iso[len(iso) // 2], 4)}, max {num(iso[-1], 4)}.",
         "",
         "`sphere`: the geometric sphere-packing bound (step 0), used for sphere-only scenes without walls with at "
         "most six sizes; `block`: step 1 alone (here the polydisperse packings, whose 64 sizes are each a species).  "

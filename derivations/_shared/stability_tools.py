@@ -1,4 +1,4 @@
-"""Shared helpers of ``sec4_stability.py``: sample damping ratios, deterministic number text, 50-digit
+"""Helpers of ``sec4_stability.py``: sample damping ratios, deterministic number text, 50-digit
 spectral radii and critical steps of the integrators' amplification matrices (mpmath), and the
 printed bounds (Eq. (46), Belytschko's Eq. (34), the CFL note) as functions of the damping ratio.
 """

@@ -13,6 +13,7 @@ import math
 import numpy as np
 import sympy as sp
 from scipy.integrate import solve_ivp
+from _shared.text import num
 
 import dtcrit.impact as imp
 from dtcrit.integrators.schemes import NAMES
@@ -30,20 +31,8 @@ PHASES = 64
 ZETAS = (0.0, 0.05, 0.2)
 
 
-def _f(x, digits: int = 6) -> str:
-    if x is None:
-        return "-"
-    if isinstance(x, float) and math.isinf(x):
-        return "inf"
-    return f"{x:.{digits}g}"
-
-
 def _ranges(rs) -> str:
     return "none" if not rs else ", ".join(f"[{a:.2f}, {b:.2f}]" for a, b in rs)
-
-
-def _latex(e) -> str:
-    return sp.latex(e)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -80,19 +69,19 @@ def section_bound() -> list[str]:
             exprs = [cp.tau_expr.subs(zeta_nn, z) for cp in pieces]
             same = len(exprs) == 1 and sp.simplify(exprs[0] - note) == 0
             text = "; ".join(
-                f"${_latex(e)}$" + ("" if len(pieces) == 1 else f" ($\\zeta\\in[{cp.piece.zeta_lo}, {_latex(cp.piece.zeta_hi)}]$)")
+                f"${sp.latex(e)}$" + ("" if len(pieces) == 1 else f" ($\\zeta\\in[{cp.piece.zeta_lo}, {sp.latex(cp.piece.zeta_hi)}]$)")
                 for e, cp in zip(exprs, pieces)
             )
         else:
             same = False
-            text = "smallest positive root of $" + _latex(pieces[0].piece.factor.poly.as_expr()) + "$"
+            text = "smallest positive root of $" + sp.latex(pieces[0].piece.factor.poly.as_expr()) + "$"
         t02 = critical_dt(name, 1.0, 0.4, 1.0).omega_dt
         t1 = critical_dt(name, 1.0, 2.0, 1.0).omega_dt
         verdict = "reproduced (identical)" if same else "differs"
-        lines.append(f"| {name} | {text} | {verdict} | {_f(t02)} | {_f(t1)} |")
+        lines.append(f"| {name} | {text} | {verdict} | {num(t02)} | {num(t1)} |")
     lines += [
         "",
-        f"The note's bound gives {_f(note_02)} at $\\zeta=0.2$ and {_f(note_1)} at $\\zeta=1$.  It is the exact bound of "
+        f"The note's bound gives {num(note_02)} at $\\zeta=0.2$ and {num(note_1)} at $\\zeta=1$.  It is the exact bound of "
         "the central difference with the damping force evaluated from the lagged half-step velocity "
         "(`leapfrog`, `symplectic-euler`) or, in velocity Verlet, from $v_{n+1/2}$ (`velocity-verlet`): "
         "**reproduced for these three**.  It is not the bound of the other variants: with the damping "
@@ -143,11 +132,11 @@ def section_exact() -> list[str]:
     ]
     for regime in ("undamped", "underdamped", "critical", "overdamped"):
         sub = {"underdamped": "w=\\sqrt{1-\\zeta^2}", "overdamped": "\\mu=\\sqrt{\\zeta^2-1}"}.get(regime, "")
-        lines.append(f"* {regime}: $d(s)={_latex(sic.contact_motion(regime))}$" + (f" with ${sub}$" if sub else ""))
+        lines.append(f"* {regime}: $d(s)={sp.latex(sic.contact_motion(regime))}$" + (f" with ${sub}$" if sub else ""))
     lines += [
         "",
         "**Geometric separation** (the note's equation; contact while $d\\ge0$, the dashpot force may turn "
-        "tensile): $d$ first returns to 0 at $s=\\pi/w$, where $d'=" + _latex(v_e) + "$.",
+        "tensile): $d$ first returns to 0 at $s=\\pi/w$, where $d'=" + sp.latex(v_e) + "$.",
         "",
         f"* $t_d$: **{'reproduced' if td_ok else 'differs'}** (for $\\zeta<1$, units $1/\\omega$).",
         f"* $v_e$: **{'reproduced' if ve_ok else 'differs'}** (for $\\zeta<1$).",
@@ -164,12 +153,12 @@ def section_exact() -> list[str]:
         r"\frac{\operatorname{arccosh}\zeta}{\sqrt{\zeta^2-1}}\ (\zeta>1),\qquad \frac{v_e}{v_0}=e^{-2\zeta g(\zeta)}$$",
         "",
         "$g$ is one analytic function (both forms solve $(1-\\zeta^2)g'=\\zeta g-1$, regular at 1); near "
-        "$\\zeta=1$ the runtime uses its Taylor polynomial $" + _latex(sic.g_series()) + "$ in $u=1-\\zeta$ "
+        "$\\zeta=1$ the runtime uses its Taylor polynomial $" + sp.latex(sic.g_series()) + "$ in $u=1-\\zeta$ "
         "(checked against SymPy's direct series).  The bodies always separate; after release they coast "
         "apart and the overlap closes after a further $2\\zeta/\\omega$.",
         "",
         "Released values from the SymPy derivation: "
-        + "; ".join(f"{r}: $s_f={_latex(v[0])}$" for r, v in rel.items()) + ".",
+        + "; ".join(f"{r}: $s_f={sp.latex(v[0])}$" for r, v in rel.items()) + ".",
         "",
         "Check against DOP853 (rtol $10^{-12}$) with event detection (geometric: $d=0$; force-based: "
         "$d+2\\zeta d'=0$), dimensionless:",
@@ -187,13 +176,13 @@ def section_exact() -> list[str]:
         diffs += [abs(s_f / ex.force_release_time - 1), abs(r_f / ex.force_exit_ratio - 1)]
         worst = max(diffs)
         lines.append(
-            f"| {zz:g} | {_f(ex.duration)} | {_f(ex.exit_ratio)} | {_f(ex.force_release_time)} | "
-            f"{_f(ex.force_exit_ratio)} | {'< 1e-9' if worst < 1e-9 else _f(worst, 2)} |"
+            f"| {zz:g} | {num(ex.duration)} | {num(ex.exit_ratio)} | {num(ex.force_release_time)} | "
+            f"{num(ex.force_exit_ratio)} | {'< 1e-9' if worst < 1e-9 else num(worst, 2)} |"
         )
     lines += [
         "",
         "The force-based exit speed is larger than the geometric one (no tensile phase): at $\\zeta=0.2$ "
-        f"{_f(imp.exact_impact(0.2).force_exit_ratio, 4)} vs {_f(imp.exact_impact(0.2).exit_ratio, 4)}.  "
+        f"{num(imp.exact_impact(0.2).force_exit_ratio, 4)} vs {num(imp.exact_impact(0.2).exit_ratio, 4)}.  "
         "The time-stepped simulation below uses the **geometric** convention, the note's equation.",
         "",
     ]
@@ -222,13 +211,13 @@ def section_stepped() -> list[str]:
         "`velocity-verlet-predicted` (undamped) the positions obey $x_{n+1}-2x_n+x_{n-1}=-\\tau^2x_n$ in contact "
         "from any state, the first contact step continues the free-flight history, and the exit speed is "
         "$(x_{m-1}-x_m)/\\tau$: the five schemes give identical impacts (residuals 0).  The recurrence "
-        "conserves $Q=" + _latex(sis.central_difference_invariant()) + "$ ($v$ the half-step velocity).  With "
+        "conserves $Q=" + sp.latex(sis.central_difference_invariant()) + "$ ($v$ the half-step velocity).  With "
         "the exit phase $\\psi=-x_m/(x_{m-1}-x_m)\\in(0,1]$:",
         "",
-        "$$\\frac{v_e}{v_0}=" + _latex(sis.central_difference_ratio_expr()) + ",\\qquad "
+        "$$\\frac{v_e}{v_0}=" + sp.latex(sis.central_difference_ratio_expr()) + ",\\qquad "
         "\\sqrt{1-\\tau^2/4}\\le\\frac{v_e}{v_0}\\le\\frac{1}{\\sqrt{1-\\tau^2/4}}$$",
         "",
-        "with $x_n=" + _latex(sis.central_difference_position_expr()) + "$.  If $\\pi/\\theta=N$ "
+        "with $x_n=" + sp.latex(sis.central_difference_position_expr()) + "$.  If $\\pi/\\theta=N$ "
         "($\\cos\\theta=1-\\tau^2/2$), the exit mirrors the entry ($\\psi=\\phi$, SymPy) and $v_e=v_0$ for every "
         "phase: $\\tau_N=2\\sin(\\pi/(2N))$.  A contact beginning on a step ($\\phi=0$) never loses energy.",
         "",
@@ -240,7 +229,7 @@ def section_stepped() -> list[str]:
     inside = bool(np.all((run.ratios >= lo[:, None] * (1 - 1e-12)) & (run.ratios <= hi[:, None] * (1 + 1e-12))))
     lines += [
         f"* closed form vs simulation on the grid ($\\tau<2$, {PHASES} phases): max relative difference "
-        f"{'< 1e-12' if rel < 1e-12 else _f(rel, 2)}; bounds hold: {'yes' if inside else 'no'}.",
+        f"{'< 1e-12' if rel < 1e-12 else num(rel, 2)}; bounds hold: {'yes' if inside else 'no'}.",
         "",
         "| $N$ | $\\tau_N$ | simulated max over phases of $|v_e/v_0-1|$ | max $v_e/v_0$ at the midpoint to $\\tau_{N+1}$ |",
         "| --- | --- | --- | --- |",
@@ -250,12 +239,12 @@ def section_stepped() -> list[str]:
         t_next = 2 * math.sin(math.pi / (2 * (N + 1)))
         r_mid = imp.simulate_impacts("leapfrog", [(t + t_next) / 2], phases, 0.0).ratios[0]
         dev = float(np.max(np.abs(r - 1)))
-        lines.append(f"| {N} | {t:.6f} | {'< 1e-11' if dev < 1e-11 else _f(dev, 2)} | {_f(float(r_mid.max()), 5)} |")
+        lines.append(f"| {N} | {t:.6f} | {'< 1e-11' if dev < 1e-11 else num(dev, 2)} | {num(float(r_mid.max()), 5)} |")
     lines += [
         "",
         "Mean over phases of $v_e/v_0$ (undamped, leapfrog): "
         + ", ".join(
-            f"$\\tau={t:g}$: {_f(float(np.mean(imp.simulate_impacts('leapfrog', [t], phases, 0.0).ratios)), 8)}"
+            f"$\\tau={t:g}$: {num(float(np.mean(imp.simulate_impacts('leapfrog', [t], phases, 0.0).ratios)), 8)}"
             for t in (0.1, 0.5, 1.2, 1.8)
         )
         + ".",
@@ -287,8 +276,8 @@ def section_stepped() -> list[str]:
             worst_below[(name, zz)] = float(below.max()) if below.size else None
             first = f"{grid[above_ex][0]:.2f}" if above_ex.any() else "-"
             lines.append(
-                f"| {name} | {zz:g} | {_f(ex.exit_ratio)} | {_f(tau_star)} | {_ranges(above_one)} | "
-                f"{first}, {above_ex.mean():.2f} | {_f(float(below.max()), 4) if below.size else '-'} |"
+                f"| {name} | {zz:g} | {num(ex.exit_ratio)} | {num(tau_star)} | {_ranges(above_one)} | "
+                f"{first}, {above_ex.mean():.2f} | {num(float(below.max()), 4) if below.size else '-'} |"
             )
     cd = summary[("leapfrog", 0.0)]
     lines += [
@@ -310,8 +299,8 @@ def section_stepped() -> list[str]:
         "almost every step (a discretisation error of the dissipation, not energy creation).",
         "* The linear bound does not guarantee $v_e\\le v_0$ for an impact: with $\\zeta=0.05$ and $0.2$ every "
         "variant creates energy on part of its linearly stable range (column 'largest max below $\\tau^*$' > 1; "
-        f"e.g. leapfrog, $\\zeta=0.05$: {_f(worst_below[('leapfrog', 0.05)], 4)} below $\\tau^*$="
-        f"{_f(imp.linear_bound('leapfrog', 0.05), 5)}), and forward Euler at $\\zeta=0.2$ does so even on "
+        f"e.g. leapfrog, $\\zeta=0.05$: {num(worst_below[('leapfrog', 0.05)], 4)} below $\\tau^*$="
+        f"{num(imp.linear_bound('leapfrog', 0.05), 5)}), and forward Euler at $\\zeta=0.2$ does so even on "
         "[0.36, 0.38], inside its stable range $\\tau<0.4$.",
         "* Forward Euler and `paper-eq40` create energy at every step undamped, and at most steps with light "
         "damping (table).",
@@ -326,14 +315,14 @@ def section_hertz() -> list[str]:
     lines = [
         "## 4. Hertz contact and the linearised bound",
         "",
-        "$m\\ddot d=-k_h d^{3/2}$ ($d\\ge0$), undamped.  SymPy: $d_{max}=" + _latex(hz["dmax"]) + "$, duration "
-        "$t_c=\\tfrac45 B(\\tfrac25,\\tfrac12)\\,d_{max}/v_0=" + _f(float(hz["duration_factor"]), 6) + "\\,d_{max}/v_0$ "
+        "$m\\ddot d=-k_h d^{3/2}$ ($d\\ge0$), undamped.  SymPy: $d_{max}=" + sp.latex(hz["dmax"]) + "$, duration "
+        "$t_c=\\tfrac45 B(\\tfrac25,\\tfrac12)\\,d_{max}/v_0=" + num(float(hz["duration_factor"]), 6) + "\\,d_{max}/v_0$ "
         "(Beta integral, checked by 50-digit quadrature and DOP853 in the tests; with $k_h=\\tfrac43E^*\\sqrt{R^*}$ "
         f"it is ${float(hz['duration_factor']) * (15 / 16) ** 0.4:.4f}\\,(m^2/(R^*E^{{*2}}v_0))^{{1/5}}$, the "
         "2.87 quoted for LIGGGHTS in the reference notes), tangent frequency at "
         "$d_{max}$: $\\omega_t=\\sqrt{1.5\\,k_h d_{max}^{1/2}/m}$.  In units of $d_{max}$ and $1/\\omega_t$: "
         "$u''=-\\tfrac23u^{3/2}$, entry speed $\\sqrt{8/15}$, duration "
-        + _f(float(hz["scaled_duration"]), 6) + "$/\\omega_t$.",
+        + num(float(hz["scaled_duration"]), 6) + "$/\\omega_t$.",
         "",
         "Linearised bound: the integrator's undamped linear bound applied to the tangent stiffness at maximum "
         "overlap, $\\omega_t\\Delta t\\le\\tau^*$.  Energy error of one impact: max over phases of "
@@ -349,17 +338,17 @@ def section_hertz() -> list[str]:
         largest = st["largest_omega_dt_within_threshold"]
         share = f" ({largest / tau_star:.2f})" if (largest is not None and tau_star > 0) else ""
         lines.append(
-            f"| {name} | {_f(tau_star)} | {_f(st['energy_error_at_bound'], 3)} | "
-            f"{_f(st.get('linear_contact_energy_error_at_bound'), 3)} | {_f(largest, 3)}{share} | "
-            f"{_f(st['linear_contact_largest_omega_dt_within_threshold'], 3)} |"
+            f"| {name} | {num(tau_star)} | {num(st['energy_error_at_bound'], 3)} | "
+            f"{num(st.get('linear_contact_energy_error_at_bound'), 3)} | {num(largest, 3)}{share} | "
+            f"{num(st['linear_contact_largest_omega_dt_within_threshold'], 3)} |"
         )
     lf = studies["leapfrog"]
     lines += [
         "",
-        f"Verdict: **no**.  At the linearised bound $\\omega_t\\Delta t={_f(lf['linearised_bound'])}$ the central "
-        f"difference ends the Hertz impact with $v_e^2/v_0^2$ off by {_f(lf['energy_error_at_bound'], 3)} (max over "
+        f"Verdict: **no**.  At the linearised bound $\\omega_t\\Delta t={num(lf['linearised_bound'])}$ the central "
+        f"difference ends the Hertz impact with $v_e^2/v_0^2$ off by {num(lf['energy_error_at_bound'], 3)} (max over "
         f"phases), far above 1 %; the error stays within 1 % only up to $\\omega_t\\Delta t="
-        f"{_f(lf['largest_omega_dt_within_threshold'], 3)}$ "
+        f"{num(lf['largest_omega_dt_within_threshold'], 3)}$ "
         f"({lf['largest_omega_dt_within_threshold'] / lf['linearised_bound']:.2f} of the bound) on this grid.  The "
         "linear contact behaves alike (its one-impact energy gain is bounded by $\\tau^2/(4-\\tau^2)$, which "
         "diverges at $\\tau^*=2$).  Forward Euler has no stable undamped step, so no linearised bound.",
@@ -372,7 +361,7 @@ def build() -> str:
     head = [
         "# CFL note (seed 004): one-dimensional impact, re-derived",
         "",
-        "Generated by `derivations/sec_cfl_impact.py`; library: `dtcrit.symbolic.impact`, `dtcrit.impact`.  "
+        "Generated by `derivations/cfl_impact.py`; library: `dtcrit.symbolic.impact`, `dtcrit.impact`.  "
         "Dimensionless throughout: time $s=\\omega t$ ($\\omega=\\sqrt{k/m}$), overlap in $v_0/\\omega$, speed in "
         "$v_0$, $\\zeta=c/(2\\sqrt{km})$, step $\\tau=\\omega\\Delta t$.",
         "",

@@ -87,7 +87,7 @@ def build() -> str:
         "",
         "Source: Peng, Burns & Hanley 2020 (seed 000), Sections 2-4 (the contact ODE `xdd = -A (K x + C xd)`, "
         "Eqs. (29)-(30)); the LAMMPS conventions of `shared/reference/engine-conventions.md`.  Built by "
-        "`derivations/secM_modes.py` with `dtcrit.symbolic.kinematics`; regenerate with `python3 dev.py generate`.",
+        "`derivations/step_modes.py` with `dtcrit.symbolic.kinematics`; regenerate with `python3 dev.py generate`.",
         "",
         "## Two spheres: the modes separate exactly",
         "",

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import mpmath as mp
 import sympy as sp
-from _sec4_tools import (
+from .stability_tools import (
     BETAS,
     DPS,
     ZETAS,

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import mpmath as mp
 import sympy as sp
-from _sec4_tools import DPS, ZETAS, A, _n, _verdict, _zero, beta, c, eigenvalues, k, m, mpz, rho, tau_eq46, tau_star
+from .stability_tools import DPS, ZETAS, A, _n, _verdict, _zero, beta, c, eigenvalues, k, m, mpz, rho, tau_eq46, tau_star
 
 from dtcrit.symbolic import paper_section4 as p4
 from dtcrit.symbolic import roots as R
@@ -128,7 +128,7 @@ def section_scheme() -> list[str]:
         "* The text says velocity Verlet 'would result in a 5x5 amplification matrix'.  With state "
         "$(x,\\dot x,\\ddot x)$ it is 3x3; one eigenvalue is identically 0 and the other two are those of symplectic "
         "Euler / leapfrog (`dtcrit.symbolic.integrators.characteristic_polynomial`): the same polynomial "
-        f"$\\lambda^2+\\lambda(\\tau^2+2\\tau\\zeta-2)+1-2\\tau\\zeta$ for all three.",
+        "$\\lambda^2+\\lambda(\\tau^2+2\\tau\\zeta-2)+1-2\\tau\\zeta$ for all three.",
         "",
         "Printed (41): $\\begin{bmatrix}1-\\lambda&\\Delta t&0\\\\0&1-\\lambda&\\Delta t\\\\K_j&C_j&-\\lambda\\end{bmatrix}=0$.  "
         "Repair: the bracket is a determinant, $\\det(\\cdot)=0$.",

@@ -1,10 +1,12 @@
 """Symbolic sections of the Sections 2-3 record: the rotation convention, the general kinematics
 (Eqs. (1)-(20)), Figure 2's printed entries against the derived ones, and the tip configurations of
-Eq. (26), with the number helpers they share with ``sec2_3_kinematics.py``.
+Eq. (26), used by ``sec2_3_kinematics.py``.
 """
 from __future__ import annotations
 
 import sympy as sp
+
+from .text import entry_verdict, latex
 
 from dtcrit.symbolic import kinematics as kin
 from dtcrit.symbolic import printed_entries as printed
@@ -12,22 +14,8 @@ from dtcrit.symbolic import quaternions as quat
 from dtcrit.symbolic import tip_configurations as tips
 
 
-def _n(x: float, digits: int = 6) -> str:
-    return f"{float(x):.{digits}g}"
-
-
-def _latex(e) -> str:
-    return sp.latex(e, mul_symbol=None)
-
-
 def _mat(R) -> str:
-    return _latex(sp.Matrix(R))
-
-
-def _verdict(k) -> str:
-    if k is None:
-        return "illegible"
-    return "**reproduced**" if k >= 0 else "**differs**"
+    return latex(sp.Matrix(R))
 
 
 # ============================================================================================
@@ -110,7 +98,7 @@ def _printed_for(panel: str, e: printed.PrintedEntry, k: int | None) -> str:
     expr = printed.parse_reading(text)
     if panel == "C":
         expr = expr.subs(tips.P2.half_lengths[0], tips.P2.half_lengths[1])
-    return f"${_latex(expr)}$"
+    return f"${latex(expr)}$"
 
 
 def section_fig2() -> tuple[list[str], dict]:
@@ -169,9 +157,9 @@ def section_fig2() -> tuple[list[str], dict]:
             f"{'= length of the arm of particle 2' if b.arm_length else 'literal'}.  "
             f"The library's `FIG2['{panel}']` is this candidate: {'yes' if same else '**no**'}.",
             "",
-            f"* $R_1 = {_mat(lib.R1)}$, $q_1 = {_latex(sp.Matrix(q1).T)}$; $R_2 = {_mat(lib.R2)}$, "
-            f"$q_2 = {_latex(sp.Matrix(q2).T)}$ (rows of $R_2$: body axes of particle 2 in global components).",
-            f"* Arms (global): $r_1 = {_latex(lib.arm_global(1).T)}$, $r_2 = {_latex(lib.arm_global(2).T)}$; outward normals at "
+            f"* $R_1 = {_mat(lib.R1)}$, $q_1 = {latex(sp.Matrix(q1).T)}$; $R_2 = {_mat(lib.R2)}$, "
+            f"$q_2 = {latex(sp.Matrix(q2).T)}$ (rows of $R_2$: body axes of particle 2 in global components).",
+            f"* Arms (global): $r_1 = {latex(lib.arm_global(1).T)}$, $r_2 = {latex(lib.arm_global(2).T)}$; outward normals at "
             f"the two tips opposite (admissible contact of smooth bodies): **{'yes' if lib.normals_opposite() else 'no'}**.",
             "",
             "| entry | printed (reading used) | derived ($\\omega$ local) | $\\omega$ local | $\\omega$ global (Eq. 16) |",
@@ -190,12 +178,12 @@ def section_fig2() -> tuple[list[str], dict]:
                 which = ""
                 if k is not None and k >= 0 and len(e.readings) > 1:
                     which = f" (reading {k + 1} of {len(e.readings)})"
-                out.append(f"| Eq. ({eq}) {e.entry} | {pr} | ${_latex(sp.factor(d))}$ | {_verdict(k)}{which} | {_verdict(kg)} |")
+                out.append(f"| Eq. ({eq}) {e.entry} | {pr} | ${latex(sp.factor(d))}$ | {entry_verdict(k)}{which} | {entry_verdict(kg)} |")
                 if k is not None and k < 0 and kg is not None and kg < 0:
                     diffs = []
                     for label, dd in (("local", d), ("global", printed.derived_entry(derived_g, e.entry))):
                         diff = sp.factor(sp.cancel(dd - printed.parse_reading(e.readings[0]).subs(subs)))
-                        diffs.append(f"{label}: ${_latex(diff)}$")
+                        diffs.append(f"{label}: ${latex(diff)}$")
                     notes.append(f"* Eq. ({eq}) {e.entry}: derived minus printed (first reading) -- " + "; ".join(diffs) + ".")
         if notes:
             out += ["", "Entries that differ under both readings of $\\omega$:", "", *notes]
@@ -218,8 +206,8 @@ def _overlap_witness() -> list[str]:
     f2 = (local2.T * D * local2)[0]
     return [
         f"With the paper's ellipsoids ($a=3, b=2, c=1$) configuration (A) puts particle 2's centre at "
-        f"${_latex(x2.T)}$ for contact point ${_latex(xc.T)}$; the point ${_latex(q.T)}$ has "
-        f"$x^T D^{{-2}} x = {_latex(f1)}$ in particle 1 and ${_latex(f2)}$ in particle 2 (both $< 1$): the bodies overlap "
+        f"${latex(x2.T)}$ for contact point ${latex(xc.T)}$; the point ${latex(q.T)}$ has "
+        f"$x^T D^{{-2}} x = {latex(f1)}$ in particle 1 and ${latex(f2)}$ in particle 2 (both $< 1$): the bodies overlap "
         "by far more than a contact overlap, so (A) is a kinematic configuration, not an admissible contact "
         "(consistent with Appendix A, whose 'orthogonal' maximiser has the centre of ellipsoid 2 at $z = 3$ m above "
         "the tip $(3,0,0)$).",
@@ -249,7 +237,6 @@ def section_eq26_configs() -> list[str]:
             "are diagonal, so the diagonal entries are the eigenvalues).  Section 5 shows it does not extend to "
             "every admissible contact.", ""]
     sph = kin.sphere_pair_check()
-    m, rho = sph["m"], sph["rho"]
     k_n = sp.Symbol("k_n", positive=True)
     dt = sp.simplify(2 / sp.sqrt(k_n * sph["lambda_max"]))
     out += [
@@ -257,14 +244,14 @@ def section_eq26_configs() -> list[str]:
         "quaternions $q_1, q_2$ and an arbitrary unit normal $n$ (arms $\\pm\\rho n$, $I = \\tfrac25 m\\rho^2$), the "
         "coefficient matrix reduces (modulo $|q_1| = |q_2| = |n| = 1$) to",
         "",
-        f"$$A = {_latex(sph['closed_form'])}$$",
+        f"$$A = {latex(sph['closed_form'])}$$",
         "",
         f"(residual {'zero' if sph['residual'] == sp.zeros(3, 3) else '**non-zero**'}); $n$ is an eigenvector with "
         f"eigenvalue $2/m$ ({'checked' if sph['eigen_along_n'] == sp.zeros(3, 1) else '**fails**'}), every vector normal to "
         f"$n$ has eigenvalue $7/m$ ({'checked' if sph['eigen_across_n'] == sp.zeros(3, 1) else '**fails**'}; trace "
-        f"$= {sph['trace_times_m']}/m$).  Hence $\\lambda_{{\\max}}(A) = {_latex(sph['lambda_max'])}$ from the general code, "
-        f"equal to Eq. (26)'s $A_{{\\max}} = {_latex(sph['a_max_eq26'])}$: **reproduced**, and Eq. (48) gives "
-        f"$\\Delta t = 2/\\sqrt{{k_n \\lambda_{{\\max}}}} = {_latex(dt)}$ = Eq. (49): **reproduced**.",
+        f"$= {sph['trace_times_m']}/m$).  Hence $\\lambda_{{\\max}}(A) = {latex(sph['lambda_max'])}$ from the general code, "
+        f"equal to Eq. (26)'s $A_{{\\max}} = {latex(sph['a_max_eq26'])}$: **reproduced**, and Eq. (48) gives "
+        f"$\\Delta t = 2/\\sqrt{{k_n \\lambda_{{\\max}}}} = {latex(dt)}$ = Eq. (49): **reproduced**.",
         "",
     ]
     return out

@@ -232,7 +232,7 @@ def build() -> str:
     lines = [
         "# Local (non-viscous) damping in leapfrog: the stable step (`dtcrit.integrators.local_damping`)",
         "",
-        "Produced by `derivations/secL_local_damping.py`.",
+        "Produced by `derivations/local_damping.py`.",
         "",
         "## The two laws",
         "",
