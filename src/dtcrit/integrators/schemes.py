@@ -23,7 +23,23 @@ from typing import Callable, Sequence
 
 
 class LinearForce:
-    """``f(x, v) = -K x - C v`` with ``K = k A`` and ``C = c A`` (Peng et al. 2020, Eq. (30))."""
+    """``f(x, v) = -K x - C v`` with ``K = k A`` and ``C = c A`` (Peng et al. 2020, Eq. (30)).
+
+    One contact coordinate: ``K`` and ``C`` are scalars (float, mpmath or SymPy) and ``x``, ``v`` scalars
+    or arrays of independent contacts.
+
+    Parameters
+    ----------
+    K : scalar
+        Stiffness rate ``k A`` [1/s^2].
+    C : scalar
+        Damping rate ``c A`` [1/s].
+
+    Attributes
+    ----------
+    dv : scalar
+        ``df/dv = -C``, read by the scheme that is implicit in the damping term (``leapfrog-centred``).
+    """
 
     def __init__(self, K, C):
         self.K = K
@@ -32,6 +48,31 @@ class LinearForce:
 
     def __call__(self, x, v):
         return -self.K * x - self.C * v
+
+
+class MatrixForce:
+    """``f(x, v) = -K x - C v`` with matrices ``K``, ``C``: coupled degrees of freedom (Peng et al. 2020,
+    Eq. (30) for a block of modes, or a whole packing's ``M^-1 K``, ``M^-1 C``).
+
+    Parameters
+    ----------
+    K : array_like, shape (n, n)
+        Stiffness matrix per unit mass [1/s^2].
+    C : array_like, shape (n, n)
+        Damping matrix per unit mass [1/s].
+
+    Attributes
+    ----------
+    dv : None
+        ``df/dv = -C`` is a matrix here; the scheme implicit in the damping term (``leapfrog-centred``)
+        needs a scalar, so it fails with ``TypeError`` on this force instead of dividing by a matrix.
+    """
+
+    def __init__(self, K, C):
+        self.K, self.C, self.dv = K, C, None
+
+    def __call__(self, x, v):
+        return -(self.K @ x) - self.C @ v
 
 
 Step = Callable[[Sequence, object, LinearForce], tuple]

@@ -25,7 +25,7 @@ import math
 import numpy as np
 
 from dtcrit.errors import InputError
-from dtcrit.integrators.schemes import LinearForce, lookup
+from dtcrit.integrators.schemes import LinearForce, MatrixForce, lookup
 
 SQUARINGS = 40
 LITERAL_STEPS = 256
@@ -33,21 +33,11 @@ GROWTH_TOL = 1e-10
 FACTORS = (0.99, 1.01)
 
 
-class _BlockForce:
-    """``f(x, v) = -K x - C v`` with matrices (a coupled block of modes)."""
-
-    def __init__(self, K, C):
-        self.K, self.C, self.dv = K, C, None
-
-    def __call__(self, x, v):
-        return -(self.K @ x) - self.C @ v
-
-
 def _stepper(integrator, h: float, K, C):
     """One step of the rules on the flat state (all variables of all ``n`` degrees of freedom)."""
     integ = lookup(integrator)
     n = 1 if np.ndim(K) == 0 else np.shape(K)[0]
-    force = LinearForce(K, C) if np.ndim(K) == 0 else _BlockForce(np.asarray(K), np.asarray(C))
+    force = LinearForce(K, C) if np.ndim(K) == 0 else MatrixForce(np.asarray(K), np.asarray(C))
     parts = len(integ.state)
 
     def step(flat: np.ndarray) -> np.ndarray:

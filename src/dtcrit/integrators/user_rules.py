@@ -38,7 +38,7 @@ import re
 from fractions import Fraction
 
 from dtcrit.errors import InputError
-from dtcrit.integrators.schemes import INTEGRATORS, USER_INTEGRATORS, Integrator
+from dtcrit.integrators.schemes import INTEGRATORS, USER_INTEGRATORS, Integrator, MatrixForce
 
 KEYS = ("name", "state", "update")
 RESERVED = ("h", "f")
@@ -333,16 +333,6 @@ def register(integ: Integrator, where: str = "integrator") -> str:
     return integ.name
 
 
-class _MatrixForce:
-    """``f(x, v) = -K x - C v`` with matrices ``K``, ``C`` (a packing's ``M^-1 K``, ``M^-1 C``)."""
-
-    def __init__(self, K, C):
-        self.K, self.C, self.dv = K, C, None
-
-    def __call__(self, x, v):
-        return -(self.K @ x) - self.C @ v
-
-
 def same_update_as(integ, candidates) -> str | None:
     """The first built-in scheme in ``candidates`` whose update is the same map as ``integ``'s for a whole
     packing (state vectors, non-commuting matrices K and C, any h), or None.
@@ -353,14 +343,12 @@ def same_update_as(integ, candidates) -> str | None:
     """
     import numpy as np
 
-    from dtcrit.integrators.schemes import INTEGRATORS
-
     rng = np.random.default_rng(20240601)
     points = []
     for _ in range(3):
         a, b = rng.standard_normal((4, 4)), rng.standard_normal((4, 4))
         state = tuple(rng.standard_normal(4) for _ in integ.state)
-        points.append((state, float(rng.uniform(0.1, 1.0)), _MatrixForce(a @ a.T, b @ b.T)))
+        points.append((state, float(rng.uniform(0.1, 1.0)), MatrixForce(a @ a.T, b @ b.T)))
     for name in candidates:
         other = INTEGRATORS.get(name)
         if other is None or len(other.state) != len(integ.state):

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from dtcrit.integrators.schemes import INTEGRATORS, lookup
+from dtcrit.integrators.schemes import INTEGRATORS, MatrixForce, lookup
 from dtcrit.integrators.stability import mode_dt
 
 LAGGED = ("leapfrog", "symplectic-euler", "velocity-verlet")
@@ -57,10 +57,7 @@ def _symmetric(a_ss: float, a_sr: float, a_rr: float, k: tuple[float, float]) ->
 def _spectral_radius(integrator: str, K: np.ndarray, C: np.ndarray, h: float) -> float:
     scheme = lookup(integrator)  # a built-in or user-written scheme
     n, parts = K.shape[0], len(scheme.state)
-
-    def force(x, v):
-        return -(K @ x) - (C @ v)
-
+    force = MatrixForce(K, C)
     cols = []
     for j in range(parts * n):
         s = np.zeros(parts * n)
