@@ -12,7 +12,25 @@ from dtcrit.integrators.schemes import LinearForce, lookup
 
 
 def matrices(integrator: str, tau, zeta) -> np.ndarray:
-    """Batched amplification matrices, shape ``broadcast(tau, zeta).shape + (d, d)``."""
+    """Batched amplification matrices ``G(tau, zeta)`` of one scheme, built from its update rule.
+
+    Column ``j`` of ``G`` is one step of the rule from the ``j``-th unit state, in scaled units
+    (``K = 1``, ``C = 2 zeta``; Peng et al. 2020, Eq. (30)).
+
+    Parameters
+    ----------
+    integrator : str or Integrator
+        A built-in or registered user scheme (``dtcrit.integrators.schemes.lookup``).
+    tau : float or array_like
+        Dimensionless step ``omega dt``.
+    zeta : float or array_like
+        Damping ratio ``c A / (2 omega)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``broadcast(tau, zeta).shape + (d, d)``, ``d`` the number of state variables.
+    """
     integ = lookup(integrator)
     tau, zeta = np.broadcast_arrays(np.asarray(tau, dtype=float), np.asarray(zeta, dtype=float))
     d = len(integ.state)
@@ -27,13 +45,43 @@ def matrices(integrator: str, tau, zeta) -> np.ndarray:
 
 
 def spectral_radius(integrator: str, tau, zeta) -> np.ndarray:
-    """max |lambda(G)| over all eigenvalues (complex included), by batched ``numpy.linalg.eigvals``."""
+    """Spectral radius ``max |lambda(G)|`` (complex eigenvalues included), by batched ``numpy.linalg.eigvals``.
+
+    Parameters
+    ----------
+    integrator : str or Integrator
+        A built-in or registered user scheme (``dtcrit.integrators.schemes.lookup``).
+    tau : float or array_like
+        Dimensionless step ``omega dt``.
+    zeta : float or array_like
+        Damping ratio ``c A / (2 omega)``.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The spectral radius, a scalar for scalar inputs; the scheme is stable where it is <= 1.
+    """
     rho = np.max(np.abs(np.linalg.eigvals(matrices(integrator, tau, zeta))), axis=-1)
     return rho[()] if rho.ndim == 0 else rho
 
 
 def matrix_mp(integrator: str, tau, zeta):
-    """The amplification matrix as an ``mpmath.matrix`` at the current working precision."""
+    """The amplification matrix as an ``mpmath.matrix`` at the current working precision.
+
+    Parameters
+    ----------
+    integrator : str or Integrator
+        A built-in or registered user scheme (``dtcrit.integrators.schemes.lookup``).
+    tau : float or array_like
+        Dimensionless step ``omega dt``.
+    zeta : float or array_like
+        Damping ratio ``c A / (2 omega)``.
+
+    Returns
+    -------
+    mpmath.matrix
+        ``G`` (d x d), column ``j`` the rule applied to the ``j``-th unit state.
+    """
     import mpmath as mp
 
     integ = lookup(integrator)
@@ -48,7 +96,24 @@ def matrix_mp(integrator: str, tau, zeta):
 
 
 def spectral_radius_mp(integrator: str, tau, zeta, dps: int | None = None):
-    """max |lambda(G)| by ``mpmath.eig`` (at ``dps`` digits, or the current working precision)."""
+    """Spectral radius ``max |lambda(G)|`` by ``mpmath.eig``.
+
+    Parameters
+    ----------
+    integrator : str or Integrator
+        A built-in or registered user scheme (``dtcrit.integrators.schemes.lookup``).
+    tau : float or array_like
+        Dimensionless step ``omega dt``.
+    zeta : float or array_like
+        Damping ratio ``c A / (2 omega)``.
+    dps : int, optional
+        Decimal digits to work at; the current working precision when None.
+
+    Returns
+    -------
+    mpmath.mpf
+        The spectral radius.
+    """
     import mpmath as mp
 
     with mp.workdps(dps or mp.mp.dps):

@@ -55,6 +55,20 @@ def resolve_integrator(name, key: str = "integrator") -> tuple[str, str]:
     """(scheme key, note) for a scheme key or a DEM code's name; InputError for an ambiguous one.
 
     Unknown names are returned unchanged with note "" (the caller's check names the choices).
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``"leapfrog"``), a DEM code's name (``"chrono"``, ``"mfix-ab2"``, table ``ENGINES``)
+        or anything else (returned as is).
+    key : str
+        The input key named in the error.
+
+    Returns
+    -------
+    tuple of (str, str)
+        The scheme key and a note saying which scheme the code uses and where that was read ("" for a
+        scheme key).
     """
     if not isinstance(name, str):
         return name, ""

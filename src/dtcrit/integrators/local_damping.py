@@ -39,7 +39,18 @@ LAWS = ("pfc", "yade")
 
 
 def flip_threshold(alpha):
-    """``omega_max dt`` where the top mode's flip ray (stiffness ``(1 + alpha) K``) reaches eigenvalue -1."""
+    """``omega_max dt = 2/sqrt(1 + alpha)``, where the top mode's flip ray (stiffness ``(1 + alpha) K``) reaches eigenvalue -1.
+
+    Parameters
+    ----------
+    alpha : float or array_like
+        Local damping coefficient.
+
+    Returns
+    -------
+    numpy.ndarray
+        The threshold (a 0-d array for a scalar ``alpha``).
+    """
     return 2.0 / np.sqrt(1.0 + np.asarray(alpha, dtype=float))
 
 
@@ -55,6 +66,18 @@ def force(K, x):
     once, as IEEE 754 prescribes), not by BLAS or ``einsum``, whose kernels and summation order
     depend on the processor: a run near YADE's threshold is chaotic, and whether it grows must not
     follow the last bits of ``K x``.
+
+    Parameters
+    ----------
+    K : numpy.ndarray, shape (n, n) or (B, n, n)
+        Symmetric stiffness matrix [N/m], shared or one per system.
+    x : numpy.ndarray, shape (B, n)
+        Positions ``x_n`` of a batch of ``B`` systems.
+
+    Returns
+    -------
+    numpy.ndarray, shape (B, n)
+        The spring forces [N].
     """
     x = np.asarray(x, dtype=float)
     cols = K.T[None, :, :] if K.ndim == 2 else np.swapaxes(K, 1, 2)  # cols[b, j] = column j of K
@@ -65,7 +88,26 @@ def force(K, x):
 
 
 def power_sign(F, u, h, inv_mass, law):
-    """``s_i``: the sign of the power each law reads (``sign(0) = 0``)."""
+    """``s_i``: the sign of the power each law reads (``sign(0) = 0``).
+
+    Parameters
+    ----------
+    F : numpy.ndarray, shape (B, n)
+        Undamped forces [N].
+    u : numpy.ndarray, shape (B, n)
+        Half-step velocities ``v_{n-1/2}``.
+    h : float or numpy.ndarray, shape (B,)
+        Time step [s].
+    inv_mass : numpy.ndarray, shape (n,) or (B, n)
+        Inverse masses [1/kg] (M diagonal).
+    law : {"pfc", "yade"}
+        Whose sign of the power is read (module docstring).
+
+    Returns
+    -------
+    numpy.ndarray, shape (B, n)
+        -1, 0 or 1 per degree of freedom: ``sign(F u)`` (PFC) or ``sign(a (u + h a / 2))`` (YADE).
+    """
     if law == "pfc":
         return np.sign(F * u)
     if law == "yade":
@@ -75,7 +117,30 @@ def power_sign(F, u, h, inv_mass, law):
 
 
 def step(x, u, h, K, inv_mass, alpha, law):
-    """One leapfrog step with local damping: ``(x_n, v_{n-1/2}) -> (x_{n+1}, v_{n+1/2})``."""
+    """One leapfrog step with local damping: ``(x_n, v_{n-1/2}) -> (x_{n+1}, v_{n+1/2})``.
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (B, n)
+        Positions ``x_n`` of a batch of ``B`` systems.
+    u : numpy.ndarray, shape (B, n)
+        Half-step velocities ``v_{n-1/2}``.
+    h : float or numpy.ndarray, shape (B,)
+        Time step [s].
+    K : numpy.ndarray, shape (n, n) or (B, n, n)
+        Symmetric stiffness matrix [N/m], shared or one per system.
+    inv_mass : numpy.ndarray, shape (n,) or (B, n)
+        Inverse masses [1/kg] (M diagonal).
+    alpha : float or numpy.ndarray, shape (B,)
+        Local damping coefficient, 0 <= alpha < 1.
+    law : {"pfc", "yade"}
+        Whose sign of the power is read (module docstring).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(x_{n+1}, v_{n+1/2})``.
+    """
     batch = x.shape[0]
     hc, ac = _col(h, batch), _col(alpha, batch)
     F = force(K, x)
@@ -85,12 +150,50 @@ def step(x, u, h, K, inv_mass, alpha, law):
 
 
 def energy_norm(x, u, K, inv_mass):
-    """``sqrt(u^T M u + x^T K x)``: the undamped energy norm (K positive definite)."""
+    """``sqrt(u^T M u + x^T K x)``: the undamped energy norm (K positive definite).
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (B, n)
+        Positions ``x_n`` of a batch of ``B`` systems.
+    u : numpy.ndarray, shape (B, n)
+        Half-step velocities ``v_{n-1/2}``.
+    K : numpy.ndarray, shape (n, n) or (B, n, n)
+        Symmetric stiffness matrix [N/m], shared or one per system.
+    inv_mass : numpy.ndarray, shape (n,) or (B, n)
+        Inverse masses [1/kg] (M diagonal).
+
+    Returns
+    -------
+    numpy.ndarray, shape (B,)
+        The norm per system.
+    """
     return np.sqrt(np.sum(u * u / inv_mass, axis=1) + np.sum(x * -force(K, x), axis=1))
 
 
 def lyapunov(x, u, h, K, inv_mass, alpha):
-    """``I = u^T M u + (1 + alpha) x_n^T K x_{n-1}`` with ``x_{n-1} = x_n - h u`` (non-increasing for PFC's law)."""
+    """``I = u^T M u + (1 + alpha) x_n^T K x_{n-1}`` with ``x_{n-1} = x_n - h u`` (non-increasing for PFC's law).
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (B, n)
+        Positions ``x_n`` of a batch of ``B`` systems.
+    u : numpy.ndarray, shape (B, n)
+        Half-step velocities ``v_{n-1/2}``.
+    h : float or numpy.ndarray, shape (B,)
+        Time step [s].
+    K : numpy.ndarray, shape (n, n) or (B, n, n)
+        Symmetric stiffness matrix [N/m], shared or one per system.
+    inv_mass : numpy.ndarray, shape (n,) or (B, n)
+        Inverse masses [1/kg] (M diagonal).
+    alpha : float or numpy.ndarray, shape (B,)
+        Local damping coefficient, 0 <= alpha < 1.
+
+    Returns
+    -------
+    numpy.ndarray, shape (B,)
+        ``I`` per system.
+    """
     batch = x.shape[0]
     hc, ac = _col(h, batch)[:, 0], _col(alpha, batch)[:, 0]
     Kx = -force(K, x)
@@ -100,6 +203,34 @@ def lyapunov(x, u, h, K, inv_mass, alpha):
 def grows(x0, u0, h, K, inv_mass, alpha, law, n_steps, blowup=1e6, check_every=16):
     """Per system: True if the energy norm exceeds ``blowup`` times its start within ``n_steps`` (growing),
     False if it stays below (bounded over the run).  A grown system is zeroed and stays flagged.
+
+    Parameters
+    ----------
+    x0 : numpy.ndarray, shape (B, n)
+        Initial positions.
+    u0 : numpy.ndarray, shape (B, n)
+        Initial half-step velocities.
+    h : float or numpy.ndarray, shape (B,)
+        Time step [s].
+    K : numpy.ndarray, shape (n, n) or (B, n, n)
+        Symmetric stiffness matrix [N/m], shared or one per system.
+    inv_mass : numpy.ndarray, shape (n,) or (B, n)
+        Inverse masses [1/kg] (M diagonal).
+    alpha : float or numpy.ndarray, shape (B,)
+        Local damping coefficient, 0 <= alpha < 1.
+    law : {"pfc", "yade"}
+        Whose sign of the power is read (module docstring).
+    n_steps : int
+        Steps to run.
+    blowup : float
+        Growth of the energy norm that counts as unstable.
+    check_every : int
+        Steps between checks of the norm.
+
+    Returns
+    -------
+    numpy.ndarray of bool, shape (B,)
+        Whether each run grew.
     """
     x, u = np.array(x0, dtype=float), np.array(u0, dtype=float)
     start = energy_norm(x, u, K, inv_mass)
@@ -118,8 +249,40 @@ def grows(x0, u0, h, K, inv_mass, alpha, law, n_steps, blowup=1e6, check_every=1
 def bisect_threshold(x0, u0, K, inv_mass, alpha, law, omega_max, lo, hi, iterations=32, n_steps=6000, blowup=1e6):
     """Bisect, per system, the largest ``omega_max dt`` whose run from ``(x0, u0)`` stays bounded.
 
-    ``lo`` must be bounded and ``hi`` growing for every system (checked; a bracket that fails raises).
-    Returns the upper end of the final bracket (growing side), shape ``(B,)``.
+    ``lo`` must be bounded and ``hi`` growing for every system (checked; a bracket that fails raises
+    ``ValueError``).
+
+    Parameters
+    ----------
+    x0 : numpy.ndarray, shape (B, n)
+        Initial positions.
+    u0 : numpy.ndarray, shape (B, n)
+        Initial half-step velocities.
+    K : numpy.ndarray, shape (n, n) or (B, n, n)
+        Symmetric stiffness matrix [N/m], shared or one per system.
+    inv_mass : numpy.ndarray, shape (n,) or (B, n)
+        Inverse masses [1/kg] (M diagonal).
+    alpha : float or numpy.ndarray, shape (B,)
+        Local damping coefficient, 0 <= alpha < 1.
+    law : {"pfc", "yade"}
+        Whose sign of the power is read (module docstring).
+    omega_max : float or numpy.ndarray, shape (B,)
+        Largest undamped angular frequency [rad/s] (:func:`omega_max`); the step is ``omega_max dt``.
+    lo : float or numpy.ndarray, shape (B,)
+        Bounded end of the bracket, in ``omega_max dt``.
+    hi : float or numpy.ndarray, shape (B,)
+        Growing end of the bracket, in ``omega_max dt``.
+    iterations : int
+        Bisection steps.
+    n_steps : int
+        Steps of each run (:func:`grows`).
+    blowup : float
+        Growth that counts as unstable.
+
+    Returns
+    -------
+    numpy.ndarray, shape (B,)
+        The upper end of the final bracket (growing side), in ``omega_max dt``.
     """
     batch = x0.shape[0]
     w = np.broadcast_to(np.asarray(omega_max, dtype=float), (batch,))
@@ -140,6 +303,18 @@ def bisect_threshold(x0, u0, K, inv_mass, alpha, law, omega_max, lo, hi, iterati
 def chain(masses, springs):
     """Stiffness matrix and inverse masses of a 1-D chain: ``springs[0]`` ties mass 0 to a wall,
     ``springs[i]`` masses i-1 and i; one more spring than masses ties the last to a second wall.
+
+    Parameters
+    ----------
+    masses : array_like
+        Masses [kg].
+    springs : array_like
+        Spring stiffnesses [N/m], ``len(masses)`` or ``len(masses) + 1`` of them.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(K, inv_mass)``: the (n, n) stiffness matrix and the inverse masses.
     """
     m = np.asarray(masses, dtype=float)
     k = np.asarray(springs, dtype=float)
@@ -161,6 +336,28 @@ def chain(masses, springs):
 def sphere_wall_sphere(normal, m1, m2, kn_wall, ks_wall, kn, ks):
     """6-DOF translational stiffness (global x, y, z of each sphere) of sphere 1 on a fixed wall and
     sphere 2 on sphere 1, both contacts along the unit ``normal`` (normal and tangential springs).
+
+    Parameters
+    ----------
+    normal : array_like, shape (3,)
+        Contact normal (normalised here).
+    m1 : float
+        Mass of sphere 1 [kg].
+    m2 : float
+        Mass of sphere 2 [kg].
+    kn_wall : float
+        Normal stiffness of the wall contact [N/m].
+    ks_wall : float
+        Tangential stiffness of the wall contact [N/m].
+    kn : float
+        Normal stiffness of the sphere-sphere contact [N/m].
+    ks : float
+        Tangential stiffness of the sphere-sphere contact [N/m].
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(K, inv_mass)``: the (6, 6) stiffness matrix and the 6 inverse masses.
     """
     n = np.asarray(normal, dtype=float)
     n = n / np.linalg.norm(n)
@@ -178,6 +375,19 @@ def sphere_wall_sphere(normal, m1, m2, kn_wall, ks_wall, kn, ks):
 
 
 def omega_max(K, inv_mass):
-    """Largest undamped angular frequency: ``sqrt(lambda_max(M^{-1/2} K M^{-1/2}))`` (symmetric eigen-solve)."""
+    """Largest undamped angular frequency: ``sqrt(lambda_max(M^{-1/2} K M^{-1/2}))`` (symmetric eigen-solve).
+
+    Parameters
+    ----------
+    K : numpy.ndarray, shape (n, n)
+        Symmetric stiffness matrix [N/m].
+    inv_mass : array_like, shape (n,)
+        Inverse masses [1/kg].
+
+    Returns
+    -------
+    float
+        ``omega_max`` [rad/s].
+    """
     s = np.sqrt(np.asarray(inv_mass, dtype=float))
     return float(np.sqrt(np.linalg.eigvalsh(s[:, None] * K * s[None, :])[-1]))

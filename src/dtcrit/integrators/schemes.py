@@ -19,7 +19,7 @@ user in a scene is parsed into the same ``Integrator`` by ``dtcrit.integrators.u
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable, Sequence
+from typing import Any, Callable, Sequence
 
 
 class LinearForce:
@@ -47,6 +47,20 @@ class LinearForce:
         self.dv = -C
 
     def __call__(self, x, v):
+        """The acceleration ``-K x - C v``.
+
+        Parameters
+        ----------
+        x : scalar or array_like
+            Contact coordinate (overlap).
+        v : scalar or array_like
+            Its velocity.
+
+        Returns
+        -------
+        scalar or array_like
+            ``-K x - C v``.
+        """
         return -self.K * x - self.C * v
 
 
@@ -72,15 +86,46 @@ class MatrixForce:
         self.K, self.C, self.dv = K, C, None
 
     def __call__(self, x, v):
+        """The accelerations ``-K x - C v``.
+
+        Parameters
+        ----------
+        x : numpy.ndarray, shape (n,)
+            Coordinates.
+        v : numpy.ndarray, shape (n,)
+            Their velocities.
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,)
+            ``-(K @ x) - C @ v``.
+        """
         return -(self.K @ x) - self.C @ v
 
 
-Step = Callable[[Sequence, object, LinearForce], tuple]
+Step = Callable[[Sequence, Any, Any], tuple]  # (state, h, force: LinearForce, MatrixForce or any f(x, v) with .dv)
 
 
 @dataclass(frozen=True)
 class Integrator:
-    """An explicit scheme: its state variables and one step of its update rule."""
+    """An explicit scheme: its state variables and one step of its update rule.
+
+    Parameters
+    ----------
+    name : str
+        The scheme key (``"velocity-verlet"``).
+    state : tuple of str
+        Names of the state variables, e.g. ``("x_n", "v_n", "a_n")``.
+    step : callable
+        ``step(state, h, force) -> new state``: one step of size ``h`` under ``force(x, v)``
+        (a :class:`LinearForce` or :class:`MatrixForce`).
+    summary : str
+        One line on what the rule does.
+    damping_velocity : str
+        The velocity the dashpot force reads (``"v_{n+1/2}"``).
+    used_by : str
+        Codes that integrate with this scheme ("" when none is known).
+    """
 
     name: str
     state: tuple[str, ...]
@@ -225,7 +270,18 @@ USER_INTEGRATORS: dict[str, Integrator] = {}
 
 
 def lookup(name) -> Integrator:
-    """The built-in or registered user scheme called ``name`` (an ``Integrator`` is returned as is)."""
+    """The built-in or registered user scheme called ``name`` (an ``Integrator`` is returned as is).
+
+    Parameters
+    ----------
+    name : str or Integrator
+        A key of ``INTEGRATORS`` or ``USER_INTEGRATORS``.
+
+    Returns
+    -------
+    Integrator
+        The scheme; ``KeyError`` when no scheme has that name.
+    """
     if isinstance(name, Integrator):
         return name
     return INTEGRATORS[name] if name in INTEGRATORS else USER_INTEGRATORS[name]

@@ -17,6 +17,18 @@ from dtcrit.integrators.schemes import LinearForce, lookup
 
 @dataclass(frozen=True)
 class Trajectory:
+    """Early and late amplitude of a batch of time-stepped runs.
+
+    Parameters
+    ----------
+    log_early : numpy.ndarray
+        Log of the largest state norm over the first quarter of the run.
+    log_late : numpy.ndarray
+        Log of the largest state norm over the last quarter of the run.
+    n_steps : int
+        Number of steps taken.
+    """
+
     log_early: np.ndarray  # log of the max state norm over the first quarter of the run
     log_late: np.ndarray  # log of the max state norm over the last quarter of the run
     n_steps: int
@@ -29,11 +41,31 @@ class Trajectory:
 
 
 def run(integrator: str, tau, zeta, n_steps: int, x0: float = 1.0, v0: float = 0.0) -> Trajectory:
-    """Iterate the update rule ``n_steps`` times for arrays of (tau, zeta) at once.
+    """Iterate the update rule ``n_steps`` times for arrays of (tau, zeta) at once (``x'' = -x - 2 zeta x'``).
 
     The initial acceleration of three-variable schemes is consistent with (x0, v0).  The state
     norm is the Euclidean norm of all state variables; it is renormalised every step block so
     that a growing run never overflows (the growth factors are accumulated in log form).
+
+    Parameters
+    ----------
+    integrator : str
+        The scheme key (``dtcrit.integrators.schemes``).
+    tau : float or array_like
+        Dimensionless step ``omega dt``.
+    zeta : float or array_like
+        Damping ratio ``c A / (2 omega)``; broadcast against ``tau``.
+    n_steps : int
+        Number of steps.
+    x0 : float
+        Initial position (scaled).
+    v0 : float
+        Initial velocity (scaled).
+
+    Returns
+    -------
+    Trajectory
+        The logs of the early and late amplitudes, shape ``broadcast(tau, zeta).shape``.
     """
     integ = lookup(integrator)
     tau = np.asarray(tau, dtype=float)
@@ -42,7 +74,7 @@ def run(integrator: str, tau, zeta, n_steps: int, x0: float = 1.0, v0: float = 0
     force = LinearForce(1.0, 2.0 * zeta)
     x = np.full(tau.shape, x0)
     v = np.full(tau.shape, v0)
-    state = (x, v) if len(integ.state) == 2 else (x, v, force(x, v))
+    state: tuple = (x, v) if len(integ.state) == 2 else (x, v, force(x, v))
     quarter = max(1, n_steps // 4)
     log_scale = np.zeros(tau.shape)
     early = np.full(tau.shape, -np.inf)
@@ -65,5 +97,24 @@ def run(integrator: str, tau, zeta, n_steps: int, x0: float = 1.0, v0: float = 0
 
 
 def is_growing(integrator: str, tau, zeta, n_steps: int, factor: float = 100.0) -> np.ndarray:
-    """True where the late amplitude exceeds ``factor`` times the early amplitude."""
+    """True where the late amplitude of :func:`run` exceeds ``factor`` times the early amplitude.
+
+    Parameters
+    ----------
+    integrator : str
+        The scheme key (``dtcrit.integrators.schemes``).
+    tau : float or array_like
+        Dimensionless step ``omega dt``.
+    zeta : float or array_like
+        Damping ratio ``c A / (2 omega)``; broadcast against ``tau``.
+    n_steps : int
+        Number of steps.
+    factor : float
+        Growth (late over early amplitude) that counts as unstable.
+
+    Returns
+    -------
+    numpy.ndarray of bool
+        Per (tau, zeta): whether the run grows.
+    """
     return run(integrator, tau, zeta, n_steps).growth > factor

@@ -44,6 +44,18 @@ def tau_crit(integrator, zeta) -> float:
     """tau* (float) of ``integrator`` at damping ratio ``zeta`` (0: no stable step; inf: none found up to 1e4).
 
     ``zeta = None``: a dashpot without spring (K = 0, C = 1): the critical ``c A dt``.
+
+    Parameters
+    ----------
+    integrator : str or Integrator
+        A built-in or user-written scheme.
+    zeta : float, str or None
+        Damping ratio ``c A / (2 omega)`` (read exactly by mpmath), or None for a dashpot without spring.
+
+    Returns
+    -------
+    float
+        The critical dimensionless step ``omega dt`` (``c A dt`` when ``zeta`` is None).
     """
     with mp.workdps(DPS):
         z = None if zeta is None else mp.mpf(zeta)
@@ -68,7 +80,24 @@ def tau_crit(integrator, zeta) -> float:
 
 
 def critical_dt_spectral(integrator, k, c, A) -> float:
-    """dt* [s] for one contact mode (k > 0, c >= 0, A > 0) from the spectral radius."""
+    """dt* [s] for one contact mode (k > 0, c >= 0, A > 0) from the spectral radius.
+
+    Parameters
+    ----------
+    integrator : str or Integrator
+        A built-in or user-written scheme.
+    k : float
+        Contact stiffness [N/m].
+    c : float
+        Viscous damping [N s/m].
+    A : float
+        Inverse inertia coefficient [1/kg].
+
+    Returns
+    -------
+    float
+        The critical step [s], confirmed by stepping the rules (``user_confirm.confirm_step``).
+    """
     with mp.workdps(DPS):
         w = mp.sqrt(mp.mpf(k) * mp.mpf(A))
         if w == 0:
@@ -88,6 +117,20 @@ def dashpot_dt_spectral(integrator, c, A) -> float:
     """dt* [s] of a dashpot without spring (``xddot = -c A xdot``, c > 0, A > 0): by dimensional
     consistency the amplification matrix depends on ``c A dt`` only (the critical value is scanned
     as ``tau`` above), confirmed by stepping the rules in physical units like every other mode.
+
+    Parameters
+    ----------
+    integrator : str or Integrator
+        A built-in or user-written scheme.
+    c : float
+        Viscous damping [N s/m].
+    A : float
+        Inverse inertia coefficient [1/kg].
+
+    Returns
+    -------
+    float
+        The critical step [s] (inf when every step is stable).
     """
     with mp.workdps(DPS):
         rate = mp.mpf(c) * mp.mpf(A)

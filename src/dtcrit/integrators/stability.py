@@ -30,7 +30,25 @@ __all__ = ["CriticalStep", "critical_dt", "critical_dt_array", "dashpot_dt", "mo
 
 @dataclass(frozen=True)
 class CriticalStep:
-    """Result of ``critical_dt``: ``dt`` in seconds (0.0 when no dt > 0 is stable)."""
+    """Result of ``critical_dt``: ``dt`` in seconds (0.0 when no dt > 0 is stable).
+
+    Parameters
+    ----------
+    integrator : str
+        The scheme key.
+    dt : float
+        The exact critical step [s].
+    reason : str
+        Why the step is what it is (e.g. no stable step undamped).
+    formula : str
+        The closed form or route the step comes from.
+    omega : float
+        ``sqrt(k A)`` [rad/s].
+    zeta : float
+        Damping ratio ``c A / (2 omega)``.
+    regime : str
+        ``undamped``, ``underdamped``, ``critically damped`` or ``overdamped``.
+    """
 
     integrator: str
     dt: float
@@ -42,12 +60,23 @@ class CriticalStep:
 
     @property
     def omega_dt(self) -> float:
+        """The dimensionless critical step ``omega dt``."""
         return self.dt * self.omega
 
 
 def check_integrator(name: str) -> str:
     """The scheme key of ``name``: a built-in or registered user scheme, or a DEM code's name
     (``dtcrit.integrators.engines.resolve_integrator``); InputError otherwise.
+
+    Parameters
+    ----------
+    name : str
+        A scheme key or a DEM code's name.
+
+    Returns
+    -------
+    str
+        The scheme key.
     """
     name, _note = resolve_integrator(name)
     if name in INTEGRATORS or name in USER_INTEGRATORS:
@@ -73,6 +102,21 @@ def scaled_rates(k, c, A):
     """(omega', gamma', s) with omega = omega' 2^s and gamma = gamma' 2^s, omega' in [0.7, 1.42).
 
     Works elementwise on arrays; exact apart from the roundings of k*A, c*A and one square root.
+
+    Parameters
+    ----------
+    k : float or numpy.ndarray
+        Contact stiffness [N/m].
+    c : float or numpy.ndarray
+        Viscous damping [N s/m].
+    A : float or numpy.ndarray
+        Inverse inertia coefficient [1/kg].
+
+    Returns
+    -------
+    tuple
+        ``(omega', gamma', s)``: ``omega = sqrt(k A)`` and ``gamma = c A / 2`` scaled by the power of two
+        ``2^-s`` (``s`` integer).
     """
     mk, ek = np.frexp(np.asarray(k, dtype=float))
     mA, eA = np.frexp(np.asarray(A, dtype=float))
@@ -97,6 +141,24 @@ def refuse_unrepresentable(integrator: str, dt: np.ndarray, k, c, A) -> np.ndarr
     """Raise InputError where the exact step lies beyond float64 (inf) or below it (0
     although the contact has a stable step: every scheme has one when damped, and all but forward
     Euler and the Eq. (40) scheme have one when undamped).  Subnormal steps are returned.
+
+    Parameters
+    ----------
+    integrator : str
+        A scheme key or a DEM code's name (:func:`check_integrator`).
+    dt : numpy.ndarray
+        The exact steps [s].
+    k : float
+        Contact stiffness [N/m] (> 0).
+    c : float
+        Viscous damping [N s/m] (>= 0).
+    A : float
+        Inverse inertia coefficient [1/kg] (> 0; e.g. ``dtcrit.a_bound`` or Eq. (26)'s ``A_max``).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``dt`` unchanged.
     """
     k, c, A = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (k, c, A)))
     has_step = (c > 0) | (integrator not in UNSTABLE_UNDAMPED)
@@ -117,6 +179,22 @@ def critical_dt_array(integrator: str, k, c, A) -> np.ndarray:
 
     Within 4 ulp of the exact step for every float64 input (tests/test_stability_engine.py, the
     bench's extreme-case suite); refuses (InputError) a step outside the float64 range.
+
+    Parameters
+    ----------
+    integrator : str
+        A scheme key or a DEM code's name (:func:`check_integrator`).
+    k : float or numpy.ndarray
+        Contact stiffness [N/m] (> 0).
+    c : float or numpy.ndarray
+        Viscous damping [N s/m] (>= 0).
+    A : float or numpy.ndarray
+        Inverse inertia coefficient [1/kg] (> 0; e.g. ``dtcrit.a_bound`` or Eq. (26)'s ``A_max``).
+
+    Returns
+    -------
+    numpy.ndarray
+        The critical steps [s], shape ``broadcast(k, c, A).shape``.
     """
     name = check_integrator(integrator)
     k, c, A = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (k, c, A)))
@@ -150,8 +228,21 @@ def _governing_condition(integrator: str, zeta: float) -> str:
 def critical_dt(integrator: str, k, c, A) -> CriticalStep:
     """Exact critical step of ``integrator`` for ``xddot = -k A x - c A xdot`` (Peng et al. 2020, Eq. (30)).
 
-    ``k`` contact stiffness [N/m] (> 0), ``c`` viscous damping [N s/m] (>= 0), ``A`` inverse inertia
-    coefficient [1/kg] (> 0; e.g. ``dtcrit.a_bound`` or Eq. (26)'s ``A_max``).
+    Parameters
+    ----------
+    integrator : str
+        A scheme key or a DEM code's name (:func:`check_integrator`).
+    k : float
+        Contact stiffness [N/m] (> 0).
+    c : float
+        Viscous damping [N s/m] (>= 0).
+    A : float
+        Inverse inertia coefficient [1/kg] (> 0; e.g. ``dtcrit.a_bound`` or Eq. (26)'s ``A_max``).
+
+    Returns
+    -------
+    CriticalStep
+        The step [s] with its regime and formula.
     """
     name = check_integrator(integrator)
     k = _check_positive("k", k)
@@ -191,6 +282,20 @@ def dashpot_dt(integrator: str, c, A) -> float:
     forward Euler, ``1/(c A)`` for ``velocity-verlet-predicted`` and ``paper-eq40``; ``inf`` (stable for
     every step) for ``leapfrog-centred``.  Checked against the spectral radius of the update rule with
     ``K = 0`` in ``tests/test_mode_steps.py``.
+
+    Parameters
+    ----------
+    integrator : str
+        A scheme key or a DEM code's name (:func:`check_integrator`).
+    c : float
+        Viscous damping [N s/m] (> 0).
+    A : float
+        Inverse inertia coefficient [1/kg] (> 0).
+
+    Returns
+    -------
+    float
+        The critical step [s].
     """
     name = check_integrator(integrator)
     c = _check_positive("c", c)
@@ -211,6 +316,22 @@ def mode_dt(integrator: str, k, c, A) -> CriticalStep:
 
     ``k > 0``: :func:`critical_dt`.  ``k = 0, c > 0``: :func:`dashpot_dt`.  ``k = c = 0``: the mode
     is free (no force acts along it) and sets no limit: ``dt = inf``.
+
+    Parameters
+    ----------
+    integrator : str
+        A scheme key or a DEM code's name (:func:`check_integrator`).
+    k : float
+        Stiffness of the mode [N/m] (>= 0).
+    c : float
+        Viscous damping [N s/m] (>= 0).
+    A : float
+        Inverse inertia coefficient [1/kg] (> 0).
+
+    Returns
+    -------
+    CriticalStep
+        The step [s] (inf for a free mode).
     """
     name = check_integrator(integrator)
     k = _check_positive("k", k, allow_zero=True)
@@ -231,6 +352,20 @@ def paper_eq46(k, c, A) -> float:
 
     It is the boundary where a *real* eigenvalue of Eq. (40)'s amplification matrix reaches -1;
     it is not a stability bound of that scheme (see derivations/records/sec4_stability.md).
+
+    Parameters
+    ----------
+    k : float
+        Contact stiffness [N/m] (> 0).
+    c : float
+        Viscous damping [N s/m] (>= 0).
+    A : float
+        Inverse inertia coefficient [1/kg] (> 0; e.g. ``dtcrit.a_bound`` or Eq. (26)'s ``A_max``).
+
+    Returns
+    -------
+    float
+        Eq. (46)'s step [s].
     """
     k = _check_positive("k", k)
     c = _check_positive("c", c, allow_zero=True)

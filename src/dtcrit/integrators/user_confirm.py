@@ -50,7 +50,24 @@ def _stepper(integrator, h: float, K, C):
 
 
 def physical_matrix(integrator, h: float, K, C) -> np.ndarray:
-    """``G`` of the rules at the physical step ``h`` [s] for ``f(x, v) = -K x - C v`` (K, C scalars or matrices)."""
+    """``G`` of the rules at the physical step ``h`` [s] for ``f(x, v) = -K x - C v`` (K, C scalars or matrices).
+
+    Parameters
+    ----------
+    integrator : str or Integrator
+        A built-in or user-written scheme.
+    h : float
+        Time step [s].
+    K : float or array_like
+        Stiffness per unit mass ``k A`` [1/s^2]: a scalar (one mode) or an (n, n) matrix (a coupled block).
+    C : float or array_like
+        Damping per unit mass ``c A`` [1/s], shaped as ``K``.
+
+    Returns
+    -------
+    numpy.ndarray
+        The amplification matrix, ``(parts n) x (parts n)`` for ``parts`` state variables.
+    """
     step, size = _stepper(integrator, h, K, C)
     with np.errstate(all="ignore"):
         return np.column_stack([step(np.eye(size)[j]) for j in range(size)])
@@ -77,7 +94,18 @@ def _balance(G: np.ndarray) -> np.ndarray:
 
 
 def growth_rate(G: np.ndarray) -> float:
-    """``||G^N||^(1/N)`` for ``N = 2^SQUARINGS``, by renormalised repeated squaring."""
+    """``||G^N||^(1/N)`` for ``N = 2^SQUARINGS``, by renormalised repeated squaring.
+
+    Parameters
+    ----------
+    G : numpy.ndarray
+        A square amplification matrix.
+
+    Returns
+    -------
+    float
+        The growth rate per step, which tends to the spectral radius of ``G`` (Gelfand's formula).
+    """
     M = _balance(G)
     log_scale = 0.0
     for _ in range(SQUARINGS):
@@ -109,8 +137,19 @@ def _literal_matches(integrator, G: np.ndarray, h: float, K, C) -> bool:
 
 def confirm_step(integrator, dt: float, K, C) -> None:
     """Refuse (InputError on ``integrator``) a printed step ``dt`` [s] that stepping the rules in physical
-    units does not confirm: stable at 0.99 dt, growing at 1.01 dt.  ``K`` [1/s^2] and ``C`` [1/s] are
-    scalars (one mode) or matrices (a coupled block, ``x'' = -K x - C x'``).
+    units does not confirm: stable at 0.99 dt, growing at 1.01 dt.
+
+    Parameters
+    ----------
+    integrator : str or Integrator
+        A user-written (or built-in) scheme.
+    dt : float
+        The step to confirm [s]; 0 is not checked, inf is refused.
+    K : float or array_like
+        Stiffness per unit mass [1/s^2]: a scalar (one mode) or a matrix (a coupled block,
+        ``x'' = -K x - C x'``).
+    C : float or array_like
+        Damping per unit mass [1/s], shaped as ``K``.
     """
     name = getattr(integrator, "name", integrator)
     if dt == 0.0:

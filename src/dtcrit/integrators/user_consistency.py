@@ -92,9 +92,25 @@ def _value(e, env: dict, K: Fraction, C: Fraction):
     return {j: _div(p, b[None]) for j, p in a.items()}
 
 
-def amplification_exact(state, rules, K, C) -> list[list[dict]]:
+def amplification_exact(state, rules, K, C) -> tuple[list[list[dict]], list[int]]:
     """``G[i][j]`` as a Laurent polynomial in ``h`` (exact) at rational ``K, C``, and per rule the
     lowest power of ``h`` its value carries (to name a rule with a term in 1/h).
+
+    Parameters
+    ----------
+    state : tuple of str
+        The scheme's state variables (position first, then velocity, then history variables).
+    rules : sequence of tuple
+        The parsed rules, ``(target, tree)`` pairs in order.
+    K : fractions.Fraction
+        Stiffness per unit mass of the test ODE ``x'' = -K x - C x'``.
+    C : fractions.Fraction
+        Damping per unit mass of the test ODE.
+
+    Returns
+    -------
+    tuple
+        ``(G, lowest)``: ``G[i][j]`` a dict ``{power of h: Fraction}``, and the lowest power of ``h`` per rule.
     """
     d = len(state)
     env = {n: {j: {0: Fraction(1)}} for j, n in enumerate(state)}
@@ -115,7 +131,7 @@ def _charpoly(G: list[list[dict]]) -> list[dict]:
         vec = [{0: Fraction(1)}, {k: -c for k, c in a.items()}]
         w = S
         for _ in range(r):
-            s = {}
+            s: dict = {}
             for x, y in zip(R, w):
                 s = _add(s, _mul(x, y))
             vec.append({k: -c for k, c in s.items()})
@@ -185,6 +201,22 @@ def order_of_accuracy(state, rules, keys, where: str) -> tuple[int, int]:
     """(order with damping, order undamped) of a dimensionally consistent scheme, or InputError
     naming the rule (``keys[i]``) or ``where.update`` when the scheme is not consistent with
     ``x'' = f(x, v)``.  Orders above ``MAX_ORDER`` are reported as ``MAX_ORDER``.
+
+    Parameters
+    ----------
+    state : tuple of str
+        The scheme's state variables (position first, then velocity, then history variables).
+    rules : sequence of tuple
+        The parsed rules, ``(target, tree)`` pairs in order.
+    keys : sequence of str
+        The input key of each rule, named in the error.
+    where : str
+        The input key of the scheme's table.
+
+    Returns
+    -------
+    tuple of (int, int)
+        The order of accuracy with damping and without.
     """
     d = len(state)
     if d < 2:
@@ -214,7 +246,20 @@ def order_of_accuracy(state, rules, keys, where: str) -> tuple[int, int]:
 
 
 def h_degree(state, rules) -> int:
-    """Highest power of h in the characteristic polynomial det(mu I - G(h)) (at the first sample point)."""
+    """Highest power of h in the characteristic polynomial det(mu I - G(h)) (at the first sample point).
+
+    Parameters
+    ----------
+    state : tuple of str
+        The scheme's state variables (position first, then velocity, then history variables).
+    rules : sequence of tuple
+        The parsed rules, ``(target, tree)`` pairs in order.
+
+    Returns
+    -------
+    int
+        The degree in ``h``.
+    """
     G, _ = amplification_exact(state, rules, RATIOS[0], RATIOS[0] + 1)
     return max((k for p in _charpoly(G) for k in p), default=0)
 

@@ -52,7 +52,20 @@ class _Units:
 
 
 def describe(e: tuple[str, int], const: bool = False) -> str:
-    """Words for a time exponent: 'a position', 'a velocity', 'h^2', ..."""
+    """Words for a time exponent: 'a position', 'a velocity', 'h^2', ...
+
+    Parameters
+    ----------
+    e : tuple of (str, int)
+        ``(root, k)``: the quantity (the absolute time root or a history variable) and its time exponent.
+    const : bool
+        True for a state-free expression (a number or a power of ``h``).
+
+    Returns
+    -------
+    str
+        The words.
+    """
     root, k = e
     if root != _ABS:
         return "a history quantity" if k == 0 else f"a history quantity times time^{k}"
@@ -102,6 +115,15 @@ def check_dimensions(state: tuple[str, ...], rules, keys) -> None:
 
     ``rules`` are ``(target, tree)`` pairs; the first state variable is a position (time exponent 0)
     and the second, if any, a velocity (-1).
+
+    Parameters
+    ----------
+    state : tuple of str
+        The scheme's state variables.
+    rules : sequence of tuple
+        The parsed rules, ``(target, tree)`` pairs in order.
+    keys : sequence of str
+        The input key of each rule, named in the error.
     """
     units = _Units()
     version = {n: f"{n}@0" for n in state}

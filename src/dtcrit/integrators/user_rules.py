@@ -171,7 +171,7 @@ def _parse_rule(text, key: str, known: set[str], later: dict[str, int]):
 
 
 def _combine(op: str, a, b):
-    """a op b where either may be an exact Fraction (kept exact against SymPy, float against arrays)."""
+    """The value ``a op b`` where either may be an exact Fraction (kept exact against SymPy, float against arrays)."""
     fa, fb = isinstance(a, Fraction), isinstance(b, Fraction)
     if fa and fb or not (fa or fb):
         return _plain(op, a, b)
@@ -226,31 +226,65 @@ def _make_step(state: tuple[str, ...], rules: tuple):
     return step
 
 
-ORDERS: dict[tuple[str, str], tuple[int, int]] = {}
+ORDERS: dict[tuple[str | None, str | None], tuple[int, int]] = {}
 """(order with damping, order undamped) of each checked user scheme, by (name, summary)."""
 
 
-H_DEGREES: dict[tuple[str, str], int] = {}
+H_DEGREES: dict[tuple[str | None, str | None], int] = {}
 """Highest power of h in the characteristic polynomial of each checked user scheme, by (name, summary)."""
 
 
 def order_of(integ) -> tuple[int, int] | None:
-    """The order of accuracy found for a checked user scheme (``None``: a built-in or unchecked one)."""
+    """The order of accuracy found for a checked user scheme (``None``: a built-in or unchecked one).
+
+    Parameters
+    ----------
+    integ : Integrator or object
+        A scheme (anything else gives None).
+
+    Returns
+    -------
+    tuple of (int, int) or None
+        (order with damping, order undamped).
+    """
     return ORDERS.get((getattr(integ, "name", None), getattr(integ, "summary", None)))
 
 
 def h_degree_of(integ) -> int | None:
-    """Highest power of h in the characteristic polynomial of a checked user scheme (``None``: not checked)."""
+    """Highest power of h in the characteristic polynomial of a checked user scheme (``None``: not checked).
+
+    Parameters
+    ----------
+    integ : Integrator or object
+        A scheme (anything else gives None).
+
+    Returns
+    -------
+    int or None
+        The degree in ``h``.
+    """
     return H_DEGREES.get((getattr(integ, "name", None), getattr(integ, "summary", None)))
 
 
 def parse_integrator(table: dict, where: str = "integrator", check: bool = True) -> Integrator:
     """The ``Integrator`` of a scene's ``[integrator]`` table; ``where`` prefixes the error keys.
 
-    ``check`` (default): refuse, naming the rule, a scheme that is not dimensionally consistent
-    (``dtcrit.integrators.user_dimensions``) or not consistent with ``x'' = f(x, v)``
-    (``dtcrit.integrators.user_consistency``); the order of accuracy found is kept (:func:`order_of`).
-    ``check=False`` only parses (tests of the rule reader use it).
+    Parameters
+    ----------
+    table : dict
+        The table ``{name, state, update}`` (``update`` a list of rules ``"target = expression"``).
+    where : str
+        Input key of the table, prefixed to the keys named in errors.
+    check : bool
+        Refuse, naming the rule, a scheme that is not dimensionally consistent
+        (``dtcrit.integrators.user_dimensions``) or not consistent with ``x'' = f(x, v)``
+        (``dtcrit.integrators.user_consistency``), and keep the order of accuracy found
+        (:func:`order_of`); False only parses (tests of the rule reader use it).
+
+    Returns
+    -------
+    Integrator
+        The parsed scheme, not yet registered (:func:`register`).
     """
     if not isinstance(table, dict):
         raise InputError(where, "must be a scheme name or a table {name, state, update}")
@@ -320,10 +354,22 @@ def _walk_calls(rules):
 
 
 def register(integ: Integrator, where: str = "integrator") -> str:
-    """Make a parsed scheme known by its name to the runtime and codegen; returns the name.
+    """Make a parsed scheme known by its name to the runtime and codegen.
 
     The same name with the same rules may be registered again (a scene read twice); the same name
     with different rules in one run is refused (the derivations are cached by name).
+
+    Parameters
+    ----------
+    integ : Integrator
+        The parsed scheme (:func:`parse_integrator`).
+    where : str
+        Input key of its table, named in the error.
+
+    Returns
+    -------
+    str
+        The scheme's name.
     """
     old = USER_INTEGRATORS.get(integ.name)
     if old is not None and (old.state, old.summary) != (integ.state, integ.summary):
@@ -340,6 +386,18 @@ def same_update_as(integ, candidates) -> str | None:
     Tested at three seeded random points (vectors of 4, symmetric K and C, h in [0.1, 1]) to 1e-9:
     both maps are polynomials in (h, K, C), so a difference vanishes at random points with
     probability 0 (Schwartz-Zippel).
+
+    Parameters
+    ----------
+    integ : Integrator
+        The scheme to compare.
+    candidates : iterable of str
+        Built-in scheme keys to try, in order.
+
+    Returns
+    -------
+    str or None
+        The first matching key.
     """
     import numpy as np
 

@@ -33,6 +33,20 @@ GROWTH_SLACK = 1e-10
 
 @dataclass(frozen=True)
 class BlockStep:
+    """The critical step of a coupled block and how it was found.
+
+    Parameters
+    ----------
+    dt : float
+        The exact critical step [s].
+    omega2 : float
+        The block's largest ``omega^2`` (eigenvalue of ``K~``) [1/s^2].
+    zeta_mode : float
+        The damping ratio ``v^T C~ v/(2 omega)`` of its top undamped mode.
+    route : str
+        Which route of the module docstring gave ``dt``.
+    """
+
     dt: float
     omega2: float  # the block's largest omega^2 (eigenvalue of K~) [1/s^2]
     zeta_mode: float  # the damping ratio v^T C~ v/(2 omega) of its top undamped mode
