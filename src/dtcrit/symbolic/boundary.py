@@ -21,18 +21,51 @@ from dtcrit.symbolic.jury import jury_conditions
 
 @dataclass(frozen=True)
 class BoundaryFactor:
+    """One factor of a Jury condition's numerator: where it vanishes, an eigenvalue reaches the unit circle.
+
+    Parameters
+    ----------
+    condition : str
+        Label of the Jury condition it comes from.
+    poly : sympy.Poly
+        Polynomial in ``tau`` with coefficients in ``zeta``.
+    """
+
     condition: str  # label of the Jury condition it comes from
     poly: sp.Poly  # polynomial in tau with coefficients in zeta
 
 
 @lru_cache(maxsize=None)
 def conditions(name: str) -> tuple[tuple[str, sp.Expr], ...]:
+    """The Jury conditions (Jury 1964; degrees 1-3) of the scheme's characteristic polynomial.
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``dtcrit.integrators.schemes``).
+
+    Returns
+    -------
+    tuple of (str, sympy.Expr)
+        (label, expression that must be > 0) pairs, in ``tau`` and ``zeta``.
+    """
     return tuple(jury_conditions(characteristic_polynomial(name)))
 
 
 @lru_cache(maxsize=None)
 def boundary_factors(name: str) -> tuple[BoundaryFactor, ...]:
-    """Distinct factors (in tau, positive degree, not tau itself) of the condition numerators."""
+    """Distinct factors (in tau, positive degree, not tau itself) of the condition numerators.
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``dtcrit.integrators.schemes``).
+
+    Returns
+    -------
+    tuple of BoundaryFactor
+        The candidate stability boundaries ``tau(zeta)``.
+    """
     seen: dict[sp.Expr, BoundaryFactor] = {}
     for label, expr in conditions(name):
         num, _ = sp.fraction(sp.together(expr))
@@ -83,6 +116,20 @@ def tau_crit_mp(name: str, z, dps: int = 50) -> tuple[mp.mpf, int | None]:
     """(tau_crit, index of the governing boundary factor) at damping ratio ``z`` (exact boundary).
 
     ``tau_crit = 0`` (factor ``None``) when the scheme is unstable for every tau > 0.
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``dtcrit.integrators.schemes``).
+    z : mpmath number, str or float
+        Damping ratio ``zeta`` (converted exactly by mpmath).
+    dps : int
+        Decimal digits of the mpmath evaluation.
+
+    Returns
+    -------
+    tuple of (mpmath.mpf, int or None)
+        The critical ``tau = omega dt`` and the index into :func:`boundary_factors`.
     """
     with mp.workdps(dps):
         z = sp.Rational(z) if not isinstance(z, sp.Basic) else z
@@ -103,7 +150,19 @@ def tau_crit_mp(name: str, z, dps: int = 50) -> tuple[mp.mpf, int | None]:
 
 @dataclass(frozen=True)
 class Piece:
-    """On ``zeta_lo <= zeta <= zeta_hi`` the critical tau is a root of ``factor``."""
+    """On ``zeta_lo <= zeta <= zeta_hi`` the critical tau is a root of ``factor``.
+
+    Parameters
+    ----------
+    zeta_lo : sympy.Expr
+        Lower end of the damping interval.
+    zeta_hi : sympy.Expr
+        Upper end (``sympy.oo`` for the last piece).
+    factor : BoundaryFactor
+        The governing boundary factor.
+    sample_zeta : sympy.Rational
+        An interior point, used to pick the right root.
+    """
 
     zeta_lo: sp.Expr
     zeta_hi: sp.Expr  # sp.oo for the last piece
@@ -130,11 +189,23 @@ def active_pieces(name: str) -> tuple[Piece, ...]:
     """The governing boundary factor over zeta > 0, from an exact scan and exact switch points.
 
     ``zeta = 0`` is handled by ``tau_crit_mp`` (it may be 0: unstable when undamped).
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``dtcrit.integrators.schemes``).
+
+    Returns
+    -------
+    tuple of Piece
+        The pieces, in increasing ``zeta``.
     """
     factors = boundary_factors(name)
-    scan = [(z, tau_crit_mp(name, z, dps=40)[1]) for z in _SCAN[1:]]
-    if any(idx is None for _, idx in scan):
-        raise RuntimeError(f"{name}: unstable for every step at some zeta > 0; not supported yet")
+    scan: list[tuple[sp.Expr, int]] = []
+    for z, idx in [(z, tau_crit_mp(name, z, dps=40)[1]) for z in _SCAN[1:]]:
+        if idx is None:
+            raise RuntimeError(f"{name}: unstable for every step at some zeta > 0; not supported yet")
+        scan.append((z, idx))
     runs: list[list[tuple[sp.Expr, int]]] = [[scan[0]]]
     for z, idx in scan[1:]:
         if idx == runs[-1][-1][1]:

@@ -31,6 +31,24 @@ omega, gamma = sp.symbols("omega gamma", positive=True)
 
 @dataclass(frozen=True)
 class ClosedPiece:
+    """The closed form of the critical step on one piece of the damping axis.
+
+    Parameters
+    ----------
+    piece : Piece
+        The damping interval and its boundary factor.
+    kind : str
+        ``"root"`` (closed form in tau) or ``"cubic"`` (smallest positive root of a cubic).
+    tau_expr : sympy.Expr or None
+        Dimensionless ``tau(zeta)``, for degree <= 2.
+    dt_expr : sympy.Expr or None
+        ``dt(omega, gamma)``, for degree <= 2.
+    cubic : tuple of sympy.Expr or None
+        Monic coefficients ``(a2, a1, a0)`` in ``zeta``, for degree 3.
+    cubic_large : tuple of sympy.Expr or None
+        For ``zeta >= 1``: monic ``(b2, b1, b0)`` in ``eps = 1/zeta^2`` (:func:`reciprocal_cubic`).
+    """
+
     piece: Piece
     kind: str  # "root" (closed form in tau) or "cubic" (smallest positive root of a cubic)
     tau_expr: sp.Expr | None  # dimensionless tau(zeta), for degree <= 2
@@ -49,6 +67,16 @@ def reciprocal_cubic(monic: tuple[sp.Expr, ...]) -> tuple[sp.Expr, ...]:
     For large zeta the smallest root tau ~ 1/zeta, and the monic cubic in tau has coefficients
     growing like zeta^2 (overflowing float64 beyond zeta ~ 1e150).  In y the coefficients stay
     bounded for zeta >= 1 and the wanted root is the *largest* positive y.
+
+    Parameters
+    ----------
+    monic : tuple of sympy.Expr
+        Monic coefficients ``(a2, a1, a0)`` of the cubic in ``tau``.
+
+    Returns
+    -------
+    tuple of sympy.Expr
+        Monic coefficients ``(b2, b1, b0)`` of the cubic in ``y``.
     """
     a2, a1, a0 = monic
     g = tau**3 + a2 * tau**2 + a1 * tau + a0
@@ -106,6 +134,18 @@ def _quadratic_root(name: str, p: Piece) -> tuple[sp.Expr, sp.Expr]:
 
 @lru_cache(maxsize=None)
 def closed_pieces(name: str) -> tuple[ClosedPiece, ...]:
+    """The closed form of the critical step of ``name``, piece by piece over zeta > 0.
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``dtcrit.integrators.schemes``).
+
+    Returns
+    -------
+    tuple of ClosedPiece
+        One closed form per piece of :func:`dtcrit.symbolic.boundary.active_pieces`.
+    """
     out = []
     for p in active_pieces(name):
         deg = p.factor.poly.degree()
@@ -125,7 +165,18 @@ def closed_pieces(name: str) -> tuple[ClosedPiece, ...]:
 
 
 def formula_text(name: str) -> str:
-    """Human-readable closed form of tau_crit(zeta) = omega * dt, piece by piece."""
+    """Human-readable closed form of tau_crit(zeta) = omega * dt, piece by piece.
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``dtcrit.integrators.schemes``).
+
+    Returns
+    -------
+    str
+        The formula text.
+    """
     parts = []
     for cp in closed_pieces(name):
         lo, hi = cp.piece.zeta_lo, cp.piece.zeta_hi
@@ -143,6 +194,20 @@ def tau_crit_closed_mp(name: str, z, dps: int = 50):
     """tau_crit(zeta) from the closed form, evaluated in mpmath at ``dps`` digits (reference values).
 
     ``z`` may be an mpmath number or anything mpmath converts exactly (a float is taken exactly).
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``dtcrit.integrators.schemes``).
+    z : mpmath number, float or str
+        Damping ratio ``zeta``.
+    dps : int
+        Decimal digits.
+
+    Returns
+    -------
+    mpmath.mpf
+        The critical ``tau = omega dt`` (0 when no step is stable).
     """
     with mp.workdps(dps + 10):
         z = mp.mpf(z)
@@ -164,13 +229,17 @@ def _cubic_tau_mp(cp: ClosedPiece, z, dps: int):
     tau-coefficients span too many decades), then Newton on the *original* cubic in tau at
     2*dps digits, so the reference does not rest on the reciprocal transformation.
     """
+    cubic, cubic_large = cp.cubic, cp.cubic_large
+    if cubic is None or cubic_large is None:
+        raise ValueError("_cubic_tau_mp: the piece is not a cubic")
+
     def positive_real(coeffs, pick):
         roots = mp.polyroots(coeffs, maxsteps=800, extraprec=6 * dps)
         good = [mp.re(r) for r in roots if abs(mp.im(r)) <= mp.mpf(10) ** (-dps) * (1 + abs(r)) and mp.re(r) > 0]
         return pick(good) if good else None
 
     if z == 0:
-        coeffs = [mp.mpf(1)] + [mp.mpf(sp.N(c.subs(zeta, 0), dps)) for c in cp.cubic]
+        coeffs = [mp.mpf(1)] + [mp.mpf(sp.N(c.subs(zeta, 0), dps)) for c in cubic]
         while len(coeffs) > 1 and coeffs[-1] == 0:
             coeffs.pop()  # an exact root at 0 is not positive (adams-bashforth-2's undamped cubic is tau^3)
         if len(coeffs) == 1:
@@ -182,15 +251,15 @@ def _cubic_tau_mp(cp: ClosedPiece, z, dps: int):
         # 2 zeta^(1/3) for adams-bashforth-2, whose undamped cubic is tau^3)
         return _tiny_zeta_root(cp, z, dps)
     elif z < 1:
-        t = positive_real([mp.mpf(1)] + [sp.lambdify(zeta, c, modules="mpmath")(z) for c in cp.cubic], min)
+        t = positive_real([mp.mpf(1)] + [sp.lambdify(zeta, c, modules="mpmath")(z) for c in cubic], min)
     else:
         e = 1 / (z * z)
-        yy = positive_real([mp.mpf(1)] + [sp.lambdify(eps, c, modules="mpmath")(e) for c in cp.cubic_large], max)
+        yy = positive_real([mp.mpf(1)] + [sp.lambdify(eps, c, modules="mpmath")(e) for c in cubic_large], max)
         t = None if yy is None else 1 / (z * yy)
     if t is None:
         return mp.mpf(0)
     with mp.workdps(2 * dps):
-        fs = [sp.lambdify(zeta, c, modules="mpmath") for c in cp.cubic]
+        fs = [sp.lambdify(zeta, c, modules="mpmath") for c in cubic]
         a2, a1, a0 = (f(z) for f in fs)
         t = mp.findroot(lambda u: ((u + a2) * u + a1) * u + a0, t)
     return +t
@@ -200,13 +269,35 @@ def _tiny_zeta_root(cp: ClosedPiece, z, dps: int):
     """Smallest positive root of the cubic in tau for zeta < 1e-6 (0 when it has none), from the cubic's
     two-term balances (``dtcrit.mp_roots.balance_roots``) at ``2 dps`` digits.
     """
+    if cp.cubic is None:
+        raise ValueError("_tiny_zeta_root: the piece is not a cubic")
+    cubic = cp.cubic
     with mp.workdps(2 * dps):
-        found = balance_roots([sp.lambdify(zeta, c, modules="mpmath")(z) for c in cp.cubic], dps)
+        found = balance_roots([sp.lambdify(zeta, c, modules="mpmath")(z) for c in cubic], dps)
     return +min(found) if found else mp.mpf(0)
 
 
 def dt_crit_mp(name: str, k, c, A, dps: int = 50):
-    """Reference critical step for the exact float inputs (k, c, A), at ``dps`` digits."""
+    """Reference critical step for the exact float inputs (k, c, A), at ``dps`` digits.
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``dtcrit.integrators.schemes``).
+    k : float
+        Contact stiffness [N/m].
+    c : float
+        Viscous damping [N s/m].
+    A : float
+        Inverse inertia coefficient [1/kg].
+    dps : int
+        Decimal digits.
+
+    Returns
+    -------
+    mpmath.mpf
+        The critical step [s].
+    """
     with mp.workdps(dps + 10):
         k, c, A = mp.mpf(k), mp.mpf(c), mp.mpf(A)
         w = mp.sqrt(k * A)

@@ -95,6 +95,12 @@ def hertz() -> dict:
     2 (dmax/v0) (2/5) B(2/5, 1/2).  Tangent stiffness at dmax: k_t = (3/2) k_h dmax^(1/2).
     In units of dmax and 1/omega_t (omega_t = sqrt(k_t/m)): u'' = -(2/3) u^(3/2), entry speed
     sqrt(8/15).
+
+    Returns
+    -------
+    dict
+        SymPy expressions by name (``dmax``, ``duration_factor``, ``scaled_coefficient``,
+        ``scaled_speed``, ``scaled_duration``, ...).
     """
     X = sp.Symbol("X", positive=True)
     dmax = sp.solve(sp.Eq(m * v0**2 / 2, sp.integrate(k_h * x ** sp.Rational(3, 2), (x, 0, X))), X)[0]
@@ -132,6 +138,13 @@ def hertz() -> dict:
 # ---------------------------------------------------------------------------------------------
 
 def kernels() -> list[Kernel]:
+    """The emitted kernels of the one-dimensional impact (exact and time-stepped closed forms).
+
+    Returns
+    -------
+    list of Kernel
+        One per emitted function of ``dtcrit/_generated/impact.py``.
+    """
     z_arg = ((zeta, "damping ratio c/(2 sqrt(k m)) (>= 0)"),)
     tau_arg = (tau, "omega*dt, the step in units of 1/omega")
     phi_arg = (phi, "entry phase in [0, 1): first in-contact position is phi*tau*v0/omega")
@@ -212,6 +225,13 @@ def kernels() -> list[Kernel]:
 
 
 def postamble() -> str:
+    """The constants appended to the emitted impact module (Hertz impact in scaled units, series radius).
+
+    Returns
+    -------
+    str
+        Python source lines.
+    """
     hz = hertz()
     return "\n".join(
         [
@@ -227,6 +247,13 @@ def postamble() -> str:
 
 
 def generated_files() -> dict[str, str]:
+    """The emitted impact module, by its path under ``dtcrit/_generated``.
+
+    Returns
+    -------
+    dict of str to str
+        File name -> Python source.
+    """
     text = python_module(
         PRODUCER,
         "One-dimensional impact of the spring-dashpot and Hertz contacts: exact and time-stepped closed forms.\n\n"

@@ -79,7 +79,18 @@ def _regime_subs(regime: str) -> dict:
 
 
 def residual(regime: str) -> sp.Expr:
-    """d'' + 2 zeta d' + d for the regime's motion, with its frequency substituted (must be 0)."""
+    """The residual d'' + 2 zeta d' + d of the regime's motion, with its frequency substituted (must be 0).
+
+    Parameters
+    ----------
+    regime : str
+        ``"undamped"``, ``"underdamped"``, ``"critical"`` or ``"overdamped"``.
+
+    Returns
+    -------
+    sympy.Expr
+        The residual, simplified.
+    """
     d = contact_motion(regime)
     z = {"undamped": 0, "critical": 1}.get(regime, zeta)
     expr = (d.diff(s, 2) + 2 * z * d.diff(s) + d).subs(_regime_subs(regime))
@@ -108,6 +119,11 @@ def no_geometric_separation() -> dict:
 
     d = s exp(-s) (critical) and exp(-zeta s) sinh(mu s)/mu with zeta > mu (overdamped) are positive
     for s > 0, so the overlap never returns to 0: no geometric separation, exit velocity 0 in the limit.
+
+    Returns
+    -------
+    dict
+        ``{regime: (lim d, lim d', d)}`` for ``"critical"`` and ``"overdamped"``.
     """
     a_r, c_r = sp.symbols("a c", positive=True)  # overdamped decay rates a = zeta - mu, a + c = zeta + mu
     out = {}
@@ -120,21 +136,52 @@ def no_geometric_separation() -> dict:
 
 
 def compressive_force(regime: str) -> sp.Expr:
-    """P(s) = d + 2 zeta d' = -d'' (contact force in units of k v0/omega; > 0 is compressive)."""
+    """P(s) = d + 2 zeta d' = -d'' (contact force in units of k v0/omega; > 0 is compressive).
+
+    Parameters
+    ----------
+    regime : str
+        ``"undamped"``, ``"underdamped"``, ``"critical"`` or ``"overdamped"``.
+
+    Returns
+    -------
+    sympy.Expr
+        ``P(s)``.
+    """
     d = contact_motion(regime)
     return sp.simplify(-d.diff(s, 2))
 
 
 def g_underdamped() -> sp.Expr:
+    """g(zeta) = arccos(zeta)/sqrt(1 - zeta^2) (zeta < 1): half the force-release time, ``s_f = 2 g``.
+
+    Returns
+    -------
+    sympy.Expr
+        ``g`` with the square root split as ``sqrt(1 - zeta) sqrt(1 + zeta)``.
+    """
     return sp.acos(zeta) / (sp.sqrt(1 - zeta) * sp.sqrt(1 + zeta))
 
 
 def g_overdamped() -> sp.Expr:
+    """g(zeta) = arccosh(zeta)/sqrt(zeta^2 - 1) (zeta > 1): half the force-release time, ``s_f = 2 g``.
+
+    Returns
+    -------
+    sympy.Expr
+        ``g`` with the square root split as ``sqrt(zeta - 1) sqrt(zeta + 1)``.
+    """
     return sp.acosh(zeta) / (sp.sqrt(zeta - 1) * sp.sqrt(zeta + 1))
 
 
 def g_ode_residuals() -> tuple[sp.Expr, sp.Expr]:
-    """(1 - zeta^2) g' - zeta g + 1 for both closed forms of g (both 0): g solves one linear ODE."""
+    """(1 - zeta^2) g' - zeta g + 1 for both closed forms of g (both 0): g solves one linear ODE.
+
+    Returns
+    -------
+    tuple of sympy.Expr
+        The residuals of :func:`g_underdamped` and :func:`g_overdamped`.
+    """
     p = sp.Symbol("p", positive=True)  # zeta = 1 - p (p < 1) and zeta = 1 + p
     out = []
     for g, z in ((g_underdamped(), 1 - p), (g_overdamped(), 1 + p)):
@@ -187,7 +234,13 @@ def force_release() -> dict:
 
 
 def force_release_time_expr() -> sp.Expr:
-    """s_f = 2 g(zeta), piecewise with the series near zeta = 1 (no 0/0)."""
+    """s_f = 2 g(zeta), piecewise with the series near zeta = 1 (no 0/0).
+
+    Returns
+    -------
+    sympy.Piecewise
+        The release time in units of ``1/omega``.
+    """
     series = g_series().subs(u, 1 - zeta)
     g = sp.Piecewise(
         (series, sp.Abs(1 - zeta) < SERIES_RADIUS),
@@ -198,12 +251,26 @@ def force_release_time_expr() -> sp.Expr:
 
 
 def geometric_duration_expr() -> sp.Expr:
+    """Contact duration until the overlap returns to 0: ``pi/sqrt(1 - zeta^2)`` below critical damping, inf above.
+
+    Returns
+    -------
+    sympy.Piecewise
+        The duration in units of ``1/omega``.
+    """
     t_d = geometric_separation()[0]
     t_d = t_d.subs(sp.sqrt(1 - zeta**2), sp.sqrt(1 - zeta) * sp.sqrt(1 + zeta))
     return sp.Piecewise((t_d, zeta < 1), (sp.oo, True))
 
 
 def geometric_exit_ratio_expr() -> sp.Expr:
+    """Exit speed over entry speed at geometric separation: ``exp(-zeta pi/w)`` below critical damping, 0 above.
+
+    Returns
+    -------
+    sympy.Piecewise
+        ``v_exit/v0``.
+    """
     v_e = -geometric_separation()[1]
     v_e = v_e.subs(sp.sqrt(1 - zeta**2), sp.sqrt(1 - zeta) * sp.sqrt(1 + zeta))
     return sp.Piecewise((v_e, zeta < 1), (0, True))

@@ -21,6 +21,16 @@ def position_recurrence_residual(name: str) -> sp.Expr:
 
     Zero for the central-difference family (undamped, omega = 1): positions obey the Stoermer
     recurrence whatever the stored velocity or acceleration.
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``dtcrit.integrators.schemes``).
+
+    Returns
+    -------
+    sympy.Expr
+        The residual, expanded.
     """
     integ = INTEGRATORS[name]
     state = sp.symbols(f"q0:{len(integ.state)}", real=True)
@@ -64,6 +74,16 @@ def free_flight_entry_residual(name: str) -> tuple[sp.Expr, sp.Expr]:
     force evaluated at x_(-1) is zero, one evaluated at any later position (x_0 >= 0, x_1) is the
     contact force.  Both zero for the central-difference family: the Stoermer recurrence starts
     from the free-flight history.
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``dtcrit.integrators.schemes``).
+
+    Returns
+    -------
+    tuple of sympy.Expr
+        The two residuals.
     """
     xm1 = (phi - 1) * tau
     integ = INTEGRATORS[name]
@@ -79,6 +99,16 @@ def exit_velocity_residual(name: str) -> sp.Expr:
     From a generic in-contact state at x_(m-1) (stored acceleration consistent), forces evaluated at
     x_(m-1) are contact forces and those at x_m and later positions are zero.  Zero for the family:
     the exit speed is the free-flight difference quotient, the quantity the invariant Q controls.
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``dtcrit.integrators.schemes``).
+
+    Returns
+    -------
+    sympy.Expr
+        The residual.
     """
     integ = INTEGRATORS[name]
     xa, va = sp.symbols("x_a v_a", real=True)
@@ -105,7 +135,13 @@ def central_difference_invariant() -> sp.Expr:
 
 
 def central_difference_angle_expr() -> sp.Expr:
-    """theta with cos theta = 1 - tau^2/2: roots of lambda^2 - (2 - tau^2) lambda + 1 are exp(+-i theta)."""
+    """The angle theta with cos theta = 1 - tau^2/2: roots of lambda^2 - (2 - tau^2) lambda + 1 are exp(+-i theta).
+
+    Returns
+    -------
+    sympy.Expr
+        ``theta(tau)``.
+    """
     return 2 * sp.asin(tau / 2)
 
 
@@ -123,7 +159,13 @@ def central_difference_position_expr() -> sp.Expr:
 
 
 def central_difference_ratio_expr() -> sp.Expr:
-    """v_exit/v0 from Q at entry (x = phi tau, v = 1) and at exit (x = -psi tau r, v = -r)."""
+    """v_exit/v0 from Q at entry (x = phi tau, v = 1) and at exit (x = -psi tau r, v = -r).
+
+    Returns
+    -------
+    sympy.Expr
+        ``r(tau, phi, psi)``.
+    """
     Q = central_difference_invariant()
     r = sp.Symbol("r", positive=True)
     q_in = Q.subs({x: phi * tau, v: 1})
@@ -136,7 +178,13 @@ def central_difference_ratio_expr() -> sp.Expr:
 
 
 def central_difference_unit_steps_expr() -> sp.Expr:
-    """tau_N = 2 sin(pi/(2N)): theta = pi/N, where v_exit = v0 for every entry phase."""
+    """tau_N = 2 sin(pi/(2N)): theta = pi/N, where v_exit = v0 for every entry phase.
+
+    Returns
+    -------
+    sympy.Expr
+        ``tau_N`` in the symbol ``N``.
+    """
     # 1 - tau^2/2 = cos(pi/N) with tau > 0: tau = sqrt(2 - 2 cos(pi/N)) = 2 sin(pi/(2N))
     half_angle = 2 * sp.sin(sp.pi / (2 * N))
     if sp.simplify(sp.cos(sp.pi / N) - (1 - half_angle**2 / 2)) != 0:
@@ -145,10 +193,15 @@ def central_difference_unit_steps_expr() -> sp.Expr:
 
 
 def unit_step_exit_phase_equals_entry() -> sp.Expr:
-    """psi - phi when theta = pi/N and the exit is at step N (0: the exit mirrors the entry).
+    """The difference psi - phi when theta = pi/N and the exit is at step N (0: the exit mirrors the entry).
 
     With x_n = A cos(n theta) + B sin(n theta): x_N = A cos(pi) + B sin(pi) = -x_0 and
     x_(N-1) = A cos(pi - theta) + B sin(pi - theta) = -x_(-1), so psi = x_0/(x_0 - x_(-1)) = phi.
+
+    Returns
+    -------
+    sympy.Expr
+        ``psi - phi``, simplified.
     """
     xn = central_difference_position_expr()
     th = central_difference_angle_expr()
@@ -174,7 +227,13 @@ def forward_euler_map() -> tuple[sp.Expr, sp.Expr, sp.Matrix]:
 
 
 def forward_euler_motion_expr() -> tuple[sp.Expr, sp.Expr]:
-    """(x_n, v_n) from (x_0, v_0) = (phi tau, 1): rho^n rotation(n alpha) applied."""
+    """(x_n, v_n) from (x_0, v_0) = (phi tau, 1): rho^n rotation(n alpha) applied.
+
+    Returns
+    -------
+    tuple of sympy.Expr
+        ``x_n`` and ``v_n`` in the symbols ``n``, ``tau``, ``phi``.
+    """
     rho, alpha, _ = forward_euler_map()
     x0 = phi * tau
     g = (1 + tau**2) ** (n / 2)

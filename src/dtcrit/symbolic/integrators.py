@@ -29,7 +29,23 @@ def _integrator(name_or_obj) -> Integrator:
 
 
 def amplification_matrix(integrator, dimensionless: bool = False) -> sp.Matrix:
-    """``G`` with ``state_{n+1} = G state_n``, from one application of the update rule."""
+    """``G`` with ``state_{n+1} = G state_n``, from one application of the update rule.
+
+    The rule is linear in the state, so its Jacobian is ``G`` (Peng et al. 2020, Eqs. (38)-(40) for
+    the printed scheme).
+
+    Parameters
+    ----------
+    integrator : str or Integrator
+        A built-in or user-written scheme.
+    dimensionless : bool
+        True: in ``tau = omega dt`` and ``zeta`` (``K = 1``, ``C = 2 zeta``); False: in ``h``, ``K``, ``C``.
+
+    Returns
+    -------
+    sympy.Matrix
+        ``G`` (d x d).
+    """
     integ = _integrator(integrator)
     state = sp.symbols(f"s0:{len(integ.state)}")
     if dimensionless:
@@ -63,6 +79,17 @@ def characteristic_polynomial(name: str, dimensionless: bool = True) -> sp.Poly:
 
 
 def monic_coefficients(poly: sp.Poly) -> list[sp.Expr]:
-    """[a_{n-1}, ..., a_0] of the monic form lambda^n + a_{n-1} lambda^{n-1} + ... + a_0."""
+    """[a_{n-1}, ..., a_0] of the monic form lambda^n + a_{n-1} lambda^{n-1} + ... + a_0.
+
+    Parameters
+    ----------
+    poly : sympy.Poly
+        A polynomial in ``lambda``.
+
+    Returns
+    -------
+    list of sympy.Expr
+        The coefficients, divided by the leading one.
+    """
     coeffs = poly.all_coeffs()
     return [sp.cancel(c / coeffs[0]) for c in coeffs[1:]]

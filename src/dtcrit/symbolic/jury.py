@@ -17,6 +17,22 @@ from dtcrit.symbolic.integrators import lam, monic_coefficients
 
 
 def jury_conditions(poly: sp.Poly) -> list[tuple[str, sp.Expr]]:
+    """Jury's conditions (degree 1-3) for every root of ``poly`` to lie inside the unit circle.
+
+    Each condition is an expression that must be > 0: ``p(1)``, ``(-1)^n p(-1)`` and, from degree 2,
+    ``1 -+ a0`` and, for degree 3, the two complex-pair conditions ``1 - a0^2 -+ (a0 a2 - a1)`` of the
+    monic ``p = lambda^n + a_{n-1} lambda^{n-1} + ... + a0``.
+
+    Parameters
+    ----------
+    poly : sympy.Poly
+        Characteristic polynomial in ``lambda``, degree 1 to 3.
+
+    Returns
+    -------
+    list of (str, sympy.Expr)
+        (label, factored expression) pairs.
+    """
     n = poly.degree()
     if n not in (1, 2, 3):
         raise NotImplementedError(f"Jury conditions implemented for degree 1-3, got {n}")

@@ -41,34 +41,125 @@ def inertia_tensor(Ixx, Iyy, Izz, Ixy=0, Ixz=0, Iyz=0) -> sp.Matrix:
     """Peng et al. 2020, Eqs (9)-(10): the (symmetric) inertia tensor in the local frame.
 
     Under the paper's assumption 2 (principal local axes) the products of inertia vanish.
+
+    Parameters
+    ----------
+    Ixx, Iyy, Izz : sympy.Expr or number
+        Moments of inertia about the local axes [kg m^2].
+    Ixy, Ixz, Iyz : sympy.Expr or number
+        Products of inertia [kg m^2] (0 on principal axes).
+
+    Returns
+    -------
+    sympy.Matrix
+        The 3x3 tensor.
     """
     return sp.Matrix([[Ixx, Ixy, Ixz], [Ixy, Iyy, Iyz], [Ixz, Iyz, Izz]])
 
 
 def global_moments(r1, r2, F, M) -> tuple[sp.Matrix, sp.Matrix]:
-    """Peng et al. 2020, Eqs (3)-(4): ``M_G1 = r1 x (-F) + (-M)``, ``M_G2 = r2 x F + M``."""
+    """Peng et al. 2020, Eqs (3)-(4): ``M_G1 = r1 x (-F) + (-M)``, ``M_G2 = r2 x F + M``.
+
+    Parameters
+    ----------
+    r1 : sequence or sympy.Matrix
+        Contact arm of particle 1, global components.
+    r2 : sequence or sympy.Matrix
+        Contact arm of particle 2, global components.
+    F : sequence or sympy.Matrix
+        Contact force on particle 2 (global).
+    M : sequence or sympy.Matrix
+        Contact moment on particle 2 (global).
+
+    Returns
+    -------
+    tuple of sympy.Matrix
+        ``(M_G1, M_G2)``.
+    """
     F, M = sp.Matrix(F), sp.Matrix(M)
     return cross(r1, -F) - M, cross(r2, F) + M
 
 
 def to_local(R: sp.Matrix, v_global) -> sp.Matrix:
-    """Peng et al. 2020, Eqs (5)-(6): ``v_L = R v_G``."""
+    """Peng et al. 2020, Eqs (5)-(6): ``v_L = R v_G``.
+
+    Parameters
+    ----------
+    R : sympy.Matrix
+        Rotation global -> local.
+    v_global : sequence or sympy.Matrix
+        Global components.
+
+    Returns
+    -------
+    sympy.Matrix
+        Local components.
+    """
     return R * sp.Matrix(v_global)
 
 
 def to_global(R: sp.Matrix, v_local) -> sp.Matrix:
-    """Peng et al. 2020, Eqs (13)-(16): ``v_G = R^{-1} v_L`` with ``R^{-1} = R^T`` (unit quaternion)."""
+    """Peng et al. 2020, Eqs (13)-(16): ``v_G = R^{-1} v_L`` with ``R^{-1} = R^T`` (unit quaternion).
+
+    Parameters
+    ----------
+    R : sympy.Matrix
+        Rotation global -> local.
+    v_local : sequence or sympy.Matrix
+        Local components.
+
+    Returns
+    -------
+    sympy.Matrix
+        Global components.
+    """
     return R.T * sp.Matrix(v_local)
 
 
-def euler_angular_acceleration(I: sp.Matrix, M_local, w_local) -> sp.Matrix:
-    """Peng et al. 2020, Eqs (11)-(12): ``wdot_L = I^{-1} (M_L - w_L x I w_L)`` (Euler's equations)."""
+def euler_angular_acceleration(inertia: sp.Matrix, M_local, w_local) -> sp.Matrix:
+    """Peng et al. 2020, Eqs (11)-(12): ``wdot_L = I^{-1} (M_L - w_L x I w_L)`` (Euler's equations).
+
+    Parameters
+    ----------
+    inertia : sympy.Matrix
+        Local inertia tensor.
+    M_local : sequence or sympy.Matrix
+        Moment, local components.
+    w_local : sequence or sympy.Matrix
+        Angular velocity, local components.
+
+    Returns
+    -------
+    sympy.Matrix
+        ``wdot_L``.
+    """
     w = sp.Matrix(w_local)
-    return I.inv() * (sp.Matrix(M_local) - cross(w, I * w))
+    return inertia.inv() * (sp.Matrix(M_local) - cross(w, inertia * w))
 
 
 def contact_point_acceleration(wdot_G, w_G, r, F, m, sign) -> sp.Matrix:
-    """Peng et al. 2020, Eqs (17)-(18): ``wdot x r + w x (w x r) + sign F / m`` (sign -1 on particle 1)."""
+    """Peng et al. 2020, Eqs (17)-(18): ``wdot x r + w x (w x r) + sign F / m`` (sign -1 on particle 1).
+
+    Parameters
+    ----------
+    wdot_G : sympy.Matrix
+        Angular acceleration, global components.
+    w_G : sympy.Matrix
+        Angular velocity, global components.
+    r : sympy.Matrix
+        Contact arm, global components.
+    F : sympy.Matrix
+        Contact force on particle 2.
+    m : sympy.Expr
+        Mass.
+    sign : int
+        -1 for particle 1, +1 for particle 2.
+
+    Returns
+    -------
+    sympy.Matrix
+        Acceleration of the contact point of that particle.
+    """
     w = sp.Matrix(w_G)
     return cross(wdot_G, r) + cross(w, cross(w, r)) + sign * sp.Matrix(F) / m
 
@@ -80,15 +171,27 @@ def contact_point_acceleration(wdot_G, w_G, r, F, m, sign) -> sp.Matrix:
 
 @dataclass
 class RigidParticle:
-    """One particle: mass ``m``, local inertia tensor ``I``, rotation ``R`` (global -> local, Eq 5),
+    """One particle: mass ``m``, local inertia tensor ``inertia`` (``I``), rotation ``R`` (global -> local, Eq 5),
     contact arm ``r = x_c - x`` in global components (Eqs 1-2) and angular velocity.
 
-    ``w`` holds the angular velocity; ``w_is_local`` says whether its components are local
-    (body) components ``w_L`` or global ones ``w_G`` (Eqs 15-16 relate them).
+    Parameters
+    ----------
+    m : sympy.Expr
+        Mass.
+    inertia : sympy.Matrix
+        Local inertia tensor (:func:`inertia_tensor`).
+    R : sympy.Matrix
+        Rotation global -> local (Eq 5).
+    r : sympy.Matrix
+        Contact arm ``x_c - x``, global components.
+    w : sympy.Matrix
+        Angular velocity (zero by default).
+    w_is_local : bool
+        Whether ``w`` holds local (body) components ``w_L`` or global ones ``w_G`` (Eqs 15-16 relate them).
     """
 
     m: sp.Expr
-    I: sp.Matrix
+    inertia: sp.Matrix
     R: sp.Matrix
     r: sp.Matrix
     w: sp.Matrix = field(default_factory=lambda: sp.zeros(3, 1))
@@ -96,18 +199,37 @@ class RigidParticle:
 
     @property
     def w_G(self) -> sp.Matrix:
+        """The angular velocity in global components."""
         return to_global(self.R, self.w) if self.w_is_local else sp.Matrix(self.w)
 
     @property
     def w_L(self) -> sp.Matrix:
+        """The angular velocity in local (body) components."""
         return sp.Matrix(self.w) if self.w_is_local else to_local(self.R, self.w)
 
 
 def relative_accelerations(p1: RigidParticle, p2: RigidParticle, F, M=(0, 0, 0)) -> tuple[sp.Matrix, sp.Matrix]:
-    """Peng et al. 2020, Eqs (1)-(20): ``(xdd_c, wdot_c)`` for force ``F`` and moment ``M`` on particle 2."""
+    """Peng et al. 2020, Eqs (1)-(20): ``(xdd_c, wdot_c)`` for force ``F`` and moment ``M`` on particle 2.
+
+    Parameters
+    ----------
+    p1 : RigidParticle
+        Particle 1 (the force acts on it as ``-F``).
+    p2 : RigidParticle
+        Particle 2 (the force acts on it as ``F``).
+    F : sequence or sympy.Matrix
+        Contact force on particle 2 (global).
+    M : sequence or sympy.Matrix
+        Contact moment on particle 2 (global).
+
+    Returns
+    -------
+    tuple of sympy.Matrix
+        Relative acceleration of the contact points and relative angular acceleration.
+    """
     M_G1, M_G2 = global_moments(p1.r, p2.r, F, M)  # Eqs 3-4
-    wdot_L1 = euler_angular_acceleration(p1.I, to_local(p1.R, M_G1), p1.w_L)  # Eqs 5, 11
-    wdot_L2 = euler_angular_acceleration(p2.I, to_local(p2.R, M_G2), p2.w_L)  # Eqs 6, 12
+    wdot_L1 = euler_angular_acceleration(p1.inertia, to_local(p1.R, M_G1), p1.w_L)  # Eqs 5, 11
+    wdot_L2 = euler_angular_acceleration(p2.inertia, to_local(p2.R, M_G2), p2.w_L)  # Eqs 6, 12
     wdot_G1, wdot_G2 = to_global(p1.R, wdot_L1), to_global(p2.R, wdot_L2)  # Eqs 13-14
     xdd_c1 = contact_point_acceleration(wdot_G1, p1.w_G, p1.r, F, p1.m, -1)  # Eq 17
     xdd_c2 = contact_point_acceleration(wdot_G2, p2.w_G, p2.r, F, p2.m, +1)  # Eq 18
@@ -123,6 +245,20 @@ def coefficient_matrix(p1: RigidParticle, p2: RigidParticle, simplify: bool = Tr
     ``xdd_c`` is affine in ``F`` (Euler's equations are linear in the moment; checked by
     :func:`check_affine_in_force`), so column ``k`` is ``xdd_c(F = e_k) - xdd_c(F = 0)``; it does
     not depend on the angular velocities.
+
+    Parameters
+    ----------
+    p1 : RigidParticle
+        Particle 1 (the force acts on it as ``-F``).
+    p2 : RigidParticle
+        Particle 2 (the force acts on it as ``F``).
+    simplify : bool
+        Simplify each entry.
+
+    Returns
+    -------
+    sympy.Matrix
+        The coefficient matrix ``A`` [1/kg].
     """
     x0, _ = relative_accelerations(p1, p2, (0, 0, 0))
     cols = [relative_accelerations(p1, p2, tuple(sp.eye(3)[:, k]))[0] - x0 for k in range(3)]
@@ -131,19 +267,58 @@ def coefficient_matrix(p1: RigidParticle, p2: RigidParticle, simplify: bool = Tr
 
 
 def rotation_terms(p1: RigidParticle, p2: RigidParticle) -> sp.Matrix:
-    """``Omega`` of Eq (25): ``xdd_c`` at ``F = 0``, ``M = 0`` (velocity-dependent terms only)."""
+    """``Omega`` of Eq (25): ``xdd_c`` at ``F = 0``, ``M = 0`` (velocity-dependent terms only).
+
+    Parameters
+    ----------
+    p1 : RigidParticle
+        Particle 1 (the force acts on it as ``-F``).
+    p2 : RigidParticle
+        Particle 2 (the force acts on it as ``F``).
+
+    Returns
+    -------
+    sympy.Matrix
+        ``Omega``.
+    """
     xdd, _ = relative_accelerations(p1, p2, (0, 0, 0))
     return xdd.applyfunc(lambda e: sp.factor(sp.cancel(e)))
 
 
 def relative_angular_acceleration(p1: RigidParticle, p2: RigidParticle) -> sp.Matrix:
-    """``wdot_c`` at ``F = 0``, ``M = 0`` (Eqs 50-52: the gyroscopic terms of Euler's equations)."""
+    """``wdot_c`` at ``F = 0``, ``M = 0`` (Eqs 50-52: the gyroscopic terms of Euler's equations).
+
+    Parameters
+    ----------
+    p1 : RigidParticle
+        Particle 1 (the force acts on it as ``-F``).
+    p2 : RigidParticle
+        Particle 2 (the force acts on it as ``F``).
+
+    Returns
+    -------
+    sympy.Matrix
+        ``wdot_c``.
+    """
     _, wdot = relative_accelerations(p1, p2, (0, 0, 0))
     return wdot.applyfunc(lambda e: sp.factor(sp.cancel(e)))
 
 
 def check_affine_in_force(p1: RigidParticle, p2: RigidParticle) -> bool:
-    """``xdd_c(F) == A F + Omega`` identically (the decomposition of Eq 25 is exact)."""
+    """``xdd_c(F) == A F + Omega`` identically (the decomposition of Eq 25 is exact).
+
+    Parameters
+    ----------
+    p1 : RigidParticle
+        Particle 1 (the force acts on it as ``-F``).
+    p2 : RigidParticle
+        Particle 2 (the force acts on it as ``F``).
+
+    Returns
+    -------
+    bool
+        True when the identity holds.
+    """
     xdd, _ = relative_accelerations(p1, p2, F_SYMBOLS)
     A = xdd.jacobian(sp.Matrix(F_SYMBOLS))
     Om = xdd.subs({f: 0 for f in F_SYMBOLS})
@@ -156,48 +331,106 @@ def check_affine_in_force(p1: RigidParticle, p2: RigidParticle) -> bool:
 # ----------------------------------------------------------------------------------------------
 
 
-def arm_term(r_local, I: sp.Matrix) -> sp.Matrix:
+def arm_term(r_local, inertia: sp.Matrix) -> sp.Matrix:
     """The rotational part one particle adds to the coefficient matrix, in its own local frame.
 
     Obtained from the general kinematics (particle 2 of :func:`relative_accelerations` with
     ``R = 1``, infinite-mass partner and rigid partner), not typed in; it equals
     ``[r]x^T I^{-1} [r]x`` (checked by :func:`check_arm_term_closed_form`).
+
+    Parameters
+    ----------
+    r_local : sequence or sympy.Matrix
+        Contact arm, local components.
+    inertia : sympy.Matrix
+        Local inertia tensor.
+
+    Returns
+    -------
+    sympy.Matrix
+        The 3x3 arm term.
     """
-    inf_partner = RigidParticle(m=sp.oo, I=sp.eye(3), R=sp.eye(3), r=sp.zeros(3, 1))
-    body = RigidParticle(m=sp.Symbol("m_dummy", positive=True), I=I, R=sp.eye(3), r=sp.Matrix(r_local))
+    inf_partner = RigidParticle(m=sp.oo, inertia=sp.eye(3), R=sp.eye(3), r=sp.zeros(3, 1))
+    body = RigidParticle(m=sp.Symbol("m_dummy", positive=True), inertia=inertia, R=sp.eye(3), r=sp.Matrix(r_local))
     A = coefficient_matrix(inf_partner, body)
     return (A - sp.eye(3) / body.m).applyfunc(sp.cancel)
 
 
-def check_arm_term_closed_form(r_local, I: sp.Matrix) -> bool:
+def check_arm_term_closed_form(r_local, inertia: sp.Matrix) -> bool:
+    """:func:`arm_term` equals ``[r]x^T I^{-1} [r]x`` identically.
+
+    Parameters
+    ----------
+    r_local : sequence or sympy.Matrix
+        Contact arm, local components.
+    inertia : sympy.Matrix
+        Local inertia tensor.
+
+    Returns
+    -------
+    bool
+        True when the identity holds.
+    """
     X = skew(r_local)
-    return (arm_term(r_local, I) - X.T * I.inv() * X).applyfunc(sp.simplify) == sp.zeros(3, 3)
+    return (arm_term(r_local, inertia) - X.T * inertia.inv() * X).applyfunc(sp.simplify) == sp.zeros(3, 3)
 
 
 def a_max_printed(m1, Ixx1, a1, m2, Ixx2, a2) -> sp.Expr:
-    """Peng et al. 2020, Eq (26) as printed: ``a1^2/Ixx1 + a2^2/Ixx2 + 1/m1 + 1/m2``."""
+    """Peng et al. 2020, Eq (26) as printed: ``a1^2/Ixx1 + a2^2/Ixx2 + 1/m1 + 1/m2``.
+
+    Parameters
+    ----------
+    m1, m2 : sympy.Expr or number
+        Masses.
+    Ixx1, Ixx2 : sympy.Expr or number
+        The moments of inertia the printed form divides by.
+    a1, a2 : sympy.Expr or number
+        Arm lengths (semi-axes).
+
+    Returns
+    -------
+    sympy.Expr
+        ``A_max`` [1/kg].
+    """
     return a1**2 / Ixx1 + a2**2 / Ixx2 + 1 / m1 + 1 / m2
 
 
 def b_max_printed(Ixx, Iyy, Izz) -> sp.Expr:
-    """Peng et al. 2020, Eq (54): ``max(|Ixx-Iyy|/Izz, |Ixx-Izz|/Iyy, |Iyy-Izz|/Ixx)``."""
+    """Peng et al. 2020, Eq (54): ``max(|Ixx-Iyy|/Izz, |Ixx-Izz|/Iyy, |Iyy-Izz|/Ixx)``.
+
+    Parameters
+    ----------
+    Ixx, Iyy, Izz : sympy.Expr or number
+        Principal moments of inertia.
+
+    Returns
+    -------
+    sympy.Expr
+        ``B_max``.
+    """
     return sp.Max(sp.Abs(Ixx - Iyy) / Izz, sp.Abs(Ixx - Izz) / Iyy, sp.Abs(Iyy - Izz) / Ixx)
 
 
 def sphere_pair_check() -> dict[str, object]:
     """Two identical spheres (mass ``m``, radius ``rho``, ``I = 2/5 m rho^2``) in contact along an
     arbitrary unit normal ``n``, with arbitrary unit quaternions for both, through the general
-    kinematics.  Returns the residual ``A - (2/m 1 + 5/m (1 - n n^T))`` reduced modulo the three
-    unit-norm constraints (zero matrix when the closed form holds), the eigenvalues of the closed
-    form and ``A_max`` of Eq (26) for the same spheres.
+    kinematics.
+
+    Returns
+    -------
+    dict
+        The residual ``A - (2/m 1 + 5/m (1 - n n^T))`` reduced modulo the three unit-norm constraints
+        (``residual``, zero when the closed form holds), the eigenvalue checks along and across ``n``,
+        ``lambda_max = 7/m`` and ``A_max`` of Eq (26) for the same spheres (``a_max_eq26``), with the
+        symbols ``m``, ``rho``, ``n``.
     """
     m, rho = sp.symbols("m rho", positive=True)
     n = sp.Matrix(sp.symbols("n_x n_y n_z", real=True))
     q1 = sp.symbols("q_w1 q_x1 q_y1 q_z1", real=True)
     q2 = sp.symbols("q_w2 q_x2 q_y2 q_z2", real=True)
-    I = inertia_tensor(*(sp.Rational(2, 5) * m * rho**2,) * 3)
-    p1 = RigidParticle(m, I, quaternion_rotation_matrix(q1), rho * n)
-    p2 = RigidParticle(m, I, quaternion_rotation_matrix(q2), -rho * n)
+    inertia = inertia_tensor(*(sp.Rational(2, 5) * m * rho**2,) * 3)
+    p1 = RigidParticle(m, inertia, quaternion_rotation_matrix(q1), rho * n)
+    p2 = RigidParticle(m, inertia, quaternion_rotation_matrix(q2), -rho * n)
     A = coefficient_matrix(p1, p2, simplify=False)
     closed = 2 / m * sp.eye(3) + 5 / m * (sp.eye(3) - n * n.T)
     constraints = [sum(c**2 for c in q1) - 1, sum(c**2 for c in q2) - 1, sum(c**2 for c in n) - 1]
@@ -216,5 +449,5 @@ def sphere_pair_check() -> dict[str, object]:
         "m": m, "rho": rho, "n": n, "closed_form": closed, "residual": residual,
         "eigen_along_n": along, "eigen_across_n": across, "trace_times_m": trace,
         "lambda_max": sp.Rational(7) / m,
-        "a_max_eq26": sp.simplify(a_max_printed(m, I[0, 0], rho, m, I[0, 0], rho)),
+        "a_max_eq26": sp.simplify(a_max_printed(m, inertia[0, 0], rho, m, inertia[0, 0], rho)),
     }

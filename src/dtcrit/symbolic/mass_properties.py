@@ -50,6 +50,11 @@ _alpha, _beta = sp.symbols("alpha beta", positive=True)
 class elementwise_gamma(sp.Function):
     """Gamma function printed as ``gamma(...)``: the generated module's own element-wise wrapper of
     ``math.gamma`` (the NumPy printer would emit ``math.gamma``, which accepts scalars only).
+
+    Parameters
+    ----------
+    *args : sympy.Expr
+        The one argument of Gamma.
     """
 
     def _numpycode(self, printer):  # noqa: D401 - SymPy printer hook
@@ -75,6 +80,16 @@ def beta_integral(integrand: sp.Expr) -> sp.Expr:
 
     The exponents are read off the integrand and substituted into :func:`euler_beta_integral`.
     ``s`` is the positive symbol that :func:`_power_substitution` puts in place of ``1 - t``.
+
+    Parameters
+    ----------
+    integrand : sympy.Expr
+        ``C t^p s^q``.
+
+    Returns
+    -------
+    sympy.Expr
+        ``C Gamma(p + 1) Gamma(q + 1) / Gamma(p + q + 2)``.
     """
     coeff, dependent = integrand.as_independent(_t, _s, as_Add=False)
     p = q = sp.Integer(0)
@@ -162,6 +177,20 @@ def superquadric_octant_moment(m: int, n: int, k: int) -> sp.Expr:
     1. inner v-integral up to ``(rho^p2 - u^p2)^(1/p2)``, p2 = 2/eps2 (SymPy ``integrate``);
     2. ``u = rho t^(1/p2)`` turns the u-integral into ``rho^(m+n+2)`` times a Beta integral;
     3. ``w = t^(1/p1)``, p1 = 2/eps1, turns the w-integral into a second Beta integral.
+
+    Parameters
+    ----------
+    m : int
+        Power of ``u``.
+    n : int
+        Power of ``v``.
+    k : int
+        Power of ``w``.
+
+    Returns
+    -------
+    sympy.Expr
+        The moment in ``eps1``, ``eps2`` (Gamma functions).
     """
     p1, p2 = 2 / eps1, 2 / eps2
     rho = sp.Symbol("rho", positive=True)
@@ -196,6 +225,16 @@ def inertia_per_mass(moments: dict[str, sp.Expr]) -> tuple[sp.Expr, sp.Expr, sp.
 
     ``<x^2> = int x^2 dV / V``; each ratio is simplified on its own (Gamma ratios for superquadrics)
     so the emitted sums have no cancellation.
+
+    Parameters
+    ----------
+    moments : dict of str to sympy.Expr
+        Volume ``V`` and second moments ``xx``, ``yy``, ``zz`` (as from :func:`ellipsoid_moments`).
+
+    Returns
+    -------
+    tuple of sympy.Expr
+        ``(I_xx/m, I_yy/m, I_zz/m)`` [m^2].
     """
     vol = moments["volume"]
     mean = {key: sp.gammasimp(sp.simplify(moments[key] / vol)) for key in ("xx", "yy", "zz")}
@@ -241,6 +280,13 @@ def _elementwise_gamma(expr: sp.Expr) -> sp.Expr:
 
 
 def kernels() -> list[Kernel]:
+    """The emitted kernels of the shapes' volumes and moments (sphere, ellipsoid, box, superquadric, tetrahedron).
+
+    Returns
+    -------
+    list of Kernel
+        One per emitted function of ``dtcrit/_generated/mass_properties.py``.
+    """
     sph, ell, box, sq, tet = sphere_moments(), ellipsoid_moments(), box_moments(), superquadric_moments(), tetrahedron_moments()
     axes = [(a, "semi-axis / half-length along local x [m]"), (b, "along local y [m]"), (c, "along local z [m]")]
     sq_args = axes + [
@@ -283,6 +329,13 @@ def kernels() -> list[Kernel]:
 
 
 def generated_files() -> dict[str, str]:
+    """The emitted mass-properties module, by its path under ``dtcrit/_generated``.
+
+    Returns
+    -------
+    dict of str to str
+        File name -> Python source.
+    """
     summary = (
         "Volumes and principal moments of inertia of particle shapes (sphere, ellipsoid, box,\n"
         "superquadric) and the moments of a tetrahedron for the exact decomposition of convex polyhedra.\n"

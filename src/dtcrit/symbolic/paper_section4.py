@@ -24,7 +24,7 @@ s = sp.Symbol("s")
 
 @lru_cache(maxsize=None)
 def eq46() -> sp.Expr:
-    """dt of the paper's Eq. (46) as a function of k, c, A (positive root of the lambda=-1 factor)."""
+    """The step dt of the paper's Eq. (46) as a function of k, c, A (positive root of the lambda=-1 factor)."""
     factor = next(f for f in boundary_factors("paper-eq40") if f.condition.startswith("(-1)^n p(-1)"))
     roots = sp.solve(factor.poly.as_expr(), tau)
     positive = [r for r in roots if sp.N(r.subs(zeta, 1)) > 0]
@@ -50,22 +50,51 @@ def omega_damped() -> sp.Expr:
 
 
 def eq34() -> sp.Expr:
-    """Belytschko: dt = 2/omega_max, Eqs. (28) and (33)-(34) (underdamped only)."""
+    """Belytschko: dt = 2/omega_max, Eqs. (28) and (33)-(34) (underdamped only).
+
+    Returns
+    -------
+    sympy.Expr
+        ``dt(k, c, A)``.
+    """
     return 2 / omega_damped()
 
 
 def eq36() -> sp.Expr:
-    """Silbert et al.'s collision time as printed, Eq. (36) (m the particle mass)."""
+    """Silbert et al.'s collision time as printed, Eq. (36) (m the particle mass).
+
+    Returns
+    -------
+    sympy.Expr
+        ``dt(k_n, c_n, m)``.
+    """
     return sp.pi / sp.sqrt(2 * k / m - c**2 / (4 * m**2))
 
 
 def eq37() -> sp.Expr:
-    """Critical damping coefficient: the discriminant of Eq. (31) vanishes, Eq. (37)."""
+    """Critical damping coefficient: the discriminant of Eq. (31) vanishes, Eq. (37).
+
+    Returns
+    -------
+    sympy.Expr
+        ``c_crit(k, A)``.
+    """
     sols = sp.solve(sp.Eq((c * A) ** 2 - 4 * k * A, 0), c)
     return [x for x in sols if x.is_positive is not False][0]
 
 
 def beta_form(dt_expr: sp.Expr) -> sp.Expr:
-    """dt * sqrt(k/m) for identical spheres: A = 7/m, c = beta sqrt(m k) (Eqs. (58)-(60))."""
+    """The scaled step dt * sqrt(k/m) for identical spheres: A = 7/m, c = beta sqrt(m k) (Eqs. (58)-(60)).
+
+    Parameters
+    ----------
+    dt_expr : sympy.Expr
+        A step ``dt(k, c, A)``.
+
+    Returns
+    -------
+    sympy.Expr
+        The step in units of ``sqrt(m/k)``, as a function of ``beta``.
+    """
     e = dt_expr.subs({A: 7 / m}).subs({c: beta * sp.sqrt(m * k)}) * sp.sqrt(k / m)
     return sp.simplify(e)

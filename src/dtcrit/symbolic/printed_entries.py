@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import Any, Callable
 
 import sympy as sp
 
@@ -21,6 +22,19 @@ class PrintedEntry:
     """One entry of a printed equation: the extracted text, the readings it admits (SymPy syntax in
     the names of :func:`printed_symbols`; several when the extraction is ambiguous, none when it is
     illegible) and the fixes applied.
+
+    Parameters
+    ----------
+    equation : str
+        The equation number (``"22"``).
+    entry : str
+        Which entry (``"A_x"``, ``"Omega_y"``, ``"wdot_z"``).
+    raw : str
+        The extracted text as printed.
+    readings : tuple of str
+        The readings it admits, in SymPy syntax.
+    fixes : str
+        The repairs of extraction damage applied.
     """
 
     equation: str
@@ -31,11 +45,18 @@ class PrintedEntry:
 
     @property
     def legible(self) -> bool:
+        """True when the entry admits at least one reading."""
         return bool(self.readings)
 
 
 def printed_symbols() -> dict[str, sp.Symbol]:
-    """Names used in the transcriptions: m1, Ixx1, Iyy1, Izz1, a1, b1, c1, wx1, wy1, wz1 (and ...2)."""
+    """Names used in the transcriptions: m1, Ixx1, Iyy1, Izz1, a1, b1, c1, wx1, wy1, wz1 (and ...2).
+
+    Returns
+    -------
+    dict of str to sympy.Symbol
+        The symbols by name (positive where the quantity is).
+    """
     out = {}
     for j, ps in ((1, P1), (2, P2)):
         out.update({f"m{j}": ps.m, f"Ixx{j}": ps.Ixx, f"Iyy{j}": ps.Iyy, f"Izz{j}": ps.Izz})
@@ -45,6 +66,18 @@ def printed_symbols() -> dict[str, sp.Symbol]:
 
 
 def parse_reading(text: str) -> sp.Expr:
+    """One reading of a printed entry as a SymPy expression in :func:`printed_symbols`.
+
+    Parameters
+    ----------
+    text : str
+        The reading, in SymPy syntax.
+
+    Returns
+    -------
+    sympy.Expr
+        The parsed expression.
+    """
     return sp.sympify(text, locals=printed_symbols())
 
 
@@ -172,17 +205,58 @@ ENTRY_INDEX = {"A_x": ("A", 0), "A_y": ("A", 1), "A_z": ("A", 2), "Omega_x": ("O
 
 
 def printed_entries(equation: str) -> list[PrintedEntry]:
+    """The transcribed entries of one printed equation.
+
+    Parameters
+    ----------
+    equation : str
+        The equation number (``"22"``).
+
+    Returns
+    -------
+    list of PrintedEntry
+        Its entries, in printed order.
+    """
     return [e for e in PRINTED if e.equation == equation]
 
 
 def derived_entry(derived: dict[str, sp.Matrix], entry: str) -> sp.Expr:
+    """The derived value of a printed entry: a diagonal entry of ``A`` or a component of ``Omega`` or ``wdot_c``.
+
+    Parameters
+    ----------
+    derived : dict of str to sympy.Matrix
+        ``{"A": ..., "Omega": ..., "wdot_c": ...}`` from the general kinematics.
+    entry : str
+        The entry name (``"A_x"``, ``"Omega_y"``, ``"wdot_z"``).
+
+    Returns
+    -------
+    sympy.Expr
+        The derived entry.
+    """
     part, i = ENTRY_INDEX[entry]
     M = derived[part]
     return M[i, i] if part == "A" else M[i]
 
 
 def compare_entry(derived: sp.Expr, e: PrintedEntry, substitutions: dict | None = None) -> int | None:
-    """Index of the first reading identical to ``derived`` (SymPy, exact), -1 if none, None if illegible."""
+    """Index of the first reading identical to ``derived`` (SymPy, exact), -1 if none, None if illegible.
+
+    Parameters
+    ----------
+    derived : sympy.Expr
+        The derived entry (:func:`derived_entry`).
+    e : PrintedEntry
+        The printed entry.
+    substitutions : dict, optional
+        Substitutions applied to each reading before comparing.
+
+    Returns
+    -------
+    int or None
+        The index of the matching reading.
+    """
     if not e.legible:
         return None
     for k, text in enumerate(e.readings):
@@ -201,10 +275,19 @@ def compare_entry(derived: sp.Expr, e: PrintedEntry, substitutions: dict | None 
 class CandidateScore:
     """How many legible printed entries one candidate reproduces, per part, and the matches.
 
-    ``matches`` maps an entry name to the index of the reading it reproduces (-1: differs,
-    None: illegible).  ``w_is_local``: omega symbols read as local (body) components;
-    ``arm_length``: printed a2 read as the length of particle 2's arm (its half-length along the
-    arm) rather than literally as its largest half-length.
+    Parameters
+    ----------
+    panel : str
+        The Figure 2 panel.
+    index : int
+        The candidate's index in :func:`dtcrit.symbolic.tip_configurations.candidate_configurations`.
+    w_is_local : bool
+        Omega symbols read as local (body) components.
+    arm_length : bool
+        Printed a2 read as the length of particle 2's arm (its half-length along the arm) rather than
+        literally as its largest half-length.
+    matches : dict
+        Entry name -> index of the reading it reproduces (-1: differs, None: illegible).
     """
 
     panel: str
@@ -215,9 +298,22 @@ class CandidateScore:
 
     @property
     def total(self) -> int:
+        """Number of legible entries reproduced, over all parts."""
         return sum(1 for v in self.matches.values() if v is not None and v >= 0)
 
     def part(self, prefix: str) -> int:
+        """Number of entries of one part reproduced.
+
+        Parameters
+        ----------
+        prefix : str
+            Start of the part's entry names (``"A_"``, ``"Omega_"``, ``"wdot_"``).
+
+        Returns
+        -------
+        int
+            The count.
+        """
         return sum(1 for k, v in self.matches.items() if k.startswith(prefix) and v is not None and v >= 0)
 
 
@@ -230,7 +326,7 @@ def _general_pair_function(w_is_local: bool):
 
     Rs = [sp.Matrix(3, 3, sp.symbols(f"R{j}_0:9")) for j in (1, 2)]
     arms = [sp.Matrix(sp.symbols(f"s{j}_0:3")) for j in (1, 2)]
-    ps = [RigidParticle(s.m, s.I, R, to_global(R, arm), s.w, w_is_local) for s, R, arm in zip((P1, P2), Rs, arms)]
+    ps = [RigidParticle(s.m, s.inertia, R, to_global(R, arm), s.w, w_is_local) for s, R, arm in zip((P1, P2), Rs, arms)]
     # xdd_c is affine in F: column k of A is xdd_c(F = e_k) - xdd_c(F = 0)
     xdd0, wdot0 = relative_accelerations(ps[0], ps[1], (0, 0, 0))
     cols = [relative_accelerations(ps[0], ps[1], tuple(sp.eye(3)[:, k]))[0] - xdd0 for k in range(3)]
@@ -274,7 +370,7 @@ def score_candidates(points: int = 2, seed: int = 20200) -> tuple[CandidateScore
     order = sorted(symbols, key=lambda n: str(symbols[n]))
     arm2_length = np.array([length_name[c.arm2[0]] for c in cands])
     printed_values: dict[tuple, np.ndarray] = {}
-    printed_functions: dict[str, object] = {}
+    printed_functions: dict[str, Callable[..., Any]] = {}
 
     def printed(text: str, lw: bool, k: int, arm_len: bool) -> np.ndarray:
         key = (text, lw, k, arm_len)
@@ -318,6 +414,16 @@ def best_candidates(panel: str) -> list[CandidateScore]:
     """The highest-scoring candidates of a panel (ties kept, in a fixed order): most reproduced
     legible entries; ties broken by preferring the literal reading of a2, then admissible
     contacts (opposite normals at the two tips).
+
+    Parameters
+    ----------
+    panel : str
+        The Figure 2 panel.
+
+    Returns
+    -------
+    list of CandidateScore
+        The best candidates.
     """
     cands = candidate_configurations()
     scores = [s for s in score_candidates() if s.panel == panel]

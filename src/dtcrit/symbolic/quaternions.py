@@ -19,12 +19,37 @@ import sympy as sp
 
 
 def skew(v) -> sp.Matrix:
-    """The cross-product matrix ``[v]x`` with ``[v]x w = v x w``."""
+    """The cross-product matrix ``[v]x`` with ``[v]x w = v x w``.
+
+    Parameters
+    ----------
+    v : sequence of 3
+        The vector.
+
+    Returns
+    -------
+    sympy.Matrix
+        The 3x3 skew-symmetric matrix.
+    """
     x, y, z = (sp.sympify(c) for c in v)
     return sp.Matrix([[0, -z, y], [z, 0, -x], [-y, x, 0]])
 
 
 def cross(u, v) -> sp.Matrix:
+    """The cross product ``u x v``.
+
+    Parameters
+    ----------
+    u : sequence of 3
+        First vector.
+    v : sequence of 3
+        Second vector.
+
+    Returns
+    -------
+    sympy.Matrix
+        ``u x v`` (3x1).
+    """
     return sp.Matrix(u).cross(sp.Matrix(v))
 
 
@@ -40,6 +65,16 @@ def quaternion_rotation_matrix(q) -> sp.Matrix:
     the body axes in world components).  The paper's Eq (5) matrix, world to body, is ``R(q)^T =
     R(conjugate q)``: where a derivation uses this function's value as the Eq (5) matrix, its
     argument is the conjugate of the particle's orientation quaternion.
+
+    Parameters
+    ----------
+    q : sequence of 4
+        Unit quaternion ``(w, x, y, z)``.
+
+    Returns
+    -------
+    sympy.Matrix
+        ``R(q)`` (3x3).
     """
     w, x, y, z = (sp.sympify(c) for c in q)
     return sp.Matrix(
@@ -52,7 +87,20 @@ def quaternion_rotation_matrix(q) -> sp.Matrix:
 
 
 def quaternion_product(p, q) -> tuple:
-    """Hamilton product ``p q`` of quaternions given as ``(w, x, y, z)``."""
+    """Hamilton product ``p q`` of quaternions given as ``(w, x, y, z)``.
+
+    Parameters
+    ----------
+    p : sequence of 4
+        Left factor.
+    q : sequence of 4
+        Right factor.
+
+    Returns
+    -------
+    tuple
+        ``p q`` as ``(w, x, y, z)``.
+    """
     pw, px, py, pz = (sp.sympify(c) for c in p)
     qw, qx, qy, qz = (sp.sympify(c) for c in q)
     return (
@@ -64,6 +112,18 @@ def quaternion_product(p, q) -> tuple:
 
 
 def quaternion_conjugate(q) -> tuple:
+    """The conjugate ``(w, -x, -y, -z)`` of a quaternion (the inverse of a unit one).
+
+    Parameters
+    ----------
+    q : sequence of 4
+        Quaternion ``(w, x, y, z)``.
+
+    Returns
+    -------
+    tuple
+        Its conjugate.
+    """
     w, x, y, z = (sp.sympify(c) for c in q)
     return (w, -x, -y, -z)
 
@@ -75,6 +135,16 @@ def quaternion_from_matrix(R: sp.Matrix) -> tuple:
     Eq (5) matrix (world to body) it is the conjugate of it.
 
     Shepperd's choice of the largest diagonal combination keeps the square root away from zero.
+
+    Parameters
+    ----------
+    R : sympy.Matrix
+        A proper orthogonal 3x3 matrix.
+
+    Returns
+    -------
+    tuple
+        ``(w, x, y, z)``.
     """
     R = sp.Matrix(R)
     t = R.trace()
@@ -102,6 +172,11 @@ def check_rotation_convention() -> dict[str, bool]:
     """Symbolic checks that Eq (7) with Eq (5) is a self-consistent convention (see module docstring):
     ``R(q)`` is a rotation, its inverse (the paper's Eq (5) matrix when ``R(q)`` is body to world) is the
     matrix of the conjugate quaternion, and products of quaternions compose the rotations.
+
+    Returns
+    -------
+    dict of str to bool
+        Each check by name (all True when the convention holds).
     """
     qw, qx, qy, qz, pw, px, py, pz = sp.symbols("q_w q_x q_y q_z p_w p_x p_y p_z", real=True)
     q, p = (qw, qx, qy, qz), (pw, px, py, pz)
@@ -131,7 +206,13 @@ def check_rotation_convention() -> dict[str, bool]:
 
 
 def axis_rotations() -> list[sp.Matrix]:
-    """The 24 proper rotations that map coordinate axes onto coordinate axes (signed permutations)."""
+    """The 24 proper rotations that map coordinate axes onto coordinate axes (signed permutations).
+
+    Returns
+    -------
+    list of sympy.Matrix
+        The 24 rotation matrices.
+    """
     out = []
     for perm in permutations(range(3)):
         for signs in product((1, -1), repeat=3):

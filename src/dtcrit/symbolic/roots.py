@@ -39,11 +39,34 @@ OMEGA3 = sp.Rational(-1, 2) + sp.sqrt(3) * sp.I / 2  # primitive cube root of un
 
 
 def degree(name: str) -> int:
+    """Degree in lambda of the scheme's characteristic polynomial (zero roots removed).
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``dtcrit.integrators.schemes``).
+
+    Returns
+    -------
+    int
+        The degree.
+    """
     return characteristic_polynomial(name).degree()
 
 
 def structural_zero_eigenvalues(name: str) -> int:
-    """Number of zero eigenvalues of ``G`` removed from its characteristic polynomial."""
+    """Number of zero eigenvalues of ``G`` removed from its characteristic polynomial.
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``dtcrit.integrators.schemes``).
+
+    Returns
+    -------
+    int
+        The count.
+    """
     return len(lookup(name).state) - degree(name)
 
 
@@ -52,17 +75,49 @@ def dimensional_polynomial(name: str) -> sp.Poly:
 
     For ``paper-eq40`` this is minus the paper's Eq. (41) with ``K_j = -K``, ``C_j = -C``
     (``check_paper_cardano``).
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``dtcrit.integrators.schemes``).
+
+    Returns
+    -------
+    sympy.Poly
+        The polynomial in ``lambda``.
     """
     return characteristic_polynomial(name, dimensionless=False)
 
 
 def coefficients(name: str) -> tuple[sp.Expr, ...]:
-    """(c_n, ..., c_0) of the characteristic polynomial in lambda, each expanded in (tau, zeta)."""
+    """(c_n, ..., c_0) of the characteristic polynomial in lambda, each expanded in (tau, zeta).
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``dtcrit.integrators.schemes``).
+
+    Returns
+    -------
+    tuple of sympy.Expr
+        The coefficients.
+    """
     return tuple(sp.expand(c) for c in characteristic_polynomial(name).all_coeffs())
 
 
 def monic_coefficients(name: str) -> tuple[sp.Expr, ...]:
-    """(a_{n-1}, ..., a_0) of the monic polynomial (only used for leading coefficient 1 here)."""
+    """(a_{n-1}, ..., a_0) of the monic polynomial (only used for leading coefficient 1 here).
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``dtcrit.integrators.schemes``).
+
+    Returns
+    -------
+    tuple of sympy.Expr
+        The coefficients.
+    """
     c = coefficients(name)
     return tuple(sp.expand(sp.cancel(x / c[0])) for x in c[1:])
 
@@ -88,7 +143,18 @@ def discriminant(name: str) -> sp.Expr:
 
 
 def discriminant_factors(name: str) -> tuple[sp.Rational, list[tuple[sp.Expr, int]]]:
-    """(constant, [(irreducible factor, multiplicity), ...]) of ``discriminant(name)``."""
+    """(constant, [(irreducible factor, multiplicity), ...]) of ``discriminant(name)``.
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``dtcrit.integrators.schemes``).
+
+    Returns
+    -------
+    tuple
+        The rational constant and the list of (factor, multiplicity).
+    """
     const, factors = sp.factor_list(discriminant(name), tau, zeta)
     return sp.Rational(const), [(f, m) for f, m in factors]
 
@@ -99,6 +165,16 @@ def sqrt_abs_discriminant(name: str) -> sp.Expr:
     Evaluated factor by factor it neither overflows before the root is taken nor loses the
     exactly cancelled parts (a factor ``tau^2`` stays a factor).  The *sign* of the discriminant
     is the sign of the factored product.
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``dtcrit.integrators.schemes``).
+
+    Returns
+    -------
+    sympy.Expr
+        ``sqrt(|Disc|)`` in (tau, zeta).
     """
     const, factors = discriminant_factors(name)
     out = sp.sqrt(abs(const))
@@ -114,7 +190,18 @@ def sqrt_abs_discriminant(name: str) -> sp.Expr:
 
 
 def quadratic_roots_textbook(name: str) -> tuple[sp.Expr, sp.Expr]:
-    """(-b +- sqrt(b^2 - 4 a c)) / (2 a): the schoolbook form (cancels for |4 a c| << b^2)."""
+    """(-b +- sqrt(b^2 - 4 a c)) / (2 a): the schoolbook form (cancels for |4 a c| << b^2).
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``dtcrit.integrators.schemes``).
+
+    Returns
+    -------
+    tuple of sympy.Expr
+        The two roots.
+    """
     a, b, c = coefficients(name)
     s = sp.sqrt(sp.expand(b**2 - 4 * a * c))
     return ((-b + s) / (2 * a), (-b - s) / (2 * a))
@@ -126,6 +213,18 @@ def quadratic_roots_sound(name: str, branch_sign: int) -> tuple[sp.Expr, sp.Expr
     ``branch_sign`` is ``s``: the numeric kernel takes ``s = sgn(b)`` (+1 at 0) for real roots, so
     that ``b`` and ``s sqrt(D)`` never cancel; for a complex pair there is no cancellation either
     way.  ``D`` is the factored discriminant.
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``dtcrit.integrators.schemes``).
+    branch_sign : int
+        ``s``, +1 or -1.
+
+    Returns
+    -------
+    tuple of sympy.Expr
+        The two roots.
     """
     a, b, c = coefficients(name)
     q = -(b + branch_sign * sp.sqrt(discriminant(name))) / 2
@@ -157,6 +256,16 @@ def cardano_roots(name: str) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
     ``u + v``, ``w u + w^2 v`` and ``w^2 u + w v`` (``w = exp(2 pi i/3)``), minus the shift.
     Undefined where ``u = 0`` (``p = 0`` and ``q >= 0``).  This is the structure of Eqs. (42)-(43)
     (``D = 3 * 2^(1/3) u`` there).
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``dtcrit.integrators.schemes``).
+
+    Returns
+    -------
+    tuple of sympy.Expr
+        The three roots in lambda.
     """
     shift, p, q = depressed(name)
     u = sp.Pow(-q / 2 + sp.sqrt(q**2 / 4 + p**3 / 27), sp.Rational(1, 3))
@@ -171,6 +280,16 @@ def trigonometric_roots(name: str) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
     ``t_k = 2 sqrt(-p/3) cos(theta/3 - 2 pi k/3)`` with ``theta = atan2(sqrt(Disc), -3 sqrt(3) q)``;
     the usual ``theta = acos((3q/2p) sqrt(-3/p))`` rewritten through ``sin theta = sqrt(Disc) /
     (2 |p|^(3/2))``, so the angle stays accurate when two roots nearly coincide.
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``dtcrit.integrators.schemes``).
+
+    Returns
+    -------
+    tuple of sympy.Expr
+        The three real roots in lambda.
     """
     shift, p, q = depressed(name)
     theta = sp.atan2(sp.sqrt(discriminant(name)), -3 * sp.sqrt(3) * q)
@@ -186,6 +305,16 @@ def hyperbolic_real_root(name: str) -> sp.Expr:
     argument).  With ``E = ((3 sqrt(3)|q| + sqrt(-Disc))/2)^(1/3)``, ``exp(phi/3) = E/sqrt(|p|)`` and
     both cases become ``t = -sgn(q) (E - p/E)/sqrt(3)``, which also holds at ``p = 0``: no division
     by ``|p|`` and no cancellation inside ``E``.
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``dtcrit.integrators.schemes``).
+
+    Returns
+    -------
+    sympy.Expr
+        The real root in lambda.
     """
     shift, p, q = depressed(name)
     E = sp.cbrt((3 * sp.sqrt(3) * sp.Abs(q) + sp.sqrt(-discriminant(name))) / 2)
@@ -199,6 +328,20 @@ def pair_from_isolated_root(name: str, r: sp.Expr, t_r: sp.Expr) -> tuple[sp.Exp
     Sum ``sigma = -(a2 + r)`` and product ``pi = -a0/r`` of the other two; their half-difference
     is ``sqrt(Disc) / (2 P'(r))`` with ``P'(r) = 3 t_r^2 + p`` (``Disc = (r - l2)^2 (r - l3)^2
     (l2 - l3)^2`` and ``P'(r) = (r - l2)(r - l3)``), so a nearly double pair is split accurately.
+
+    Parameters
+    ----------
+    name : str
+        A scheme key (``dtcrit.integrators.schemes``).
+    r : sympy.Expr
+        The known root in lambda.
+    t_r : sympy.Expr
+        The same root in the depressed variable ``t``.
+
+    Returns
+    -------
+    tuple of sympy.Expr
+        The two other roots.
     """
     a2 = monic_coefficients(name)[0]
     p = depressed(name)[1]
@@ -211,24 +354,53 @@ def pair_from_isolated_root(name: str, r: sp.Expr, t_r: sp.Expr) -> tuple[sp.Exp
 
 
 def paper_eq40_matrix() -> sp.Matrix:
-    """Eq. (40) as printed: [[1, dt, 0], [0, 1, dt], [K_j, C_j, 0]]."""
+    """Eq. (40) as printed: [[1, dt, 0], [0, 1, dt], [K_j, C_j, 0]].
+
+    Returns
+    -------
+    sympy.Matrix
+        The printed amplification matrix.
+    """
     return sp.Matrix([[1, dt, 0], [0, 1, dt], [Kj, Cj, 0]])
 
 
 def paper_eq41_determinant() -> sp.Expr:
-    """Eq. (41) as printed: det([[1 - lambda, dt, 0], [0, 1 - lambda, dt], [K_j, C_j, -lambda]])."""
+    """Eq. (41) as printed: det([[1 - lambda, dt, 0], [0, 1 - lambda, dt], [K_j, C_j, -lambda]]).
+
+    Returns
+    -------
+    sympy.Expr
+        The determinant, expanded.
+    """
     M = sp.Matrix([[1 - lam, dt, 0], [0, 1 - lam, dt], [Kj, Cj, -lam]])
     return sp.expand(M.det())
 
 
 def paper_eq43_D() -> sp.Expr:
-    """Eq. (43), with the extraction fix (the inner square root ends after ``(3 C_j dt + 1)^3``)."""
+    """Eq. (43), with the extraction fix (the inner square root ends after ``(3 C_j dt + 1)^3``).
+
+    Returns
+    -------
+    sympy.Expr
+        ``D(dt, K_j, C_j)``.
+    """
     N = -9 * Cj * dt + 27 * Kj * dt**2 - 2
     return sp.Pow(sp.sqrt(N**2 - 4 * (3 * Cj * dt + 1) ** 3) + N, sp.Rational(1, 3))
 
 
 def paper_eq42_roots(D: sp.Expr | None = None) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
-    """Eq. (42) as printed (in dt, K_j, C_j); ``D`` defaults to Eq. (43)."""
+    """Eq. (42) as printed (in dt, K_j, C_j); ``D`` defaults to Eq. (43).
+
+    Parameters
+    ----------
+    D : sympy.Expr, optional
+        The ``D`` to use (:func:`paper_eq43_D` when None).
+
+    Returns
+    -------
+    tuple of sympy.Expr
+        The three printed roots.
+    """
     D = paper_eq43_D() if D is None else D
     c2 = sp.cbrt(2)
     M = 3 * Cj * dt + 1
@@ -245,13 +417,36 @@ PAPER_TO_DIMENSIONLESS = {Cj: -2 * zeta * tau / dt, Kj: -(tau**2) / dt**2}
 
 
 def to_dimensionless(expr: sp.Expr) -> sp.Expr:
-    """Rewrite an expression in (dt, K_j, C_j) in (tau, zeta)."""
+    """Rewrite an expression in (dt, K_j, C_j) in (tau, zeta).
+
+    Parameters
+    ----------
+    expr : sympy.Expr
+        An expression in the printed symbols.
+
+    Returns
+    -------
+    sympy.Expr
+        The same with ``K_j = -omega^2 = -tau^2/dt^2`` and ``C_j = -2 zeta omega = -2 zeta tau/dt``.
+    """
     return expr.subs(PAPER_TO_DIMENSIONLESS)
 
 
 @dataclass(frozen=True)
 class CardanoCheck:
-    """Symbolic identities showing that Eq. (42) with Eq. (43) are Cardano's roots of Eq. (41)."""
+    """Symbolic identities showing that Eq. (42) with Eq. (43) are Cardano's roots of Eq. (41).
+
+    Parameters
+    ----------
+    eq41_equals_library : bool
+        The printed determinant equals -(library ``det(lambda I - G)``) with ``K_j = -K``, ``C_j = -C``.
+    uv_product : bool
+        ``u v = -p/3`` with ``u = D/(3 2^(1/3))``, ``v = 2^(1/3)(3 C_j dt + 1)/(3 D)``.
+    u3_plus_v3 : bool
+        ``u^3 + v^3 = -q`` (after rationalising ``1/D^3``).
+    shift_is_two_thirds : bool
+        The shift of the printed roots is 2/3, the depressed cubic's ``a2/3``.
+    """
 
     eq41_equals_library: bool  # printed det == -(library det(lambda I - G)) with K_j = -K, C_j = -C
     uv_product: bool  # u v = -p/3 with u = D/(3 2^(1/3)), v = 2^(1/3)(3 C_j dt + 1)/(3 D)
@@ -260,7 +455,13 @@ class CardanoCheck:
 
 
 def check_paper_cardano() -> CardanoCheck:
-    """Verify Eqs. (41)-(43) symbolically against the library's polynomial for ``paper-eq40``."""
+    """Verify Eqs. (41)-(43) symbolically against the library's polynomial for ``paper-eq40``.
+
+    Returns
+    -------
+    CardanoCheck
+        The identities (all True when the printed route is Cardano's).
+    """
     from dtcrit.symbolic.integrators import C, K, h
 
     lib = dimensional_polynomial("paper-eq40").as_expr()

@@ -34,7 +34,7 @@ PRODUCER = "dtcrit.symbolic.rotational_modes"
 TARGET = "rotational_modes.py"
 
 m1, m2, I1, I2, R1, R2 = sp.symbols("m1 m2 I1 I2 R1 R2", positive=True)
-m, I, R = sp.symbols("m I R", positive=True)
+m, moment, R = sp.symbols("m I R", positive=True)  # one sphere against a wall (emitted names m, I, R)
 
 
 def _cross_matrix(v: sp.Matrix) -> sp.Matrix:
@@ -46,6 +46,18 @@ def deformation_matrix(r1: float | sp.Expr, r2: float | sp.Expr) -> sp.Matrix:
     """``B`` (6 x 12): ``(u, phi)`` of the coordinates ``(x_1, theta_1, x_2, theta_2)``, ``n = e_z``.
 
     ``theta x r = -[r]x theta``, so ``u = x_2 - [r_2]x theta_2 - x_1 + [r_1]x theta_1``.
+
+    Parameters
+    ----------
+    r1 : float or sympy.Expr
+        Radius of sphere 1 (arm ``r_1 = R_1 n``).
+    r2 : float or sympy.Expr
+        Radius of sphere 2 (arm ``r_2 = -R_2 n``).
+
+    Returns
+    -------
+    sympy.Matrix
+        ``B``.
     """
     n = sp.Matrix([0, 0, 1])
     a1, a2 = r1 * n, -r2 * n
@@ -56,7 +68,22 @@ def deformation_matrix(r1: float | sp.Expr, r2: float | sp.Expr) -> sp.Matrix:
 
 
 def coefficient_matrix_6(masses, moments, radii) -> sp.Matrix:
-    """``A6 = B M^-1 B^T`` for two spheres; ``masses``/``moments`` entries may be ``sp.oo`` (a wall)."""
+    """``A6 = B M^-1 B^T`` for two spheres; ``masses``/``moments`` entries may be ``sp.oo`` (a wall).
+
+    Parameters
+    ----------
+    masses : tuple of 2
+        Masses ``m_1``, ``m_2`` (``sympy.oo`` for a wall).
+    moments : tuple of 2
+        Moments of inertia ``I_1``, ``I_2`` (``sympy.oo`` for a wall).
+    radii : tuple of 2
+        Radii ``R_1``, ``R_2`` (the contact arms).
+
+    Returns
+    -------
+    sympy.Matrix
+        ``A6`` (6x6).
+    """
     inv = []
     for mass, moment in zip(masses, moments):
         inv += [0 if mass == sp.oo else 1 / mass] * 3 + [0 if moment == sp.oo else 1 / moment] * 3
@@ -65,7 +92,23 @@ def coefficient_matrix_6(masses, moments, radii) -> sp.Matrix:
 
 
 def coefficient_blocks(masses=(m1, m2), moments=(I1, I2), radii=(R1, R2)) -> dict[str, sp.Expr]:
-    """The blocks of ``A6`` (module docstring) and the entries that must vanish for them to separate."""
+    """The blocks of ``A6`` (module docstring) and the entries that must vanish for them to separate.
+
+    Parameters
+    ----------
+    masses : tuple of 2
+        Masses ``m_1``, ``m_2`` (``sympy.oo`` for a wall).
+    moments : tuple of 2
+        Moments of inertia ``I_1``, ``I_2`` (``sympy.oo`` for a wall).
+    radii : tuple of 2
+        Radii ``R_1``, ``R_2`` (the contact arms).
+
+    Returns
+    -------
+    dict of str to sympy.Expr
+        The block entries (``a_n``, ``a_ss``, ``a_sr``, ``a_rr``, ``a_tw``, the second shear-rolling block) and
+        ``other_couplings``, the entries outside the blocks.
+    """
     A = coefficient_matrix_6(masses, moments, radii)
     ux, uy, uz, px, py, pz = range(6)
     shear_rolling = {(ux, py), (uy, px)}
@@ -81,6 +124,11 @@ def coefficient_blocks(masses=(m1, m2), moments=(I1, I2), radii=(R1, R2)) -> dic
 def equal_sphere_frequencies() -> tuple[sp.Expr, sp.Expr, sp.Expr]:
     """``omega^2`` of the shear, rolling and twisting modes of two equal spheres (``I = 2/5 m R^2``),
     the eigenvalues of ``K^1/2 A K^1/2`` of each block.
+
+    Returns
+    -------
+    tuple of sympy.Expr
+        ``(omega_shear^2, omega_rolling^2, omega_twisting^2)``.
     """
     ks, kr, ktw = sp.symbols("k_s k_r k_tw", positive=True)
     inertia = sp.Rational(2, 5) * m * R**2
@@ -102,17 +150,24 @@ def _as_sum(expr: sp.Expr, terms: tuple) -> sp.Expr:
 
 
 def kernels() -> list[Kernel]:
+    """The emitted kernels of the contact element with rotational springs (the blocks of ``A6``).
+
+    Returns
+    -------
+    list of Kernel
+        One per emitted function of ``dtcrit/_generated/rotational_modes.py``.
+    """
     pair = coefficient_blocks()
-    wall = coefficient_blocks((m, sp.oo), (I, sp.oo), (R, 0))
+    wall = coefficient_blocks((m, sp.oo), (moment, sp.oo), (R, 0))
     for key in ("a_rr", "a_tw"):
         pair[key] = _as_sum(pair[key], (1 / I1, 1 / I2))
     # det = a_ss a_rr - a_sr^2 as a sum of positive terms: the difference cancels for unequal spheres
     pair["a_det"] = _as_sum(sp.simplify(pair["a_ss"] * pair["a_rr"] - pair["a_sr"] ** 2),
                             ((1 / m1 + 1 / m2) * (1 / I1 + 1 / I2), (R1 + R2) ** 2 / (I1 * I2)))
-    wall["a_det"] = _as_sum(sp.simplify(wall["a_ss"] * wall["a_rr"] - wall["a_sr"] ** 2), (1 / (m * I),))
+    wall["a_det"] = _as_sum(sp.simplify(wall["a_ss"] * wall["a_rr"] - wall["a_sr"] ** 2), (1 / (m * moment),))
     sphere_args = [(m1, "mass of sphere 1 [kg]"), (I1, "its moment of inertia [kg m^2]"), (R1, "its radius (arm) [m]"),
                    (m2, "mass of sphere 2 [kg]"), (I2, "its moment of inertia [kg m^2]"), (R2, "its radius (arm) [m]")]
-    wall_args = [(m, "mass of the sphere [kg]"), (I, "its moment of inertia [kg m^2]"), (R, "its radius (arm) [m]")]
+    wall_args = [(m, "mass of the sphere [kg]"), (moment, "its moment of inertia [kg m^2]"), (R, "its radius (arm) [m]")]
     return [
         Kernel(
             name="shear_rolling_block",
@@ -135,6 +190,13 @@ def kernels() -> list[Kernel]:
 
 
 def generated_files() -> dict[str, str]:
+    """The emitted rotational-modes module, by its path under ``dtcrit/_generated``.
+
+    Returns
+    -------
+    dict of str to str
+        File name -> Python source.
+    """
     summary = (
         "Coefficient blocks of the contact element with rotational springs (rolling, twisting).\n"
         "Derived in dtcrit.symbolic.rotational_modes from A6 = B M^-1 B^T; used by dtcrit.scenes.pair_modes."
