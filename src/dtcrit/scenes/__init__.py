@@ -4,8 +4,8 @@ the ``dtcrit step`` API (``timestep``) and the estimates other DEM codes use (``
 Runtime only (NumPy; SciPy on first use for polyhedra): scenes import ``bodies`` and
 ``integrators``, never ``symbolic``.
 """
-from dtcrit.scenes.damping import damping_ratio_from_restitution
-from dtcrit.scenes.laws import hertz_max_overlap
+from dtcrit.physics.damping_conventions import damping_ratio_from_restitution
+from dtcrit.physics.contact_laws import hertz_max_overlap
 from dtcrit.scenes.model import ContactLaw, PairContact, Particle, Scene
 from dtcrit.scenes.scene import load_scene, parse_scene, scene_from_dict
 
