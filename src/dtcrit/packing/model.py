@@ -264,7 +264,7 @@ class Contacts:
         return (np.bincount(self.i, minlength=n_particles) + np.bincount(self.j, minlength=n_particles))
 
     def _per_contact(self, **values) -> dict:
-        out = {}
+        out: dict[str, np.ndarray | None] = {}
         for key, value in values.items():
             if value is None:
                 out[key] = None

@@ -189,6 +189,7 @@ def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, int
     omega = top.omega
     dt = 2.0 / omega if omega > 0 else math.inf
     cn = contacts.coordination(packing.n)
+    assert contacts.kn is not None and contacts.ks is not None  # set by the law above
     stiff = np.maximum(contacts.kn, contacts.ks)
     active = stiff > 0
     k_max = float(stiff.max(initial=0.0))
@@ -207,7 +208,7 @@ def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, int
                   est.two_particle_exact(packing, contacts, w_c), est.rayleigh(a, packing, contacts, w_c)):
             estimates[e.name] = e
     bounds = [estimates[k] for k in ("gershgorin", "block_diagonal") if k in estimates]
-    dt_safe = max((e.dt for e in bounds), default=math.nan)
+    dt_safe = max((e.dt for e in bounds if e.dt is not None), default=math.nan)
     coordination = float(cn.mean()) if packing.n else 0.0
     wanted = (auto_certifies(packing.dofs, coordination, eigen_seconds) if certify_step == "auto"
               else bool(certify_step))
@@ -257,7 +258,7 @@ def dt_bracket_error(exc: NotConvergedError, a, md, packing: Packing) -> NotConv
     raised to ``dt_safe`` (the Gershgorin and block-diagonal bounds) when that is larger.
     """
     bounds = [est.gershgorin(a, md).dt, est.block_diagonal(a, packing.particle_id).dt]
-    lower = max([b for b in bounds if math.isfinite(b)] + [2.0 / math.sqrt(exc.upper) if exc.upper > 0 else 0.0])
+    lower = max([b for b in bounds if b is not None and math.isfinite(b)] + [2.0 / math.sqrt(exc.upper) if exc.upper > 0 else 0.0])
     upper = 2.0 / math.sqrt(exc.lower) if exc.lower > 0 else math.inf
     return NotConvergedError("dt_crit [s]", lower, upper, exc.solver, exc.reason)
 

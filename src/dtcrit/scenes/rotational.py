@@ -155,7 +155,7 @@ def resolve_rotational(law: RotationalLaw, kn: float, ks: float, cs: float, r1: 
     if law.rolling_model in ("epsd", "epsd3"):
         factor = 2.25 if law.rolling_model == "epsd" else p("rolling_stiffness_factor")
         kr = rs_.epsd_rolling_stiffness(factor, kn, p("rolling_friction"), rs)
-        cr = rs_.epsd_rolling_dashpot(p("rolling_viscous_damping", 0.0), kr, m1, r1, m2, r2)
+        cr = rs_.epsd_rolling_dashpot(p("rolling_viscous_damping", 0.0) or 0.0, kr, m1, r1, m2, r2)
     elif law.rolling_model == "epsd2":
         kr, cr = rs_.epsd2_rolling_stiffness(ks, rs), 0.0
     elif law.rolling_model == "sds":

@@ -108,12 +108,14 @@ def format_audit(r: AuditReport) -> str:
                      f"{r.participating:.3g} of {r.n_particles} particles share its energy; the {len_top(r)} with the "
                      f"most hold {100 * r.limiting_share:.3g} %): no few particles limit the step")
     if r.dt_user is not None:
-        verdict = "stable" if r.ratio < 1.0 else "UNSTABLE"
-        lines.append(f"your dt = {r.dt_user:.6g} s = {_ratio(r.ratio)} x dt_crit: {verdict}")
+        ratio = r.dt_user / r.dt_crit  # AuditReport.ratio
+        verdict = "stable" if ratio < 1.0 else "UNSTABLE"
+        lines.append(f"your dt = {r.dt_user:.6g} s = {_ratio(ratio)} x dt_crit: {verdict}")
     lines += [""] + r.notes + [""] if r.notes else [""]
     lines.append(f"{'estimator':<26}{'dt [s]':>13}{'dt/dt_crit':>13}  {'safe':<5}what it is (what it bounds); detail")
     for rated in r.estimators:
-        e = rated.estimate
-        lines.append(f"{e.name:<26}{e.dt:>13.6g}{_ratio(rated.ratio):>13}  {'yes' if rated.safe else 'NO':<5}"
+        e, times = rated.estimate, rated.ratio
+        assert times is not None  # every audit estimate has a step
+        lines.append(f"{e.name:<26}{e.dt:>13.6g}{_ratio(times):>13}  {'yes' if rated.safe else 'NO':<5}"
                      f"{e.kind}; {e.detail}")
     return "\n".join(lines)

@@ -131,17 +131,20 @@ def _estimators(packing: Packing, springs: Contacts, dt_crit: float, material=No
     md = mass_diagonal(packing)
     a = scale_symmetric(stiffness_matrix(packing, springs), md, inplace=True)
     diag = est.diagonal_stiffness(a, packing.particle_id)
+    diag_dt = diag.dt
+    assert diag_dt is not None  # an omega^2 estimate always has a step
     factor = rot.YADE_GSTS_CONSTANT
-    rows = [
-        ("yade_gsts", rot.yade_gsts_step(diag.dt, rot.YADE_GSTS_SAFETY), "heuristic",
+    rows: list[tuple[str, float | None, str, str]] = [
+        ("yade_gsts", rot.yade_gsts_step(diag_dt, rot.YADE_GSTS_SAFETY), "heuristic",
          f"YADE GlobalStiffnessTimeStepper as it runs: {factor} min sqrt(M/K_dd) x safety {rot.YADE_GSTS_SAFETY}"),
-        ("yade_gsts_unscaled", rot.yade_gsts_step(diag.dt), "heuristic",
+        ("yade_gsts_unscaled", rot.yade_gsts_step(diag_dt), "heuristic",
          "the same at safety 1 (" + diag.detail.replace("sqrt(2) sqrt(M/K)", f"{factor} sqrt(M/K)") + ")"),
     ]
     bounds = ("lower bound on the undamped step 2/omega_max (the dashpots lower dt_crit)" if damped
               else "lower bound on dt_crit (= 2/omega_max, no dashpots)")
     for e in (est.block_diagonal(a, packing.particle_id), est.gershgorin(a, md)):
         rows.append((e.name, e.dt, bounds, e.detail))
+    assert springs.kn is not None and springs.ks is not None  # checked by _check_terms
     stiff = np.maximum(springs.kn, springs.ks)
     m = packing.masses
     t_c = rot.collision_time(reduced(m[springs.i], m[springs.j]), stiff)

@@ -124,6 +124,7 @@ def _mass_rows(packing: Packing) -> np.ndarray:
 
 
 def _sqrt_contact_stiffness(contacts: Contacts, sl) -> np.ndarray:
+    assert contacts.kn is not None and contacts.ks is not None  # contacts with their springs
     return contact_stiffness_tensor(contacts.normal[sl], np.sqrt(contacts.kn[sl]), np.sqrt(contacts.ks[sl]))
 
 
@@ -161,6 +162,7 @@ def two_particle_amax(packing: Packing, contacts: Contacts) -> Estimate:
     """Peng et al. 2020, Eq. (48) with ``k = max(k_n, k_s)``, the most demanding contact."""
     if contacts.count == 0:
         return Estimate.from_omega2("two_particle_amax", 0.0, "heuristic", "no contacts")
+    assert contacts.kn is not None and contacts.ks is not None  # contacts with their springs
     w = np.maximum(contacts.kn, contacts.ks) * peng_a_max(packing, contacts)
     c = int(np.argmax(w))
     return Estimate.from_omega2("two_particle_amax", float(w[c]), "heuristic",

@@ -170,7 +170,11 @@ def parse_granular(words: list[str]) -> GranularStyle:
     if normal not in NORMAL_ARGS:
         raise InputError(FLAG, f"granular: unknown normal model {normal!r}; supported: {', '.join(NORMAL_ARGS)}")
     normal_args, k = _take(words, 1, NORMAL_ARGS[normal], normal, nullable=())
-    tangential, tangential_args, damping, rolling, twisting = None, None, "viscoelastic", None, None
+    tangential: str | None = None
+    tangential_args: dict | None = None
+    rolling: dict | None = None
+    twisting: tuple[str, dict] | None = None
+    damping = "viscoelastic"
     while k < len(words):
         key = words[k]
         if key == "tangential":
@@ -207,6 +211,6 @@ def parse_granular(words: list[str]) -> GranularStyle:
             k += 1
         else:
             raise InputError(FLAG, f"granular: unknown keyword {key!r}")
-    if tangential is None:
+    if tangential is None or tangential_args is None:
         raise InputError(FLAG, "granular: the tangential model is required ('tangential linear_history kt x mu', ...)")
     return GranularStyle(normal, normal_args, tangential, tangential_args, damping, rolling, twisting, " ".join(words))

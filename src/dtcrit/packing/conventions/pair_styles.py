@@ -123,6 +123,7 @@ def parse_pair_style(text: str):
     gamma_n = number(args[2], "gamma_n")
     gamma_t = number(args[3], "gamma_t", allow_null=True)
     xmu = number(args[4], "xmu")
+    assert kn is not None and gamma_n is not None and xmu is not None  # NULL is refused for these
     if xmu > 1e4:
         raise InputError(FLAG, f"xmu must lie in [0, 1e4] (LAMMPS's own limit), found {args[4]!r}")
     if args[5] not in ("0", "1"):
