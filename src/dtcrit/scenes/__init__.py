@@ -1,5 +1,6 @@
 """Scenes: the TOML description of a DEM simulation's contacts (``scene``, ``fields``, ``model``),
-the ``dtcrit step`` API (``timestep``) and the estimates other DEM codes use (``estimators``).
+the ``dtcrit step`` API (``timestep``) and the estimates other DEM codes use (``code_estimates``; their
+formulas and the contact physics are ``dtcrit.physics``).
 
 Runtime only (NumPy; SciPy on first use for polyhedra): scenes import ``bodies`` and
 ``integrators``, never ``symbolic``.
