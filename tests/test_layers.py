@@ -1,7 +1,7 @@
 """The package's layers, read from its imports with ``ast`` (module-level and deferred ones alike).
 
 Data flows one way: the update rules (``integrators.schemes``) -> ``symbolic`` (SymPy) ->
-``_generated`` (emitted, committed) -> the runtime (``integrators``, ``bodies``, ``impact``,
+``_generated`` (emitted, committed) -> the runtime (``physics``, ``integrators``, ``bodies``, ``impact``,
 ``packing``, ``scenes``) -> ``codegen`` -> ``bench``, ``figures``, ``notebooks`` -> ``cli``.
 A module may import its own layer and the ones before it; the runtime never imports SymPy; and
 no chain of imports leads back to where it started.
@@ -26,6 +26,7 @@ LAYERS = (
     ("dtcrit.integrators.schemes", 1),  # update rules: plain arithmetic, read by SymPy and the runtime
     ("dtcrit.symbolic", 2),
     ("dtcrit._generated", 3),
+    ("dtcrit.physics", 4),  # contact physics shared by packing and scenes: NumPy only
     ("dtcrit.integrators", 4),
     ("dtcrit.bodies", 5),
     ("dtcrit.impact", 6),

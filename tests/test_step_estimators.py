@@ -10,8 +10,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
-from dtcrit.scenes import estimators as est
-from dtcrit.scenes.damping import damping_ratio_from_restitution
+from dtcrit.physics import rules_of_thumb as est
+from dtcrit.physics.damping_conventions import damping_ratio_from_restitution
 from dtcrit.scenes.laws import hertz_max_overlap, resolve_pair
 from dtcrit.scenes.scene import parse_scene
 

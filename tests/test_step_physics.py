@@ -18,7 +18,8 @@ from dtcrit.bodies.arm_supremum import arm_term_supremum
 from dtcrit.bodies.contact_search import mirror_contact, random_contacts
 from dtcrit.scenes.laws import resolve_pair
 from dtcrit.scenes.scene import load_scene, parse_scene
-from dtcrit.scenes.timestep import UNSAFE_RTOL, critical_step
+from dtcrit.physics.estimate import SAFE_RTOL as UNSAFE_RTOL
+from dtcrit.scenes.timestep import critical_step
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"

@@ -14,9 +14,10 @@ from hypothesis import strategies as st
 
 from dtcrit.cli import main
 from dtcrit.cli.step import format_text, ratio_text
-from dtcrit.scenes import estimators as est
+from dtcrit.physics import rules_of_thumb as est
 from dtcrit.scenes.scene import load_scene
-from dtcrit.scenes.timestep import EstimateResult, critical_step
+from dtcrit.physics.estimate import Estimate, RatedEstimate
+from dtcrit.scenes.timestep import critical_step
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
@@ -38,7 +39,7 @@ def test_a_ratio_reads_as_one_only_when_it_is_one(r):
 def test_a_ratio_just_above_one_is_printed_with_its_digits_and_flag():
     """An estimate 1.0024 x dt_crit (the issue's case) and one 4e-5 above it are printed as such beside UNSAFE."""
     result = critical_step(load_scene(EXAMPLES / "glass_spheres_hertz.toml"))
-    extra = tuple(EstimateResult(est.Estimate(f"probe_{n}", "probe", result.dt_crit * f), True)
+    extra = tuple(RatedEstimate(Estimate(f"probe_{n}", result.dt_crit * f, label="probe"), result.dt_crit)
                   for n, f in ((1, 1.0024), (2, 1.00004)))
     text = format_text(dataclasses.replace(result, estimates=result.estimates + extra))
     line1 = next(line for line in text.splitlines() if "probe_1" in line)

@@ -15,6 +15,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from dtcrit.errors import InputError
+from dtcrit.physics.contact_laws import hertz_normal_stiffness, mindlin_tangent_stiffness, same_material_moduli
 
 
 @dataclass(frozen=True)
@@ -38,10 +39,25 @@ class Box:
 
     @property
     def lengths(self) -> np.ndarray:
+        """Edge lengths ``hi - lo`` [m] of the box along x, y, z."""
         return self.hi - self.lo
 
     @classmethod
     def cube(cls, length: float, periodic: bool = True) -> "Box":
+        """A cube ``[0, length)^3``.
+
+        Parameters
+        ----------
+        length : float
+            Edge length [m].
+        periodic : bool
+            Whether every axis wraps.
+
+        Returns
+        -------
+        Box
+            The cube.
+        """
         return cls(np.zeros(3), np.full(3, float(length)), (periodic,) * 3)
 
 
@@ -118,6 +134,7 @@ class Packing:
 
     @property
     def n(self) -> int:
+        """Number of particles."""
         return self.positions.shape[0]
 
     def particle_id(self, index) -> int:
@@ -126,13 +143,27 @@ class Packing:
 
     @property
     def dofs(self) -> int:
+        """Degrees of freedom, six per particle."""
         return 6 * self.n
 
     @property
     def is_spheres(self) -> bool:
+        """Whether every particle is a sphere (no ``shapes``)."""
         return self.shapes is None
 
     def with_label(self, label: str) -> "Packing":
+        """The packing under another label.
+
+        Parameters
+        ----------
+        label : str
+            The name printed in reports.
+
+        Returns
+        -------
+        Packing
+            A copy with ``label`` set.
+        """
         return replace(self, label=label)
 
     @classmethod
@@ -225,6 +256,7 @@ class Contacts:
 
     @property
     def count(self) -> int:
+        """Number of contacts."""
         return int(self.i.shape[0])
 
     def coordination(self, n_particles: int) -> np.ndarray:
@@ -232,7 +264,7 @@ class Contacts:
         return (np.bincount(self.i, minlength=n_particles) + np.bincount(self.j, minlength=n_particles))
 
     def _per_contact(self, **values) -> dict:
-        out = {}
+        out: dict[str, np.ndarray | None] = {}
         for key, value in values.items():
             if value is None:
                 out[key] = None
@@ -264,13 +296,27 @@ class Contacts:
 
     @property
     def damped(self) -> bool:
+        """Whether any contact carries a positive dashpot."""
         return any(c is not None and np.any(c > 0) for c in (self.cn, self.cs, self.cr, self.ctw))
 
     @property
     def rotational_springs(self) -> bool:
+        """Whether any contact carries a positive rolling or twisting spring."""
         return any(k is not None and np.any(k > 0) for k in (self.kr, self.ktw))
 
     def subset(self, mask) -> "Contacts":
+        """The contacts selected by ``mask``.
+
+        Parameters
+        ----------
+        mask : numpy.ndarray
+            Boolean mask or index array over the contacts.
+
+        Returns
+        -------
+        Contacts
+            Those contacts with every per-contact term.
+        """
         pick = lambda a: None if a is None else a[mask]  # noqa: E731
         return Contacts(self.i[mask], self.j[mask], self.normal[mask], self.arm_i[mask], self.arm_j[mask],
                         self.overlap[mask], self.image[mask], self.radius_eff[mask], pick(self.kn), pick(self.ks),
@@ -279,6 +325,13 @@ class Contacts:
 
     @classmethod
     def empty(cls) -> "Contacts":
+        """No contacts.
+
+        Returns
+        -------
+        Contacts
+            An empty contact list with zero springs.
+        """
         z3 = np.zeros((0, 3))
         zi = np.zeros(0, dtype=np.int64)
         return cls(zi, zi.copy(), z3, z3.copy(), z3.copy(), np.zeros(0), np.zeros((0, 3), dtype=np.int64),
@@ -301,10 +354,29 @@ class LinearLaw:
             raise InputError("kn", "kn and ks cannot both be zero")
 
     def stiffness(self, contacts: Contacts) -> tuple[np.ndarray, np.ndarray]:
+        """The springs of every contact, ``kn`` and ``ks`` as given.
+
+        Parameters
+        ----------
+        contacts : Contacts
+            The contacts.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            ``(k_n, k_s)`` [N/m] per contact.
+        """
         n = contacts.count
         return np.full(n, float(self.kn)), np.full(n, float(self.ks))
 
     def describe(self) -> str:
+        """The law in words, for reports.
+
+        Returns
+        -------
+        str
+            The description.
+        """
         return f"linear springs kn = {float(self.kn):.6g} N/m, ks = {float(self.ks):.6g} N/m"
 
 
@@ -328,16 +400,32 @@ class HertzMindlinLaw:
             raise InputError("poisson", f"must lie in (-1, 0.5), got {nu}")
 
     def stiffness(self, contacts: Contacts) -> tuple[np.ndarray, np.ndarray]:
+        """Tangent stiffnesses ``2 E* a`` and ``8 G* a``, ``a = sqrt(R* delta)`` (:mod:`dtcrit.physics.contact_laws`).
+
+        Parameters
+        ----------
+        contacts : Contacts
+            Sphere contacts (effective radius and overlap).
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            ``(k_n, k_s)`` [N/m] per contact.
+        """
         if np.any(~np.isfinite(contacts.radius_eff)):
             raise InputError("law", "the Hertz-Mindlin law needs sphere contacts (effective radius)")
-        e, nu = float(self.youngs), float(self.poisson)
-        e_star = e / (2.0 * (1.0 - nu * nu))
-        g = e / (2.0 * (1.0 + nu))
-        g_star = g / (2.0 * (2.0 - nu))
+        e_star, g_star = same_material_moduli(float(self.youngs), float(self.poisson))
         a = np.sqrt(contacts.radius_eff * np.maximum(contacts.overlap, 0.0))
-        return 2.0 * e_star * a, 8.0 * g_star * a
+        return hertz_normal_stiffness(e_star, a), mindlin_tangent_stiffness(g_star, a)
 
     def describe(self) -> str:
+        """The law in words, for reports.
+
+        Returns
+        -------
+        str
+            The description.
+        """
         return f"Hertz-Mindlin tangent stiffness, E = {float(self.youngs):.6g} Pa, nu = {float(self.poisson):.6g}"
 
 

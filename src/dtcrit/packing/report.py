@@ -23,6 +23,8 @@ from dtcrit.packing.solvers.largest_mode import DEFAULT_TOL, TopMode, largest_mo
 from dtcrit.errors import InputError, NotConvergedError
 from dtcrit.packing.model import Contacts, HertzMindlinLaw, LinearLaw, Packing, apply_law
 from dtcrit.packing.operators.matrix_free import stiffness_operator
+from dtcrit.physics.estimate import Estimate, RatedEstimate
+from dtcrit.physics.json_numbers import json_safe
 
 OPERATOR_DOFS = 200_000
 """Above this many DOFs ``analyse`` applies ``K`` matrix-free (``dtcrit.packing.operators.matrix_free``) when the
@@ -94,7 +96,7 @@ class PackingReport:
     solver: str
     matvecs: int
     relative_residual: float
-    estimates: dict[str, est.Estimate] = field(default_factory=dict)
+    estimates: dict[str, Estimate] = field(default_factory=dict)
     route: str = "assembled"
     dt_safe: float = math.nan
     certificate: Certificate | None = None
@@ -106,16 +108,23 @@ class PackingReport:
         return bracket(theta, self.dt_safe if math.isfinite(self.dt_safe) else 0.0, self.certificate)
 
     def estimate_table(self) -> list[dict]:
-        rows = []
-        for e in self.estimates.values():
-            rows.append({
-                "name": e.name, "dt": e.dt, "omega": math.sqrt(e.omega2) if e.omega2 > 0 else 0.0,
-                "ratio": e.dt / self.dt_crit if self.dt_crit > 0 and math.isfinite(self.dt_crit) else float("nan"),
-                "safe": bool(e.dt <= self.dt_crit * (1 + 1e-9)), "kind": e.kind, "detail": e.detail,
-            })
-        return rows
+        """The estimates rated against ``dt_crit``, one row each in schema ``dtcrit-packing/1``'s form.
+
+        Returns
+        -------
+        list of dict
+            ``name``, ``dt`` [s], ``omega`` [rad/s], ``ratio``, ``safe``, ``kind``, ``detail``.
+        """
+        return [_estimate_row(RatedEstimate(e, self.dt_crit)) for e in self.estimates.values()]
 
     def to_dict(self) -> dict:
+        """The report as schema ``dtcrit-packing/1``'s body (non-finite numbers as null).
+
+        Returns
+        -------
+        dict
+            The keys of the report, ``estimates``, ``certificate`` and ``dt_bracket``.
+        """
         out = {k: getattr(self, k) for k in (
             "label", "law", "n_particles", "dofs", "n_contacts", "cn_mean", "cn_max", "m_min", "k_max",
             "omega_max", "dt_crit", "alpha", "integrator", "damping_ratio", "dt_integrator",
@@ -125,22 +134,15 @@ class PackingReport:
         cert = self.certificate or Certificate(False, "none: not requested", self.omega_max ** 2 * (1 + 1e-6))
         out["certificate"] = cert.to_dict()
         out["dt_bracket"] = self.bracket.to_dict()
-        return _json_safe(out)
+        return json_safe(out)
 
 
-def _json_safe(value):
-    if isinstance(value, dict):
-        return {k: _json_safe(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_json_safe(v) for v in value]
-    if isinstance(value, (np.floating, float)):
-        v = float(value)
-        return v if math.isfinite(v) else None
-    if isinstance(value, np.integer):
-        return int(value)
-    if isinstance(value, np.bool_):
-        return bool(value)
-    return value
+def _estimate_row(rated: RatedEstimate) -> dict:
+    """Schema ``dtcrit-packing/1``'s row of a rated estimate: the common shape plus ``omega = sqrt(omega2)``."""
+    common = rated.to_json()
+    omega2 = rated.estimate.omega2 or 0.0
+    return {"name": common["name"], "dt": common["dt"], "omega": math.sqrt(omega2) if omega2 > 0 else 0.0,
+            "ratio": common["ratio"], "safe": common["safe"], "kind": common["kind"], "detail": common["detail"]}
 
 
 def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, integrator: str = DEFAULT_INTEGRATOR,
@@ -187,6 +189,7 @@ def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, int
     omega = top.omega
     dt = 2.0 / omega if omega > 0 else math.inf
     cn = contacts.coordination(packing.n)
+    assert contacts.kn is not None and contacts.ks is not None  # set by the law above
     stiff = np.maximum(contacts.kn, contacts.ks)
     active = stiff > 0
     k_max = float(stiff.max(initial=0.0))
@@ -196,7 +199,7 @@ def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, int
     m_min = float(packing.masses[touched].min()) if touched.any() else float(packing.masses.min())
     alpha = dt / math.sqrt(m_min / k_max) if k_max > 0 and math.isfinite(dt) else math.inf
     dt_int, formula = integrator_dt(omega, integrator, damping_ratio)
-    estimates: dict[str, est.Estimate] = {}
+    estimates: dict[str, Estimate] = {}
     if with_estimates:
         w_c = est.single_contact_frequencies(packing, contacts) if contacts.count else None
         for e in (est.gershgorin(a, md), est.block_diagonal(a, packing.particle_id),
@@ -205,7 +208,7 @@ def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, int
                   est.two_particle_exact(packing, contacts, w_c), est.rayleigh(a, packing, contacts, w_c)):
             estimates[e.name] = e
     bounds = [estimates[k] for k in ("gershgorin", "block_diagonal") if k in estimates]
-    dt_safe = max((e.dt for e in bounds), default=math.nan)
+    dt_safe = max((e.dt for e in bounds if e.dt is not None), default=math.nan)
     coordination = float(cn.mean()) if packing.n else 0.0
     wanted = (auto_certifies(packing.dofs, coordination, eigen_seconds) if certify_step == "auto"
               else bool(certify_step))
@@ -255,7 +258,7 @@ def dt_bracket_error(exc: NotConvergedError, a, md, packing: Packing) -> NotConv
     raised to ``dt_safe`` (the Gershgorin and block-diagonal bounds) when that is larger.
     """
     bounds = [est.gershgorin(a, md).dt, est.block_diagonal(a, packing.particle_id).dt]
-    lower = max([b for b in bounds if math.isfinite(b)] + [2.0 / math.sqrt(exc.upper) if exc.upper > 0 else 0.0])
+    lower = max([b for b in bounds if b is not None and math.isfinite(b)] + [2.0 / math.sqrt(exc.upper) if exc.upper > 0 else 0.0])
     upper = 2.0 / math.sqrt(exc.lower) if exc.lower > 0 else math.inf
     return NotConvergedError("dt_crit [s]", lower, upper, exc.solver, exc.reason)
 

@@ -1,11 +1,12 @@
 """Scenes: the TOML description of a DEM simulation's contacts (``scene``, ``fields``, ``model``),
-the ``dtcrit step`` API (``timestep``) and the estimates other DEM codes use (``estimators``).
+the ``dtcrit step`` API (``timestep``) and the estimates other DEM codes use (``code_estimates``; their
+formulas and the contact physics are ``dtcrit.physics``).
 
 Runtime only (NumPy; SciPy on first use for polyhedra): scenes import ``bodies`` and
 ``integrators``, never ``symbolic``.
 """
-from dtcrit.scenes.damping import damping_ratio_from_restitution
-from dtcrit.scenes.laws import hertz_max_overlap
+from dtcrit.physics.damping_conventions import damping_ratio_from_restitution
+from dtcrit.physics.contact_laws import hertz_max_overlap
 from dtcrit.scenes.model import ContactLaw, PairContact, Particle, Scene
 from dtcrit.scenes.scene import load_scene, parse_scene, scene_from_dict
 

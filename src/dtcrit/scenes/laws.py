@@ -10,7 +10,7 @@ to linear(ised) stiffness ``(k_n, k_s)`` and dashpots ``(c_n, c_s)`` (Peng et al
   ``k_s = 8 G* sqrt(R* delta_max)``, ``delta_max = (15 m* v^2 / (16 E* sqrt(R*)))^(2/5)``.
 
 Damping given as ``restitution`` or ``damping_ratio`` is mapped by the scene's damping convention
-(:mod:`dtcrit.scenes.damping`), with the reduced mass ``m* = m1 m2/(m1 + m2)`` between particles and
+(:mod:`dtcrit.physics.damping_conventions`), with the reduced mass ``m* = m1 m2/(m1 + m2)`` between particles and
 the convention's wall mass against a wall.
 """
 from __future__ import annotations
@@ -18,30 +18,23 @@ from __future__ import annotations
 import math
 
 from dtcrit.errors import InputError
-from dtcrit.scenes.damping import CONVENTIONS, DEFAULT_CONVENTION, convention_for
+from dtcrit.physics import contact_laws as cl
+from dtcrit.physics.contact_laws import hertz_max_overlap
+from dtcrit.physics.damping_conventions import CONVENTIONS, DEFAULT_CONVENTION
+from dtcrit.scenes.damping_input import convention_for
 from dtcrit.scenes.model import PairContact, _harmonic
 
-
-def hertz_max_overlap(m_star: float, e_star: float, r_star: float, velocity: float) -> float:
-    """Largest overlap of a Hertz impact at relative normal speed ``velocity`` [m].
-
-    Energy balance 1/2 m* v^2 = (8/15) E* sqrt(R*) delta^(5/2) for F = (4/3) E* sqrt(R*) delta^(3/2):
-    delta_max = (15 m* v^2 / (16 E* sqrt(R*)))^(2/5), evaluated in logarithms (no overflow).
-    """
-    log_d = 0.4 * (math.log(15.0 / 16.0) + math.log(m_star) + 2.0 * math.log(velocity) - math.log(e_star) - 0.5 * math.log(r_star))
-    return math.exp(log_d)
+__all__ = ["hertz_max_overlap", "resolve_pair", "resolve_wall", "wall_convention", "convention_of"]
 
 
 def _hertz(scene, p, q, m_star: float, r1: float | None, r2: float | None, label: str):
     law = scene.contact
-    e_star = 1.0 / ((1.0 - p.poisson_ratio**2) / p.youngs_modulus + (1.0 - q.poisson_ratio**2) / q.youngs_modulus)
-    g_p = p.youngs_modulus / (2.0 * (1.0 + p.poisson_ratio))
-    g_q = q.youngs_modulus / (2.0 * (1.0 + q.poisson_ratio))
-    g_star = 1.0 / ((2.0 - p.poisson_ratio) / g_p + (2.0 - q.poisson_ratio) / g_q)
+    e_star = cl.effective_youngs_modulus(p.youngs_modulus, p.poisson_ratio, q.youngs_modulus, q.poisson_ratio)
+    g_star = cl.effective_shear_modulus(p.youngs_modulus, p.poisson_ratio, q.youngs_modulus, q.poisson_ratio)
     r_star = law.curvature_radius if law.curvature_radius is not None else _harmonic(r1, r2)
     delta = hertz_max_overlap(m_star, e_star, r_star, law.velocity)
     root = math.sqrt(r_star * delta)
-    kn, ks = 2.0 * e_star * root, 8.0 * g_star * root
+    kn, ks = cl.hertz_normal_stiffness(e_star, root), cl.mindlin_tangent_stiffness(g_star, root)
     for value in (kn, ks):
         if not (math.isfinite(value) and value > 0.0):
             raise InputError("contact.youngs_modulus", f"pair {label}: the Hertz tangent stiffness {value!r} is outside double precision")
@@ -74,8 +67,7 @@ def resolve_pair(scene, i: int, j: int, r1: float | None = None, r2: float | Non
     if law.model in ("linear", "bond"):
         kn, ks = law.kn, law.ks
     elif law.model == "yade":
-        e1r1, e2r2 = p.youngs_modulus * r1, q.youngs_modulus * r2
-        kn = 2.0 * _harmonic(e1r1, e2r2)
+        kn = cl.yade_normal_stiffness(p.youngs_modulus * r1, q.youngs_modulus * r2)
         ks = law.ks_ratio * kn
     else:
         kn, ks, extra = _hertz(scene, p, q, m_star, r1, r2, label)

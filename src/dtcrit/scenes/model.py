@@ -7,7 +7,7 @@ import bisect
 from dataclasses import dataclass, field
 from typing import Any
 
-from dtcrit.scenes.damping import damping_kind
+from dtcrit.scenes.damping_input import damping_kind
 
 # ----------------------------------------------------------------------------------------------
 # The vocabulary of a scene
@@ -72,7 +72,7 @@ class PairContact:
     radius_j: float | None = None
     zeta_n: float | None = None  # damping ratio per direction as the damping convention defines it
     zeta_s: float | None = None  # (None: no tangential spring)
-    convention: str | None = None  # the damping convention (dtcrit.scenes.damping)
+    convention: str | None = None  # the damping convention (dtcrit.physics.damping_conventions)
     wall: str | None = None  # the wall's name for a particle-wall contact (then j == 0)
     wall_number: int | None = None
     e_star: float | None = None  # Hertz: effective modulus [Pa]
@@ -163,7 +163,7 @@ class ContactLaw:
     damping_ratio: float | None = None  # given, or derived from restitution
     velocity: float | None = None
     curvature_radius: float | None = None
-    damping_convention: str | None = None  # None: the model's default (dtcrit.scenes.damping)
+    damping_convention: str | None = None  # None: the model's default (dtcrit.physics.damping_conventions)
     ks_ratio: float | None = None  # yade: ks / kn
     rotational: Any = None  # dtcrit.scenes.rotational.RotationalLaw (None: no rotational springs)
     bond: Any = None  # dtcrit.scenes.bonds.BondLaw for model = "bond"

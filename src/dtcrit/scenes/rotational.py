@@ -1,4 +1,6 @@
-"""Rotational springs and dashpots of a contact: rolling ``k_r`` (the moment against the relative rotation
+"""Rotational springs and dashpots of a contact, as a scene gives them.
+
+Rolling ``k_r`` (the moment against the relative rotation
 perpendicular to the normal) and twisting ``k_tw`` (about the normal), in N m/rad, with dashpots
 ``c_r``, ``c_tw`` in N m s/rad, given directly (``[contact]`` keys ``kr``, ``ktw``, ``cr``, ``ctw``) or by a
 code's own model and parameters.  ``R* = R_1 R_2/(R_1 + R_2)``, ``k_n``, ``k_s`` the contact's springs:
@@ -28,7 +30,7 @@ code's own model and parameters.  ``R* = R_1 R_2/(R_1 + R_2)``, ``k_n``, ``k_s``
   overlap; other laws: key ``contact_radius``);
 * ``"sds"`` (LAMMPS ``twisting sds k_twist gamma_twist mu``): ``k_tw = k_twist``, ``c_tw = gamma_twist``.
 
-These models are defined for spheres; other shapes take ``kr``/``ktw`` directly.  Walls take their
+The formulas are :mod:`dtcrit.physics.rotational_springs`.  These models are defined for spheres; other shapes take ``kr``/``ktw`` directly.  Walls take their
 own ``kr``, ``ktw``, ``cr``, ``ctw`` in ``[[wall]]``.
 """
 from __future__ import annotations
@@ -37,6 +39,7 @@ import math
 from dataclasses import dataclass
 
 from dtcrit.errors import InputError
+from dtcrit.physics import rotational_springs as rs_
 from dtcrit.scenes.fields import _choice, _number
 
 ROLLING_MODELS = ("epsd", "epsd2", "epsd3", "sds", "yade")
@@ -69,9 +72,24 @@ class RotationalLaw:
 
     @property
     def present(self) -> bool:
+        """Whether any rotational key was given."""
         return any(v is not None for v in (self.kr, self.ktw, self.cr, self.ctw, self.rolling_model, self.twisting_model))
 
     def param(self, name: str, default: float | None = None) -> float | None:
+        """A model parameter's value.
+
+        Parameters
+        ----------
+        name : str
+            The key (``k_roll``, ``rolling_friction``, ...).
+        default : float or None
+            The value when not given.
+
+        Returns
+        -------
+        float or None
+            The value.
+        """
         return dict(self.params).get(name, default)
 
 
@@ -136,18 +154,16 @@ def resolve_rotational(law: RotationalLaw, kn: float, ks: float, cs: float, r1: 
     p = law.param
     if law.rolling_model in ("epsd", "epsd3"):
         factor = 2.25 if law.rolling_model == "epsd" else p("rolling_stiffness_factor")
-        kr = factor * kn * p("rolling_friction") ** 2 * rs * rs
-        i1, i2 = m1 * r1 * r1, m2 * r2 * r2
-        i_r = 1.4 * (i1 / (1.0 + i1 / i2) if i1 <= i2 else i2 / (1.0 + i2 / i1))
-        cr = p("rolling_viscous_damping", 0.0) * 2.0 * math.sqrt(i_r * kr)
+        kr = rs_.epsd_rolling_stiffness(factor, kn, p("rolling_friction"), rs)
+        cr = rs_.epsd_rolling_dashpot(p("rolling_viscous_damping", 0.0) or 0.0, kr, m1, r1, m2, r2)
     elif law.rolling_model == "epsd2":
-        kr, cr = ks * rs * rs, 0.0
+        kr, cr = rs_.epsd2_rolling_stiffness(ks, rs), 0.0
     elif law.rolling_model == "sds":
-        kr, cr = p("k_roll") * rs * rs, p("gamma_roll", 0.0) * rs * rs
+        kr, cr = rs_.sds_rolling(p("k_roll"), p("gamma_roll", 0.0), rs)
     elif law.rolling_model == "yade":
-        kr, cr = p("alpha_kr") * ks * r1 * r2, 0.0
+        kr, cr = rs_.yade_rotational_stiffness(p("alpha_kr"), ks, r1, r2), 0.0
         if p("alpha_ktw") is not None:
-            ktw, ctw = p("alpha_ktw") * ks * r1 * r2, 0.0
+            ktw, ctw = rs_.yade_rotational_stiffness(p("alpha_ktw"), ks, r1, r2), 0.0
     if law.twisting_model == "sds":
         ktw, ctw = p("k_twist"), p("gamma_twist", 0.0)
     elif law.twisting_model == "marshall":
@@ -157,5 +173,5 @@ def resolve_rotational(law: RotationalLaw, kn: float, ks: float, cs: float, r1: 
                 raise InputError("contact.contact_radius", "missing: twisting_model = 'marshall' needs the contact radius "
                                  "a [m] (k_tw = k_t a^2/2); it is implied only for Hertz contact (a = sqrt(R* delta_max))")
             a = math.sqrt(rs * delta)
-        ktw, ctw = 0.5 * ks * a * a, 0.5 * cs * a * a
+        ktw, ctw = rs_.marshall_twisting(ks, cs, a)
     return kr, ktw, cr, ctw

@@ -32,7 +32,7 @@ from pathlib import Path
 from typing import Any
 
 from dtcrit.errors import InputError
-from dtcrit.scenes.damping import CONVENTIONS, convention_for, parse_damping
+from dtcrit.scenes.damping_input import CONVENTIONS, convention_for, parse_damping
 from dtcrit.scenes.fields import (
     _check_keys,
     _choice,

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 from dtcrit.json_meta import envelope
+from dtcrit.physics.json_numbers import finite_or_none as _finite
 
 JSON_SCHEMA = "dtcrit-step/1"
 UNITS = {
@@ -50,6 +51,18 @@ def _rotational_json(d) -> dict:
 
 
 def pair_json(p) -> dict:
+    """One contact's entry of ``pairs`` in schema ``dtcrit-step/1``.
+
+    Parameters
+    ----------
+    p : dtcrit.scenes.pair_modes.PairStep
+        The contact's step.
+
+    Returns
+    -------
+    dict
+        The entry.
+    """
     c = p.contact
     out = {
         "pair": p.label,
@@ -83,10 +96,6 @@ def pair_json(p) -> dict:
     if c.delta_max is not None:
         out.update(e_star=c.e_star, g_star=c.g_star, r_star=c.r_star, delta_max=c.delta_max, velocity=c.velocity)
     return out
-
-
-def _finite(x):
-    return x if x is None or x != float("inf") else None
 
 
 def _particle_json(p, b_max: float) -> dict:
@@ -133,6 +142,13 @@ def _contact_json(sc, convention: str | None) -> dict:
     return out
 
 
+def _estimate_json(rated, dense: bool) -> dict:
+    """Schema ``dtcrit-step/1``'s form of a rated estimate (the common shape's ``detail`` is its ``note``)."""
+    common = rated.to_json()
+    return {"dt": common["dt"], "unsafe": rated.unsafe, "unsafe_dense": rated.unsafe if dense else None,
+            "label": common["label"], "note": common["detail"]}
+
+
 def _dense_json(d) -> dict | None:
     if d is None:
         return None
@@ -141,6 +157,18 @@ def _dense_json(d) -> dict | None:
 
 
 def step_json(result) -> dict:
+    """The document of schema ``dtcrit-step/1`` (README, section JSON).
+
+    Parameters
+    ----------
+    result : dtcrit.scenes.timestep.StepResult
+        The step of a scene.
+
+    Returns
+    -------
+    dict
+        The document.
+    """
     sc = result.scene
     t = result.translation
     g = t.translational_direction
@@ -200,12 +228,7 @@ def step_json(result) -> dict:
         },
         "rotation": rot,
         "contact_rotation": contact_rotation,
-        "estimators": {
-            e.estimate.key: {"dt": e.estimate.dt, "unsafe": e.unsafe,
-                             "unsafe_dense": None if result.dense is None else e.unsafe,
-                             "label": e.estimate.label, "note": e.estimate.note}
-            for e in result.estimates
-        },
+        "estimators": {e.estimate.name: _estimate_json(e, result.dense is not None) for e in result.estimates},
         "pairs": [pair_json(p) for p in result.pairs],
         "particles": [_particle_json(p, result.B_max[p.number]) for p in sc.particles],
         "contact": _contact_json(sc, result.pairs[0].contact.convention),

@@ -14,7 +14,7 @@
 rotation) unless the scene sets ``isolated = true``, which asks for the isolated-contact step
 ``dt_isolated`` (then the factors for z = 4, 6 and 12 are reported); ``headline_basis`` says which.
 ``dt_recommended = safety * dt_crit``.  The estimates DEM codes use are rated against ``dt_crit``, one
-verdict each (:mod:`dtcrit.scenes.scene_estimates`).  No SymPy is imported here or below.
+verdict each (:mod:`dtcrit.scenes.code_estimates`, rated by :mod:`dtcrit.physics.estimate`).  No SymPy is imported here or below.
 """
 from __future__ import annotations
 
@@ -22,21 +22,16 @@ import math
 from dataclasses import dataclass, field
 
 from dtcrit.errors import InputError
-from dtcrit.scenes import estimators as est
+from dtcrit.physics.estimate import RatedEstimate
 from dtcrit.scenes.coordination import Coordination, scene_coordination
 from dtcrit.scenes.dense import FACTOR_COORDINATIONS, DenseStep, block_terms, dense_step, sphere_bound
 from dtcrit.scenes.laws import convention_of, resolve_pair, resolve_wall
 from dtcrit.scenes.model import Scene
 from dtcrit.scenes.pair_modes import DirectionStep, PairStep, pair_step
-from dtcrit.scenes.scene_estimates import scene_estimates
+from dtcrit.scenes.code_estimates import scene_estimates
 from dtcrit.scenes.step_json import JSON_SCHEMA, step_json
 
 __all__ = ["DirectionStep", "PairStep", "StepResult", "critical_step", "JSON_SCHEMA"]
-
-UNSAFE_RTOL = 1e-9
-"""An estimate is flagged unsafe when it exceeds dt_crit by more than this relative margin
-(equal values, e.g. the paper's Eq. (46) for undamped spheres, are ties, not violations)."""
-
 
 MAX_SIZE_PAIRS = 5_000
 """Contacts evaluated one by one at most: above it a size distribution is refused (naming its ``radii``)
@@ -47,18 +42,44 @@ species, at most ~0.5 % below the sharper grid used with ``coordination_max`` (t
 BASIS_ANY, BASIS_COORDINATION, BASIS_ISOLATED = "any packing", "coordination_max", "isolated"
 
 
-def _exceeds(value: float, step: float) -> bool:
-    return bool(value > step * (1.0 + UNSAFE_RTOL))
-
-
-@dataclass(frozen=True)
-class EstimateResult:
-    estimate: est.Estimate
-    unsafe: bool | None  # against dt_crit (the headline); None when the estimate does not apply
-
-
 @dataclass(frozen=True)
 class StepResult:
+    """The critical step of a scene and everything ``dtcrit step`` prints about it.
+
+    Attributes
+    ----------
+    scene : Scene
+        The scene.
+    pairs : tuple of PairStep
+        Per pair of particle types (and per particle-wall pair): its governing size.
+    dt_crit : float
+        The headline step [s].
+    governing : str
+        ``translation``, ``contact rotation``, ``rotation`` or ``dense``.
+    bound : str
+        Which bound governs, in words.
+    translation : PairStep
+        The contact whose isolated translation step is smallest.
+    rotation : PairStep or None
+        The pair whose rotation step (Eq. (56)) is smallest.
+    B_max : dict
+        Particle number -> Eq. (54).
+    estimates : tuple of RatedEstimate
+        The codes' estimates rated against ``dt_crit``.
+    dt_isolated : float
+        The isolated-contact step [s].
+    dense : DenseStep or None
+        The packing step (None with ``isolated = true``).
+    dense_factors : dict
+        ``z -> dt_dense(z)/dt_isolated`` (``isolated = true``).
+    basis : str
+        What the headline holds for.
+    coordination : Coordination or None
+        The geometric coordination bound.
+    basis_note : str
+        Why the headline is not the packing step the scene asks for.
+    """
+
     scene: Scene
     pairs: tuple[PairStep, ...]  # per pair of particle types (and per particle-wall pair): its governing size
     dt_crit: float
@@ -67,7 +88,7 @@ class StepResult:
     translation: PairStep  # the contact whose isolated translation step is smallest
     rotation: PairStep | None  # the pair whose rotation step is smallest (None: no rotation bound)
     B_max: dict = field(default_factory=dict)  # particle number -> Eq. (54)
-    estimates: tuple[EstimateResult, ...] = ()
+    estimates: tuple[RatedEstimate, ...] = ()  # each rated against dt_crit (the headline)
     dt_isolated: float = math.nan
     dense: DenseStep | None = None  # the packing step (None with isolated = true)
     dense_factors: dict = field(default_factory=dict)  # z -> dt_dense(z) / dt_isolated (isolated = true)
@@ -77,14 +98,17 @@ class StepResult:
 
     @property
     def dt_recommended(self) -> float:
+        """``safety x dt_crit`` [s]."""
         return self.scene.safety * self.dt_crit
 
     @property
     def dt_dense(self) -> float | None:
+        """The dense-packing step [s], None with ``isolated = true``."""
         return None if self.dense is None else self.dense.dt
 
     @property
     def holds_for(self) -> str:
+        """What the headline holds for, in words."""
         if self.basis == BASIS_ISOLATED:
             return "an isolated contact"
         if self.basis == BASIS_COORDINATION:
@@ -94,6 +118,7 @@ class StepResult:
 
     @property
     def formula(self) -> str:
+        """The closed form of the integrator's step, in words."""
         from dtcrit._generated.critical_steps import FORMULAS
 
         return FORMULAS.get(self.scene.integrator,
@@ -258,6 +283,6 @@ def critical_step(scene: Scene) -> StepResult:
                  f"({t.method}): {what} with {springs} ({g.regime}{zeta}, mode zeta = {g.zeta_mode:.6g})")
         if g.direction not in ("normal", "shear"):
             bound = bound.replace("translation-dominant", "contact-dominant", 1) + f"; {g.reason}"
-    estimates = tuple(EstimateResult(e, None if e.dt is None else _exceeds(e.dt, dt)) for e in scene_estimates(scene, steps))
+    estimates = tuple(RatedEstimate(e, dt) for e in scene_estimates(scene, steps))
     return StepResult(scene, pairs, dt, governing, bound, t, r, b_max, estimates, dt_isolated, dense, factors, basis,
                       coordination, note)

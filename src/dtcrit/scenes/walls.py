@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from dtcrit.errors import InputError
-from dtcrit.scenes.damping import damping_kind, parse_damping
+from dtcrit.scenes.damping_input import damping_kind, parse_damping
 from dtcrit.scenes.fields import _check_keys, _number, _required, _short, _string, _type_name
 
 WALL_KEYS = ("name", "model", "kn", "ks", "cn", "cs", "restitution", "damping_ratio", "particles", "kr", "ktw", "cr", "ctw")

@@ -4,6 +4,8 @@ from __future__ import annotations
 import math
 
 from dtcrit.json_meta import envelope
+from dtcrit.physics.estimate import RatedEstimate
+from dtcrit.physics.json_numbers import finite_or_none as _finite
 
 from dtcrit.packing.audit.snapshot import AuditReport
 
@@ -11,11 +13,19 @@ JSON_SCHEMA = "dtcrit-audit/1"
 UNITS = {"dt_crit": "s", "dt_safe": "s", "dt_undamped": "s", "dt_user": "s", "estimators.*.dt": "s"}
 
 
-def _finite(x):
-    return float(x) if x is not None and math.isfinite(x) else None
-
-
 def audit_json(r: AuditReport) -> dict:
+    """The audit as a JSON document (schema ``dtcrit-audit/1``; non-finite numbers as null).
+
+    Parameters
+    ----------
+    r : AuditReport
+        The audit.
+
+    Returns
+    -------
+    dict
+        The document.
+    """
     out = envelope(JSON_SCHEMA, UNITS)
     out.update({
         "snapshot": r.source, "engine": r.engine, "engine_conventions": r.engine_source, "integrator": r.integrator,
@@ -26,14 +36,32 @@ def audit_json(r: AuditReport) -> dict:
                                            "participation_ratio": _finite(r.participation)},
         "dt_user": _finite(r.dt_user), "dt_user_ratio": _finite(r.ratio),
         "stable": None if r.ratio is None else bool(r.ratio < 1.0),
-        "estimators": {e["name"]: {k: (_finite(v) if isinstance(v, float) else v) for k, v in e.items() if k != "name"}
-                       for e in r.estimators},
+        "estimators": {e.estimate.name: _estimate_json(e) for e in r.estimators},
         "notes": list(r.notes),
     })
     return out
 
 
+def _estimate_json(rated: RatedEstimate) -> dict:
+    """Schema ``dtcrit-audit/1``'s form of a rated estimate: the common shape without ``name`` and ``label``."""
+    common = rated.to_json()
+    return {"dt": _finite(common["dt"]), "ratio": _finite(common["ratio"]), "safe": common["safe"],
+            "kind": common["kind"], "detail": common["detail"]}
+
+
 def len_top(r: AuditReport) -> int:
+    """How many particles the ``limiting`` share counts: ``LIMITING_COUNT`` or all of them.
+
+    Parameters
+    ----------
+    r : AuditReport
+        The audit.
+
+    Returns
+    -------
+    int
+        The count.
+    """
     from dtcrit.packing.audit.snapshot import LIMITING_COUNT
 
     return min(LIMITING_COUNT, r.n_particles)
@@ -48,6 +76,18 @@ def _ratio(x: float) -> str:
 
 
 def format_audit(r: AuditReport) -> str:
+    """The audit as text.
+
+    Parameters
+    ----------
+    r : AuditReport
+        The audit.
+
+    Returns
+    -------
+    str
+        The lines ``dtcrit audit`` prints.
+    """
     lines = [
         f"snapshot: {r.source}",
         f"engine: {r.engine} ({r.engine_source}); integrator {r.integrator}",
@@ -68,11 +108,14 @@ def format_audit(r: AuditReport) -> str:
                      f"{r.participating:.3g} of {r.n_particles} particles share its energy; the {len_top(r)} with the "
                      f"most hold {100 * r.limiting_share:.3g} %): no few particles limit the step")
     if r.dt_user is not None:
-        verdict = "stable" if r.ratio < 1.0 else "UNSTABLE"
-        lines.append(f"your dt = {r.dt_user:.6g} s = {_ratio(r.ratio)} x dt_crit: {verdict}")
+        ratio = r.dt_user / r.dt_crit  # AuditReport.ratio
+        verdict = "stable" if ratio < 1.0 else "UNSTABLE"
+        lines.append(f"your dt = {r.dt_user:.6g} s = {_ratio(ratio)} x dt_crit: {verdict}")
     lines += [""] + r.notes + [""] if r.notes else [""]
     lines.append(f"{'estimator':<26}{'dt [s]':>13}{'dt/dt_crit':>13}  {'safe':<5}what it is (what it bounds); detail")
-    for e in r.estimators:
-        lines.append(f"{e['name']:<26}{e['dt']:>13.6g}{_ratio(e['ratio']):>13}  {'yes' if e['safe'] else 'NO':<5}"
-                     f"{e['kind']}; {e['detail']}")
+    for rated in r.estimators:
+        e, times = rated.estimate, rated.ratio
+        assert times is not None  # every audit estimate has a step
+        lines.append(f"{e.name:<26}{e.dt:>13.6g}{_ratio(times):>13}  {'yes' if rated.safe else 'NO':<5}"
+                     f"{e.kind}; {e.detail}")
     return "\n".join(lines)

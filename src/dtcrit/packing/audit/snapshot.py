@@ -32,15 +32,17 @@ import numpy as np
 
 import dtcrit.packing.bounds.estimates as est
 from dtcrit.errors import InputError
+from dtcrit.physics import rules_of_thumb as rot
+from dtcrit.physics.contact_laws import reduced
+from dtcrit.physics.estimate import Estimate, RatedEstimate
 
 from dtcrit.packing.operators.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
 from dtcrit.packing.solvers.damped_step import damped_critical_dt
 from dtcrit.packing.conventions.engines import EngineConvention
 from dtcrit.packing.model import Contacts, Packing
 
-YADE_GSTS_FACTOR = 1.41044  # GlobalStiffnessTimeStepper.cpp: dt = 1.41044 * sqrt(m / K) (not sqrt(2))
-YADE_GSTS_SAFETY = 0.8  # its timestepSafetyCoefficient default
-COLLISION_FRACTION = 1.0 / 50.0
+COLLISION_FRACTION = 1.0 / rot.COLLISION_TIME_DIVISOR
+"""The fraction of the collision time the LAMMPS granular examples step with (1/50)."""
 LIMITING_COUNT = 6
 LOCALISED_SHARE = 0.5
 """The ids are named when the ``LIMITING_COUNT`` particles with the most energy hold at least this share of
@@ -68,7 +70,7 @@ class AuditReport:
     limiting: list[int]  # empty when the mode is spread out (see participation)
     limiting_share: float  # the share of the LIMITING_COUNT particles with the most energy
     dt_user: float | None
-    estimators: list[dict] = field(default_factory=list)
+    estimators: list[RatedEstimate] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     participation: float = math.nan  # (sum e_p)^2 / (N sum e_p^2) of the governing mode's particle energies
 
@@ -79,6 +81,7 @@ class AuditReport:
 
     @property
     def ratio(self) -> float | None:
+        """``dt_user / dt_crit``, None without a user step."""
         return None if self.dt_user is None else self.dt_user / self.dt_crit
 
 
@@ -107,16 +110,15 @@ def _limiting(packing: Packing, vector: np.ndarray | None) -> tuple[list[int], f
 
 
 def _rayleigh_rows(packing: Packing, material) -> list[tuple]:
-    """Rayleigh time of the smallest particle, ``T_R = pi R sqrt(rho/G)/(0.1631 nu + 0.8766)`` (Li et al.
-    2005, as EDEM and LIGGGHTS use it), and the fractions the codes step with: EDEM's 20-40 % guidance,
-    LIGGGHTS' check/timestep/gran warning (the fraction its input sets, 0.1-0.2 in its examples).
+    """Rayleigh time of the smallest particle (:func:`dtcrit.physics.rules_of_thumb.rayleigh_time`) and the
+    fractions the codes step with: EDEM's 20-40 % guidance, LIGGGHTS' check/timestep/gran warning (the
+    fraction its input sets, 0.1-0.2 in its examples).
     """
     if material is None:
         return []
     youngs, nu = material
-    g = youngs / (2.0 * (1.0 + nu))
     rho = packing.masses / ((4.0 / 3.0) * np.pi * packing.radii**3)
-    t_r = np.pi * packing.radii * np.sqrt(rho / g) / (0.1631 * nu + 0.8766)
+    t_r = rot.rayleigh_time(packing.radii, rho, youngs, nu)
     p = int(np.argmin(t_r))
     where = f"particle {packing.particle_id(p)}, E = {youngs:.6g} Pa, nu = {nu:.6g}"
     return [("rayleigh_time", float(t_r[p]), "duration, not a step", f"Rayleigh time T_R of {where}"),
@@ -124,36 +126,34 @@ def _rayleigh_rows(packing: Packing, material) -> list[tuple]:
             ("rayleigh_40", 0.4 * float(t_r[p]), "rule of thumb", "40 % of T_R (EDEM's upper guidance)")]
 
 
-def _estimators(packing: Packing, springs: Contacts, dt_crit: float, material=None, damped: bool = False) -> list[dict]:
+def _estimators(packing: Packing, springs: Contacts, dt_crit: float, material=None,
+                damped: bool = False) -> list[RatedEstimate]:
     md = mass_diagonal(packing)
     a = scale_symmetric(stiffness_matrix(packing, springs), md, inplace=True)
     diag = est.diagonal_stiffness(a, packing.particle_id)
-    gsts = diag.dt * YADE_GSTS_FACTOR / math.sqrt(2.0)
-    rows = [
-        ("yade_gsts", gsts * YADE_GSTS_SAFETY, "heuristic",
-         f"YADE GlobalStiffnessTimeStepper as it runs: {YADE_GSTS_FACTOR} min sqrt(M/K_dd) x safety {YADE_GSTS_SAFETY}"),
-        ("yade_gsts_unscaled", gsts, "heuristic",
-         "the same at safety 1 (" + diag.detail.replace("sqrt(2) sqrt(M/K)", f"{YADE_GSTS_FACTOR} sqrt(M/K)") + ")"),
+    diag_dt = diag.dt
+    assert diag_dt is not None  # an omega^2 estimate always has a step
+    factor = rot.YADE_GSTS_CONSTANT
+    rows: list[tuple[str, float | None, str, str]] = [
+        ("yade_gsts", rot.yade_gsts_step(diag_dt, rot.YADE_GSTS_SAFETY), "heuristic",
+         f"YADE GlobalStiffnessTimeStepper as it runs: {factor} min sqrt(M/K_dd) x safety {rot.YADE_GSTS_SAFETY}"),
+        ("yade_gsts_unscaled", rot.yade_gsts_step(diag_dt), "heuristic",
+         "the same at safety 1 (" + diag.detail.replace("sqrt(2) sqrt(M/K)", f"{factor} sqrt(M/K)") + ")"),
     ]
     bounds = ("lower bound on the undamped step 2/omega_max (the dashpots lower dt_crit)" if damped
               else "lower bound on dt_crit (= 2/omega_max, no dashpots)")
     for e in (est.block_diagonal(a, packing.particle_id), est.gershgorin(a, md)):
         rows.append((e.name, e.dt, bounds, e.detail))
+    assert springs.kn is not None and springs.ks is not None  # checked by _check_terms
     stiff = np.maximum(springs.kn, springs.ks)
     m = packing.masses
-    m_eff = m[springs.i] * m[springs.j] / (m[springs.i] + m[springs.j])
-    with np.errstate(divide="ignore"):
-        t_c = np.pi * np.sqrt(m_eff / stiff)
+    t_c = rot.collision_time(reduced(m[springs.i], m[springs.j]), stiff)
     c = int(np.argmin(t_c))
     rows.append(("collision_time_fraction", float(t_c[c]) * COLLISION_FRACTION, "rule of thumb",
                  f"1/50 of the collision time pi sqrt(m_eff/k) of the contact of particles "
                  f"{packing.particle_id(springs.i[c])} and {packing.particle_id(springs.j[c])}"))
     rows += _rayleigh_rows(packing, material)
-    out = []
-    for name, dt, kind, detail in rows:
-        out.append({"name": name, "dt": dt, "ratio": dt / dt_crit, "safe": bool(dt <= dt_crit * (1 + 1e-12)),
-                    "kind": kind, "detail": detail})
-    return out
+    return [RatedEstimate(Estimate(name, dt, kind, detail), dt_crit) for name, dt, kind, detail in rows]
 
 
 def audit(packing: Packing, contacts: Contacts, convention: EngineConvention, *, law: str, source: str,

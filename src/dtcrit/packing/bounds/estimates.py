@@ -33,26 +33,12 @@ and are stated for the undamped central-difference family, ``dt = 2 / omega``.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
+
+from dtcrit.physics.estimate import Estimate
 
 from dtcrit.packing.operators.assembly import contact_kinematics, contact_stiffness_tensor
 from dtcrit.packing.model import Contacts, Packing
-
-
-@dataclass(frozen=True)
-class Estimate:
-    """One estimate: its ``omega^2`` and ``dt = 2/omega``, what kind of statement it is, and notes."""
-
-    name: str
-    omega2: float
-    kind: str  # "lower bound on dt" | "upper bound on dt" | "heuristic"
-    detail: str = ""
-
-    @property
-    def dt(self) -> float:
-        return float(2.0 / np.sqrt(self.omega2)) if self.omega2 > 0 else float("inf")
 
 
 def _abs_row_sums(a, weights=None, chunk: int = 1 << 18) -> np.ndarray:
@@ -81,7 +67,7 @@ def gershgorin(a, mass_diag: np.ndarray) -> Estimate:
     unsym = (_abs_row_sums(a, root) / root).max(initial=0.0)  # rows of M^-1 K
     best = min(sym, unsym)
     which = "rows of M^-1/2 K M^-1/2" if sym <= unsym else "rows of M^-1 K"
-    return Estimate("gershgorin", float(best), "lower bound on dt", which)
+    return Estimate.from_omega2("gershgorin", float(best), "lower bound on dt", which)
 
 
 def _one_based(p: int) -> int:
@@ -95,7 +81,7 @@ def diagonal_stiffness(a, particle_id=_one_based) -> Estimate:
     d = np.asarray(a.diagonal())
     k = int(np.argmax(d))
     part = "rotation" if k % 6 >= 3 else "translation"
-    return Estimate("diagonal", float(2.0 * d[k]), "heuristic",
+    return Estimate.from_omega2("diagonal", float(2.0 * d[k]), "heuristic",
                     f"sqrt(2) sqrt(M/K) on DOF {k % 6} ({part}) of particle {particle_id(k // 6)}")
 
 
@@ -117,7 +103,7 @@ def block_diagonal(a, particle_id=_one_based) -> Estimate:
         part = blocks[lo:lo + (1 << 16)]
         top[lo:lo + (1 << 16)] = np.linalg.eigvalsh(0.5 * (part + np.swapaxes(part, 1, 2)))[:, -1]
     p = int(np.argmax(top))
-    return Estimate("block_diagonal", float(2.0 * top[p]), "lower bound on dt",
+    return Estimate.from_omega2("block_diagonal", float(2.0 * top[p]), "lower bound on dt",
                     f"sqrt(2) / sqrt(lambda_max of the 6x6 block) of particle {particle_id(p)}")
 
 
@@ -138,6 +124,7 @@ def _mass_rows(packing: Packing) -> np.ndarray:
 
 
 def _sqrt_contact_stiffness(contacts: Contacts, sl) -> np.ndarray:
+    assert contacts.kn is not None and contacts.ks is not None  # contacts with their springs
     return contact_stiffness_tensor(contacts.normal[sl], np.sqrt(contacts.kn[sl]), np.sqrt(contacts.ks[sl]))
 
 
@@ -174,10 +161,11 @@ def peng_a_max(packing: Packing, contacts: Contacts) -> np.ndarray:
 def two_particle_amax(packing: Packing, contacts: Contacts) -> Estimate:
     """Peng et al. 2020, Eq. (48) with ``k = max(k_n, k_s)``, the most demanding contact."""
     if contacts.count == 0:
-        return Estimate("two_particle_amax", 0.0, "heuristic", "no contacts")
+        return Estimate.from_omega2("two_particle_amax", 0.0, "heuristic", "no contacts")
+    assert contacts.kn is not None and contacts.ks is not None  # contacts with their springs
     w = np.maximum(contacts.kn, contacts.ks) * peng_a_max(packing, contacts)
     c = int(np.argmax(w))
-    return Estimate("two_particle_amax", float(w[c]), "heuristic",
+    return Estimate.from_omega2("two_particle_amax", float(w[c]), "heuristic",
                     f"Eq. (48) at the contact of particles {packing.particle_id(contacts.i[c])} and "
                     f"{packing.particle_id(contacts.j[c])}")
 
@@ -185,10 +173,10 @@ def two_particle_amax(packing: Packing, contacts: Contacts) -> Estimate:
 def two_particle_exact(packing: Packing, contacts: Contacts, omega2_c: np.ndarray | None = None) -> Estimate:
     """Most demanding single contact with its real arms (upper bound on the packing's ``dt``)."""
     if contacts.count == 0:
-        return Estimate("two_particle_exact", 0.0, "upper bound on dt", "no contacts")
+        return Estimate.from_omega2("two_particle_exact", 0.0, "upper bound on dt", "no contacts")
     w = single_contact_frequencies(packing, contacts) if omega2_c is None else omega2_c
     c = int(np.argmax(w))
-    return Estimate("two_particle_exact", float(w[c]), "upper bound on dt",
+    return Estimate.from_omega2("two_particle_exact", float(w[c]), "upper bound on dt",
                     f"the contact of particles {packing.particle_id(contacts.i[c])} and {packing.particle_id(contacts.j[c])} alone")
 
 
@@ -301,4 +289,4 @@ def rayleigh(a, packing: Packing, contacts: Contacts, omega2_c: np.ndarray | Non
         if q > best * (1 + 1e-9):  # a rounding-level tie keeps the earlier trial's name
             name = label
         best = max(best, q)
-    return Estimate("rayleigh", best, "upper bound on dt", name)
+    return Estimate.from_omega2("rayleigh", best, "upper bound on dt", name)

@@ -39,6 +39,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from dtcrit.errors import InputError
+from dtcrit.physics.contact_laws import reduced
 
 from dtcrit.packing.detection.overlaps import find_sphere_contacts
 from dtcrit.packing.model import Contacts, Packing
@@ -46,6 +47,24 @@ from dtcrit.packing.model import Contacts, Packing
 
 @dataclass(frozen=True)
 class EngineConvention:
+    """How one engine builds its contacts.
+
+    Attributes
+    ----------
+    name : str
+        The engine (``lammps``, ``liggghts``, ``yade``).
+    integrator : str
+        Its integrator.
+    arm : str
+        Its contact-arm convention (``radius``, ``mid-overlap``, ``yade``).
+    preload : bool
+        Whether the normal force's geometric stiffness is included.
+    contacts : str
+        Which pairs it counts as contacts.
+    source : str
+        Where the conventions were read.
+    """
+
     name: str
     integrator: str
     arm: str  # "radius" | "mid-overlap" | "yade"
@@ -68,6 +87,18 @@ ENGINES: dict[str, EngineConvention] = {
 
 
 def engine_convention(name: str) -> EngineConvention:
+    """The conventions of engine ``name``.
+
+    Parameters
+    ----------
+    name : str
+        The engine, as given to ``--engine``.
+
+    Returns
+    -------
+    EngineConvention
+        Its conventions (InputError naming ``--engine`` when unknown).
+    """
     try:
         return ENGINES[name]
     except KeyError:
@@ -133,4 +164,4 @@ def overlaps_of_pairs(packing: Packing, i: np.ndarray, j: np.ndarray) -> Contact
     overlap = np.maximum(r[i] + r[j] - d, 0.0)
     return Contacts(i=np.asarray(i, np.int64), j=np.asarray(j, np.int64), normal=n,
                     arm_i=r[i][:, None] * n, arm_j=-r[j][:, None] * n, overlap=overlap, image=image,
-                    radius_eff=r[i] * r[j] / (r[i] + r[j]))
+                    radius_eff=reduced(r[i], r[j]))

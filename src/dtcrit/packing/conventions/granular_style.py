@@ -32,6 +32,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from dtcrit.errors import InputError
+from dtcrit.physics import contact_laws as cl
+from dtcrit.physics.contact_laws import same_material_moduli
+from dtcrit.physics.damping_conventions import tsuji_alpha
+from dtcrit.physics.rotational_springs import marshall_twisting, sds_rolling
 
 from dtcrit.packing.model import Contacts, Packing
 from dtcrit.packing.conventions.law_terms import FLAG, ContactTerms, number
@@ -43,14 +47,24 @@ TANGENTIAL_ARGS = {"linear_nohistory": ("x", "mu"), "linear_history": ("kt", "x"
 DAMPING = ("velocity", "mass_velocity", "viscoelastic", "tsuji")
 
 
-def _tsuji_alpha(e: float) -> float:
-    """LAMMPS pair_granular: alpha(e) = 1.2728 - 4.2783 e + 11.087 e^2 - 22.348 e^3 + 27.467 e^4 - 18.022 e^5 + 4.8218 e^6."""
-    coeffs = (1.2728, -4.2783, 11.087, -22.348, 27.467, -18.022, 4.8218)
-    return sum(c * e**k for k, c in enumerate(coeffs))
-
-
 @dataclass(frozen=True)
 class GranularStyle:
+    """A parsed LAMMPS ``pair_style granular`` coefficient set (module docstring).
+
+    Attributes
+    ----------
+    normal, tangential, damping : str
+        The normal, tangential and damping models.
+    normal_args, tangential_args : dict
+        Their coefficients.
+    rolling : dict or None
+        ``rolling sds`` coefficients.
+    twisting : tuple or None
+        ``(model, coefficients)`` of the twisting model.
+    text : str
+        The ``pair_coeff`` words.
+    """
+
     normal: str
     normal_args: dict
     tangential: str
@@ -62,6 +76,13 @@ class GranularStyle:
     arm = "granular"  # slip velocity with the full radius, torque with R - delta/2 (module docstring)
 
     def describe(self) -> str:
+        """The style in words, for reports.
+
+        Returns
+        -------
+        str
+            The description.
+        """
         return f"LAMMPS pair_style granular, pair_coeff * * {self.text}"
 
     def material(self) -> tuple[float, float] | None:
@@ -69,29 +90,42 @@ class GranularStyle:
         return (self.normal_args["E"], self.normal_args["nu"]) if "E" in self.normal_args else None
 
     def _material(self) -> tuple[float, float]:
-        e, nu = self.normal_args["E"], self.normal_args["nu"]
-        return e / (2.0 * (1.0 - nu * nu)), e / (4.0 * (2.0 - nu) * (1.0 + nu))
+        return same_material_moduli(self.normal_args["E"], self.normal_args["nu"])
 
     def terms(self, packing: Packing, contacts: Contacts) -> ContactTerms:
+        """Every contact's springs, dashpots and normal force under this style (module docstring).
+
+        Parameters
+        ----------
+        packing : Packing
+            The particles (masses).
+        contacts : Contacts
+            The sphere contacts (overlaps, effective radii).
+
+        Returns
+        -------
+        ContactTerms
+            The per-contact terms.
+        """
         m = packing.masses
-        m_eff = m[contacts.i] * m[contacts.j] / (m[contacts.i] + m[contacts.j])
+        m_eff = cl.reduced(m[contacts.i], m[contacts.j])
         delta = contacts.overlap
         r_star = contacts.radius_eff
         a = np.sqrt(r_star * delta)
         if self.normal == "hooke":
             force, kn = self.normal_args["kn"] * delta, np.full_like(delta, self.normal_args["kn"])
         elif self.normal == "hertz":
-            force, kn = self.normal_args["kn"] * a * delta, 1.5 * self.normal_args["kn"] * a
+            force, kn = self.normal_args["kn"] * a * delta, cl.lammps_hertz_tangent_stiffness(self.normal_args["kn"], a)
         else:
             e_eff, _ = self._material()
-            force, kn = 4.0 / 3.0 * e_eff * a * delta, 2.0 * e_eff * a
+            force, kn = 4.0 / 3.0 * e_eff * a * delta, cl.hertz_normal_stiffness(e_eff, a)
             if self.normal == "dmt":
                 force = force - 4.0 * math.pi * self.normal_args["gamma"] * r_star
         eta = self.normal_args["eta"]
         secant = np.divide(force if self.normal != "dmt" else force + 4.0 * math.pi * self.normal_args["gamma"] * r_star,
                            delta, out=np.zeros_like(delta), where=delta > 0)
         eta_n = {"velocity": np.full_like(delta, eta), "mass_velocity": eta * m_eff, "viscoelastic": eta * a * m_eff,
-                 "tsuji": _tsuji_alpha(eta) * np.sqrt(m_eff * secant)}[self.damping]
+                 "tsuji": tsuji_alpha(eta) * np.sqrt(m_eff * secant)}[self.damping]
         t = self.tangential_args
         on = 1.0 if t["mu"] > 0 else 0.0
         if self.tangential == "linear_nohistory":
@@ -99,17 +133,17 @@ class GranularStyle:
         elif self.tangential == "linear_history":
             ks = np.full_like(delta, t["kt"])
         elif t["kt"] is None:
-            ks = 8.0 * self._material()[1] * a
+            ks = cl.mindlin_tangent_stiffness(self._material()[1], a)
         else:
             ks = t["kt"] * a
         ks, cs = on * ks, on * t["x"] * eta_n
         kr = cr = ktw = ctw = None
         if self.rolling is not None and self.rolling["mu"] > 0:
-            kr, cr = self.rolling["k"] * r_star**2, self.rolling["gamma"] * r_star**2
+            kr, cr = sds_rolling(self.rolling["k"], self.rolling["gamma"], r_star)
         if self.twisting is not None:
             kind, tw = self.twisting
             if kind == "marshall":
-                ktw, ctw = 0.5 * ks * a**2, 0.5 * cs * a**2
+                ktw, ctw = marshall_twisting(ks, cs, a)
             elif tw["mu"] > 0:
                 ktw, ctw = np.full_like(delta, tw["k"]), np.full_like(delta, tw["gamma"])
         return ContactTerms(kn, ks, eta_n, cs, force, kr=kr, ktw=ktw, cr=cr, ctw=ctw)
@@ -136,7 +170,11 @@ def parse_granular(words: list[str]) -> GranularStyle:
     if normal not in NORMAL_ARGS:
         raise InputError(FLAG, f"granular: unknown normal model {normal!r}; supported: {', '.join(NORMAL_ARGS)}")
     normal_args, k = _take(words, 1, NORMAL_ARGS[normal], normal, nullable=())
-    tangential, tangential_args, damping, rolling, twisting = None, None, "viscoelastic", None, None
+    tangential: str | None = None
+    tangential_args: dict | None = None
+    rolling: dict | None = None
+    twisting: tuple[str, dict] | None = None
+    damping = "viscoelastic"
     while k < len(words):
         key = words[k]
         if key == "tangential":
@@ -173,6 +211,6 @@ def parse_granular(words: list[str]) -> GranularStyle:
             k += 1
         else:
             raise InputError(FLAG, f"granular: unknown keyword {key!r}")
-    if tangential is None:
+    if tangential is None or tangential_args is None:
         raise InputError(FLAG, "granular: the tangential model is required ('tangential linear_history kt x mu', ...)")
     return GranularStyle(normal, normal_args, tangential, tangential_args, damping, rolling, twisting, " ".join(words))

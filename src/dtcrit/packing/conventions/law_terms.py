@@ -31,6 +31,22 @@ class ContactTerms:
 
 
 def number(text: str, what: str, *, allow_null: bool = False) -> float | None:
+    """A pair-style coefficient: a finite number >= 0 (or ``NULL`` when allowed).
+
+    Parameters
+    ----------
+    text : str
+        The word of the pair style.
+    what : str
+        Its name in the error message.
+    allow_null : bool
+        Whether ``NULL`` (None) is accepted.
+
+    Returns
+    -------
+    float or None
+        The value.
+    """
     if allow_null and text == "NULL":
         return None
     try:

@@ -24,6 +24,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from dtcrit.errors import InputError
+from dtcrit.physics.contact_laws import lammps_hertz_tangent_stiffness, reduced
+from dtcrit.physics.damping_conventions import lammps_gran_defaults
 
 from dtcrit.packing.conventions.granular_style import parse_granular
 from dtcrit.packing.conventions.law_terms import FLAG, ContactTerms, number
@@ -48,18 +50,47 @@ class GranPairStyle:
     arm = "radius"  # slip velocity and torque with the full radius (module docstring)
 
     def material(self) -> None:
+        """None: the ``gran/*`` styles take spring constants, not a material.
+
+        Returns
+        -------
+        None
+            Always.
+        """
         return None  # the gran/* styles take spring constants, not a material
 
     def describe(self) -> str:
+        """The style in words, for reports.
+
+        Returns
+        -------
+        str
+            The description.
+        """
         return f"LAMMPS pair_style {self.text}"
 
     def terms(self, packing: Packing, contacts: Contacts) -> ContactTerms:
+        """Every contact's springs, dashpots and normal force under this style (module docstring).
+
+        Parameters
+        ----------
+        packing : Packing
+            The particles (masses).
+        contacts : Contacts
+            The sphere contacts (overlaps, effective radii).
+
+        Returns
+        -------
+        ContactTerms
+            The per-contact terms.
+        """
         m = packing.masses
-        m_eff = m[contacts.i] * m[contacts.j] / (m[contacts.i] + m[contacts.j])
+        m_eff = reduced(m[contacts.i], m[contacts.j])
         delta = contacts.overlap
         ones = np.ones_like(delta)
-        scale = np.sqrt(delta * contacts.radius_eff) if self.style == "gran/hertz/history" else ones
-        kn = (1.5 if self.style == "gran/hertz/history" else 1.0) * self.kn * scale
+        hertz = self.style == "gran/hertz/history"
+        scale = np.sqrt(delta * contacts.radius_eff) if hertz else ones
+        kn = lammps_hertz_tangent_stiffness(self.kn, scale) if hertz else self.kn * scale
         force = self.kn * delta * scale
         tangential = self.xmu > 0
         ks = (self.kt * scale if self.style != "gran/hooke" else 0.0 * ones) * tangential
@@ -92,14 +123,15 @@ def parse_pair_style(text: str):
     gamma_n = number(args[2], "gamma_n")
     gamma_t = number(args[3], "gamma_t", allow_null=True)
     xmu = number(args[4], "xmu")
+    assert kn is not None and gamma_n is not None and xmu is not None  # NULL is refused for these
     if xmu > 1e4:
         raise InputError(FLAG, f"xmu must lie in [0, 1e4] (LAMMPS's own limit), found {args[4]!r}")
     if args[5] not in ("0", "1"):
         raise InputError(FLAG, f"dampflag must be 0 or 1, found {args[5]!r}")
     if kn == 0:
         raise InputError(FLAG, "Kn must be positive")
-    return GranPairStyle(style, kn, 2.0 / 7.0 * kn if kt is None else kt, gamma_n,
-                         0.5 * gamma_n if gamma_t is None else gamma_t, xmu, int(args[5]), " ".join([words[0], *args]))
+    kt, gamma_t = lammps_gran_defaults(kn, kt, gamma_n, gamma_t)
+    return GranPairStyle(style, kn, kt, gamma_n, gamma_t, xmu, int(args[5]), " ".join([words[0], *args]))
 
 
 def apply_terms(contacts: Contacts, terms: ContactTerms, *, preload: bool) -> Contacts:

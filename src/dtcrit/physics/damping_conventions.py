@@ -1,5 +1,7 @@
 """How DEM codes turn a restitution coefficient or damping ratio into dashpots, per direction.
 
+Also LAMMPS's own dashpot defaults and its Tsuji coefficient (``pair_style gran/*``, ``granular``).
+
 A scene gives damping once (``restitution``, ``damping_ratio`` or the coefficients ``cn``/``cs``)
 and names the code whose convention maps it (``[contact] damping_convention``).  Each convention
 fixes, per direction j (normal n, tangential t), a factor ``f_j`` and a mass ``M_j`` with
@@ -33,29 +35,71 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
-from dtcrit.errors import InputError
-
-DAMPING_KEYS = ("cn", "cs", "restitution", "damping_ratio")
+__all__ = [
+    "Convention",
+    "CONVENTIONS",
+    "DEFAULT_CONVENTION",
+    "HERTZ_FACTOR",
+    "liggghts_hertz",
+    "damping_ratio_from_restitution",
+    "tsuji_alpha",
+    "lammps_gran_defaults",
+]
 
 HERTZ_FACTOR = 2.0 * math.sqrt(5.0 / 6.0) / 2.0  # c = 2 sqrt(5/6) zeta sqrt(S m*) = f * 2 zeta sqrt(S m*)
 
 
 @dataclass(frozen=True)
 class Convention:
-    """One code's map zeta -> (c_n, c_t); see the module docstring."""
+    """One code's map ``zeta -> (c_n, c_t)``, ``c_j = f_j 2 zeta_j sqrt(k_j M_j)`` (module docstring).
+
+    Parameters
+    ----------
+    name : str
+        The convention's name (``[contact] damping_convention``).
+    code : str
+        The code and contact model it stands for.
+    factor_n, factor_t : float
+        ``f_n``, ``f_t``.
+    mass_t : float
+        ``M_t / m*``.
+    shear_rule : str
+        How ``c_t`` follows: ``"zeta"`` (the same zeta defines it), ``"same"`` (``c_t = c_n``),
+        ``"half"`` (``c_t = c_n/2``) or ``"two_sevenths"`` (``c_t = 2/7 c_n``).
+    wall_mass : float
+        The effective mass of a particle of mass ``m`` against a fixed wall, divided by ``m``.
+    models : tuple of str
+        The contact models it is defined for.
+    """
 
     name: str
-    code: str  # the code and contact model it stands for
+    code: str
     factor_n: float
     factor_t: float
-    mass_t: float  # M_t / m*
-    shear_rule: str  # "zeta" (the same zeta defines c_t), "same" (c_t = c_n), "half" (c_t = c_n/2), "two_sevenths"
-    wall_mass: float  # the effective mass of a particle of mass m against a fixed wall, / m
+    mass_t: float
+    shear_rule: str
+    wall_mass: float
     models: tuple[str, ...] = ("linear", "hertz", "yade")
 
     def dashpots(self, zeta: float, kn: float, ks: float, m_eff: float) -> tuple[float, float]:
-        """(c_n, c_t) [N s/m] for the user's damping ratio ``zeta`` and effective mass ``m_eff``."""
+        """``(c_n, c_t)`` [N s/m] for the user's damping ratio ``zeta``.
+
+        Parameters
+        ----------
+        zeta : float
+            The damping ratio as given.
+        kn, ks : float
+            Normal and tangential springs [N/m].
+        m_eff : float
+            Effective mass [kg] (``m*``, or the convention's wall mass).
+
+        Returns
+        -------
+        tuple of float
+            ``(c_n, c_t)`` [N s/m].
+        """
         cn = self.factor_n * 2.0 * zeta * math.sqrt(kn) * math.sqrt(m_eff)
         if self.shear_rule == "half":
             return cn, 0.5 * cn
@@ -66,7 +110,22 @@ class Convention:
         return cn, self.factor_t * 2.0 * zeta * math.sqrt(ks) * math.sqrt(self.mass_t * m_eff)
 
     def ratios(self, cn: float, cs: float, kn: float, ks: float, m_eff: float) -> tuple[float, float | None]:
-        """(zeta_n, zeta_t) as this convention defines them; zeta_t is None without a tangential spring."""
+        """``(zeta_n, zeta_t)`` as this convention defines them.
+
+        Parameters
+        ----------
+        cn, cs : float
+            Normal and tangential dashpots [N s/m].
+        kn, ks : float
+            Normal and tangential springs [N/m].
+        m_eff : float
+            Effective mass [kg].
+
+        Returns
+        -------
+        tuple
+            ``(zeta_n, zeta_t)``; ``zeta_t`` is None without a tangential spring.
+        """
         zn = cn / (self.factor_n * 2.0 * math.sqrt(kn) * math.sqrt(m_eff))
         if ks <= 0.0:
             return zn, None
@@ -92,22 +151,15 @@ DEFAULT_CONVENTION = {"linear": "lammps", "yade": "yade", "hertz": "liggghts"}
 
 
 def liggghts_hertz() -> Convention:
-    """LIGGGHTS's Hertz convention is EDEM's law (2 sqrt(5/6) zeta sqrt(S_j m*)) under its own name."""
+    """LIGGGHTS's Hertz convention: EDEM's law ``2 sqrt(5/6) zeta sqrt(S_j m*)`` under its own name.
+
+    Returns
+    -------
+    Convention
+        The ``liggghts`` convention for Hertz contacts.
+    """
     e = CONVENTIONS["edem"]
     return Convention("liggghts", CONVENTIONS["liggghts"].code, e.factor_n, e.factor_t, 1.0, "zeta", 1.0)
-
-
-def convention_for(name: str | None, model: str, key: str = "contact.damping_convention") -> Convention:
-    """The convention a scene uses: the one named, or the default of the contact model."""
-    chosen = DEFAULT_CONVENTION[model] if name is None else name
-    if chosen not in CONVENTIONS:
-        raise InputError(key, f"unknown damping convention {chosen!r}; choose one of {', '.join(CONVENTIONS)}")
-    conv = CONVENTIONS[chosen]
-    if model not in conv.models:
-        raise InputError(key, f"the {chosen!r} convention is defined for {', '.join(conv.models)} contacts, not {model}")
-    if chosen == "liggghts" and model == "hertz":
-        return liggghts_hertz()
-    return conv
 
 
 def damping_ratio_from_restitution(e: float) -> float:
@@ -115,6 +167,16 @@ def damping_ratio_from_restitution(e: float) -> float:
 
     zeta = -ln e / sqrt(pi^2 + ln^2 e)  (exit/entry speed ratio exp(-zeta pi / sqrt(1 - zeta^2)) = e);
     e = 1 gives 0, e -> 0 gives 1.
+
+    Parameters
+    ----------
+    e : float
+        Normal restitution coefficient.
+
+    Returns
+    -------
+    float
+        The damping ratio ``zeta``.
     """
     if e >= 1.0:
         return 0.0
@@ -124,31 +186,48 @@ def damping_ratio_from_restitution(e: float) -> float:
     return L / math.hypot(math.pi, L)
 
 
-def damping_kind(restitution, damping_ratio, cn, cs) -> str:
-    """How damping was given: none | coefficients | restitution | damping_ratio."""
-    if restitution is not None:
-        return "restitution"
-    if damping_ratio is not None:
-        return "damping_ratio"
-    return "coefficients" if (cn or 0.0) > 0 or (cs or 0.0) > 0 else "none"
 
 
-def parse_damping(prefix: str, table: dict) -> tuple[float | None, float | None, float | None, float | None]:
-    """``(cn, cs, restitution, damping_ratio)`` of a table that gives damping one way only
-    (coefficients ``cn``/``cs``, ``restitution`` or ``damping_ratio``); a restitution coefficient
-    sets the damping ratio ``zeta(e)``.
+def tsuji_alpha(e: Any) -> Any:
+    """LAMMPS ``damping tsuji``: the polynomial ``alpha(e)`` with ``eta_n = alpha(e) sqrt(m_eff k)``.
+
+    ``alpha(e) = 1.2728 - 4.2783 e + 11.087 e^2 - 22.348 e^3 + 27.467 e^4 - 18.022 e^5 + 4.8218 e^6``
+    (LAMMPS ``pair_granular`` docs; Tsuji et al. 1992).
+
+    Parameters
+    ----------
+    e : float or numpy.ndarray
+        Restitution coefficient.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        ``alpha(e)``.
     """
-    from dtcrit.scenes.fields import _number
+    coeffs = (1.2728, -4.2783, 11.087, -22.348, 27.467, -18.022, 4.8218)
+    return sum(c * e**k for k, c in enumerate(coeffs))
 
-    given = [k for k in DAMPING_KEYS if k in table]
-    ways = {("cn" if k in ("cn", "cs") else k) for k in given}
-    if len(ways) > 1:
-        names = " and ".join(sorted({"cn/cs" if k in ("cn", "cs") else k for k in given}))
-        raise InputError(prefix + given[-1], f"conflicting damping specifications: {names}; give exactly one way")
-    cn = _number(prefix + "cn", table["cn"], allow_zero=True) if "cn" in table else None
-    cs = _number(prefix + "cs", table["cs"], allow_zero=True) if "cs" in table else None
-    restitution = _number(prefix + "restitution", table["restitution"], hi=1.0) if "restitution" in table else None
-    zeta = _number(prefix + "damping_ratio", table["damping_ratio"], allow_zero=True) if "damping_ratio" in table else None
-    if restitution is not None:
-        zeta = damping_ratio_from_restitution(restitution)
-    return cn, cs, restitution, zeta
+
+def lammps_gran_defaults(kn: float, kt: float | None, gamma_n: float, gamma_t: float | None) -> tuple[float, float]:
+    """``(K_t, gamma_t)`` of LAMMPS ``pair_style gran/*`` with its ``NULL`` defaults filled in.
+
+    ``K_t`` NULL -> ``2/7 K_n``; ``gamma_t`` NULL -> ``gamma_n/2`` (``pair_gran_hooke_history.cpp``,
+    ``settings``), the same half as the ``lammps`` convention's ``c_t = c_n/2``.
+
+    Parameters
+    ----------
+    kn : float
+        Normal spring ``K_n``.
+    kt : float or None
+        Tangential spring ``K_t``, ``None`` for NULL.
+    gamma_n : float
+        Normal damping ``gamma_n`` [1/s].
+    gamma_t : float or None
+        Tangential damping ``gamma_t`` [1/s], ``None`` for NULL.
+
+    Returns
+    -------
+    tuple
+        ``(K_t, gamma_t)``.
+    """
+    return 2.0 / 7.0 * kn if kt is None else kt, 0.5 * gamma_n if gamma_t is None else gamma_t

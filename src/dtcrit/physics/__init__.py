@@ -1,0 +1,16 @@
+"""The contact physics both stacks share, written once as NumPy functions of scalars or arrays.
+
+``dtcrit.scenes`` evaluates them with one value per pair of particle types, ``dtcrit.packing`` with
+one array entry per contact.  Modules:
+
+* ``contact_laws`` -- effective radius, mass and moduli; Hooke, Hertz and Hertz-Mindlin stiffness;
+* ``rotational_springs`` -- the codes' rolling and twisting springs (LAMMPS ``sds``, ``marshall``,
+  LIGGGHTS EPSD, YADE);
+* ``damping_conventions`` -- restitution <-> damping ratio and each engine's dashpot convention;
+* ``rules_of_thumb`` -- the step estimates DEM codes use (Rayleigh time, Hertz duration, collision
+  time, YADE's GlobalStiffnessTimeStepper);
+* ``estimate`` -- one estimate type rated against ``dt_crit`` with one tolerance;
+* ``json_numbers`` -- non-finite numbers as JSON ``null``.
+
+No SymPy is imported here.
+"""
