@@ -15,6 +15,13 @@ import sys
 
 
 def add_parser(subparsers) -> None:
+    """Add the ``dtcrit audit`` subcommand and its flags.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The ``dtcrit`` parser's subcommands.
+    """
     p = subparsers.add_parser(
         "audit", help="critical time step of a simulation snapshot (LAMMPS/LIGGGHTS dump, YADE export)",
         description="The critical step of the packing in a snapshot, with the engine's own contact conventions, "
@@ -44,7 +51,20 @@ def _dump_flag(exc, path: str) -> str:
 
 
 def flag_of(key: str, args) -> str | None:
-    """The flag (or ``SNAPSHOT:key``) to name for a library ``InputError`` key; None to keep the key."""
+    """The flag (or ``SNAPSHOT:key``) to name for a library ``InputError`` key.
+
+    Parameters
+    ----------
+    key : str
+        The ``InputError.key`` the API raised (a parameter name, a file key).
+    args : argparse.Namespace
+        The parsed flags (which of ``--contacts``, ``--pair-style`` gave the law).
+
+    Returns
+    -------
+    str or None
+        The flag, or None to keep the key as it is.
+    """
     if key.startswith("-") or ":" in key:
         return None
     if key in ("stiffness", "damping", "youngs", "kn", "ks"):
@@ -57,8 +77,20 @@ def flag_of(key: str, args) -> str | None:
 
 
 def run_command(args) -> int:
-    """``dtcrit audit``: library keys become the flags that set them; a solver that stops early, or
-    memory that runs out, is one line too (``dtcrit.cli.library_errors``).
+    """Run ``dtcrit audit`` with the library's errors as one line each.
+
+    Library keys become the flags that set them; a solver that stops early, or memory that runs out
+    after all, is one line too (``dtcrit.cli.library_errors``).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed flags.
+
+    Returns
+    -------
+    int
+        The exit status.
     """
     from dtcrit.cli.library_errors import run_naming_flags
 

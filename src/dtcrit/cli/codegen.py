@@ -12,6 +12,13 @@ from __future__ import annotations
 
 
 def add_parser(subparsers) -> None:
+    """Add the ``dtcrit codegen`` subcommand and its flags.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The ``dtcrit`` parser's subcommands.
+    """
     p = subparsers.add_parser(
         "codegen",
         help="emit C, NumPy or Fortran code for the per-contact critical time step of a scene",
@@ -28,6 +35,18 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
+    """Run ``dtcrit codegen``: emit the scene's kernel (``dtcrit.emitted_code``), print it or write it, with ``--json`` its metadata.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed flags.
+
+    Returns
+    -------
+    int
+        The exit status (0; bad input raises ``ValueError``, printed as one line with status 2).
+    """
     import shlex
     import sys
 

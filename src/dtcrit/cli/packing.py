@@ -29,6 +29,13 @@ from dtcrit.packing.step import DEFAULT_DENSITY, DEFAULT_RADIUS
 
 
 def add_parser(subparsers) -> None:
+    """Add the ``dtcrit packing`` subcommand and its flags.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The ``dtcrit`` parser's subcommands.
+    """
     p = subparsers.add_parser(
         "packing", help="critical time step of a whole packing from its largest eigenfrequency",
         description="Global eigenmode analysis of a DEM packing (Otsubo, O'Sullivan & Shire 2017): "
@@ -87,7 +94,20 @@ def _source(args) -> str:
 
 
 def flag_of(key: str, args) -> str | None:
-    """The flag (or ``FILE:key``) to name for a library ``InputError`` key; None to keep the key."""
+    """The flag (or ``FILE:key``) to name for a library ``InputError`` key.
+
+    Parameters
+    ----------
+    key : str
+        The ``InputError.key`` the API raised (a parameter name, a file key).
+    args : argparse.Namespace
+        The parsed flags (which flags gave the packing and the law).
+
+    Returns
+    -------
+    str or None
+        The flag, or None to keep the key as it is.
+    """
     if key.startswith("-") or ":" in key:
         return None
     if key == "stiffness":
@@ -98,8 +118,20 @@ def flag_of(key: str, args) -> str | None:
 
 
 def run_command(args) -> int:
-    """``dtcrit packing``: library keys become the flags that set them; a solver that stops early, or
-    memory that runs out after all, is one line too (``dtcrit.cli.library_errors``).
+    """Run ``dtcrit packing`` with the library's errors as one line each.
+
+    Library keys become the flags that set them; a solver that stops early, or memory that runs out
+    after all, is one line too (``dtcrit.cli.library_errors``).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed flags.
+
+    Returns
+    -------
+    int
+        The exit status.
     """
     from dtcrit.cli.library_errors import run_naming_flags
 

@@ -26,7 +26,7 @@ __all__ = ["EmittedCode", "emit_code", "emitted_code", "refuse_what_the_kernel_l
 class EmittedCode:
     """Emitted source text with what it computes and from what.
 
-    Attributes
+    Parameters
     ----------
     language : str
         ``c``, ``numpy`` or ``fortran``.

@@ -32,8 +32,15 @@ __all__ = ["DumpReadError", "Snapshot", "SnapshotAudit", "audit_snapshot", "read
 
 
 class DumpReadError(InputError):
-    """Bad input in the dump file of a snapshot: ``key`` is the reader's (``snapshot_index``, ``density``,
-    ``file``, or a key that starts with the file's path), ``reason`` says what is wrong.
+    """Bad input in the dump file of a snapshot.
+
+    Parameters
+    ----------
+    key : str
+        The reader's key: ``snapshot_index``, ``density``, ``file``, or one that starts with the file's
+        path (``PATH:LINE``).
+    reason : str
+        What is wrong.
     """
 
 
@@ -41,7 +48,7 @@ class DumpReadError(InputError):
 class Snapshot:
     """A snapshot's packing and contacts with every term its engine applies.
 
-    Attributes
+    Parameters
     ----------
     source : str
         The snapshot file as given.
@@ -70,7 +77,7 @@ class Snapshot:
 class SnapshotAudit:
     """The critical step of a snapshot as its engine integrates it, and the codes' estimators beside it.
 
-    Attributes
+    Parameters
     ----------
     source, engine, engine_source, integrator, law : str
         The snapshot, the engine, where its conventions come from, the integrator and the contact law.

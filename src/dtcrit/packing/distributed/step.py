@@ -27,7 +27,7 @@ __all__ = ["DistributedStep", "distributed_packing_step"]
 class DistributedStep:
     """The distributed solve's critical step, with the integrator's step beside it.
 
-    Attributes
+    Parameters
     ----------
     rank : int
         This process's MPI rank (0 prints).
