@@ -15,6 +15,14 @@ dtcrit verified (derivations/records):
   ``G = max |I^-1 (w x I w)|`` over unit ``w`` (``B_max/2 <= G <= B_max/sqrt(3)``).
 
 ``FORMS`` lists the pairs.  Nothing here imports SymPy.
+
+Examples
+--------
+>>> from dtcrit import paper
+>>> [(f.equation, f.printed, f.verified) for f in paper.FORMS][1]
+('Eq. (46)', 'eq46_dt', 'eq40_critical_dt')
+>>> paper.eq46_dt(1.0, 0.0, 1.0), paper.eq40_critical_dt(1.0, 0.0, 1.0)  # undamped, Eq. (40) has no stable step
+(2.0, 0.0)
 """
 from __future__ import annotations
 

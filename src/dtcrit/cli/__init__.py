@@ -83,7 +83,7 @@ def main(argv: list[str] | None = None) -> int:
     except ValueError as exc:  # includes dtcrit.errors.InputError
         source = getattr(args, "source_label", None)
         prefix = f"{_shorten(one_line(source))}:" if source else "dtcrit: "
-        sys.stderr.write(f"{prefix}{one_line(exc)}\n")
+        sys.stderr.write(f"{prefix}{one_line(str(exc))}\n")
         return 2
     except BrokenPipeError:
         return 0

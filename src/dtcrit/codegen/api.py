@@ -37,6 +37,13 @@ class EmittedCode:
     metadata : Mapping
         The ``dtcrit codegen --json`` document (schema ``dtcrit-codegen/1``): integrator, arguments
         with units, equations, specialisations, derivation hashes and the source.
+
+    Examples
+    --------
+    >>> from dtcrit import emitted_code
+    >>> code = emitted_code("examples/mixed_pair.toml", "fortran", "contact_dt")
+    >>> code.language, code.to_json()["source"] == code.source
+    ('fortran', True)
     """
 
     language: str
@@ -81,9 +88,11 @@ def refuse_what_the_kernel_leaves_out(scene: Scene) -> None:
 
 def _scene(scene: Scene | str | os.PathLike) -> Scene:
     if isinstance(scene, (str, os.PathLike)):
+        from pathlib import Path
+
         from dtcrit.scenes.scene import load_scene
 
-        return load_scene(scene)
+        return load_scene(scene if isinstance(scene, str) else Path(scene))
     return scene
 
 

@@ -88,6 +88,13 @@ class PackingStep:
         The inertia-count certificate that no mode lies above ``omega_max^2 (1 + 1e-6)``.
     packing : Packing
         The packing analysed (not part of the JSON form).
+
+    Examples
+    --------
+    >>> from dtcrit import packing_step
+    >>> step = packing_step(lattice="bcc", cells=2, kn=1e5)
+    >>> step.to_json()["schema"], round(step.omega_max * step.dt_crit, 12)
+    ('dtcrit-packing/1', 2.0)
     """
 
     label: str
@@ -256,9 +263,9 @@ def packing_step(source: str | os.PathLike | None = None, *, lattice: str | None
     --------
     >>> from dtcrit import packing_step
     >>> step = packing_step(lattice="sc", cells=2, kn=1e6)
-    >>> step.n_particles, step.n_contacts
-    (8, 24)
-    >>> round(step.dt_crit / (2 / (12 * 1e6 / step.m_min) ** 0.5), 12)
+    >>> step.n_particles, step.dofs, step.n_contacts
+    (8, 48, 24)
+    >>> round(step.dt_safe / step.dt_crit, 9)  # the lower bounds are sharp on a lattice
     1.0
     """
     if not math.isfinite(damping_ratio) or damping_ratio < 0:

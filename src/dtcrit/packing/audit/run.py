@@ -63,6 +63,14 @@ class Snapshot:
     meta : Mapping
         What the file adds: ``dt`` (a YADE export's step [s]), ``material`` (Young's modulus [Pa],
         Poisson's ratio) of a pair style that has one.
+
+    Examples
+    --------
+    >>> from dtcrit import read_snapshot
+    >>> s = read_snapshot("examples/packings/random_lognormal_60.dump",
+    ...                   pair_style="gran/hertz/history 1e9 NULL 0 NULL 0.5 0")
+    >>> sorted(s.meta), s.contacts.count > 0
+    (['material'], True)
     """
 
     source: str
@@ -107,6 +115,14 @@ class SnapshotAudit:
         Notes printed with the result.
     participation : float
         Participation ratio of the governing mode's particle energies.
+
+    Examples
+    --------
+    >>> from dtcrit import audit_snapshot
+    >>> a = audit_snapshot("examples/packings/random_lognormal_60.dump",
+    ...                    pair_style="gran/hooke/history 1e5 NULL 0 NULL 0.5 0")
+    >>> a.to_json()["schema"], a.dt_user is None
+    ('dtcrit-audit/1', True)
     """
 
     source: str
