@@ -30,9 +30,10 @@ LAYERS = (
     ("dtcrit.integrators", 4),
     ("dtcrit.bodies", 5),
     ("dtcrit.impact", 6),
-    ("dtcrit.packing", 6),
+    ("dtcrit.packing", 6),  # packing.step, packing.audit.run, packing.distributed.step: the packing API
+    ("dtcrit.paper", 6),  # the paper's printed formulas beside the verified ones (integrators, bodies)
     ("dtcrit.scenes", 7),
-    ("dtcrit.codegen", 8),
+    ("dtcrit.codegen", 8),  # codegen.api: emit_code, the emission API
     ("dtcrit.bench", 9),
     ("dtcrit.figures", 9),
     ("dtcrit.notebooks", 9),

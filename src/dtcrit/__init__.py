@@ -4,11 +4,20 @@ Data flows one way: ``dtcrit.symbolic`` (SymPy derivations) -> ``dtcrit._generat
 emitted code) -> the runtime modules -> ``dtcrit.cli``.  Nothing imported from this top-level
 namespace imports SymPy.
 
-The public API is loaded lazily so that ``import dtcrit`` stays cheap for the command line.
-"""
-from __future__ import annotations
+The public API (``__all__``) is loaded lazily, by a module ``__getattr__``, so that ``import dtcrit``
+stays cheap for the command line; ``dir(dtcrit)`` lists the API only.  The functions behind the
+commands return frozen results whose ``to_json()`` is what the command prints with ``--json``:
 
-import importlib
+* the step of a scene: ``load_scene`` / ``parse_scene``, then ``critical_step`` -> ``StepResult``;
+* the step of a packing: ``packing_step`` -> ``PackingStep`` (``distributed_packing_step`` on MPI);
+* a simulation snapshot: ``read_snapshot`` -> ``Snapshot``, ``audit_snapshot`` -> ``SnapshotAudit``;
+* code emission: ``emit_code`` -> source text, ``emitted_code`` -> ``EmittedCode``;
+* the paper's printed formulas beside the verified ones: the module ``dtcrit.paper``.
+
+Bad input raises ``InputError`` (a ``ValueError`` whose ``key`` names the parameter), a solver that
+stops early ``NotConvergedError`` (with its bracket).
+"""
+import importlib as _importlib
 
 __version__ = "0.1.0"
 
@@ -32,6 +41,24 @@ _API = {
     "load_scene": "scenes.scene",
     "parse_scene": "scenes.scene",
     "critical_step": "scenes.timestep",
+    "StepResult": "scenes.timestep",
+    # packings, snapshots and code emission (the commands packing, audit, codegen)
+    "packing_step": "packing.step",
+    "PackingStep": "packing.step",
+    "distributed_packing_step": "packing.distributed.step",
+    "DistributedStep": "packing.distributed.step",
+    "read_snapshot": "packing.audit.run",
+    "audit_snapshot": "packing.audit.run",
+    "Snapshot": "packing.audit.run",
+    "SnapshotAudit": "packing.audit.run",
+    "emit_code": "codegen.api",
+    "emitted_code": "codegen.api",
+    "EmittedCode": "codegen.api",
+    # the paper's printed formulas beside the verified ones (a module)
+    "paper": "paper",
+    # errors
+    "InputError": "errors",
+    "NotConvergedError": "errors",
     # stability engine (Peng et al. 2020, Section 4; CFL note)
     "critical_dt": "integrators.stability",
     "paper_eq46": "integrators.stability",
@@ -43,6 +70,9 @@ _API = {
     "impact_report": "impact",
 }
 
+_MODULES = frozenset({"paper"})
+"""Names of ``_API`` that are modules, not names defined in one."""
+
 __all__ = sorted(_API)
 
 
@@ -50,10 +80,11 @@ def __getattr__(name: str):
     module = _API.get(name)
     if module is None:
         raise AttributeError(f"module 'dtcrit' has no attribute {name!r}")
-    value = getattr(importlib.import_module(f".{module}", __name__), name)
+    loaded = _importlib.import_module(f".{module}", __name__)
+    value = loaded if name in _MODULES else getattr(loaded, name)
     globals()[name] = value
     return value
 
 
 def __dir__():
-    return sorted(set(globals()) | set(_API))
+    return sorted(set(_API) | {"__version__"})

@@ -15,7 +15,18 @@ COMMANDS: tuple[str, ...] = ("step", "codegen", "packing", "audit", "impact", "f
 
 
 def one_line(text: str) -> str:
-    """``text`` as one line: whitespace runs become one space, other control characters their escapes."""
+    """``text`` as one line: whitespace runs become one space, other control characters their escapes.
+
+    Parameters
+    ----------
+    text : str
+        Any text (a message, a path as given).
+
+    Returns
+    -------
+    str
+        One printable line.
+    """
     text = " ".join(str(text).split())
     return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
@@ -32,6 +43,13 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The ``dtcrit`` argument parser with every subcommand of ``COMMANDS``.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        A parser whose errors are one line with exit status 2.
+    """
     from dtcrit import __version__
 
     parser = _Parser(prog="dtcrit", description="Critical time steps for explicit DEM simulations.")
@@ -43,6 +61,18 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Run the ``dtcrit`` command line.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments (None: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status: 0, or 2 for bad input (one line on standard error, no traceback).
+    """
     parser = build_parser()
     args = parser.parse_args(argv)
     if not getattr(args, "run", None):
@@ -53,7 +83,7 @@ def main(argv: list[str] | None = None) -> int:
     except ValueError as exc:  # includes dtcrit.errors.InputError
         source = getattr(args, "source_label", None)
         prefix = f"{_shorten(one_line(source))}:" if source else "dtcrit: "
-        sys.stderr.write(f"{prefix}{one_line(exc)}\n")
+        sys.stderr.write(f"{prefix}{one_line(str(exc))}\n")
         return 2
     except BrokenPipeError:
         return 0

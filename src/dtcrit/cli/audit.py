@@ -12,10 +12,16 @@ from __future__ import annotations
 
 import json
 import sys
-from pathlib import Path
 
 
 def add_parser(subparsers) -> None:
+    """Add the ``dtcrit audit`` subcommand and its flags.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The ``dtcrit`` parser's subcommands.
+    """
     p = subparsers.add_parser(
         "audit", help="critical time step of a simulation snapshot (LAMMPS/LIGGGHTS dump, YADE export)",
         description="The critical step of the packing in a snapshot, with the engine's own contact conventions, "
@@ -37,92 +43,54 @@ def add_parser(subparsers) -> None:
     p.set_defaults(run=run_command)
 
 
-def _check_file(flag: str, path: str | None) -> None:
-    if path is not None and not Path(path).is_file():
-        raise ValueError(f"{flag}: {path} is not a readable file")
-
-
-def _read_dump(path: str, density, index):
-    from dtcrit.errors import InputError
-    from dtcrit.packing.readers.lammps_dump import read_dump
-
-    try:
-        return read_dump(path, density=density, snapshot=index)
-    except InputError as exc:
-        if exc.key.startswith(str(path)):
-            raise
-        flag = "--snapshot-index" if exc.key == "snapshot" else f"--{exc.key.replace('_', '-')}"
-        raise InputError(f"{path}" if exc.key == "file" else flag, exc.reason) from None
-
-
-def _is_yade_export(path: str) -> bool:
-    with open(path, "rb") as fh:
-        head = fh.read(64).lstrip(b"\xef\xbb\xbf \t\r\n")
-    return head.startswith(b"{")
-
-
-def _build(args):
-    """``(packing, contacts, convention, law text, metadata)`` from the arguments."""
-    from dtcrit.packing.readers.contact_tables import read_contact_table, read_local_dump
-    from dtcrit.packing.conventions.engines import engine_convention, engine_sphere_contacts, overlaps_of_pairs, with_arms
-    from dtcrit.packing.conventions.pair_styles import apply_terms, parse_pair_style
-    from dtcrit.packing.readers.yade_export import check_schema, read_yade_audit
-
-    yade_file = _is_yade_export(args.snapshot)
-    if yade_file:
-        check_schema(args.snapshot)  # a JSON file of another format is not "a YADE export"
-    convention = engine_convention(args.engine or ("yade" if yade_file else "lammps"))
-    if yade_file != (convention.name == "yade"):
-        raise ValueError(f"--engine: {args.snapshot} is {'a YADE export' if yade_file else 'a dump'}, "
-                         f"which does not go with --engine {convention.name}")
-    if yade_file:
-        if args.pair_style or args.local or args.contacts:
-            raise ValueError("--engine: a YADE export carries its own contacts; --pair-style, --local and --contacts "
-                             "do not apply")
-        packing, contacts, meta = read_yade_audit(args.snapshot)  # YADE's kinematics (clumps too) applied on reading
-        return packing, contacts, convention, "YADE's per-contact kn, ks (export)", meta
-    style = parse_pair_style(args.pair_style) if args.pair_style else None
-    if args.contacts and (style or args.local):
-        raise ValueError("--contacts: a contact table already gives each contact's stiffness; "
-                         "do not combine it with --pair-style or --local")
-    if not args.contacts and style is None:
-        raise ValueError("--pair-style: give the contact law (the input script's pair style) or a --contacts table")
-    packing = _read_dump(args.snapshot, args.density, args.snapshot_index)
-    if args.contacts:
-        table = read_contact_table(args.contacts, packing)
-        contacts = with_arms(packing, overlaps_of_pairs(packing, table.i, table.j), convention.arm)
-        v = table.values
-        contacts = contacts.with_stiffness(v["kn"], v["ks"], v.get("kr"), v.get("ktw"))
-        contacts = contacts.with_damping(v.get("cn", 0.0), v.get("cs", 0.0))
-        force = v.get("fn", v["kn"] * contacts.overlap)
-        contacts = contacts.with_normal_force(force)
-        law = f"per-contact table {Path(args.contacts).name}" + ("" if "fn" in v else " (pre-load kn x overlap)")
-        return packing, contacts, convention, law, {}
-    if args.local:
-        i, j = read_local_dump(args.local, packing)
-        contacts = overlaps_of_pairs(packing, i, j)
-        contacts = contacts.subset(contacts.overlap > 0)
-    else:
-        contacts = engine_sphere_contacts(packing, convention)
-    contacts = with_arms(packing, contacts, style.arm)  # the pair style's own kinematics
-    return packing, apply_terms(contacts, style.terms(packing, contacts), preload=convention.preload), \
-        convention, style.describe(), {"material": style.material()}
+def _dump_flag(exc, path: str) -> str:
+    """The flag (or the file) to name for an error in the dump: its reader's key as a flag."""
+    if exc.key.startswith(str(path)):
+        return exc.key
+    return str(path) if exc.key == "file" else f"--{exc.key.replace('_', '-')}"
 
 
 def flag_of(key: str, args) -> str | None:
-    """The flag (or ``SNAPSHOT:key``) to name for a library ``InputError`` key; None to keep the key."""
+    """The flag (or ``SNAPSHOT:key``) to name for a library ``InputError`` key.
+
+    Parameters
+    ----------
+    key : str
+        The ``InputError.key`` the API raised (a parameter name, a file key).
+    args : argparse.Namespace
+        The parsed flags (which of ``--contacts``, ``--pair-style`` gave the law).
+
+    Returns
+    -------
+    str or None
+        The flag, or None to keep the key as it is.
+    """
     if key.startswith("-") or ":" in key:
         return None
     if key in ("stiffness", "damping", "youngs", "kn", "ks"):
         return "--contacts" if args.contacts else "--pair-style" if args.pair_style else f"{args.snapshot}:contacts"
     if key in ("box", "positions", "mass", "radius"):
         return f"{args.snapshot}:{key}"
-    return {"integrator": "--integrator", "density": "--density", "dt": "--dt", "engine": "--engine"}.get(key)
+    return {"integrator": "--integrator", "density": "--density", "dt": "--dt", "engine": "--engine",
+            "snapshot": "SNAPSHOT", "local": "--local", "contact_table": "--contacts",
+            "pair_style": "--pair-style"}.get(key)
 
 
 def run_command(args) -> int:
-    """``dtcrit audit``: library keys become the flags that set them; a solver that stops early, or
-    memory that runs out, is one line too (``dtcrit.cli.library_errors``).
+    """Run ``dtcrit audit`` with the library's errors as one line each.
+
+    Library keys become the flags that set them; a solver that stops early, or memory that runs out
+    after all, is one line too (``dtcrit.cli.library_errors``).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed flags.
+
+    Returns
+    -------
+    int
+        The exit status.
     """
     from dtcrit.cli.library_errors import run_naming_flags
 
@@ -131,22 +99,19 @@ def run_command(args) -> int:
 
 
 def _run(args) -> int:
-    from dtcrit.packing.audit.snapshot import audit
-    from dtcrit.packing.audit.output import audit_json, format_audit
+    from dtcrit.errors import InputError
+    from dtcrit.packing.audit.run import DumpReadError, audit_snapshot
 
-    import math
-
-    for flag, path in (("SNAPSHOT", args.snapshot), ("--local", args.local), ("--contacts", args.contacts)):
-        _check_file(flag, path)
-    if args.dt is not None and not (math.isfinite(args.dt) and args.dt > 0):
-        raise ValueError(f"--dt: must be a positive finite number, got {args.dt}")
     args.source_label = None
-    packing, contacts, convention, law, meta = _build(args)
-    report = audit(packing, contacts, convention, law=law, source=args.snapshot, integrator=args.integrator,
-                   dt_user=args.dt if args.dt is not None else meta.get("dt"), material=meta.get("material"))
+    try:
+        result = audit_snapshot(args.snapshot, dt=args.dt, integrator=args.integrator, engine=args.engine,
+                                pair_style=args.pair_style, local=args.local, contact_table=args.contacts,
+                                density=args.density, snapshot_index=args.snapshot_index)
+    except DumpReadError as exc:  # the dump reader's key as the flag that set it
+        raise InputError(_dump_flag(exc, args.snapshot), exc.reason) from None
     if args.json:
-        json.dump(audit_json(report), sys.stdout, indent=2, sort_keys=True)
+        json.dump(result.to_json(), sys.stdout, indent=2, sort_keys=True)
         sys.stdout.write("\n")
     else:
-        print(format_audit(report))
+        print(result.to_text())
     return 0

@@ -14,6 +14,13 @@ MAX_SCENES = 10_000_000  # ten times the full run: the batch's arrays stay withi
 
 
 def add_parser(subparsers) -> None:
+    """Add the ``dtcrit bench`` subcommand and its flags.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The ``dtcrit`` parser's subcommands.
+    """
     p = subparsers.add_parser(
         "bench",
         help="error against run time of every route to the critical step; extreme-case suite",
@@ -31,6 +38,18 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
+    """Run ``dtcrit bench``: time every route to the critical step and write the report.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed flags.
+
+    Returns
+    -------
+    int
+        The exit status (0; bad input raises ``ValueError``, printed as one line with status 2).
+    """
     from dataclasses import replace
 
     from dtcrit.bench.report import json_summary, markdown, write_report

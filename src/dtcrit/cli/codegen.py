@@ -12,6 +12,13 @@ from __future__ import annotations
 
 
 def add_parser(subparsers) -> None:
+    """Add the ``dtcrit codegen`` subcommand and its flags.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The ``dtcrit`` parser's subcommands.
+    """
     p = subparsers.add_parser(
         "codegen",
         help="emit C, NumPy or Fortran code for the per-contact critical time step of a scene",
@@ -28,6 +35,18 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
+    """Run ``dtcrit codegen``: emit the scene's kernel (``dtcrit.emitted_code``), print it or write it, with ``--json`` its metadata.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed flags.
+
+    Returns
+    -------
+    int
+        The exit status (0; bad input raises ``ValueError``, printed as one line with status 2).
+    """
     import shlex
     import sys
 
@@ -40,16 +59,15 @@ def run(args) -> int:
         check_output_file(args.out, "--out")
     args.source_label = args.scene
     scene = load_scene(args.scene)
-    _refuse_what_the_kernel_leaves_out(scene)
-    from dtcrit.codegen import metadata  # SymPy: only now
+    from dtcrit.codegen.api import emitted_code  # SymPy: only now
 
     # the header's "Regenerate with" line: the path quoted for a shell (the header's comment text is made
     # safe for the language in dtcrit.codegen.render, whatever the path holds)
     command = f"dtcrit codegen {shlex.quote(args.scene)} --lang {args.lang}" + (f" --name {name}" if name != "dtcrit_dt_crit" else "")
-    doc = _checked_name(name, lambda: metadata(scene, args.lang, name, command), args)
+    code = _checked_name(name, lambda: emitted_code(scene, args.lang, name, command=command), args)
     for key, message in scene.warnings:  # only once nothing can fail any more: one line for a refusal
         sys.stderr.write(f"{args.scene}:{key}: {message}\n")
-    text = doc["source"]
+    text = code.source
     if args.out:
         try:
             with open(args.out, "w", encoding="utf-8") as fh:
@@ -60,7 +78,7 @@ def run(args) -> int:
     if getattr(args, "json", False):
         import json
 
-        sys.stdout.write(json.dumps(doc, indent=1) + "\n")
+        sys.stdout.write(json.dumps(code.to_json(), indent=1) + "\n")
     elif not args.out:
         sys.stdout.write(text)
     return 0
@@ -81,17 +99,3 @@ def _checked_name(name: str, then=None, args=None):
         if args is not None:
             args.source_label = None
         raise InputError("--name", exc.reason) from None
-
-
-def _refuse_what_the_kernel_leaves_out(scene) -> None:
-    """The emitted kernel has the normal and tangential springs and dashpots only: a scene with
-    rotational springs or dashpots (rolling, twisting, bonds) would get a step above its own, so it is
-    refused until the kernel carries them (``dtcrit step`` gives the scene's step).
-    """
-    law = scene.contact
-    walls = [w for w in scene.walls if any(getattr(w, k, 0.0) for k in ("kr", "ktw", "cr", "ctw"))]
-    if law.bond is not None or law.rotational is not None or walls:
-        what = "bond springs" if law.bond is not None else "rotational springs or dashpots (kr, ktw, cr, ctw)"
-        raise ValueError(f"contact: the emitted kernel does not carry {what} yet, so its step would exceed "
-                         "the scene's; dtcrit step gives the step of this scene")
-

@@ -15,6 +15,13 @@ HELP = "reproduce Figs 3-6 and the Appendix A search of Peng et al. 2020 (PNG + 
 
 
 def add_parser(subparsers) -> None:
+    """Add the ``dtcrit figures`` subcommand and its flags.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The ``dtcrit`` parser's subcommands.
+    """
     p = subparsers.add_parser("figures", help=HELP, description=HELP + ".")
     p.add_argument("--out", default="figures", metavar="DIR", help="output folder (default: ./figures)")
     p.add_argument("--fine", action="store_true", help="fine grids for the long sweeps (Fig 6, Appendix A)")
@@ -49,6 +56,18 @@ def _short(summary: dict) -> list[str]:
 
 
 def run(args) -> int:
+    """Run ``dtcrit figures``: draw the paper's figures into the output folder.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed flags.
+
+    Returns
+    -------
+    int
+        The exit status (0; bad input raises ``ValueError``, printed as one line with status 2).
+    """
     from dtcrit.figures import check_figure_names, make_figures
 
     only = None

@@ -17,9 +17,24 @@ from dtcrit.errors import InputError
 
 
 def number(kind: type = float, *, positive: bool = True, maximum: float | None = None, what: str = "number"):
-    """An argparse ``type``: ``kind`` (``int`` or ``float``) from the text, finite, above zero
-    (``positive``) or at least zero, and at most ``maximum`` when given; ``what`` names it in the
-    message (``"number of seconds"``).
+    """An argparse ``type`` for a numeric flag, checked while the command line is parsed.
+
+    Parameters
+    ----------
+    kind : type
+        ``int`` or ``float``.
+    positive : bool
+        Above zero (True) or at least zero (False).
+    maximum : float, optional
+        The largest value allowed.
+    what : str
+        What the value is, for the message (``"number of seconds"``).
+
+    Returns
+    -------
+    callable
+        ``convert(text) -> kind``, raising ``argparse.ArgumentTypeError`` for NaN, an infinity, a
+        value out of range or text that is no number.
     """
     adjective = "positive" if positive else "non-negative"
     bound = "" if maximum is None else f", at most {maximum}" if isinstance(maximum, int) else f", at most {maximum:g}"
@@ -41,7 +56,18 @@ def number(kind: type = float, *, positive: bool = True, maximum: float | None =
 
 @contextlib.contextmanager
 def flag_errors(flags: dict[str, str]):
-    """Re-raise an ``InputError`` whose key is in ``flags`` (key -> ``--flag``) as ``--flag: reason``."""
+    """Re-raise an ``InputError`` whose key is in ``flags`` as ``--flag: reason``.
+
+    Parameters
+    ----------
+    flags : dict of str to str
+        Library key -> the flag that sets it.
+
+    Yields
+    ------
+    None
+        Runs the block inside.
+    """
     try:
         yield
     except InputError as exc:

@@ -22,6 +22,13 @@ FLAGS = {"integrator": "--integrator", "zeta": "--zeta", "omega-dt": "--omega-dt
 
 
 def add_parser(subparsers) -> None:
+    """Add the ``dtcrit impact`` subcommand and its flags.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The ``dtcrit`` parser's subcommands.
+    """
     from dtcrit.integrators.schemes import NAMES
 
     p = subparsers.add_parser(
@@ -96,6 +103,18 @@ def _text(rep: dict) -> str:
 
 
 def run(args) -> int:
+    """Run ``dtcrit impact``: the exact and time-stepped impact of one contact (``dtcrit.impact_report``), printed or written.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed flags.
+
+    Returns
+    -------
+    int
+        The exit status (0; bad input raises ``ValueError``, printed as one line with status 2).
+    """
     import dtcrit.impact as imp
 
     from dtcrit.cli.outputs import check_output_dir

@@ -11,8 +11,30 @@ from dtcrit.errors import InputError, NotConvergedError
 
 def run_naming_flags(run: Callable, args, source, flag_of: Callable, not_converged: Callable[[NotConvergedError], str],
                      out_of_memory: str) -> int:
-    """``run(args)``, with its ``InputError`` keys renamed by ``flag_of(key, args)`` (``None``: keep the
-    error as it is); a flag ``f"{source}:key"`` is printed as ``SOURCE:key: reason``.
+    """``run(args)`` with the library's errors as the one line a command prints.
+
+    An ``InputError`` key is renamed by ``flag_of(key, args)`` (``None``: keep the error as it is); a
+    flag ``f"{source}:key"`` is printed as ``SOURCE:key: reason``.
+
+    Parameters
+    ----------
+    run : callable
+        ``run(args) -> int``, the command.
+    args : argparse.Namespace
+        The parsed flags (``source_label`` is set on it for a ``SOURCE:key`` flag).
+    source : str or None
+        The input file, as given.
+    flag_of : callable
+        ``flag_of(key, args) -> str | None``.
+    not_converged : callable
+        The message of a ``NotConvergedError``.
+    out_of_memory : str
+        The message of a ``MemoryError``.
+
+    Returns
+    -------
+    int
+        ``run``'s exit status.
     """
     try:
         return run(args)

@@ -10,6 +10,13 @@ MAX_TIMEOUT = 86400  # a day per cell
 
 
 def add_parser(sub):
+    """Add the ``dtcrit notebooks`` subcommand and its flags.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The ``dtcrit`` parser's subcommands.
+    """
     p = sub.add_parser("notebooks", help="execute the teaching notebooks into .ipynb files with outputs")
     p.add_argument("--out", default="out/notebooks", help="folder for the executed notebooks (default: out/notebooks)")
     p.add_argument("--only", nargs="*", default=None, help="stems of the notebooks to run (default: all)")
@@ -19,6 +26,18 @@ def add_parser(sub):
 
 
 def run(args) -> int:
+    """Run ``dtcrit notebooks``: execute the teaching notebooks into .ipynb files with outputs.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed flags.
+
+    Returns
+    -------
+    int
+        The exit status (0; bad input raises ``ValueError``, printed as one line with status 2).
+    """
     from dtcrit.notebooks import render, sources
 
     from dtcrit.cli.outputs import check_output_dir

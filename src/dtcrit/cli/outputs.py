@@ -37,7 +37,20 @@ def _path(path, flag: str) -> Path:
 
 
 def check_output_dir(path, flag: str = "--out") -> Path:
-    """``path`` is, or can become, a folder we can write into."""
+    """Check that ``path`` is, or can become, a folder we can write into (nothing is created).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The folder as given.
+    flag : str
+        The flag that gave it, for the message.
+
+    Returns
+    -------
+    pathlib.Path
+        The path.
+    """
     p = _path(path, flag)
     try:
         if p.exists() and not p.is_dir():
@@ -49,7 +62,20 @@ def check_output_dir(path, flag: str = "--out") -> Path:
 
 
 def check_output_file(path, flag: str) -> Path:
-    """``path`` can be written as a file (its folder exists or can be made, and accepts files)."""
+    """Check that ``path`` can be written as a file (its folder exists or can be made, and accepts files).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file as given.
+    flag : str
+        The flag that gave it, for the message.
+
+    Returns
+    -------
+    pathlib.Path
+        The path.
+    """
     p = _path(path, flag)
     try:
         if p.is_dir():

@@ -21,16 +21,21 @@ figures, not the serial report's estimates and certificate.  Only rank 0 prints.
 from __future__ import annotations
 
 import json
-import math
 import os
 import sys
 import time
 
-DEFAULT_DENSITY = 2650.0  # kg/m^3 (quartz), for generated packings
-DEFAULT_RADIUS = 1.0e-3  # m
+from dtcrit.packing.step import DEFAULT_DENSITY, DEFAULT_RADIUS
 
 
 def add_parser(subparsers) -> None:
+    """Add the ``dtcrit packing`` subcommand and its flags.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The ``dtcrit`` parser's subcommands.
+    """
     p = subparsers.add_parser(
         "packing", help="critical time step of a whole packing from its largest eigenfrequency",
         description="Global eigenmode analysis of a DEM packing (Otsubo, O'Sullivan & Shire 2017): "
@@ -75,105 +80,11 @@ def add_parser(subparsers) -> None:
     p.set_defaults(run=run_command)
 
 
-def _law(args):
-    from dtcrit.packing.model import HertzMindlinLaw, LinearLaw
-
-    if args.youngs is not None:
-        if args.kn is not None or args.ks is not None:
-            raise ValueError("--kn: give either --kn/--ks or --youngs/--poisson, not both")
-        return HertzMindlinLaw(args.youngs, args.poisson)
-    if args.kn is None:
-        raise ValueError("--kn: give the contact stiffness (--kn [--ks] for linear springs, or --youngs [--poisson] "
-                         "for Hertz-Mindlin): the step scales with it")
-    return LinearLaw(args.kn, args.kn if args.ks is None else args.ks)
-
-
-def _bodies(args):
-    """The ``dtcrit-bodies/1`` file FILE names, or None when FILE is not one (then it is a dump)."""
-    from dtcrit.packing.readers.bodies_file import is_bodies_file, read_bodies_file
-
-    if args.file is None or args.lattice is not None or args.random is not None or not is_bodies_file(args.file):
-        return None
-    for flag, value in (("--density", args.density), ("--write-dump", args.write_dump)):
-        if value is not None:
-            raise ValueError(f"{flag}: not used with a bodies file (each body's shape gives its density or mass; "
-                             "a dump holds spheres only)")
-    from dtcrit.scenes.scene import parse_particle  # the scenes' [[particle]] parser
-
-    return read_bodies_file(args.file, parse_particle)
-
-
-def _bodies_and_law(args):
-    """The bodies file (or None) and the contact law (None when the file lists each contact's)."""
-    bodies = _bodies(args)
-    if bodies is not None and bodies.stiffness_given:
-        if args.kn is not None or args.ks is not None or args.youngs is not None:
-            raise ValueError(f"--kn: {args.file} lists each contact's kn and ks; drop --kn/--ks/--youngs")
-        return bodies, None
-    return bodies, _law(args)
-
-
-def _packing(args, check_memory: bool = True):
-    from dtcrit.packing.readers.lammps_dump import read_dump
-    from dtcrit.packing.generators.lattices import lattice
-    from dtcrit.packing.generators.random_packing import random_packing
-
-    chosen = [name for name, v in (("FILE", args.file), ("--lattice", args.lattice), ("--random", args.random))
-              if v is not None]
-    if len(chosen) != 1:
-        raise ValueError("packing: give exactly one of FILE, --lattice or --random"
-                         + (f" (got {', '.join(chosen)})" if chosen else ""))
-    if args.file is not None:
-        return read_dump(args.file, density=args.density, snapshot=args.snapshot)
-    if args.snapshot != -1:
-        raise ValueError(f"--snapshot: picks a snapshot of a dump FILE; {chosen[0]} has none")
-    from dtcrit.packing.generators.lattices import COORDINATION, _BASIS
-    from dtcrit.packing.solvers.memory import check_fits
-
-    density = DEFAULT_DENSITY if args.density is None else args.density
-    if args.lattice is not None:
-        if check_memory and isinstance(args.cells, int) and args.cells > 0:
-            n = len(_BASIS[args.lattice][0]) * args.cells**3
-            check_fits(n, COORDINATION[args.lattice], args.route, key="--cells", **_certificate_cost(args, n,
-                                                                                                  COORDINATION[args.lattice]))
-        return lattice(args.lattice, args.cells, radius=args.radius, density=density)
-    if check_memory and isinstance(args.random, int) and args.random > 1 and 0 <= args.cn <= 14:
-        check_fits(args.random, args.cn, args.route, key="--random", **_certificate_cost(args, args.random, args.cn))
-        _check_generation_time(args.random)
-    return random_packing(args.random, cn=args.cn, sizes=args.sizes, radius=args.radius, spread=args.spread,
-                          density=density, seed=args.seed)
-
-
-def _certificate_cost(args, n: int, coordination: float) -> dict:
-    """``check_fits``'s extra memory for ``--certify yes`` (``certificate.factor_bytes``)."""
-    from dtcrit.packing.solvers.certificate import SPARSE_DOFS, factor_bytes
-
-    if args.certify != "yes" or 6 * n > SPARSE_DOFS:
-        return {}
-    return {"extra": factor_bytes(6 * n, coordination), "what": "the certificate's factorisation"}
-
-
-RANDOM_SECONDS_LIMIT = 1800.0
-"""``--random`` refuses up front a packing whose generation is estimated to take longer than this [s]
-(``random_packing.generation_seconds``); below it a progress bar shows the relaxation on a terminal."""
-
-
-def _check_generation_time(n: int) -> None:
-    from dtcrit.packing.generators.random_packing import SECONDS_PER_SPHERE_STEP, generation_seconds
-
-    seconds = generation_seconds(n)
-    if seconds > RANDOM_SECONDS_LIMIT:
-        raise ValueError(f"--random: {n:,} spheres take about {seconds / 60:.0f} min to generate (FIRE relaxation, "
-                         f"250 steps at a measured {SECONDS_PER_SPHERE_STEP * 1e6:.2g} us per sphere and step), more "
-                         f"than the {RANDOM_SECONDS_LIMIT / 60:.0f} min allowed; generate it once elsewhere and give "
-                         "it as a dump FILE, or use a --lattice")
-
-
 FLAGS = {"cells": "--cells", "n": "--random", "radius": "--radius", "kn": "--kn", "ks": "--ks",
          "youngs": "--youngs", "poisson": "--poisson", "density": "--density", "cn": "--cn", "spread": "--spread",
          "sizes": "--sizes", "seed": "--seed", "integrator": "--integrator", "damping_ratio": "--damping-ratio",
          "damping-ratio": "--damping-ratio", "method": "--solver", "route": "--route", "snapshot": "--snapshot",
-         "lattice": "--lattice", "scale": "--scale"}
+         "lattice": "--lattice", "scale": "--scale", "random": "--random", "write_dump": "--write-dump"}
 """Library keys (``InputError.key``) and the flags of ``dtcrit packing`` that set them."""
 
 
@@ -183,7 +94,20 @@ def _source(args) -> str:
 
 
 def flag_of(key: str, args) -> str | None:
-    """The flag (or ``FILE:key``) to name for a library ``InputError`` key; None to keep the key."""
+    """The flag (or ``FILE:key``) to name for a library ``InputError`` key.
+
+    Parameters
+    ----------
+    key : str
+        The ``InputError.key`` the API raised (a parameter name, a file key).
+    args : argparse.Namespace
+        The parsed flags (which flags gave the packing and the law).
+
+    Returns
+    -------
+    str or None
+        The flag, or None to keep the key as it is.
+    """
     if key.startswith("-") or ":" in key:
         return None
     if key == "stiffness":
@@ -194,8 +118,20 @@ def flag_of(key: str, args) -> str | None:
 
 
 def run_command(args) -> int:
-    """``dtcrit packing``: library keys become the flags that set them; a solver that stops early, or
-    memory that runs out after all, is one line too (``dtcrit.cli.library_errors``).
+    """Run ``dtcrit packing`` with the library's errors as one line each.
+
+    Library keys become the flags that set them; a solver that stops early, or memory that runs out
+    after all, is one line too (``dtcrit.cli.library_errors``).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed flags.
+
+    Returns
+    -------
+    int
+        The exit status.
     """
     from dtcrit.cli.library_errors import run_naming_flags
 
@@ -206,6 +142,16 @@ def run_command(args) -> int:
                             "--route matrix-free or --certify no")
 
 
+def _packing_options(args) -> dict:
+    """The keyword arguments of ``packing_step`` the flags give."""
+    from dtcrit.scenes.scene import parse_particle  # the scenes' [[particle]] parser, for a bodies file
+
+    return {"lattice": args.lattice, "cells": args.cells, "random": args.random, "cn": args.cn, "sizes": args.sizes,
+            "spread": args.spread, "seed": args.seed, "radius": args.radius, "density": args.density, "kn": args.kn,
+            "ks": args.ks, "youngs": args.youngs, "poisson": args.poisson, "snapshot": args.snapshot,
+            "integrator": args.integrator, "damping_ratio": args.damping_ratio, "particle_table": parse_particle}
+
+
 def _run(args) -> int:
     if args.backend == "slepc":
         return _run_slepc(args)
@@ -214,39 +160,19 @@ def _run(args) -> int:
 
         run_sizes(parse_sizes(args.scale), args.scale_packing)
         return 0
-    from dtcrit.packing.readers.lammps_dump import write_dump
-    from dtcrit.packing.report import analyse, format_report
+    from dtcrit.packing.step import packing_step
 
-    if not math.isfinite(args.damping_ratio) or args.damping_ratio < 0:
-        raise ValueError(f"--damping-ratio: must be a finite number >= 0, got {args.damping_ratio}")
     if args.write_dump:
         from dtcrit.cli.outputs import check_output_file
 
         check_output_file(args.write_dump, "--write-dump")
-    bodies, law = _bodies_and_law(args)
-    packing = _packing(args) if bodies is None else bodies.packing
-    contacts = None if bodies is None else bodies.contacts
-    certify = {"auto": "auto", "yes": True, "no": False}[args.certify]
-    report = analyse(packing, law, contacts, integrator=args.integrator, damping_ratio=args.damping_ratio, method=args.solver,
-                     route=args.route, certify_step=certify)
-    if report.n_contacts == 0:
-        raise ValueError("packing: no two particles touch: no contact limits the step (nothing to analyse)")
-    if not report.omega_max > 0:
-        why = (" (Hertz stiffness 2 E* sqrt(R* delta) vanishes at zero overlap: the spheres only touch)"
-               if "hertz" in report.law.lower() else "")
-        raise ValueError(f"packing: every contact has zero stiffness{why}: no vibrating mode, no critical step")
-    if args.write_dump:
-        write_dump(args.write_dump, packing)
+    step = packing_step(args.file, **_packing_options(args), solver=args.solver, route=args.route,
+                        certify=args.certify, write_dump=args.write_dump)
     if args.json:
-        from dtcrit.json_meta import envelope
-        from dtcrit.packing.report import JSON_SCHEMA, UNITS
-
-        doc = envelope(JSON_SCHEMA, UNITS)
-        doc.update(report.to_dict())
-        json.dump(doc, sys.stdout, indent=2)
+        json.dump(step.to_json(), sys.stdout, indent=2)
         sys.stdout.write("\n")
     else:
-        print(format_report(report))
+        print(step.to_text())
     return 0
 
 
@@ -265,11 +191,10 @@ def _run_slepc(args) -> int:
     """
     rank = int(next((os.environ[k] for k in LAUNCHER_RANK if os.environ.get(k, "").isdigit()), "0"))
     try:
-        from dtcrit.packing.distributed import slepc_backend as sb
         from dtcrit.packing.distributed.mpi_support import world
 
         _, rank, _ = world()
-        return _slepc_report(args, sb, rank)
+        return _slepc_report(args)
     except (ValueError, SystemExit) as exc:
         if isinstance(exc, SystemExit) or (rank != 0 and not getattr(exc, "report_here", False)):
             time.sleep(QUIET_EXIT_DELAY)
@@ -277,39 +202,19 @@ def _run_slepc(args) -> int:
         raise
 
 
-def _slepc_report(args, sb, rank: int) -> int:
-    from dtcrit.packing.solvers.integrator_step import integrator_dt
+def _slepc_report(args) -> int:
+    from dtcrit.packing.distributed.step import distributed_packing_step
 
     for flag, key, default in SLEPC_UNUSED:
         if getattr(args, key) != default:
             raise ValueError(f"{flag[2:]}: not used with --backend slepc (it reports omega_max, dt_crit and "
                              "dt_safe; the serial backend has the estimates, routes and certificate)")
-    integrator_dt(1.0, args.integrator, args.damping_ratio)  # bad names and ratios fail before the work
-    clock = time.perf_counter()
-    bodies, law = _bodies_and_law(args)
-    packing = _packing(args, check_memory=False) if bodies is None else bodies.packing
-    contacts = None if bodies is None else bodies.contacts
-    share = sb.distribute(packing, law, contacts, t_input=time.perf_counter() - clock)
-    del packing, contacts, bodies  # the O(N) input is not needed by the matrix and the solve
-    result = sb.analyse_share(share)
-    del share
-    if result.n_contacts == 0:
-        raise ValueError("packing: no two particles touch: no contact limits the step (nothing to analyse)")
-    if not result.omega_max > 0:
-        raise ValueError("packing: every contact has zero stiffness: no vibrating mode, no critical step")
-    dt_int, formula = integrator_dt(result.omega_max, args.integrator, args.damping_ratio)
-    if rank != 0:
+    step = distributed_packing_step(args.file, **_packing_options(args))
+    if step.rank != 0:
         return 0
     if args.json:
-        from dtcrit.json_meta import envelope
-
-        doc = envelope(sb.JSON_SCHEMA, sb.UNITS)
-        doc.update(result.to_dict(), integrator=args.integrator, damping_ratio=float(args.damping_ratio),
-                   dt_integrator=dt_int, integrator_formula=formula)
-        json.dump(doc, sys.stdout, indent=2)
+        json.dump(step.to_json(), sys.stdout, indent=2)
         sys.stdout.write("\n")
     else:
-        print(sb.format_result(result))
-        print(f"{args.integrator}, modal damping ratio {args.damping_ratio:g}: dt = {dt_int:.6g} s"
-              + ("  (no step is stable)" if dt_int == 0 else ""))
+        print(step.to_text())
     return 0

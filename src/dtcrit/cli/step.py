@@ -17,6 +17,13 @@ import sys
 
 
 def add_parser(subparsers) -> None:
+    """Add the ``dtcrit step`` subcommand and its flags.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The ``dtcrit`` parser's subcommands.
+    """
     p = subparsers.add_parser(
         "step",
         help="critical time step of a scene file (TOML)",
@@ -33,8 +40,22 @@ def _s(x) -> str:
 
 
 def ratio_text(r: float, digits: int = 4) -> str:
-    """``r`` with ``digits`` significant digits, or as many more as it takes (up to 17, round-trip) for a
-    ratio that is not exactly 1 never to read as 1 (1.0024 x dt_crit UNSAFE printed as '1' misleads).
+    """A ratio with enough digits that one other than exactly 1 never reads as 1.
+
+    ``digits`` significant digits, or as many more as it takes (up to 17, round-trip): 1.0024 x
+    dt_crit UNSAFE printed as '1' would mislead.
+
+    Parameters
+    ----------
+    r : float
+        The ratio.
+    digits : int
+        Significant digits at least.
+
+    Returns
+    -------
+    str
+        The ratio's text.
     """
     for d in range(digits, 18):
         text = f"{r:.{d}g}"
@@ -92,6 +113,19 @@ def _isolated_line(result) -> str:
 
 
 def format_text(result) -> str:
+    """The text ``dtcrit step`` prints for a scene's critical step.
+
+    Parameters
+    ----------
+    result : StepResult
+        The result of ``dtcrit.critical_step``.
+
+    Returns
+    -------
+    str
+        The scene, the headline step and what governs it (Peng et al. 2020, Eqs. (26), (29)-(30),
+        (54), (56)), the pairs, the rotation bound and the codes' estimates rated against it.
+    """
     sc = result.scene
     lines = [f"scene: {sc.source}" + (f" ({sc.title})" if sc.title else "")]
     for p in sc.particles:
@@ -152,6 +186,18 @@ def format_text(result) -> str:
 
 
 def run(args) -> int:
+    """Run ``dtcrit step``: load the scene, find its critical step (``dtcrit.critical_step``) and print the text or JSON.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed flags.
+
+    Returns
+    -------
+    int
+        The exit status (0; bad input raises ``ValueError``, printed as one line with status 2).
+    """
     from dtcrit.scenes.scene import load_scene
     from dtcrit.scenes.timestep import critical_step
 
