@@ -18,7 +18,7 @@ What each rank does (``distribute``, then ``analyse_share``):
    A contact list every rank already holds (non-spherical bodies, a bodies file's ``contacts``) is
    cut into ``P`` contiguous parts instead (``slab_contacts.slab_of_list``).
 3. It keeps a local packing of its own particles and their contact partners; the contacts' element
-   blocks ``ii, jj, ij, ji`` (``assembly._element_blocks``; a self-image contact puts all four on the
+   blocks ``ii, jj, ij, ji`` (``assembly.contact_blocks``; a self-image contact puts all four on the
    particle's diagonal, as ``assembly.stiffness_matrix`` does), scaled by ``M^(-1/2)`` on both sides,
    go with ``ADD_VALUES`` into a PETSc ``MPISBAIJ`` matrix (block size 6, the upper block triangle:
    one block per contact), preallocated exactly from the block pattern of its rows; blocks of rows
@@ -55,7 +55,7 @@ import numpy as np
 
 from dtcrit.errors import InputError
 
-from dtcrit.packing.operators.assembly import _element_blocks, mass_diagonal
+from dtcrit.packing.operators.assembly import contact_blocks, mass_diagonal
 from dtcrit.packing.detection.overlaps import find_contacts, wrap_positions
 from dtcrit.packing.model import Contacts, Packing, apply_law
 from dtcrit.packing.distributed.mpi_support import agree, allgather, peak_mib, petsc, release_memory, world
@@ -190,7 +190,7 @@ def assemble(share: RankShare):
     for k in range(chunks):
         sl = slice(k * CHUNK, min((k + 1) * CHUNK, c.count))
         if sl.start < c.count:
-            k_ii, k_jj, k_ij = _element_blocks(share.packing, c, sl, "stiffness")
+            k_ii, k_jj, k_ij = contact_blocks(share.packing, c, sl, "stiffness")
             si, sj = s[c.i[sl]], s[c.j[sl]]
             values = np.empty((len(si), 12, 12))
             values[:, :6, :6] = k_ii * si[:, :, None] * si[:, None, :]

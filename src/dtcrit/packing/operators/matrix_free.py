@@ -34,7 +34,8 @@ import scipy.sparse.linalg as spla
 
 from dtcrit.errors import InputError
 import dtcrit.packing.operators.matrix_free_kernels as kernels
-from dtcrit.packing.operators.assembly import _centre_distance, _element_blocks, mass_diagonal
+from dtcrit.packing.operators.assembly import contact_blocks, mass_diagonal, preload_coefficient
+from dtcrit.packing.operators.contact_element import IDENTITY, ZERO3, body_forces, components, rotation_rows
 from dtcrit.packing.model import Contacts, Packing
 
 CHUNK = 1 << 16  # contacts per vectorised chunk (measured: larger chunks gain nothing, cost memory)
@@ -42,15 +43,6 @@ KINDS = ("stiffness", "damping")
 SPHERE_LOOP_MAX_DOFS = 20_000_000
 """Above this the sphere loop is not used: its two arm lengths per contact (1 GB at 6e7 contacts)
 would not fit beside the rest in 16 GiB at 1e7 spheres, and it saves only about 15 % of a product."""
-
-
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Row-wise ``a x b`` of two (n, 3) arrays (cheaper than ``np.cross`` for small rows)."""
-    out = np.empty_like(b)
-    out[:, 0] = a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1]
-    out[:, 1] = a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2]
-    out[:, 2] = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
-    return out
 
 
 def _rows(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -81,7 +73,6 @@ class ContactOperator(spla.LinearOperator):
         self.mass_diag = md
         self.scale6 = (1.0 / np.sqrt(md)).reshape(n, 6)
         self.applications = 0
-        zero = None
         if kind == "stiffness":
             self.along, self.across = contacts.kn, contacts.ks
             self.twist, self.roll = contacts.ktw, contacts.kr
@@ -90,9 +81,9 @@ class ContactOperator(spla.LinearOperator):
             self.twist, self.roll = contacts.ctw, contacts.cr
         self.translational = self.along is not None or self.across is not None
         self.rotational = self.twist is not None or self.roll is not None
-        self.preload = zero
-        if kind == "stiffness" and contacts.force_n is not None and np.any(contacts.force_n != 0):
-            self.preload = contacts.force_n / _centre_distance(packing, contacts, slice(None))
+        self.preload = None
+        if kind == "stiffness":
+            self.preload = preload_coefficient(packing, contacts)
         self.orientations = packing.orientations
         self.compiled = kernels.available() if compiled is None else bool(compiled)
         if self.compiled and not kernels.available():
@@ -205,47 +196,32 @@ class ContactOperator(spla.LinearOperator):
         return self
 
     def _chunk_forces(self, q: np.ndarray, sl: slice):
-        """``(B_i^T f, B_j^T f)`` per contact of the chunk, each (m, 6) (module docstring)."""
+        """``(B_i^T f, B_j^T f)`` per contact of the chunk, each (m, 6): ``contact_element.body_forces``
+        on arrays over the chunk's contacts.
+        """
         c = self.contacts
         ci, cj = c.i[sl], c.j[sl]
         qi, qj = q[ci], q[cj]
-        m = qi.shape[0]
-        oi, oj = np.zeros((m, 6)), np.zeros((m, 6))
-        theta_i, theta_j = qi[:, 3:], qj[:, 3:]
         rot = self.orientations
-        if rot is not None:
-            theta_i = np.einsum("nab,nb->na", rot[ci], theta_i)
-            theta_j = np.einsum("nab,nb->na", rot[cj], theta_j)
-        n = c.normal[sl]
-        mom_i = mom_j = None
-        if self.translational:
-            ai, aj = c.arm_i[sl], c.arm_j[sl]
-            d = qj[:, :3] - qi[:, :3]
-            delta = d + _cross(ai, theta_i) - _cross(aj, theta_j)
-            along = 0.0 if self.along is None else self.along[sl][:, None]
-            across = 0.0 if self.across is None else self.across[sl][:, None]
-            f = across * delta + (along - across) * _rows(n, delta) * n
-            oi[:, :3] -= f
-            oj[:, :3] += f
-            mom_i, mom_j = -_cross(ai, f), _cross(aj, f)
-        if self.preload is not None:
-            d = qj[:, :3] - qi[:, :3]
-            p = -self.preload[sl][:, None] * (d - _rows(n, d) * n)
-            oi[:, :3] -= p
-            oj[:, :3] += p
-        if self.rotational:
-            w = theta_j - theta_i
-            twist = 0.0 if self.twist is None else self.twist[sl][:, None]
-            roll = 0.0 if self.roll is None else self.roll[sl][:, None]
-            mr = roll * w + (twist - roll) * _rows(n, w) * n
-            mom_i = -mr if mom_i is None else mom_i - mr
-            mom_j = mr if mom_j is None else mom_j + mr
-        if mom_i is not None:
-            if rot is not None:
-                mom_i = np.einsum("nba,nb->na", rot[ci], mom_i)
-                mom_j = np.einsum("nba,nb->na", rot[cj], mom_j)
-            oi[:, 3:] = mom_i
-            oj[:, 3:] = mom_j
+        oriented = rot is not None
+        rot_i = rotation_rows(rot, ci) if oriented else IDENTITY
+        rot_j = rotation_rows(rot, cj) if oriented else IDENTITY
+        arm_i, arm_j = (components(c.arm_i[sl]), components(c.arm_j[sl])) if self.translational else (ZERO3, ZERO3)
+
+        def coefficient(values):
+            return 0.0 if values is None else values[sl]
+
+        f, m_i, m_j = body_forces(components(c.normal[sl]), arm_i, arm_j, rot_i, rot_j, oriented,
+                                  components(qi[:, :3]), components(qi[:, 3:]), components(qj[:, :3]),
+                                  components(qj[:, 3:]), coefficient(self.along), coefficient(self.across),
+                                  coefficient(self.twist), coefficient(self.roll), coefficient(self.preload),
+                                  self.translational, self.rotational, self.preload is not None)
+        oi, oj = np.empty((qi.shape[0], 6)), np.empty((qi.shape[0], 6))
+        for a in range(3):
+            oi[:, a] = -f[a]
+            oi[:, 3 + a] = m_i[a]
+            oj[:, a] = f[a]
+            oj[:, 3 + a] = m_j[a]
         return oi, oj
 
     # -- what the bounds need ----------------------------------------------------------------------
@@ -270,7 +246,7 @@ class ContactOperator(spla.LinearOperator):
             sums = [np.zeros((n, 6)) for _ in weights]
             for start in range(0, c.count, self.chunk):
                 sl = slice(start, min(start + self.chunk, c.count))
-                k_ii, k_jj, k_ij = _element_blocks(p, c, sl, self.kind)
+                k_ii, k_jj, k_ij = contact_blocks(p, c, sl, self.kind)
                 ci, cj = c.i[sl], c.j[sl]
                 same = ci == cj
                 if same.any():
