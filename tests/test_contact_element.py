@@ -1,4 +1,5 @@
-"""The 6-DOF contact element (dtcrit.packing.operators.contact_element) against independent routes.
+"""The 6-DOF contact element (dtcrit.packing.operators.contact_element, element_matrices) against
+independent routes.
 
 * The Hessian of the springs' energy of two rigid bodies, computed at 40 digits (mpmath) from
   their positions and exact finite rotations (Rodrigues' formula) by central differences: the
@@ -17,6 +18,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from dtcrit.packing.operators import contact_element as ce
+from dtcrit.packing.operators import element_matrices as em
 from dtcrit.packing.operators import matrix_free_kernels as kernels
 
 
@@ -119,7 +121,7 @@ def test_element_is_the_hessian_of_the_two_bodies_energy(seed, terms):
         kw = {"preload": np.array([25.0 / np.linalg.norm(x_j - x_i)])}
     with mp.workdps(40):
         want = _hessian(lambda q: _energy(q, x_i, x_j, x_c, normal, rot, k))
-    got = _full(ce.element_blocks(normal[None], (x_c - x_i)[None], (x_c - x_j)[None], np.array([k["kn"]]),
+    got = _full(em.element_blocks(normal[None], (x_c - x_i)[None], (x_c - x_j)[None], np.array([k["kn"]]),
                                   np.array([k["ks"]]), rot_i=rot[:1], rot_j=rot[1:], **kw))
     assert np.max(np.abs(got - want)) <= 1e-12 * np.max(np.abs(want))
 
@@ -134,7 +136,7 @@ def test_two_spheres_along_x_by_hand():
     g[1, [1, 7, 5, 11]] = -1.0, 1.0, -r, -r
     g[2, [2, 8, 4, 10]] = -1.0, 1.0, r, r
     want = kn * np.outer(g[0], g[0]) + ks * (np.outer(g[1], g[1]) + np.outer(g[2], g[2]))
-    got = _full(ce.element_blocks(np.array([[1.0, 0, 0]]), np.array([[r, 0, 0]]), np.array([[-r, 0, 0]]),
+    got = _full(em.element_blocks(np.array([[1.0, 0, 0]]), np.array([[r, 0, 0]]), np.array([[-r, 0, 0]]),
                                   np.array([kn]), np.array([ks])))
     assert np.array_equal(got, want)
 
@@ -154,7 +156,7 @@ def test_symmetric_positive_semidefinite_with_rigid_body_modes_in_its_null_space
     """Springs and rolling/twisting springs on rotated bodies: rank 6, rigid motions unresisted."""
     nc = 50
     x_i, x_j, x_c, normal, rot_i, rot_j, k = _random_contacts(nc, 3)
-    blocks = ce.element_blocks(normal, x_c - x_i, x_c - x_j, k["kn"], k["ks"], rot_i=rot_i, rot_j=rot_j,
+    blocks = em.element_blocks(normal, x_c - x_i, x_c - x_j, k["kn"], k["ks"], rot_i=rot_i, rot_j=rot_j,
                                twist=k["ktw"], roll=k["kr"])
     rng = np.random.default_rng(4)
     for c in range(nc):
@@ -177,13 +179,13 @@ def test_action_equals_the_blocks_on_arrays_and_compiled():
     x_i, x_j, x_c, normal, rot_i, rot_j, k = _random_contacts(nc, 5)
     g = np.random.default_rng(6).uniform(-3.0, 3.0, nc)
     arm_i, arm_j = x_c - x_i, x_c - x_j
-    blocks = ce.element_blocks(normal, arm_i, arm_j, k["kn"], k["ks"], rot_i=rot_i, rot_j=rot_j,
+    blocks = em.element_blocks(normal, arm_i, arm_j, k["kn"], k["ks"], rot_i=rot_i, rot_j=rot_j,
                                twist=k["ktw"], roll=k["kr"], preload=g)
     q = np.random.default_rng(7).normal(size=(nc, 12))
     rows = lambda r: tuple(tuple(r[:, a, b] for b in range(3)) for a in range(3))  # noqa: E731
-    f, m_i, m_j = ce.body_forces(ce.components(normal), ce.components(arm_i), ce.components(arm_j),
-                                 rows(rot_i), rows(rot_j), True, ce.components(q[:, :3]), ce.components(q[:, 3:6]),
-                                 ce.components(q[:, 6:9]), ce.components(q[:, 9:]), k["kn"], k["ks"], k["ktw"],
+    f, m_i, m_j = ce.body_forces(em.components(normal), em.components(arm_i), em.components(arm_j),
+                                 rows(rot_i), rows(rot_j), True, em.components(q[:, :3]), em.components(q[:, 3:6]),
+                                 em.components(q[:, 6:9]), em.components(q[:, 9:]), k["kn"], k["ks"], k["ktw"],
                                  k["kr"], g, True, True, True)
     got = np.column_stack([-f[0], -f[1], -f[2], *m_i, *f, *m_j])
     want = np.stack([_full(blocks, c) @ q[c] for c in range(nc)])
@@ -193,7 +195,7 @@ def test_action_equals_the_blocks_on_arrays_and_compiled():
     import numba
 
     compiled = numba.njit(_compiled_element)
-    b_i, b_j = ce.slip_jacobians(arm_i, arm_j, rot_i, rot_j)
+    b_i, b_j = em.slip_jacobians(arm_i, arm_j, rot_i, rot_j)
     for c in range(nc):
         ii, jj, ij, bi, bj = compiled(normal[c], arm_i[c], arm_j[c], rot_i[c][None], rot_j[c][None],
                                       np.array([k["kn"][c], k["ks"][c], k["ktw"][c], k["kr"][c], g[c]]))
@@ -209,7 +211,7 @@ def _compiled_element(n, a_i, a_j, rot_i, rot_j, k):
     normal = (n[0], n[1], n[2])
     ai, aj = (a_i[0], a_i[1], a_i[2]), (a_j[0], a_j[1], a_j[2])
     ri, rj = ce.rotation_rows(rot_i, 0), ce.rotation_rows(rot_j, 0)
-    ce.element_blocks_into(normal, ai, aj, ri, rj, True, k[0], k[1], k[2], k[3], k[4], True, True, True, ii, jj, ij)
+    em.element_blocks_into(normal, ai, aj, ri, rj, True, k[0], k[1], k[2], k[3], k[4], True, True, True, ii, jj, ij)
     b_i, b_j = np.zeros((3, 6)), np.zeros((3, 6))
-    ce.slip_jacobians_into(ai, aj, ri, rj, True, b_i, b_j)
+    em.slip_jacobians_into(ai, aj, ri, rj, True, b_i, b_j)
     return ii, jj, ij, b_i, b_j

@@ -19,7 +19,8 @@ import math
 
 import numpy as np
 
-from dtcrit.packing.operators.contact_element import IDENTITY, rotation_rows, slip_jacobians_into
+from dtcrit.packing.operators.contact_element import IDENTITY, rotation_rows
+from dtcrit.packing.operators.element_matrices import slip_jacobians_into
 from dtcrit.packing.operators.matrix_free_kernels import _jit, available
 
 __all__ = ["available", "contact_frequencies"]
@@ -103,15 +104,26 @@ def _frequencies(ci, cj, nrm, arm_i, arm_j, kn, ks, rot, inv_mass, oriented, out
         out[c] = _top_eigenvalue(s)
 
 
-if available():
+if available():  # the loop calls the compiled eigenvalue by this global name
     _top_eigenvalue = _jit(_top_eigenvalue)
-    _frequencies_compiled = _jit(_frequencies)
-else:  # pragma: no cover
-    _frequencies_compiled = None
+_frequencies_compiled = _jit(_frequencies)
 
 
 def contact_frequencies(packing, contacts) -> np.ndarray:
-    """``omega_c^2`` of every contact by the compiled loop (Numba required: ``available()``)."""
+    """``omega_c^2`` of every contact by the compiled loop (Numba required: ``available()``).
+
+    Parameters
+    ----------
+    packing : Packing
+        The bodies (masses, principal moments, orientations).
+    contacts : Contacts
+        The contacts with their springs ``kn``, ``ks`` [N/m].
+
+    Returns
+    -------
+    numpy.ndarray
+        ``omega_c^2`` per contact [1/s^2].
+    """
     oriented = packing.orientations is not None
     rot = np.ascontiguousarray(packing.orientations) if oriented else np.zeros((1, 3, 3))
     inv_mass = 1.0 / np.concatenate([np.repeat(packing.masses[:, None], 3, axis=1), packing.inertia], axis=1)

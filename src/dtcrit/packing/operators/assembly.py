@@ -39,7 +39,7 @@ from dtcrit.errors import InputError
 from tqdm import tqdm
 
 from dtcrit.packing.model import Contacts, Packing
-from dtcrit.packing.operators.contact_element import element_blocks, frame_tensor, slip_jacobians
+from dtcrit.packing.operators.element_matrices import element_blocks, frame_tensor, slip_jacobians
 
 LONG_WORK = 200_000  # contacts below which the assembly takes well under a second: no bar drawn
 
@@ -91,13 +91,35 @@ def contact_kinematics(packing: Packing, contacts: Contacts, sl=slice(None)) -> 
 
 
 def mass_diagonal(packing: Packing) -> np.ndarray:
-    """Diagonal of the global mass matrix, ``(m, m, m, I_1, I_2, I_3)`` per particle, length 6N."""
+    """Diagonal of the global mass matrix, ``(m, m, m, I_1, I_2, I_3)`` per particle, length 6N.
+
+    Parameters
+    ----------
+    packing : Packing
+        The bodies (masses [kg], principal moments of inertia [kg m^2]).
+
+    Returns
+    -------
+    numpy.ndarray
+        Length 6N [kg, kg m^2].
+    """
     m = packing.masses[:, None]
     return np.concatenate([np.repeat(m, 3, axis=1), packing.inertia], axis=1).reshape(-1)
 
 
 def mass_matrix(packing: Packing) -> sps.dia_matrix:
-    """Global mass matrix ``M`` (6N x 6N, diagonal) as a sparse matrix."""
+    """Global mass matrix ``M`` (6N x 6N, diagonal) as a sparse matrix.
+
+    Parameters
+    ----------
+    packing : Packing
+        The bodies.
+
+    Returns
+    -------
+    scipy.sparse.dia_matrix
+        ``diag(m, m, m, I_1, I_2, I_3)`` per body.
+    """
     d = mass_diagonal(packing)
     return sps.dia_matrix((d[None, :], [0]), shape=(d.size, d.size))
 
@@ -161,6 +183,8 @@ def contact_blocks(packing: Packing, contacts: Contacts, sl, kind: str) -> tuple
     zero = np.zeros(contacts.i[sl].shape)
     preload = None
     if kind == "stiffness":
+        if contacts.kn is None or contacts.ks is None:
+            raise InputError("contacts", "no stiffness: apply a contact law first (model.apply_law)")
         along, across = contacts.kn[sl], contacts.ks[sl]
         twist, roll = contacts.ktw, contacts.kr
         preload = preload_coefficient(packing, contacts, sl)
@@ -181,6 +205,22 @@ def stiffness_matrix(packing: Packing, contacts: Contacts, *, chunk: int = 1 << 
     Sums the element matrices of the module docstring.  A contact with one's own periodic image
     (``i == j``) adds ``(B_i + B_j)^T K_c (B_i + B_j)`` to the particle's diagonal block.  Built in
     chunks of ``chunk`` contacts (a progress bar shows when the assembly is long).
+
+    Parameters
+    ----------
+    packing : Packing
+        The bodies.
+    contacts : Contacts
+        The contacts with their springs (a contact law applied).
+    chunk : int
+        Contacts per vectorised chunk.
+    label : str
+        Description of the progress bar.
+
+    Returns
+    -------
+    scipy.sparse.bsr_matrix
+        ``K`` [N/m, N, N m], 6N x 6N in 6 x 6 blocks, symmetric.
     """
     _require_stiffness(contacts)
     return _assemble(packing, contacts, "stiffness", chunk, label)
@@ -188,7 +228,24 @@ def stiffness_matrix(packing: Packing, contacts: Contacts, *, chunk: int = 1 << 
 
 def damping_matrix(packing: Packing, contacts: Contacts, *, chunk: int = 1 << 17,
                    label: str = "damping assembly") -> sps.bsr_matrix:
-    """Global damping matrix ``C`` of the contact dashpots ``cn``, ``cs`` (module docstring)."""
+    """Global damping matrix ``C`` of the contact dashpots ``cn``, ``cs`` (module docstring).
+
+    Parameters
+    ----------
+    packing : Packing
+        The bodies.
+    contacts : Contacts
+        The contacts with their dashpots.
+    chunk : int
+        Contacts per vectorised chunk.
+    label : str
+        Description of the progress bar.
+
+    Returns
+    -------
+    scipy.sparse.bsr_matrix
+        ``C`` [N s/m, N s, N m s], 6N x 6N in 6 x 6 blocks, symmetric.
+    """
     return _assemble(packing, contacts, "damping", chunk, label)
 
 
@@ -268,6 +325,22 @@ def scale_symmetric(k: sps.bsr_matrix, mass_diag: np.ndarray, *, inplace: bool =
     """``A = M^(-1/2) K M^(-1/2)``: the symmetric standard form of ``K phi = omega^2 M phi``.
     InputError (``key``: ``"stiffness"``, or ``"damping"`` for ``C``) when an entry of ``A`` leaves
     the floating-point range (a huge stiffness over a tiny mass: ``omega^2`` would be inf).
+
+    Parameters
+    ----------
+    k : scipy.sparse.bsr_matrix
+        ``K`` (or ``C``) in 6 x 6 blocks.
+    mass_diag : numpy.ndarray
+        Diagonal of ``M`` (length 6N).
+    inplace : bool
+        Scale ``k``'s data in place instead of a copy.
+    key : str
+        Input key named in the error (``"stiffness"`` or ``"damping"``).
+
+    Returns
+    -------
+    scipy.sparse.bsr_matrix
+        ``M^(-1/2) K M^(-1/2)`` [1/s^2] (``1/s`` for ``C``).
     """
     s = 1.0 / np.sqrt(mass_diag)
     a = k if inplace else k.copy()

@@ -1,11 +1,12 @@
 """Compiled (Numba) loops of the matrix-free contact operator (``dtcrit.packing.operators.matrix_free``).
 
-One pass over the contacts per product, scalar code per contact, the same formulas as the
-vectorised NumPy path of ``operator.ContactOperator`` (which the tests compare them with):
+One pass over the contacts per product; per contact, the element of
+``dtcrit.packing.operators.contact_element`` (``body_forces``, inlined into the loop), the same
+function the vectorised NumPy path of ``matrix_free.ContactOperator`` calls on arrays:
 
-    delta = u_j - u_i + a_i x theta_i - a_j x theta_j,   f = k_s delta + (k_n - k_s)(n . delta) n,
+    delta = u_j - u_i + a_i x theta_i - a_j x theta_j,   f = k_n (n . delta) n + k_s (delta - (n . delta) n),
     i: (-f, -R_i^T (a_i x f)),   j: (f, R_j^T (a_j x f));
-    w = theta_j - theta_i,  m = k_r w + (k_tw - k_r)(n . w) n,   i: -R_i^T m,   j: R_j^T m;
+    w = theta_j - theta_i,  m = k_tw (n . w) n + k_r (w - (n . w) n),   i: -R_i^T m,   j: R_j^T m;
     d = u_j - u_i,  p = -g (d - (n . d) n),   i: -p,   j: p      (g = F / r, the pre-load term).
 
 Measured on the jittered FCC benchmark (585k contacts): the vectorised NumPy product takes 4x the
@@ -13,32 +14,54 @@ time of an assembled BSR product, the compiled loop under half of it, which is w
 exists.  ``available()`` says whether Numba is installed; without it the NumPy path is used.
 
 ``element_pass`` gives in the same way each particle's 6 x 6 diagonal block and the absolute row
-sums of the scaled coupling blocks, from ``L_i = [-1 | X_i]``, ``L_j = [1 | Y_j]`` with
-``X_i = [a_i]_x R_i``, ``Y_j = -[a_j]_x R_j``:
+sums of the scaled coupling blocks, the blocks ``ii``, ``jj``, ``ij`` of each contact from
+``element_matrices.element_blocks_into`` (the element's action on the twelve unit vectors).
 
-    ii = [[T, -T X_i], [-X_i^T T, X_i^T T X_i]],   jj = [[T, T Y_j], [Y_j^T T, Y_j^T T Y_j]],
-    ij = [[-T, -T Y_j], [X_i^T T, X_i^T T Y_j]]
-
-plus ``R^T T_r R`` (rotation-rotation; ``-R_i^T T_r R_j`` coupling) for the rolling/twisting springs
-and ``T_p = -g (1 - n n^T)`` (translation-translation; ``-T_p`` coupling) for the pre-load.
+Numba caches these loops keyed on this file only: after an edit of ``contact_element``, touch this
+file (or clear ``__pycache__``) so that the cached machine code is rebuilt.
 """
 from __future__ import annotations
 
+from types import ModuleType
+from typing import Any, Callable
+
 import numpy as np
 
-from dtcrit.packing.operators.contact_element import IDENTITY, body_forces, element_blocks_into, rotation_rows
+from dtcrit.packing.operators.contact_element import IDENTITY, body_forces, rotation_rows
+from dtcrit.packing.operators.element_matrices import element_blocks_into
 
-try:  # pragma: no cover - exercised by whichever environment runs the tests
-    import numba
 
-    _jit = numba.njit(cache=True, nogil=True)
-except ImportError:  # the NumPy path of operator.ContactOperator is used instead
-    numba = None
-    _jit = None
+def _import_numba() -> ModuleType | None:
+    try:  # pragma: no cover - exercised by whichever environment runs the tests
+        import numba as module
+    except ImportError:  # the NumPy path of matrix_free.ContactOperator is used instead
+        return None
+    return module
+
+
+numba = _import_numba()
+
+
+def _jit(fn: Callable[..., Any]) -> Callable[..., Any]:
+    """``fn`` compiled by Numba (machine code cached on disk, GIL released while it runs); without
+    Numba a stand-in that raises (callers check ``available()`` first).
+    """
+    if numba is None:  # pragma: no cover
+        def missing(*args: Any) -> Any:
+            raise RuntimeError("the compiled loops need Numba (pip install numba)")
+
+        return missing
+    return numba.njit(cache=True, nogil=True)(fn)
 
 
 def available() -> bool:
-    """Whether the compiled loops can be used (Numba importable)."""
+    """Whether the compiled loops can be used (Numba importable).
+
+    Returns
+    -------
+    bool
+        ``True`` when Numba imports.
+    """
     return numba is not None
 
 
@@ -96,7 +119,7 @@ def _element_pass(ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags, sca
     """Accumulate the unscaled diagonal blocks ``diag`` (N, 6, 6) and, when ``rows`` is not empty,
     the weighted absolute row sums ``sum_q |A_pq| w_q`` of the scaled coupling blocks, one set
     ``rows[:, :, k]`` (N, 6, K) per weight vector ``weights[:, :, k]`` (N, 6, K) (module docstring);
-    the blocks come from ``contact_element.element_blocks_into``.
+    the blocks come from ``element_matrices.element_blocks_into``.
     """
     trans, rotl, pre, orient = flags[0] != 0, flags[1] != 0, flags[2] != 0, flags[3] != 0
     want_rows = rows.shape[0] > 0
@@ -135,9 +158,79 @@ def _element_pass(ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags, sca
                         rows[j, b, k] += v * weights[i, a, k]
 
 
-if numba is not None:
-    apply_contacts = _jit(_apply)
-    apply_sphere_contacts = _jit(_apply_spheres)
-    element_pass = _jit(_element_pass)
-else:  # pragma: no cover
-    apply_contacts = apply_sphere_contacts = element_pass = None
+def loop_arguments(contacts, along, across, twist, roll, preload, orientations) -> tuple:
+    """The arguments of ``apply_contacts`` and ``element_pass`` after ``q, y``: contiguous arrays (no
+    copy where the contacts already are), empty ones for the terms absent.
+
+    Parameters
+    ----------
+    contacts : Contacts
+        The contacts (indices, normals, arms).
+    along, across, twist, roll : numpy.ndarray or None
+        Per-contact ``k_n``, ``k_s``, ``k_tw``, ``k_r`` (or the dashpots); ``None`` counts as absent
+        (zero when its partner is given).
+    preload : numpy.ndarray or None
+        ``F/r`` per contact [N/m], or ``None``.
+    orientations : numpy.ndarray or None
+        Body rotation matrices (N, 3, 3), or ``None`` (global axes).
+
+    Returns
+    -------
+    tuple
+        ``(ci, cj, normal, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags)``.
+    """
+    nc = contacts.count
+    translational = along is not None or across is not None
+    rotational = twist is not None or roll is not None
+    empty = np.zeros(0)
+
+    def arr(a, use):
+        if not use:
+            return empty
+        return np.zeros(nc) if a is None else np.ascontiguousarray(a, dtype=float)
+
+    def arms(a):
+        return np.ascontiguousarray(a, dtype=float) if translational else np.zeros((0, 3))
+
+    flags = np.array([translational, rotational, preload is not None, orientations is not None], dtype=np.int64)
+    rot = np.zeros((0, 3, 3)) if orientations is None else np.ascontiguousarray(orientations)
+    return (np.ascontiguousarray(contacts.i, dtype=np.int64), np.ascontiguousarray(contacts.j, dtype=np.int64),
+            np.ascontiguousarray(contacts.normal, dtype=float), arms(contacts.arm_i), arms(contacts.arm_j),
+            arr(along, translational), arr(across, translational), arr(twist, rotational), arr(roll, rotational),
+            arr(preload, preload is not None), rot, flags)
+
+
+def sphere_arm_lengths(normal: np.ndarray, arm_i: np.ndarray, arm_j: np.ndarray,
+                       chunk: int) -> tuple[np.ndarray, np.ndarray] | None:
+    """``(l_i, l_j)`` with ``a_i = l_i n``, ``a_j = -l_j n`` to 4 ulps for every contact (sphere
+    contacts: the arguments of ``apply_sphere_contacts``), or ``None`` when an arm leaves the normal.
+
+    Parameters
+    ----------
+    normal, arm_i, arm_j : numpy.ndarray
+        Unit normals and branch vectors of the contacts, each (nc, 3).
+    chunk : int
+        Contacts per vectorised chunk.
+
+    Returns
+    -------
+    tuple of numpy.ndarray or None
+        The two arm lengths per contact [m].
+    """
+    nc = normal.shape[0]
+    li, lj = np.empty(nc), np.empty(nc)
+    for lo in range(0, nc, chunk):
+        sl = slice(lo, min(lo + chunk, nc))
+        n = normal[sl]
+        for arm, out, sign in ((arm_i[sl], li, 1.0), (arm_j[sl], lj, -1.0)):
+            length = sign * (arm[:, 0] * n[:, 0] + arm[:, 1] * n[:, 1] + arm[:, 2] * n[:, 2])
+            off = np.abs(arm - sign * length[:, None] * n).max(axis=1)
+            if np.any(off > 4 * np.finfo(float).eps * np.abs(arm).max(axis=1)):
+                return None
+            out[sl] = length
+    return li, lj
+
+
+apply_contacts = _jit(_apply)
+apply_sphere_contacts = _jit(_apply_spheres)
+element_pass = _jit(_element_pass)
