@@ -19,7 +19,9 @@ import math
 
 import numpy as np
 
-from dtcrit.packing.operators.matrix_free_kernels import _jit, available, cross_rotation
+from dtcrit.packing.operators.contact_element import IDENTITY, rotation_rows
+from dtcrit.packing.operators.element_matrices import slip_jacobians_into
+from dtcrit.packing.operators.matrix_free_kernels import _jit, available
 
 __all__ = ["available", "contact_frequencies"]
 
@@ -68,24 +70,13 @@ def _frequencies(ci, cj, nrm, arm_i, arm_j, kn, ks, rot, inv_mass, oriented, out
     root = np.zeros((3, 3))
     rw = np.zeros((3, 3))
     s = np.zeros((3, 3))
-    xi = np.zeros((3, 3))
-    yj = np.zeros((3, 3))
-    ri = np.eye(3)
-    rj = np.eye(3)
     for c in range(ci.shape[0]):
         i = ci[c]
         j = cj[c]
-        if oriented:
-            ri = rot[i]
-            rj = rot[j]
-        cross_rotation(arm_i[c], ri, 1.0, xi)  # [a_i]_x R_i
-        cross_rotation(arm_j[c], rj, -1.0, yj)  # -[a_j]_x R_j
-        bi[:, 3:] = xi
-        bj[:, 3:] = yj
-        for r in range(3):
-            for col in range(3):
-                bi[r, col] = -1.0 if r == col else 0.0
-                bj[r, col] = 1.0 if r == col else 0.0
+        ri = rotation_rows(rot, i) if oriented else IDENTITY
+        rj = rotation_rows(rot, j) if oriented else IDENTITY
+        slip_jacobians_into((arm_i[c, 0], arm_i[c, 1], arm_i[c, 2]), (arm_j[c, 0], arm_j[c, 1], arm_j[c, 2]),
+                            ri, rj, oriented, bi, bj)
         for r in range(3):
             for col in range(3):
                 acc = 0.0
@@ -113,15 +104,26 @@ def _frequencies(ci, cj, nrm, arm_i, arm_j, kn, ks, rot, inv_mass, oriented, out
         out[c] = _top_eigenvalue(s)
 
 
-if available():
+if available():  # the loop calls the compiled eigenvalue by this global name
     _top_eigenvalue = _jit(_top_eigenvalue)
-    _frequencies_compiled = _jit(_frequencies)
-else:  # pragma: no cover
-    _frequencies_compiled = None
+_frequencies_compiled = _jit(_frequencies)
 
 
 def contact_frequencies(packing, contacts) -> np.ndarray:
-    """``omega_c^2`` of every contact by the compiled loop (Numba required: ``available()``)."""
+    """``omega_c^2`` of every contact by the compiled loop (Numba required: ``available()``).
+
+    Parameters
+    ----------
+    packing : Packing
+        The bodies (masses, principal moments, orientations).
+    contacts : Contacts
+        The contacts with their springs ``kn``, ``ks`` [N/m].
+
+    Returns
+    -------
+    numpy.ndarray
+        ``omega_c^2`` per contact [1/s^2].
+    """
     oriented = packing.orientations is not None
     rot = np.ascontiguousarray(packing.orientations) if oriented else np.zeros((1, 3, 3))
     inv_mass = 1.0 / np.concatenate([np.repeat(packing.masses[:, None], 3, axis=1), packing.inertia], axis=1)

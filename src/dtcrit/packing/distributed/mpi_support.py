@@ -20,7 +20,13 @@ INSTALL = ("--backend slepc needs petsc4py and slepc4py ({why}): apt-get install
 
 
 def petsc():
-    """``(PETSc, SLEPc)``, initialised on ``COMM_WORLD``; ``InputError("backend", INSTALL)`` without them."""
+    """``(PETSc, SLEPc)``, initialised on ``COMM_WORLD``; ``InputError("backend", INSTALL)`` without them.
+
+    Returns
+    -------
+    tuple
+        The ``petsc4py.PETSc`` and ``slepc4py.SLEPc`` modules.
+    """
     try:
         from petsc4py import PETSc
         from slepc4py import SLEPc
@@ -33,6 +39,11 @@ def petsc():
 def world():
     """``(comm, rank, size)`` of ``PETSc.COMM_WORLD``; an ``InputError`` when a launcher started several
     processes that do not see each other (an ``mpirun`` of another MPI than petsc4py's).
+
+    Returns
+    -------
+    tuple
+        ``(comm, rank, size)``: the communicator, this process's rank and the number of ranks.
     """
     PETSc, _ = petsc()
     comm = PETSc.COMM_WORLD
@@ -45,7 +56,18 @@ def world():
 
 
 def allgather(values) -> np.ndarray:
-    """Every rank's row of numbers, ``(size, k)``, on every rank (a PETSc vector scattered to all)."""
+    """Every rank's row of numbers, ``(size, k)``, on every rank (a PETSc vector scattered to all).
+
+    Parameters
+    ----------
+    values : array_like
+        This rank's ``k`` numbers (the same ``k`` on every rank).
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (size, k): row ``r`` holds rank ``r``'s numbers.
+    """
     PETSc, _ = petsc()
     row = np.atleast_1d(np.asarray(values, dtype=float))
     vec = PETSc.Vec().createMPI((row.size, PETSc.DECIDE), comm=PETSc.COMM_WORLD)
@@ -61,13 +83,20 @@ def allgather(values) -> np.ndarray:
 def agree(error: Exception | None) -> None:
     """A collective check point: when any rank failed, every rank raises: the lowest failing rank its
     own error, marked ``report_here`` (the one line printed), the others a bare ``SystemExit(2)``.
+
+    Parameters
+    ----------
+    error : Exception or None
+        This rank's error (``None``: it succeeded).
     """
     _, rank, size = world()
     failed = allgather([0.0 if error is None else float(size - rank)])[:, 0]
     if failed.max() == 0:
         return
-    if size - int(failed.max()) == rank:
-        error.report_here = True
+    if size - int(failed.max()) == rank:  # the lowest failing rank: this one failed
+        if error is None:
+            raise RuntimeError("agree: the lowest failing rank holds no error")
+        setattr(error, "report_here", True)  # the CLI prints this one error's line
         raise error
     raise SystemExit(2)
 
@@ -86,5 +115,11 @@ def release_memory() -> None:
 
 
 def peak_mib() -> float:
-    """This process's peak resident memory so far [MiB]."""
+    """The peak resident memory of this process so far [MiB].
+
+    Returns
+    -------
+    float
+        ``ru_maxrss`` in MiB.
+    """
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0

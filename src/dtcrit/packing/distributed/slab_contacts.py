@@ -37,6 +37,20 @@ the rounding of the distance (computed from either end)."""
 def split_rows(n: int, size: int, rank: int) -> tuple[int, int]:
     """``(lo, hi)``: the particles rank ``rank`` of ``size`` owns, as PETSc splits ``n`` blocks
     (``PetscSplitOwnership``: ``n // size`` each, one more on the first ``n % size`` ranks).
+
+    Parameters
+    ----------
+    n : int
+        Number of particles (matrix block rows).
+    size : int
+        Number of ranks.
+    rank : int
+        This rank.
+
+    Returns
+    -------
+    tuple of int
+        ``(lo, hi)``: rank ``rank`` owns particles ``lo <= p < hi``.
     """
     base, extra = divmod(int(n), int(size))
     lo = rank * base + min(rank, extra)
@@ -48,6 +62,15 @@ class SlabContacts:
     """A rank's share: ``contacts`` (global particle indices, each pair on one rank only, in the
     serial order) and the block sparsity of its own rows: ``pattern_rows`` (own particle) and
     ``pattern_cols`` (any particle), one entry per distinct off-diagonal block.
+
+    Parameters
+    ----------
+    lo, hi : int
+        The rank's particles ``lo <= p < hi``.
+    contacts : Contacts
+        Its contacts, global particle indices.
+    pattern_rows, pattern_cols : numpy.ndarray
+        Block row (own particle) and block column of each distinct off-diagonal block of its rows.
     """
 
     lo: int
@@ -72,6 +95,16 @@ def _spread_bits(q: np.ndarray) -> np.ndarray:
 def morton_order(x: np.ndarray) -> np.ndarray:
     """Indices that sort the points ``x`` along a Morton (Z-order) curve over their bounding box, cells
     of ``1/2^21`` of its longest side: consecutive indices are near in space.
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        Points, shape (N, 3) [m].
+
+    Returns
+    -------
+    numpy.ndarray
+        The permutation, length N.
     """
     lo = x.min(axis=0)
     span = float((x.max(axis=0) - lo).max()) or 1.0
@@ -85,6 +118,22 @@ def morton_order(x: np.ndarray) -> np.ndarray:
 def halo(x: np.ndarray, lo: int, hi: int, reach: float, box: Box | None) -> np.ndarray:
     """Indices of the particles within ``reach`` (per axis, minimum image on periodic axes) of the
     bounding box of particles ``lo..hi-1``: every possible neighbour of the slab.
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        Centres of all particles, shape (N, 3) [m].
+    lo, hi : int
+        The slab's particles ``lo <= p < hi``.
+    reach : float
+        Largest centre distance of a contact [m].
+    box : Box or None
+        The periodic box, if any.
+
+    Returns
+    -------
+    numpy.ndarray
+        Indices of the candidate neighbours.
     """
     own = x[lo:hi]
     keep = np.ones(len(x), bool)
@@ -110,7 +159,7 @@ def _slab_pairs(x: np.ndarray, lo: int, hi: int, reach: float, box: Box | None):
     lengths = np.ones(3) if box is None else box.lengths
     sub = halo(x, lo, hi, reach, box)
     if not periodic.any() or np.all(lengths[periodic] > 2.0 * reach):
-        if periodic.any():  # unique minimum image: a toroidal tree, as contacts._candidate_pairs
+        if box is not None and periodic.any():  # unique minimum image: a toroidal tree, as contacts._candidate_pairs
             shift = x.min(axis=0)
             size = np.where(periodic, lengths, (x.max(axis=0) - shift) + 4.0 * reach + 1.0)
             origin = np.where(periodic, box.lo, shift)
@@ -131,13 +180,13 @@ def _slab_pairs(x: np.ndarray, lo: int, hi: int, reach: float, box: Box | None):
     own = cKDTree(x[lo:hi])
     out_p, out_q, out_s = [], [], []
     for s in itertools.product(*(range(-r, r + 1) for r in reach_images)):
-        s = np.array(s, dtype=np.int64)
-        sdm = own.sparse_distance_matrix(cKDTree(x[sub] + s * lengths), reach, output_type="ndarray")
+        shift = np.array(s, dtype=np.int64)
+        sdm = own.sparse_distance_matrix(cKDTree(x[sub] + shift * lengths), reach, output_type="ndarray")
         p, q = sdm["i"].astype(np.int64) + lo, sub[sdm["j"]].astype(np.int64)
-        keep = (p != q) | s.any()
+        keep = (p != q) | shift.any()
         out_p.append(p[keep])
         out_q.append(q[keep])
-        out_s.append(np.repeat(s[None, :], keep.sum(), axis=0))
+        out_s.append(np.repeat(shift[None, :], keep.sum(), axis=0))
     return np.concatenate(out_p), np.concatenate(out_q), np.concatenate(out_s)
 
 
@@ -148,6 +197,22 @@ def slab_sphere_contacts(packing: Packing, lo: int, hi: int, tolerance: float = 
 
     Touching test, normals and arms as ``contacts.find_sphere_contacts``; raises its ``InputError``
     for coincident centres found in this slab.
+
+    Parameters
+    ----------
+    packing : Packing
+        The sphere packing (every rank holds all of it).
+    lo, hi : int
+        This rank's particles ``lo <= p < hi`` (in the numbering ``order``).
+    tolerance : float
+        Relative overlap tolerance of the touching test (``find_sphere_contacts``).
+    order : numpy.ndarray or None
+        The numbering: particle ``k`` is ``packing``'s ``order[k]``.
+
+    Returns
+    -------
+    SlabContacts
+        The slab's contacts (in that numbering) and block pattern.
     """
     if not packing.is_spheres:
         raise InputError("packing", "slab_sphere_contacts needs a sphere packing")
@@ -193,6 +258,22 @@ def slab_of_list(contacts: Contacts, n: int, lo: int, hi: int, rank: int, size: 
     """A rank's share of a contact list every rank holds (non-spherical bodies, given contacts): the
     ``rank``-th of ``size`` contiguous parts of the list, and the block pattern of rows ``lo..hi-1``
     from the whole list.
+
+    Parameters
+    ----------
+    contacts : Contacts
+        The whole contact list.
+    n : int
+        Number of particles.
+    lo, hi : int
+        This rank's particles ``lo <= p < hi``.
+    rank, size : int
+        This rank and the number of ranks.
+
+    Returns
+    -------
+    SlabContacts
+        This rank's part of the list and the block pattern of its rows.
     """
     c_lo, c_hi = split_rows(contacts.count, size, rank)
     pick = np.zeros(contacts.count, bool)

@@ -18,7 +18,7 @@ What each rank does (``distribute``, then ``analyse_share``):
    A contact list every rank already holds (non-spherical bodies, a bodies file's ``contacts``) is
    cut into ``P`` contiguous parts instead (``slab_contacts.slab_of_list``).
 3. It keeps a local packing of its own particles and their contact partners; the contacts' element
-   blocks ``ii, jj, ij, ji`` (``assembly._element_blocks``; a self-image contact puts all four on the
+   blocks ``ii, jj, ij, ji`` (``assembly.contact_blocks``; a self-image contact puts all four on the
    particle's diagonal, as ``assembly.stiffness_matrix`` does), scaled by ``M^(-1/2)`` on both sides,
    go with ``ADD_VALUES`` into a PETSc ``MPISBAIJ`` matrix (block size 6, the upper block triangle:
    one block per contact), preallocated exactly from the block pattern of its rows; blocks of rows
@@ -55,11 +55,15 @@ import numpy as np
 
 from dtcrit.errors import InputError
 
-from dtcrit.packing.operators.assembly import _element_blocks, mass_diagonal
+from dtcrit.packing.operators.assembly import contact_blocks, mass_diagonal
 from dtcrit.packing.detection.overlaps import find_contacts, wrap_positions
 from dtcrit.packing.model import Contacts, Packing, apply_law
 from dtcrit.packing.distributed.mpi_support import agree, allgather, peak_mib, petsc, release_memory, world
+from dtcrit.packing.distributed.slepc_result import JSON_SCHEMA, UNITS, SlepcResult, format_result
 from dtcrit.packing.distributed.slab_contacts import SlabContacts, morton_order, slab_of_list, slab_sphere_contacts, split_rows
+
+__all__ = ["TOLERANCE", "NCV", "CHUNK", "FLUSH", "SYMMETRIC", "JSON_SCHEMA", "UNITS", "RankShare", "SlepcResult",
+           "distribute", "assemble", "solve", "analyse_share", "analyse", "format_result"]
 
 TOLERANCE = 1e-12
 """EPS relative residual tolerance ``|A v - theta v| / theta``: the agreement with a serial solve
@@ -78,13 +82,6 @@ per contact, 25 MiB a chunk) are bounded by it."""
 FLUSH = 16
 """Chunks between two flushes of PETSc's stash (the blocks of rows owned elsewhere): a collective
 step, so not after every chunk."""
-JSON_SCHEMA = "dtcrit-packing-slepc/1"
-UNITS = {"omega_max": "rad/s", "dt_crit": "s", "dt_safe": "s", "dt_integrator": "s", "k_max": "N/m", "m_min": "kg",
-         "residual": "1/s^2", "matvec_seconds": "s", "times.*": "s", "peak_rss_mib.*": "MiB", "per_rank.peak_rss_mib": "MiB"}
-"""Units of the dimensional keys of ``dtcrit packing --backend slepc --json``; every other number is
-dimensionless (counts, ratios, fractions)."""
-
-
 @dataclass
 class RankShare:
     """What one rank holds after ``distribute``: its rows ``lo..hi-1`` of ``n`` particles (in the
@@ -92,14 +89,37 @@ class RankShare:
     their contact partners (local particle ``k`` is particle ``glob[k]`` of that numbering), its
     contacts in local numbering with their stiffness, the preallocation of its block rows (``d_nnz``,
     ``o_nnz``), and the stage times [s] and peak memory [MiB] so far.
+
+    Parameters
+    ----------
+    n : int
+        Number of particles of the whole packing.
+    lo, hi : int
+        This rank's rows (particles ``lo <= p < hi``).
+    packing : Packing or None
+        Local packing: own particles and their contact partners (``None`` once assembled).
+    glob : numpy.ndarray
+        Global index of each local particle.
+    contacts : Contacts or None
+        This rank's contacts in local numbering, with stiffness (``None`` once assembled).
+    d_nnz, o_nnz : numpy.ndarray
+        Blocks per own row in the diagonal and off-diagonal parts (PETSc preallocation).
+    label : str
+        The packing's label.
+    law : str
+        Description of the contact law.
+    times : dict
+        Stage times so far [s].
+    peaks : dict
+        Peak memory after each stage [MiB].
     """
 
     n: int
     lo: int
     hi: int
-    packing: Packing
+    packing: Packing | None
     glob: np.ndarray
-    contacts: Contacts
+    contacts: Contacts | None
     d_nnz: np.ndarray
     o_nnz: np.ndarray
     label: str
@@ -112,17 +132,37 @@ def _local(packing: Packing, slab: SlabContacts, order) -> tuple[Packing, np.nda
     c = slab.contacts
     glob = np.unique(np.concatenate([np.arange(slab.lo, slab.hi), c.i, c.j]))
     source = glob if order is None else order[glob]
-    pick = lambda a: None if a is None else a[source]  # noqa: E731
+
+    def pick(values: np.ndarray) -> np.ndarray:
+        return values[source]
+
     local = Packing(pick(packing.positions), pick(packing.masses), pick(packing.inertia), pick(packing.radii),
-                    box=packing.box, orientations=pick(packing.orientations), label=packing.label)
+                    box=packing.box, orientations=None if packing.orientations is None else pick(packing.orientations),
+                    label=packing.label)
     return local, glob, replace(c, i=np.searchsorted(glob, c.i), j=np.searchsorted(glob, c.j))
 
 
 def distribute(packing: Packing, law=None, contacts: Contacts | None = None, *, t_input: float = 0.0) -> RankShare:
-    """This rank's share of the problem (module docstring, steps 1-3 before the matrix).
+    """The share of the problem on this rank (module docstring, steps 1-3 before the matrix).
 
     ``law`` sets each contact's stiffness unless ``contacts`` already carry one (as
     ``report.analyse``).  Collective: every rank of ``COMM_WORLD`` calls it with the same packing.
+
+    Parameters
+    ----------
+    packing : Packing
+        The whole packing (the same on every rank).
+    law : object or None
+        Contact law (``model.LinearLaw``, ``model.HertzMindlinLaw``); default linear unit springs.
+    contacts : Contacts or None
+        A contact list every rank holds (default: found here).
+    t_input : float
+        Seconds spent reading the input, recorded in the times.
+
+    Returns
+    -------
+    RankShare
+        This rank's share.
     """
     _, rank, size = world()
     start = time.perf_counter()
@@ -162,6 +202,8 @@ def distribute(packing: Packing, law=None, contacts: Contacts | None = None, *, 
     except ValueError as exc:
         error = exc
     agree(error)
+    if share is None:  # agree raised on every rank if any failed
+        raise RuntimeError("distribute: no share although every rank succeeded")
     del slab, c, order  # (the caller holds the input packing)
     release_memory()
     share.times = {"input": t_input, "contacts": time.perf_counter() - start}
@@ -169,9 +211,26 @@ def distribute(packing: Packing, law=None, contacts: Contacts | None = None, *, 
     return share
 
 
+def _held(share: RankShare) -> tuple[Packing, Contacts]:
+    """The share's local packing and contacts (dropped once the matrix holds them)."""
+    if share.packing is None or share.contacts is None:
+        raise RuntimeError("this share's packing and contacts were dropped after its assembly")
+    return share.packing, share.contacts
+
+
 def assemble(share: RankShare):
     """The PETSc matrix ``A`` (``MPISBAIJ``, or ``MPIBAIJ`` without ``SYMMETRIC``; block size 6) from
     every rank's share (collective).
+
+    Parameters
+    ----------
+    share : RankShare
+        This rank's share (``distribute``).
+
+    Returns
+    -------
+    petsc4py.PETSc.Mat
+        ``A = M^(-1/2) K M^(-1/2)`` [1/s^2], distributed by block rows.
     """
     PETSc, _ = petsc()
     comm, _, _ = world()
@@ -183,14 +242,14 @@ def assemble(share: RankShare):
         mat.setOption(PETSc.Mat.Option.IGNORE_LOWER_TRIANGULAR, True)
     if mat.getOwnershipRange() != (6 * share.lo, 6 * share.hi):
         raise RuntimeError(f"PETSc owns rows {mat.getOwnershipRange()}, expected {(6 * share.lo, 6 * share.hi)}")
-    s = (1.0 / np.sqrt(mass_diagonal(share.packing))).reshape(-1, 6)
-    c = share.contacts
+    packing, c = _held(share)
+    s = (1.0 / np.sqrt(mass_diagonal(packing))).reshape(-1, 6)
     chunks = int(allgather([math.ceil(c.count / CHUNK)]).max())
     add = PETSc.InsertMode.ADD_VALUES
     for k in range(chunks):
         sl = slice(k * CHUNK, min((k + 1) * CHUNK, c.count))
         if sl.start < c.count:
-            k_ii, k_jj, k_ij = _element_blocks(share.packing, c, sl, "stiffness")
+            k_ii, k_jj, k_ij = contact_blocks(packing, c, sl, "stiffness")
             si, sj = s[c.i[sl]], s[c.j[sl]]
             values = np.empty((len(si), 12, 12))
             values[:, :6, :6] = k_ii * si[:, :, None] * si[:, None, :]
@@ -206,49 +265,24 @@ def assemble(share: RankShare):
     return mat
 
 
-@dataclass
-class SlepcResult:
-    """``omega_max`` [rad/s] and ``dt_crit = 2/omega_max`` [s] from SLEPc, with the solver's figures,
-    sizes, stage times (slowest rank) [s] and peak memory per rank [MiB] (module docstring).
-    """
-
-    label: str
-    law: str
-    ranks: int
-    n_particles: int
-    dofs: int
-    n_contacts: int
-    cn_mean: float
-    k_max: float
-    m_min: float
-    omega_max: float
-    dt_crit: float
-    dt_safe: float
-    alpha: float
-    rotational_fraction: float
-    solver: str
-    tolerance: float
-    ncv: int
-    iterations: int
-    matvecs: int
-    residual: float
-    relative_residual: float
-    matrix_mallocs: int
-    matrix_nonzeros: int
-    matvec_seconds: float
-    times: dict
-    peak_rss_mib: dict
-    per_rank: list
-
-    def to_dict(self) -> dict:
-        out = dict(self.__dict__)
-        return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in out.items()}
-
-
 def solve(mat, tolerance: float = TOLERANCE, ncv: int = NCV) -> dict:
     """The top eigenpair of ``mat`` by Krylov-Schur (collective): ``theta``, ``residual``, ``iterations``
     (restarts), ``matvecs``, ``rotational_fraction``, ``norm_inf`` (``|A|_inf``), ``matvec_time`` (this
     rank's seconds in MatMult), and the ``tolerance`` and ``ncv`` used (PETSC_OPTIONS may set them).
+
+    Parameters
+    ----------
+    mat : petsc4py.PETSc.Mat
+        The symmetric matrix ``A``.
+    tolerance : float
+        Relative residual tolerance.
+    ncv : int
+        Krylov subspace size.
+
+    Returns
+    -------
+    dict
+        The figures listed above.
     """
     PETSc, SLEPc = petsc()
     PETSc.Log.begin()
@@ -287,15 +321,29 @@ def _local_figures(share: RankShare) -> tuple[int, float, float]:
     """``(contacts, K_max, m_min)`` of this rank: its contact count, largest ``max(k_n, k_s)``, and the
     smallest mass among the particles its contacts with a stiffness touch.
     """
-    c = share.contacts
+    packing, c = _held(share)
+    if c.kn is None or c.ks is None:
+        raise InputError("contacts", "no stiffness: apply a contact law first (model.apply_law)")
     stiff = np.maximum(c.kn, c.ks)
     touched = np.unique(np.concatenate([c.i[stiff > 0], c.j[stiff > 0]]))
-    return c.count, float(stiff.max(initial=0.0)), float(share.packing.masses[touched].min(initial=math.inf))
+    return c.count, float(stiff.max(initial=0.0)), float(packing.masses[touched].min(initial=math.inf))
 
 
 def analyse_share(share: RankShare, tolerance: float = TOLERANCE) -> SlepcResult:
     """Assemble and solve ``share`` (collective); the result, identical on every rank.  The share's
     packing and contacts are dropped once the matrix holds them.
+
+    Parameters
+    ----------
+    share : RankShare
+        This rank's share (``distribute``).
+    tolerance : float
+        Relative residual tolerance of the eigen-solve.
+
+    Returns
+    -------
+    SlepcResult
+        The step and the solver's figures.
     """
     _, rank, size = world()
     n_local, k_max, m_min = _local_figures(share)
@@ -341,23 +389,21 @@ def analyse_share(share: RankShare, tolerance: float = TOLERANCE) -> SlepcResult
 def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, tolerance: float = TOLERANCE) -> SlepcResult:
     """``distribute`` then ``analyse_share`` (the caller's ``packing`` stays alive meanwhile; the command
     line drops its own reference in between, so that the O(N) input is freed before the matrix).
+
+    Parameters
+    ----------
+    packing : Packing
+        The whole packing (the same on every rank).
+    law : object or None
+        Contact law; default linear unit springs unless ``contacts`` carry a stiffness.
+    contacts : Contacts or None
+        A contact list every rank holds (default: found here).
+    tolerance : float
+        Relative residual tolerance of the eigen-solve.
+
+    Returns
+    -------
+    SlepcResult
+        The step and the solver's figures.
     """
     return analyse_share(distribute(packing, law, contacts), tolerance)
-
-
-def format_result(r: SlepcResult) -> str:
-    """The text ``dtcrit packing --backend slepc`` prints (rank 0)."""
-    t = r.times
-    return "\n".join([
-        f"packing: {r.label or '(unnamed)'}",
-        f"contact law: {r.law}",
-        f"particles {r.n_particles}, DOFs {r.dofs}, contacts {r.n_contacts}, coordination mean {r.cn_mean:.4g}",
-        f"omega_max = {r.omega_max:.12g} rad/s  ({r.solver} on {r.ranks} rank{'s' if r.ranks > 1 else ''}, "
-        f"{r.iterations} restarts, {r.matvecs} matrix-vector products, residual |Av - theta v| = {r.residual:.3g}, "
-        f"relative {r.relative_residual:.2g})",
-        f"dt_crit = 2/omega_max = {r.dt_crit:.12g} s   alpha = dt_crit / sqrt(m_min/K_max) = {r.alpha:.5g}",
-        f"dt_safe = 2/sqrt(|A|_inf) = {r.dt_safe:.6g} s (Gershgorin: a lower bound on the step)",
-        f"highest mode: {100 * r.rotational_fraction:.1f} % of its kinetic energy in rotation",
-        "time (slowest rank): " + ", ".join(f"{k} {v:.3g} s" for k, v in t.items())
-        + f"; peak memory per rank {max(r.peak_rss_mib.values()):.0f} MiB",
-    ])

@@ -1,5 +1,6 @@
 """Operators of a packing: sparse global mass and stiffness matrices, and the matrix-free contact operator.
 
-Modules: ``assembly`` (``scipy.sparse`` M, K, C), ``matrix_free`` (``A v`` from the contact list), ``matrix_free_kernels``
-(its compiled loops).
+Modules: ``contact_element`` (the 6-DOF contact element, written once: motions, frame law, action),
+``element_matrices`` (its matrices ``B``, ``T`` and blocks), ``assembly`` (``scipy.sparse`` M, K, C),
+``matrix_free`` (``A v`` from the contact list), ``matrix_free_kernels`` (its compiled loops).
 """

@@ -36,49 +36,90 @@ import scipy.sparse as sps
 
 from dtcrit.errors import InputError
 
-from dtcrit.packing.model import Contacts, Packing
 from tqdm import tqdm
+
+from dtcrit.packing.model import Contacts, Packing
+from dtcrit.packing.operators.element_matrices import element_blocks, frame_tensor, slip_jacobians
 
 LONG_WORK = 200_000  # contacts below which the assembly takes well under a second: no bar drawn
 
 
-def cross_matrix(a: np.ndarray) -> np.ndarray:
-    """``[a]_x`` for a stack of vectors (..., 3): ``[a]_x b = a x b``."""
-    z = np.zeros(a.shape[:-1])
-    return np.stack([
-        np.stack([z, -a[..., 2], a[..., 1]], -1),
-        np.stack([a[..., 2], z, -a[..., 0]], -1),
-        np.stack([-a[..., 1], a[..., 0], z], -1),
-    ], -2)
-
-
 def contact_stiffness_tensor(normal: np.ndarray, kn: np.ndarray, ks: np.ndarray) -> np.ndarray:
-    """``K_c = k_n n n^T + k_s (1 - n n^T)`` for each contact, shape (nc, 3, 3)."""
-    nn = normal[:, :, None] * normal[:, None, :]
-    return kn[:, None, None] * nn + ks[:, None, None] * (np.eye(3) - nn)
+    """``K_c = k_n n n^T + k_s (1 - n n^T)`` for each contact (``contact_element.frame_tensor``).
+
+    Parameters
+    ----------
+    normal : numpy.ndarray
+        Unit normals, shape (nc, 3).
+    kn, ks : numpy.ndarray
+        Coefficients along and across the normal, shape (nc,) (springs [N/m] or their square roots).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``K_c``, shape (nc, 3, 3).
+    """
+    return frame_tensor(normal, kn, ks)
 
 
-def contact_kinematics(packing: Packing, contacts: Contacts, sl=slice(None)):
-    """``(B_i, B_j)``, each (nc, 3, 6): relative contact displacement per particle DOF."""
-    ai, aj = contacts.arm_i[sl], contacts.arm_j[sl]
-    nc = ai.shape[0]
-    rot_i = cross_matrix(ai)
-    rot_j = -cross_matrix(aj)
-    if packing.orientations is not None:
-        rot_i = rot_i @ packing.orientations[contacts.i[sl]]
-        rot_j = rot_j @ packing.orientations[contacts.j[sl]]
-    eye = np.broadcast_to(np.eye(3), (nc, 3, 3))
-    return np.concatenate([-eye, rot_i], axis=2), np.concatenate([eye, rot_j], axis=2)
+def _rotations(packing: Packing, contacts: Contacts, sl) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """The rotation matrices of the two bodies of each contact ``sl``, or ``(None, None)`` for spheres."""
+    if packing.orientations is None:
+        return None, None
+    return packing.orientations[contacts.i[sl]], packing.orientations[contacts.j[sl]]
+
+
+def contact_kinematics(packing: Packing, contacts: Contacts, sl=slice(None)) -> tuple[np.ndarray, np.ndarray]:
+    """``(B_i, B_j)``, each (nc, 3, 6): relative contact displacement per body DOF
+    (``contact_element.slip_jacobians``, module docstring).
+
+    Parameters
+    ----------
+    packing : Packing
+        The bodies (orientations give the principal axes of their rotation DOFs).
+    contacts : Contacts
+        The contacts (arms from the centres to the contact points).
+    sl : slice
+        The contacts to take.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``B_i = [-1 | [a_i]_x R_i]`` and ``B_j = [1 | -[a_j]_x R_j]``.
+    """
+    return slip_jacobians(contacts.arm_i[sl], contacts.arm_j[sl], *_rotations(packing, contacts, sl))
 
 
 def mass_diagonal(packing: Packing) -> np.ndarray:
-    """Diagonal of the global mass matrix, ``(m, m, m, I_1, I_2, I_3)`` per particle, length 6N."""
+    """Diagonal of the global mass matrix, ``(m, m, m, I_1, I_2, I_3)`` per particle, length 6N.
+
+    Parameters
+    ----------
+    packing : Packing
+        The bodies (masses [kg], principal moments of inertia [kg m^2]).
+
+    Returns
+    -------
+    numpy.ndarray
+        Length 6N [kg, kg m^2].
+    """
     m = packing.masses[:, None]
     return np.concatenate([np.repeat(m, 3, axis=1), packing.inertia], axis=1).reshape(-1)
 
 
 def mass_matrix(packing: Packing) -> sps.dia_matrix:
-    """Global mass matrix ``M`` (6N x 6N, diagonal) as a sparse matrix."""
+    """Global mass matrix ``M`` (6N x 6N, diagonal) as a sparse matrix.
+
+    Parameters
+    ----------
+    packing : Packing
+        The bodies.
+
+    Returns
+    -------
+    scipy.sparse.dia_matrix
+        ``diag(m, m, m, I_1, I_2, I_3)`` per body.
+    """
     d = mass_diagonal(packing)
     return sps.dia_matrix((d[None, :], [0]), shape=(d.size, d.size))
 
@@ -88,10 +129,6 @@ def _require_stiffness(contacts: Contacts) -> None:
         raise InputError("contacts", "no stiffness: apply a contact law first (model.apply_law)")
 
 
-def _zero(contacts: Contacts, sl) -> np.ndarray:
-    return np.zeros(contacts.i[sl].shape)
-
-
 def _centre_distance(packing: Packing, contacts: Contacts, sl) -> np.ndarray:
     d = packing.positions[contacts.j[sl]] - packing.positions[contacts.i[sl]]
     if packing.box is not None:
@@ -99,46 +136,66 @@ def _centre_distance(packing: Packing, contacts: Contacts, sl) -> np.ndarray:
     return np.linalg.norm(d, axis=1)
 
 
-def _pair_blocks(b_i, b_j, tensor):
-    """``(B_i^T T B_i, B_j^T T B_j, B_i^T T B_j)`` for stacks of (nc, 3, 6) ``B`` and (nc, 3, 3) ``T``."""
-    tb_i, tb_j = tensor @ b_i, tensor @ b_j
-    b_it, b_jt = np.swapaxes(b_i, 1, 2), np.swapaxes(b_j, 1, 2)
-    return b_it @ tb_i, b_jt @ tb_j, b_it @ tb_j
+def preload_coefficient(packing: Packing, contacts: Contacts, sl=slice(None)) -> np.ndarray | None:
+    """``F/r`` of the pre-load term of each contact ``sl`` (module docstring), or ``None`` when no
+    contact there carries a normal force.
 
+    Parameters
+    ----------
+    packing : Packing
+        The bodies (centres and periodic box give the centre distance ``r`` [m]).
+    contacts : Contacts
+        The contacts (``force_n``, compressive positive [N]).
+    sl : slice
+        The contacts to take.
 
-def _element_blocks(packing: Packing, contacts: Contacts, sl, kind: str):
-    """The 6 x 6 blocks ``(ii, jj, ij)`` of each contact's element of ``K`` (``kind="stiffness"``)
-    or ``C`` (``kind="damping"``) for the contacts ``sl`` (module docstring).
+    Returns
+    -------
+    numpy.ndarray or None
+        ``F/r`` [N/m] per contact.
     """
-    normal = contacts.normal[sl]
-    b_i, b_j = contact_kinematics(packing, contacts, sl)
+    if contacts.force_n is None or not np.any(contacts.force_n[sl] != 0):
+        return None
+    return contacts.force_n[sl] / _centre_distance(packing, contacts, sl)
+
+
+def contact_blocks(packing: Packing, contacts: Contacts, sl, kind: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The 6 x 6 blocks ``(ii, jj, ij)`` of each contact's element of ``K`` (``kind="stiffness"``)
+    or ``C`` (``kind="damping"``) for the contacts ``sl`` (``contact_element.element_blocks``).
+
+    Parameters
+    ----------
+    packing : Packing
+        The bodies.
+    contacts : Contacts
+        The contacts with their springs (``kn``, ``ks``, ``kr``, ``ktw``, ``force_n``) or dashpots
+        (``cn``, ``cs``, ``cr``, ``ctw``); an absent dashpot counts as zero.
+    sl : slice
+        The contacts to take.
+    kind : str
+        ``"stiffness"`` or ``"damping"`` (no pre-load term).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``ii``, ``jj``, ``ij``, each (nc, 6, 6).
+    """
+    zero = np.zeros(contacts.i[sl].shape)
+    preload = None
     if kind == "stiffness":
+        if contacts.kn is None or contacts.ks is None:
+            raise InputError("contacts", "no stiffness: apply a contact law first (model.apply_law)")
         along, across = contacts.kn[sl], contacts.ks[sl]
+        twist, roll = contacts.ktw, contacts.kr
+        preload = preload_coefficient(packing, contacts, sl)
     else:
-        along = _zero(contacts, sl) if contacts.cn is None else contacts.cn[sl]
-        across = _zero(contacts, sl) if contacts.cs is None else contacts.cs[sl]
-    k_ii, k_jj, k_ij = _pair_blocks(b_i, b_j, contact_stiffness_tensor(normal, along, across))
-    nc = normal.shape[0]
-    eye, zero = np.broadcast_to(np.eye(3), (nc, 3, 3)), np.zeros((nc, 3, 3))
-    twist, roll = (contacts.ktw, contacts.kr) if kind == "stiffness" else (contacts.ctw, contacts.cr)
-    if twist is not None or roll is not None:
-        rot_i, rot_j = -eye, eye
-        if packing.orientations is not None:
-            rot_i = -packing.orientations[contacts.i[sl]]
-            rot_j = packing.orientations[contacts.j[sl]]
-        twist = _zero(contacts, sl) if twist is None else twist[sl]
-        roll = _zero(contacts, sl) if roll is None else roll[sl]
-        extra = _pair_blocks(np.concatenate([zero, rot_i], axis=2), np.concatenate([zero, rot_j], axis=2),
-                             contact_stiffness_tensor(normal, twist, roll))
-        k_ii, k_jj, k_ij = (a + b for a, b in zip((k_ii, k_jj, k_ij), extra))
-    if kind != "stiffness":
-        return k_ii, k_jj, k_ij
-    if contacts.force_n is not None and np.any(contacts.force_n[sl] != 0):
-        g = contacts.force_n[sl] / _centre_distance(packing, contacts, sl)
-        extra = _pair_blocks(np.concatenate([-eye, zero], axis=2), np.concatenate([eye, zero], axis=2),
-                             contact_stiffness_tensor(normal, _zero(contacts, sl), -g))
-        k_ii, k_jj, k_ij = (a + b for a, b in zip((k_ii, k_jj, k_ij), extra))
-    return k_ii, k_jj, k_ij
+        along = zero if contacts.cn is None else contacts.cn[sl]
+        across = zero if contacts.cs is None else contacts.cs[sl]
+        twist, roll = contacts.ctw, contacts.cr
+    rot_i, rot_j = _rotations(packing, contacts, sl)
+    return element_blocks(contacts.normal[sl], contacts.arm_i[sl], contacts.arm_j[sl], along, across,
+                          rot_i=rot_i, rot_j=rot_j, twist=None if twist is None else twist[sl],
+                          roll=None if roll is None else roll[sl], preload=preload)
 
 
 def stiffness_matrix(packing: Packing, contacts: Contacts, *, chunk: int = 1 << 17,
@@ -148,6 +205,22 @@ def stiffness_matrix(packing: Packing, contacts: Contacts, *, chunk: int = 1 << 
     Sums the element matrices of the module docstring.  A contact with one's own periodic image
     (``i == j``) adds ``(B_i + B_j)^T K_c (B_i + B_j)`` to the particle's diagonal block.  Built in
     chunks of ``chunk`` contacts (a progress bar shows when the assembly is long).
+
+    Parameters
+    ----------
+    packing : Packing
+        The bodies.
+    contacts : Contacts
+        The contacts with their springs (a contact law applied).
+    chunk : int
+        Contacts per vectorised chunk.
+    label : str
+        Description of the progress bar.
+
+    Returns
+    -------
+    scipy.sparse.bsr_matrix
+        ``K`` [N/m, N, N m], 6N x 6N in 6 x 6 blocks, symmetric.
     """
     _require_stiffness(contacts)
     return _assemble(packing, contacts, "stiffness", chunk, label)
@@ -155,7 +228,24 @@ def stiffness_matrix(packing: Packing, contacts: Contacts, *, chunk: int = 1 << 
 
 def damping_matrix(packing: Packing, contacts: Contacts, *, chunk: int = 1 << 17,
                    label: str = "damping assembly") -> sps.bsr_matrix:
-    """Global damping matrix ``C`` of the contact dashpots ``cn``, ``cs`` (module docstring)."""
+    """Global damping matrix ``C`` of the contact dashpots ``cn``, ``cs`` (module docstring).
+
+    Parameters
+    ----------
+    packing : Packing
+        The bodies.
+    contacts : Contacts
+        The contacts with their dashpots.
+    chunk : int
+        Contacts per vectorised chunk.
+    label : str
+        Description of the progress bar.
+
+    Returns
+    -------
+    scipy.sparse.bsr_matrix
+        ``C`` [N s/m, N s, N m s], 6N x 6N in 6 x 6 blocks, symmetric.
+    """
     return _assemble(packing, contacts, "damping", chunk, label)
 
 
@@ -173,7 +263,7 @@ def _assemble_blocks(packing: Packing, contacts: Contacts, kind: str, chunk: int
     starts = range(0, nc, chunk)
     for start in tqdm(starts, desc=label, disable=None if nc >= LONG_WORK else True, leave=False):
         sl = slice(start, min(start + chunk, nc))
-        k_ii, k_jj, k_ij = _element_blocks(packing, contacts, sl, kind)
+        k_ii, k_jj, k_ij = contact_blocks(packing, contacts, sl, kind)
         ci, cj = contacts.i[sl], contacts.j[sl]
         self_contact = ci == cj
         if self_contact.any():  # coupling blocks of a self-image contact land on the diagonal
@@ -235,6 +325,22 @@ def scale_symmetric(k: sps.bsr_matrix, mass_diag: np.ndarray, *, inplace: bool =
     """``A = M^(-1/2) K M^(-1/2)``: the symmetric standard form of ``K phi = omega^2 M phi``.
     InputError (``key``: ``"stiffness"``, or ``"damping"`` for ``C``) when an entry of ``A`` leaves
     the floating-point range (a huge stiffness over a tiny mass: ``omega^2`` would be inf).
+
+    Parameters
+    ----------
+    k : scipy.sparse.bsr_matrix
+        ``K`` (or ``C``) in 6 x 6 blocks.
+    mass_diag : numpy.ndarray
+        Diagonal of ``M`` (length 6N).
+    inplace : bool
+        Scale ``k``'s data in place instead of a copy.
+    key : str
+        Input key named in the error (``"stiffness"`` or ``"damping"``).
+
+    Returns
+    -------
+    scipy.sparse.bsr_matrix
+        ``M^(-1/2) K M^(-1/2)`` [1/s^2] (``1/s`` for ``C``).
     """
     s = 1.0 / np.sqrt(mass_diag)
     a = k if inplace else k.copy()

@@ -34,7 +34,9 @@ import scipy.sparse.linalg as spla
 
 from dtcrit.errors import InputError
 import dtcrit.packing.operators.matrix_free_kernels as kernels
-from dtcrit.packing.operators.assembly import _centre_distance, _element_blocks, mass_diagonal
+from dtcrit.packing.operators.assembly import contact_blocks, mass_diagonal, preload_coefficient
+from dtcrit.packing.operators.contact_element import IDENTITY, ZERO3, body_forces, rotation_rows
+from dtcrit.packing.operators.element_matrices import components
 from dtcrit.packing.model import Contacts, Packing
 
 CHUNK = 1 << 16  # contacts per vectorised chunk (measured: larger chunks gain nothing, cost memory)
@@ -42,20 +44,6 @@ KINDS = ("stiffness", "damping")
 SPHERE_LOOP_MAX_DOFS = 20_000_000
 """Above this the sphere loop is not used: its two arm lengths per contact (1 GB at 6e7 contacts)
 would not fit beside the rest in 16 GiB at 1e7 spheres, and it saves only about 15 % of a product."""
-
-
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Row-wise ``a x b`` of two (n, 3) arrays (cheaper than ``np.cross`` for small rows)."""
-    out = np.empty_like(b)
-    out[:, 0] = a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1]
-    out[:, 1] = a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2]
-    out[:, 2] = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
-    return out
-
-
-def _rows(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Row-wise dot product of two (n, 3) arrays, shape (n, 1)."""
-    return (a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1] + a[:, 2] * b[:, 2])[:, None]
 
 
 class ContactOperator(spla.LinearOperator):
@@ -66,6 +54,21 @@ class ContactOperator(spla.LinearOperator):
     ``scale`` multiplies the operator (``damped`` combines two of them with ``combined``).
     ``applications`` counts the operator applications (one per vector).  ``compiled`` (default: when
     Numba is installed) runs the loops of ``operator_kernels``; ``False`` the vectorised NumPy path.
+
+    Parameters
+    ----------
+    packing : Packing
+        The bodies.
+    contacts : Contacts
+        The contacts with springs (``"stiffness"``) or dashpots (``"damping"``).
+    kind : str
+        ``"stiffness"`` or ``"damping"``.
+    mass_diag : numpy.ndarray or None
+        Diagonal of ``M`` (6N); default the packing's.
+    chunk : int
+        Contacts per chunk of the NumPy path and of the bounds' pass.
+    compiled : bool or None
+        Use the Numba loops (default: when Numba is installed).
     """
 
     def __init__(self, packing: Packing, contacts: Contacts, kind: str = "stiffness", *,
@@ -81,7 +84,6 @@ class ContactOperator(spla.LinearOperator):
         self.mass_diag = md
         self.scale6 = (1.0 / np.sqrt(md)).reshape(n, 6)
         self.applications = 0
-        zero = None
         if kind == "stiffness":
             self.along, self.across = contacts.kn, contacts.ks
             self.twist, self.roll = contacts.ktw, contacts.kr
@@ -90,9 +92,9 @@ class ContactOperator(spla.LinearOperator):
             self.twist, self.roll = contacts.ctw, contacts.cr
         self.translational = self.along is not None or self.across is not None
         self.rotational = self.twist is not None or self.roll is not None
-        self.preload = zero
-        if kind == "stiffness" and contacts.force_n is not None and np.any(contacts.force_n != 0):
-            self.preload = contacts.force_n / _centre_distance(packing, contacts, slice(None))
+        self.preload = None
+        if kind == "stiffness":
+            self.preload = preload_coefficient(packing, contacts)
         self.orientations = packing.orientations
         self.compiled = kernels.available() if compiled is None else bool(compiled)
         if self.compiled and not kernels.available():
@@ -103,25 +105,8 @@ class ContactOperator(spla.LinearOperator):
 
     def _pack_kernel_args(self):
         """Contiguous arrays for the compiled loops (no copy where the contacts already are)."""
-        c = self.contacts
-        nc = c.count
-        empty = np.zeros(0)
-
-        def arr(a, use):
-            if not use:
-                return empty
-            return np.zeros(nc) if a is None else np.ascontiguousarray(a, dtype=float)
-
-        index = lambda a: np.ascontiguousarray(a, dtype=np.int64)  # noqa: E731
-        arms = self.translational
-        flags = np.array([self.translational, self.rotational, self.preload is not None,
-                          self.orientations is not None], dtype=np.int64)
-        rot = np.zeros((0, 3, 3)) if self.orientations is None else np.ascontiguousarray(self.orientations)
-        return (index(c.i), index(c.j), np.ascontiguousarray(c.normal, dtype=float),
-                np.ascontiguousarray(c.arm_i, dtype=float) if arms else np.zeros((0, 3)),
-                np.ascontiguousarray(c.arm_j, dtype=float) if arms else np.zeros((0, 3)),
-                arr(self.along, arms), arr(self.across, arms), arr(self.twist, self.rotational),
-                arr(self.roll, self.rotational), arr(self.preload, self.preload is not None), rot, flags)
+        return kernels.loop_arguments(self.contacts, self.along, self.across, self.twist, self.roll, self.preload,
+                                      self.orientations)
 
     def _pack_sphere_args(self):
         """Arguments of ``operator_kernels.apply_sphere_contacts`` when every contact is a sphere
@@ -132,16 +117,10 @@ class ContactOperator(spla.LinearOperator):
         if (not self.translational or self.rotational or self.orientations is not None or c.count == 0
                 or self.along is None or self.across is None or self.shape[0] > SPHERE_LOOP_MAX_DOFS):
             return None
-        li, lj = np.empty(c.count), np.empty(c.count)
-        for lo in range(0, c.count, self.chunk):
-            sl = slice(lo, min(lo + self.chunk, c.count))
-            n = c.normal[sl]
-            for arm, out, sign in ((c.arm_i[sl], li, 1.0), (c.arm_j[sl], lj, -1.0)):
-                length = sign * _rows(arm, n)[:, 0]
-                off = np.abs(arm - sign * length[:, None] * n).max(axis=1)
-                if np.any(off > 4 * np.finfo(float).eps * np.abs(arm).max(axis=1)):
-                    return None
-                out[sl] = length
+        lengths = kernels.sphere_arm_lengths(c.normal, c.arm_i, c.arm_j, self.chunk)
+        if lengths is None:
+            return None
+        li, lj = lengths
         pre = self.preload is not None
         c_args = self._kernel_args
         return (c_args[0], c_args[1], c_args[2], li, lj, c_args[5], c_args[6],
@@ -158,6 +137,18 @@ class ContactOperator(spla.LinearOperator):
         """``out = A x`` into a given (6N,) array, with no array allocated on the compiled path
         (``eigen.chebyshev_start`` calls it: at 1e6 particles a fresh vector costs as much time
         as a third of the product).
+
+        Parameters
+        ----------
+        x : numpy.ndarray
+            The vector, length 6N.
+        out : numpy.ndarray
+            Where to write ``A x``, length 6N.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``out``.
         """
         if not self.compiled:
             out[:] = self._matvec(x)
@@ -205,47 +196,32 @@ class ContactOperator(spla.LinearOperator):
         return self
 
     def _chunk_forces(self, q: np.ndarray, sl: slice):
-        """``(B_i^T f, B_j^T f)`` per contact of the chunk, each (m, 6) (module docstring)."""
+        """``(B_i^T f, B_j^T f)`` per contact of the chunk, each (m, 6): ``contact_element.body_forces``
+        on arrays over the chunk's contacts.
+        """
         c = self.contacts
         ci, cj = c.i[sl], c.j[sl]
         qi, qj = q[ci], q[cj]
-        m = qi.shape[0]
-        oi, oj = np.zeros((m, 6)), np.zeros((m, 6))
-        theta_i, theta_j = qi[:, 3:], qj[:, 3:]
         rot = self.orientations
-        if rot is not None:
-            theta_i = np.einsum("nab,nb->na", rot[ci], theta_i)
-            theta_j = np.einsum("nab,nb->na", rot[cj], theta_j)
-        n = c.normal[sl]
-        mom_i = mom_j = None
-        if self.translational:
-            ai, aj = c.arm_i[sl], c.arm_j[sl]
-            d = qj[:, :3] - qi[:, :3]
-            delta = d + _cross(ai, theta_i) - _cross(aj, theta_j)
-            along = 0.0 if self.along is None else self.along[sl][:, None]
-            across = 0.0 if self.across is None else self.across[sl][:, None]
-            f = across * delta + (along - across) * _rows(n, delta) * n
-            oi[:, :3] -= f
-            oj[:, :3] += f
-            mom_i, mom_j = -_cross(ai, f), _cross(aj, f)
-        if self.preload is not None:
-            d = qj[:, :3] - qi[:, :3]
-            p = -self.preload[sl][:, None] * (d - _rows(n, d) * n)
-            oi[:, :3] -= p
-            oj[:, :3] += p
-        if self.rotational:
-            w = theta_j - theta_i
-            twist = 0.0 if self.twist is None else self.twist[sl][:, None]
-            roll = 0.0 if self.roll is None else self.roll[sl][:, None]
-            mr = roll * w + (twist - roll) * _rows(n, w) * n
-            mom_i = -mr if mom_i is None else mom_i - mr
-            mom_j = mr if mom_j is None else mom_j + mr
-        if mom_i is not None:
-            if rot is not None:
-                mom_i = np.einsum("nba,nb->na", rot[ci], mom_i)
-                mom_j = np.einsum("nba,nb->na", rot[cj], mom_j)
-            oi[:, 3:] = mom_i
-            oj[:, 3:] = mom_j
+        oriented = rot is not None
+        rot_i = rotation_rows(rot, ci) if oriented else IDENTITY
+        rot_j = rotation_rows(rot, cj) if oriented else IDENTITY
+        arm_i, arm_j = (components(c.arm_i[sl]), components(c.arm_j[sl])) if self.translational else (ZERO3, ZERO3)
+
+        def coefficient(values):
+            return 0.0 if values is None else values[sl]
+
+        f, m_i, m_j = body_forces(components(c.normal[sl]), arm_i, arm_j, rot_i, rot_j, oriented,
+                                  components(qi[:, :3]), components(qi[:, 3:]), components(qj[:, :3]),
+                                  components(qj[:, 3:]), coefficient(self.along), coefficient(self.across),
+                                  coefficient(self.twist), coefficient(self.roll), coefficient(self.preload),
+                                  self.translational, self.rotational, self.preload is not None)
+        oi, oj = np.empty((qi.shape[0], 6)), np.empty((qi.shape[0], 6))
+        for a in range(3):
+            oi[:, a] = -f[a]
+            oi[:, 3 + a] = m_i[a]
+            oj[:, a] = f[a]
+            oj[:, 3 + a] = m_j[a]
         return oi, oj
 
     # -- what the bounds need ----------------------------------------------------------------------
@@ -270,7 +246,7 @@ class ContactOperator(spla.LinearOperator):
             sums = [np.zeros((n, 6)) for _ in weights]
             for start in range(0, c.count, self.chunk):
                 sl = slice(start, min(start + self.chunk, c.count))
-                k_ii, k_jj, k_ij = _element_blocks(p, c, sl, self.kind)
+                k_ii, k_jj, k_ij = contact_blocks(p, c, sl, self.kind)
                 ci, cj = c.i[sl], c.j[sl]
                 same = ci == cj
                 if same.any():
@@ -296,7 +272,13 @@ class ContactOperator(spla.LinearOperator):
         return blocks, [out.reshape(-1) for out in sums]
 
     def diagonal_blocks(self) -> np.ndarray:
-        """The 6 x 6 diagonal blocks ``A_pp`` of the scaled operator, shape (N, 6, 6) (kept)."""
+        """The 6 x 6 diagonal blocks ``A_pp`` of the scaled operator, shape (N, 6, 6) (kept).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``A_pp`` per body, (N, 6, 6).
+        """
         if getattr(self, "_blocks", None) is None:
             self._block_pass([])
         return self._blocks
@@ -305,6 +287,16 @@ class ContactOperator(spla.LinearOperator):
         """``|A| w`` (``w`` = ones by default; rows of ``M^-1 K`` need ``w = sqrt(m)``, see
         ``estimates.gershgorin``).  The first call computes the unit and the ``sqrt(mass)`` weights
         together and keeps both.
+
+        Parameters
+        ----------
+        weights : numpy.ndarray or None
+            ``w`` (length 6N); ``None``: ones.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``sum_q |A_pq| w_q`` per row, length 6N.
         """
         root = np.sqrt(self.mass_diag)
         w = None if weights is None else np.asarray(weights, float).reshape(-1)
@@ -320,6 +312,11 @@ class ContactOperator(spla.LinearOperator):
     def assembled(self):
         """The same operator assembled (``scipy.sparse`` BSR, ``dtcrit.packing.operators.assembly``): for the
         certificate's factorisation and for tests.
+
+        Returns
+        -------
+        scipy.sparse.bsr_matrix
+            ``M^(-1/2) K M^(-1/2)`` (or ``C``) assembled.
         """
         from dtcrit.packing.operators.assembly import damping_matrix, scale_symmetric, stiffness_matrix
 
@@ -327,6 +324,13 @@ class ContactOperator(spla.LinearOperator):
         return scale_symmetric(build(self.packing, self.contacts), self.mass_diag, inplace=True)
 
     def diagonal(self) -> np.ndarray:
+        """The diagonal of ``A`` (the diagonal blocks' diagonals).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``A_dd``, length 6N.
+        """
         return np.einsum("nii->ni", self.diagonal_blocks()).reshape(-1)
 
     @property
@@ -336,7 +340,13 @@ class ContactOperator(spla.LinearOperator):
         return self.contacts.count == 0 or not any(np.any(a != 0) for a in coeffs)
 
     def memory_bytes(self) -> int:
-        """Bytes of the contact arrays one application reads (the bandwidth floor's pass)."""
+        """Bytes of the contact arrays one application reads (the bandwidth floor's pass).
+
+        Returns
+        -------
+        int
+            Bytes read per product from the contact arrays.
+        """
         c = self.contacts
         arrays = [c.i, c.j, c.normal]
         if getattr(self, "_sphere_args", None) is not None:
@@ -351,7 +361,15 @@ class ContactOperator(spla.LinearOperator):
 
 
 class CombinedOperator(spla.LinearOperator):
-    """``alpha * A + beta * B`` of two operators of the same shape (``damped``: ``2h C~ + h^2 K~``)."""
+    """``alpha * A + beta * B`` of two operators of the same shape (``damped``: ``2h C~ + h^2 K~``).
+
+    Parameters
+    ----------
+    a, b : scipy.sparse.linalg.LinearOperator
+        The two operators (same shape).
+    alpha, beta : float
+        Their factors.
+    """
 
     def __init__(self, a, alpha: float, b, beta: float):
         super().__init__(dtype=np.dtype(float), shape=a.shape)
@@ -366,12 +384,42 @@ class CombinedOperator(spla.LinearOperator):
 
 
 def stiffness_operator(packing: Packing, contacts: Contacts, **kw) -> ContactOperator:
-    """Matrix-free ``K~ = M^(-1/2) K M^(-1/2)``."""
+    """Matrix-free ``K~ = M^(-1/2) K M^(-1/2)``.
+
+    Parameters
+    ----------
+    packing : Packing
+        The bodies.
+    contacts : Contacts
+        The contacts.
+    **kw
+        Options of :class:`ContactOperator` (``mass_diag``, ``chunk``, ``compiled``).
+
+    Returns
+    -------
+    ContactOperator
+        ``M^(-1/2) K M^(-1/2)`` as a linear operator.
+    """
     return ContactOperator(packing, contacts, "stiffness", **kw)
 
 
 def damping_operator(packing: Packing, contacts: Contacts, **kw) -> ContactOperator:
-    """Matrix-free ``C~ = M^(-1/2) C M^(-1/2)``."""
+    """Matrix-free ``C~ = M^(-1/2) C M^(-1/2)``.
+
+    Parameters
+    ----------
+    packing : Packing
+        The bodies.
+    contacts : Contacts
+        The contacts.
+    **kw
+        Options of :class:`ContactOperator` (``mass_diag``, ``chunk``, ``compiled``).
+
+    Returns
+    -------
+    ContactOperator
+        ``M^(-1/2) C M^(-1/2)`` as a linear operator.
+    """
     return ContactOperator(packing, contacts, "damping", **kw)
 
 
