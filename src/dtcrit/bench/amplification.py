@@ -13,6 +13,21 @@ __all__ = ["matrices", "matrix_mp", "spectral_radius_eigvals", "spectral_radius_
 
 
 def spectral_radius_eigvals(name: str, tau, zeta) -> np.ndarray:
-    """max |lambda| by batched ``numpy.linalg.eigvals`` of the float64 matrices, flattened."""
+    """Spectral radius max |lambda| by batched ``numpy.linalg.eigvals`` of the float64 matrices, flattened.
+
+    Parameters
+    ----------
+    name : str
+        Name of the scheme.
+    tau : array_like
+        Steps tau = omega dt.
+    zeta : array_like
+        Damping ratios.
+
+    Returns
+    -------
+    numpy.ndarray
+        Spectral radius of each update-rule matrix, flattened.
+    """
     tau, zeta = np.broadcast_arrays(np.asarray(tau, dtype=float), np.asarray(zeta, dtype=float))
     return np.max(np.abs(np.linalg.eigvals(matrices(name, tau.ravel(), zeta.ravel()))), axis=1)

@@ -29,6 +29,18 @@ def bisect_tau(stable: Callable[[np.ndarray], np.ndarray], n: int) -> tuple[np.n
     ``stable(tau)`` maps an array of ``n`` steps to booleans.  Where even the smallest positive
     step is unstable, ``lo`` is 0.0 (no stable step); where ``TAU_HI`` tests stable, ``lo`` and
     ``hi`` are NaN (no bracket: the search failed).
+
+    Parameters
+    ----------
+    stable : callable
+        Maps an array of ``n`` steps tau to booleans.
+    n : int
+        Number of scenes.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(lo, hi)``.
     """
     lo = np.zeros(n, dtype=np.int64)
     hi = np.full(n, _HI_BITS, dtype=np.int64)
@@ -55,6 +67,20 @@ def bisect_tau_mp(stable: Callable, bits: int = 64, min_exponent: int = -100_000
     brackets tau* between two powers of two, a bisection on the exponent narrows it to
     [2^e, 2^(e+1)], and a bisection on the mantissa finishes.  ``(0, 2^min_exponent)`` when every
     step tried is unstable; ``(nan, nan)`` when ``TAU_HI`` tests stable (no bracket).
+
+    Parameters
+    ----------
+    stable : callable
+        Maps an mpmath step tau to a boolean.
+    bits : int
+        Relative width of the final bracket, ``2^-bits``.
+    min_exponent : int
+        Smallest binary exponent tried.
+
+    Returns
+    -------
+    tuple
+        ``(lo, hi)`` as mpmath numbers.
     """
     import mpmath as mp
 
@@ -86,7 +112,18 @@ def bisect_tau_mp(stable: Callable, bits: int = 64, min_exponent: int = -100_000
 
 
 def bisect_tau_scalar(stable: Callable[[float], bool]) -> tuple[float, float]:
-    """Scalar form of ``bisect_tau`` (for the mpmath routes, one scene at a time)."""
+    """Scalar form of ``bisect_tau`` (for the mpmath routes, one scene at a time).
+
+    Parameters
+    ----------
+    stable : callable
+        Maps a float step tau to a boolean.
+
+    Returns
+    -------
+    tuple of float
+        ``(lo, hi)`` adjacent floats.
+    """
     if stable(TAU_HI):
         return math.nan, math.nan
     lo, hi = 0, int(_HI_BITS)

@@ -36,6 +36,18 @@ void NAME(const double *k, const double *c, const double *A, double *out, long n
 
 
 def c_name(integrator: str) -> str:
+    """The C function name of an integrator's emitted step (``dt_`` and the name with ``-`` as ``_``).
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+
+    Returns
+    -------
+    str
+        The C identifier.
+    """
     return "dt_" + integrator.replace("-", "_")
 
 
@@ -56,6 +68,13 @@ def c_source() -> str:
 
 
 def compiler() -> str | None:
+    """The C compiler the compiled route uses (``$CC``, else ``cc``), if it is on the path.
+
+    Returns
+    -------
+    str or None
+        Path of the compiler, or None when there is none.
+    """
     cc = os.environ.get("CC") or "cc"
     return shutil.which(cc)
 
@@ -91,6 +110,22 @@ def _library() -> ctypes.CDLL:
 def critical_dt_c(integrator: str, k, c, A) -> np.ndarray:
     """Critical step [s] by the compiled C kernel, for float arrays k, c, A (broadcast): 0 where no
     positive float64 step is stable, inf where the step lies beyond float64, NaN for bad input.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    k : array_like
+        Stiffness [N/m].
+    c : array_like
+        Viscous coefficient [N s/m].
+    A : array_like
+        Inverse inertia of the mode [1/kg].
+
+    Returns
+    -------
+    numpy.ndarray
+        The critical steps [s], flattened.
     """
     k, c, A = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (k, c, A)))
     k, c, A = (np.ascontiguousarray(v.ravel()) for v in (k, c, A))

@@ -39,7 +39,7 @@ FUSED = ("symplectic-euler", "leapfrog", "velocity-verlet", "velocity-verlet-pre
 
 
 def _hypot_family(half: bool):
-    """dt = 2 / (g + sqrt(g^2 + K)), g = u/2 if ``half`` else u (Peng et al. 2020 Eq. (30) rates)."""
+    """The step dt = 2 / (g + sqrt(g^2 + K)), g = u/2 if ``half`` else u (Peng et al. 2020 Eq. (30) rates)."""
 
     def chunk(k, c, A, out, K, g, t):
         np.multiply(k, A, out=K)
@@ -70,6 +70,24 @@ def _centred(k, c, A, out, K, g, t):
 def critical_dt_fused(integrator: str, k, c, A, chunk: int = CHUNK) -> np.ndarray:
     """Critical step [s] for float arrays k [N/m], c [N s/m], A [1/kg] (same values as the
     generated closed forms, within 4 ulp of the exact step; see the module docstring).
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    k : array_like
+        Stiffness [N/m].
+    c : array_like
+        Viscous coefficient [N s/m].
+    A : array_like
+        Inverse inertia of the mode [1/kg].
+    chunk : int
+        Scenes per block (keeps the temporaries in cache).
+
+    Returns
+    -------
+    numpy.ndarray
+        The critical steps [s], flattened.
     """
     name = check_integrator(integrator)
     k, c, A = np.broadcast_arrays(*(np.ascontiguousarray(np.atleast_1d(v), dtype=float) for v in (k, c, A)))

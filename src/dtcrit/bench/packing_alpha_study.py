@@ -28,16 +28,51 @@ RANDOM_N = 200
 
 @dataclass(frozen=True)
 class StudyRow:
+    """One packing of the alpha study and its analysis.
+
+    Parameters
+    ----------
+    label : str
+        Name of the packing.
+    kind : str
+        ``"lattice"``, ``"mono"``, ``"uniform"`` or ``"lognormal"``.
+    report : PackingReport
+        The packing's critical step and estimates.
+    """
+
     label: str
     kind: str  # "lattice" | "mono" | "uniform" | "lognormal"
     report: PackingReport
 
     def ratio(self, name: str) -> float:
+        """An estimate over the packing's critical step, ``dt_estimate / dt_crit``.
+
+        Parameters
+        ----------
+        name : str
+            Name of the estimate.
+
+        Returns
+        -------
+        float
+            The ratio (at most 1 for a safe estimate).
+        """
         return self.report.estimates[name].dt / self.report.dt_crit
 
 
 def study_packings(n: int = RANDOM_N):
-    """``(label, kind, packing)`` for the study (fixed seeds)."""
+    """``(label, kind, packing)`` for the study (fixed seeds).
+
+    Parameters
+    ----------
+    n : int
+        Number of particles of the random packings.
+
+    Yields
+    ------
+    tuple
+        ``(label, kind, packing)``.
+    """
     for name in ("sc", "bcc", "fcc", "hcp"):
         yield f"{name} lattice", "lattice", lattice(name, 2, radius=1.0, density=1.0)
     seed = 100
@@ -49,7 +84,20 @@ def study_packings(n: int = RANDOM_N):
 
 
 def run_study(ks_over_kn: float = 1.0, n: int = RANDOM_N) -> list[StudyRow]:
-    """Analyse every packing of :func:`study_packings` with ``k_n = 1``, ``k_s = ks_over_kn``."""
+    """Analyse every packing of :func:`study_packings` with ``k_n = 1``, ``k_s = ks_over_kn``.
+
+    Parameters
+    ----------
+    ks_over_kn : float
+        Tangential over normal stiffness.
+    n : int
+        Number of particles of the random packings.
+
+    Returns
+    -------
+    list of StudyRow
+        One row per packing.
+    """
     law = LinearLaw(1.0, ks_over_kn)
     return [StudyRow(label, kind, analyse(p, law, method="auto" if p.dofs <= 600 else "eigsh"))
             for label, kind, p in study_packings(n)]
@@ -57,17 +105,54 @@ def run_study(ks_over_kn: float = 1.0, n: int = RANDOM_N) -> list[StudyRow]:
 
 @dataclass(frozen=True)
 class PowerFit:
+    """The power law ``alpha = p CN_max^-q`` fitted to the study; calling it evaluates the law.
+
+    Parameters
+    ----------
+    p : float
+        Prefactor.
+    q : float
+        Exponent.
+    r2 : float
+        Coefficient of determination of the log fit.
+    count : int
+        Number of packings fitted.
+    """
+
     p: float
     q: float
     r2: float
     count: int
 
     def __call__(self, cn):
+        """The law at ``cn``.
+
+        Parameters
+        ----------
+        cn : array_like
+            Largest coordination numbers.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``p cn^-q``.
+        """
         return self.p * np.asarray(cn, float) ** (-self.q)
 
 
 def fit_alpha(rows) -> PowerFit:
-    """Least-squares ``log alpha = log p - q log CN_max``; ``r2`` of the log fit."""
+    """Least-squares ``log alpha = log p - q log CN_max``; ``r2`` of the log fit.
+
+    Parameters
+    ----------
+    rows : sequence of StudyRow
+        The packings to fit.
+
+    Returns
+    -------
+    PowerFit
+        The fitted law.
+    """
     cn = np.array([r.report.cn_max for r in rows], float)
     alpha = np.array([r.report.alpha for r in rows], float)
     x, y = np.log(cn), np.log(alpha)
@@ -79,7 +164,18 @@ def fit_alpha(rows) -> PowerFit:
 
 
 def ratio_summary(rows) -> dict[str, dict[str, float]]:
-    """For each estimate: min / median / max of ``dt_estimate / dt_crit`` and how many are safe."""
+    """For each estimate: min / median / max of ``dt_estimate / dt_crit`` and how many are safe.
+
+    Parameters
+    ----------
+    rows : sequence of StudyRow
+        The packings.
+
+    Returns
+    -------
+    dict
+        Per estimate: ``min``, ``median``, ``max`` and the count of safe ratios.
+    """
     out = {}
     for name in ESTIMATES:
         r = np.array([row.ratio(name) for row in rows])
@@ -89,12 +185,33 @@ def ratio_summary(rows) -> dict[str, dict[str, float]]:
 
 
 def equal_sphere_rows(rows):
+    """The rows of equal spheres (lattices and monodisperse random packings).
+
+    Parameters
+    ----------
+    rows : sequence of StudyRow
+        The packings.
+
+    Returns
+    -------
+    list of StudyRow
+        The equal-sphere rows.
+    """
     return [r for r in rows if r.kind in ("lattice", "mono")]
 
 
 def plot(rows, fit: PowerFit, path) -> None:
-    """alpha against CN_max, by packing family, with the equal-sphere power-law fit ``fit``, the
+    """Plot alpha against CN_max, by packing family, with the equal-sphere power-law fit ``fit``, the
     lattice law and the two-sphere value (the legend outside the axes, clear of the points and fits).
+
+    Parameters
+    ----------
+    rows : sequence of StudyRow
+        The packings.
+    fit : PowerFit
+        The equal-sphere fit.
+    path : str or pathlib.Path
+        File to write (PNG).
     """
     import matplotlib
 
@@ -121,6 +238,18 @@ def plot(rows, fit: PowerFit, path) -> None:
 
 
 def main(argv=None) -> int:
+    """Command line: print the study's table and fits; ``--plot FILE`` also writes the figure.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        Arguments (``sys.argv[1:]`` when omitted).
+
+    Returns
+    -------
+    int
+        Exit status, 0.
+    """
     import argparse
 
     parser = argparse.ArgumentParser(prog="python -m dtcrit.bench.packing_alpha_study")

@@ -32,6 +32,20 @@ DENSE_CHECK_DOFS = 6000
 
 
 def jittered_fcc(n_target: int, seed: int = 0):
+    """An FCC lattice of about ``n_target`` unit spheres, positions jittered by up to 5e-4 (seeded).
+
+    Parameters
+    ----------
+    n_target : int
+        Wanted number of particles (the cube of cells nearest to it is used).
+    seed : int
+        Seed of the jitter.
+
+    Returns
+    -------
+    dtcrit.packing.model.Packing
+        The packing, radius 1.002 so neighbours overlap.
+    """
     from dtcrit.packing.generators.lattices import lattice_positions
     from dtcrit.packing.model import Packing
 
@@ -43,7 +57,18 @@ def jittered_fcc(n_target: int, seed: int = 0):
 
 
 def memory_bandwidth(megabytes: int = 128) -> float:
-    """Bytes per second of a large array copy (read + write), best of three: the floor's rate."""
+    """Bytes per second of a large array copy (read + write), best of three: the floor's rate.
+
+    Parameters
+    ----------
+    megabytes : int
+        Size of the array copied.
+
+    Returns
+    -------
+    float
+        Bytes per second.
+    """
     a = np.ones(megabytes * (1 << 20) // 8)
     b = np.empty_like(a)
     best = math.inf
@@ -59,6 +84,24 @@ def run_one(n: int, packing_kind: str = "fcc", method: str = "auto", dense_check
     """Time every stage for one size in this process; returns a dict of figures.  ``route``:
     ``"assembled"`` (sparse ``K``, the route before the matrix-free operator) or ``"matrix-free"``
     (``dtcrit.packing.operators.matrix_free``; its bandwidth floor is also reported).
+
+    Parameters
+    ----------
+    n : int
+        Number of particles.
+    packing_kind : str
+        ``"fcc"`` (jittered lattice) or ``"random"``.
+    method : str
+        Eigen-solver of the largest mode.
+    dense_check : bool
+        Also compare with a dense eigen-solve where small enough.
+    route : str
+        ``"assembled"`` or ``"matrix-free"``.
+
+    Returns
+    -------
+    dict
+        Timings, memory and solver figures of the run.
     """
     from dtcrit.packing.operators.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
     from dtcrit.packing.detection.overlaps import find_sphere_contacts
@@ -85,7 +128,7 @@ def run_one(n: int, packing_kind: str = "fcc", method: str = "auto", dense_check
     def hint():  # all particles co-rotating: built inside the solver, released after its start
         return est.co_rotation(packing, 0) + est.co_rotation(packing, 1) + est.co_rotation(packing, 2)
 
-    top = largest_mode(a, method, hint=hint)
+    top = largest_mode(a, method, hint=hint)  # type: ignore[arg-type]  # the solver also takes a callable hint
     t3 = time.perf_counter()
     w_c = est.single_contact_frequencies(packing, contacts)
     estimates = (est.gershgorin(a, md), est.block_diagonal(a), est.diagonal_stiffness(a), est.two_particle_amax(packing, contacts),
@@ -119,6 +162,24 @@ def run_sizes(sizes, packing_kind: str = "fcc", method: str = "auto", stream=sys
               routes=("assembled", "matrix-free")) -> list[dict]:
     """Each size and route in a fresh interpreter; prints a table as results arrive, then the
     matrix-free/assembled ratios of each size run both ways and the growth exponents.
+
+    Parameters
+    ----------
+    sizes : sequence of int
+        Numbers of particles.
+    packing_kind : str
+        ``"fcc"`` or ``"random"``.
+    method : str
+        Eigen-solver of the largest mode.
+    stream : file-like
+        Where the table is printed.
+    routes : sequence of str
+        Routes run for each size.
+
+    Returns
+    -------
+    list of dict
+        The figures of every run.
     """
     rows = []
     header = (f"{'N':>9} {'route':>11} {'DOFs':>9} {'contacts':>9} {'gen s':>7} {'assemble s':>10} {'eigen s':>8} "
@@ -164,12 +225,42 @@ def run_sizes(sizes, packing_kind: str = "fcc", method: str = "auto", stream=sys
 
 
 def fit_exponent(ns, ts) -> float:
-    """Least-squares slope of ``log t`` against ``log N``."""
+    """Least-squares slope of ``log t`` against ``log N``.
+
+    Parameters
+    ----------
+    ns : array_like
+        Sizes.
+    ts : array_like
+        Times [s].
+
+    Returns
+    -------
+    float
+        The growth exponent.
+    """
     x, y = np.log(np.asarray(ns, float)), np.log(np.asarray(ts, float))
     return float(np.polyfit(x, y, 1)[0])
 
 
 def parse_sizes(text: str) -> list[int]:
+    """The sizes of a comma-separated list such as ``1e3,1e4``, each in [2, 5e7].
+
+    Parameters
+    ----------
+    text : str
+        The list.
+
+    Returns
+    -------
+    list of int
+        The sizes.
+
+    Raises
+    ------
+    InputError
+        When an entry is no number or out of range.
+    """
     from dtcrit.errors import InputError
 
     sizes = []
@@ -185,6 +276,18 @@ def parse_sizes(text: str) -> list[int]:
 
 
 def main(argv=None) -> int:
+    """Command line: time the packing analysis at each size (``--one N`` runs a single size in this process).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        Arguments (``sys.argv[1:]`` when omitted).
+
+    Returns
+    -------
+    int
+        Exit status.
+    """
     import argparse
 
     parser = argparse.ArgumentParser(prog="python -m dtcrit.bench.packing_scaling")

@@ -19,27 +19,112 @@ from dtcrit.integrators.stability import paper_eq46 as _eq46_dtcrit
 
 
 def eq46_printed(k, c, A, m):
-    """Peng et al. 2020, Eq. (46): (sqrt(4 k A + c^2 A^2) + c A) / (k A)."""
+    """Peng et al. 2020, Eq. (46): (sqrt(4 k A + c^2 A^2) + c A) / (k A).
+
+    Parameters
+    ----------
+    k : array_like
+        Stiffness [N/m].
+    c : array_like
+        Viscous coefficient [N s/m].
+    A : array_like
+        Inverse inertia of the mode [1/kg].
+    m : array_like or None
+        Particle mass [kg] (two identical spheres: A = 7/m); unused by the forms written in A.
+
+    Returns
+    -------
+    numpy.ndarray
+        The printed step [s] (NaN where it is not real).
+    """
     return (np.sqrt(4 * k * A + c * c * A * A) + c * A) / (k * A)
 
 
 def eq46_generated(k, c, A, m):
-    """``dtcrit._generated.critical_steps.paper_eq46`` (SymPy's simplified Eq. (46))."""
+    """``dtcrit._generated.critical_steps.paper_eq46`` (SymPy's simplified Eq. (46)).
+
+    Parameters
+    ----------
+    k : array_like
+        Stiffness [N/m].
+    c : array_like
+        Viscous coefficient [N s/m].
+    A : array_like
+        Inverse inertia of the mode [1/kg].
+    m : array_like or None
+        Particle mass [kg] (two identical spheres: A = 7/m); unused by the forms written in A.
+
+    Returns
+    -------
+    numpy.ndarray
+        The printed step [s] (NaN where it is not real).
+    """
     return _gen.paper_eq46(k, c, A)
 
 
 def eq46_dtcrit(k, c, A, m):
-    """``dtcrit.integrators.stability.paper_eq46``: 2 (gamma + hypot(gamma, omega)) / omega^2, scaled."""
+    """``dtcrit.integrators.stability.paper_eq46``: 2 (gamma + hypot(gamma, omega)) / omega^2, scaled.
+
+    Parameters
+    ----------
+    k : array_like
+        Stiffness [N/m].
+    c : array_like
+        Viscous coefficient [N s/m].
+    A : array_like
+        Inverse inertia of the mode [1/kg].
+    m : array_like or None
+        Particle mass [kg] (two identical spheres: A = 7/m); unused by the forms written in A.
+
+    Returns
+    -------
+    numpy.ndarray
+        The printed step [s] (NaN where it is not real).
+    """
     return np.array([_eq46_dtcrit(*x) for x in zip(np.atleast_1d(k), np.atleast_1d(c), np.atleast_1d(A))])
 
 
 def eq34_printed(k, c, A, m):
-    """Peng et al. 2020, Eq. (34): 4 / sqrt(4 k A - c^2 A^2) (NaN beyond critical damping)."""
+    """Peng et al. 2020, Eq. (34): 4 / sqrt(4 k A - c^2 A^2) (NaN beyond critical damping).
+
+    Parameters
+    ----------
+    k : array_like
+        Stiffness [N/m].
+    c : array_like
+        Viscous coefficient [N s/m].
+    A : array_like
+        Inverse inertia of the mode [1/kg].
+    m : array_like or None
+        Particle mass [kg] (two identical spheres: A = 7/m); unused by the forms written in A.
+
+    Returns
+    -------
+    numpy.ndarray
+        The printed step [s] (NaN where it is not real).
+    """
     return 4 / np.sqrt(4 * k * A - c * c * A * A)
 
 
 def eq36_printed(k, c, A, m):
-    """Peng et al. 2020, Eq. (36): pi / sqrt(2 k/m - c^2/(4 m^2)), m the particle mass."""
+    """Peng et al. 2020, Eq. (36): pi / sqrt(2 k/m - c^2/(4 m^2)), m the particle mass.
+
+    Parameters
+    ----------
+    k : array_like
+        Stiffness [N/m].
+    c : array_like
+        Viscous coefficient [N s/m].
+    A : array_like
+        Inverse inertia of the mode [1/kg].
+    m : array_like or None
+        Particle mass [kg] (two identical spheres: A = 7/m); unused by the forms written in A.
+
+    Returns
+    -------
+    numpy.ndarray
+        The printed step [s] (NaN where it is not real).
+    """
     return math.pi / np.sqrt(2 * k / m - c * c / (4 * m * m))
 
 
@@ -48,25 +133,93 @@ def _beta(k, c, m):
 
 
 def eq58_printed(k, c, A, m):
-    """Peng et al. 2020, Eq. (58): dt = 4 / sqrt(28 - 49 beta^2) * sqrt(m/k), beta = c/sqrt(m k)."""
+    """Peng et al. 2020, Eq. (58): dt = 4 / sqrt(28 - 49 beta^2) * sqrt(m/k), beta = c/sqrt(m k).
+
+    Parameters
+    ----------
+    k : array_like
+        Stiffness [N/m].
+    c : array_like
+        Viscous coefficient [N s/m].
+    A : array_like
+        Inverse inertia of the mode [1/kg].
+    m : array_like or None
+        Particle mass [kg] (two identical spheres: A = 7/m); unused by the forms written in A.
+
+    Returns
+    -------
+    numpy.ndarray
+        The printed step [s] (NaN where it is not real).
+    """
     b = _beta(k, c, m)
     return 4 / np.sqrt(28 - 49 * b * b) * np.sqrt(m / k)
 
 
 def eq59_printed(k, c, A, m):
-    """Peng et al. 2020, Eq. (59): dt = pi / sqrt(2 - beta^2/4) * sqrt(m/k)."""
+    """Peng et al. 2020, Eq. (59): dt = pi / sqrt(2 - beta^2/4) * sqrt(m/k).
+
+    Parameters
+    ----------
+    k : array_like
+        Stiffness [N/m].
+    c : array_like
+        Viscous coefficient [N s/m].
+    A : array_like
+        Inverse inertia of the mode [1/kg].
+    m : array_like or None
+        Particle mass [kg] (two identical spheres: A = 7/m); unused by the forms written in A.
+
+    Returns
+    -------
+    numpy.ndarray
+        The printed step [s] (NaN where it is not real).
+    """
     b = _beta(k, c, m)
     return math.pi / np.sqrt(2 - b * b / 4) * np.sqrt(m / k)
 
 
 def eq60_printed(k, c, A, m):
-    """Peng et al. 2020, Eq. (60): dt = (beta + sqrt(beta^2 + 4/7)) * sqrt(m/k)."""
+    """Peng et al. 2020, Eq. (60): dt = (beta + sqrt(beta^2 + 4/7)) * sqrt(m/k).
+
+    Parameters
+    ----------
+    k : array_like
+        Stiffness [N/m].
+    c : array_like
+        Viscous coefficient [N s/m].
+    A : array_like
+        Inverse inertia of the mode [1/kg].
+    m : array_like or None
+        Particle mass [kg] (two identical spheres: A = 7/m); unused by the forms written in A.
+
+    Returns
+    -------
+    numpy.ndarray
+        The printed step [s] (NaN where it is not real).
+    """
     b = _beta(k, c, m)
     return (b + np.sqrt(b * b + 4.0 / 7.0)) * np.sqrt(m / k)
 
 
 def cfl_note_printed(k, c, A, m):
-    """CFL note (seed 004): dt = 2 sqrt(m/k) (sqrt(c^2/(4 k m) + 1) - c/(2 sqrt(k m))), m = 1/A."""
+    """CFL note (seed 004): dt = 2 sqrt(m/k) (sqrt(c^2/(4 k m) + 1) - c/(2 sqrt(k m))), m = 1/A.
+
+    Parameters
+    ----------
+    k : array_like
+        Stiffness [N/m].
+    c : array_like
+        Viscous coefficient [N s/m].
+    A : array_like
+        Inverse inertia of the mode [1/kg].
+    m : array_like or None
+        Particle mass [kg] (two identical spheres: A = 7/m); unused by the forms written in A.
+
+    Returns
+    -------
+    numpy.ndarray
+        The printed step [s] (NaN where it is not real).
+    """
     mm = 1.0 / A
     return 2 * np.sqrt(mm / k) * (np.sqrt(c * c / (4 * k * mm) + 1) - c / (2 * np.sqrt(k * mm)))
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 import time
+from typing import Any
 
 import numpy as np
 from tqdm import tqdm
@@ -13,7 +14,7 @@ from dtcrit.bench.routes import floor_kernel
 
 
 def ratios(config, batch, timing_raw) -> dict:
-    """Section 4, all measured in this run, interleaved, best of each:
+    """Section 4's speed ratios, all measured in this run, interleaved, best of each.
 
     * ``speedup_vs_eig_by_integrator``: eigvals + bisection time per scene over the NumPy closed form's
       (``critical_dt_array``); ``speedup_vs_eig_c_by_integrator`` the same over the emitted C step's;
@@ -21,11 +22,26 @@ def ratios(config, batch, timing_raw) -> dict:
       the fused form) over two floors on the same arrays: the *arithmetic floor* 2/sqrt(k A) (the
       cheapest closed form: a product, a square root and a division per scene) and the *memory floor*,
       one NumPy pass reading k and A and writing one array (``np.multiply(k, A, out=...)``).
+
+    Parameters
+    ----------
+    config : BenchConfig
+        The bench's sizes and repeats.
+    batch : Batch
+        The random scenes timed.
+    timing_raw : dict
+        Per-route timings already measured.
+
+    Returns
+    -------
+    dict
+        The ratios, per integrator and overall.
     """
     from dtcrit.bench.fused import FUSED, critical_dt_fused
     from dtcrit.integrators.stability import critical_dt_array
 
-    out = {"speedup_vs_eig_by_integrator": {}, "speedup_vs_eig_c_by_integrator": {}, "kernel_vs_floor_by_integrator": {}}
+    out: dict[str, Any] = {"speedup_vs_eig_by_integrator": {}, "speedup_vs_eig_c_by_integrator": {},
+                           "kernel_vs_floor_by_integrator": {}}
     k, c, A = batch.k, batch.c, batch.A
     buf = np.empty_like(k)
     for name in tqdm(config.integrators, desc="bench: floor ratios", disable=None):

@@ -43,6 +43,7 @@ def _pieces(name: str):
         if cp.kind == "root":
             out.append((hi, "root", sp.lambdify(zeta, cp.tau_expr, modules="mpmath")))
         else:
+            assert cp.cubic is not None and cp.cubic_large is not None  # a cubic piece carries both forms
             small = tuple(sp.lambdify(zeta, c, modules="mpmath") for c in cp.cubic)
             large = tuple(sp.lambdify(eps, c, modules="mpmath") for c in cp.cubic_large)
             out.append((hi, "cubic", (small, large)))
@@ -140,7 +141,22 @@ def _cubic_tau(funcs, z, dps):
 
 
 def tau_reference(name: str, z, dps: int = DPS):
-    """tau_crit(zeta) = omega * dt_crit at ``dps`` digits (``z`` taken exactly)."""
+    """tau_crit(zeta) = omega * dt_crit at ``dps`` digits (``z`` taken exactly).
+
+    Parameters
+    ----------
+    name : str
+        Name of the scheme.
+    z : float or mpmath.mpf
+        Damping ratio.
+    dps : int
+        Decimal digits.
+
+    Returns
+    -------
+    mpmath.mpf
+        tau_crit.
+    """
     with mp.workdps(dps + 10):
         z = mp.mpf(z)
         for hi, kind, data in _pieces(name):
@@ -186,12 +202,47 @@ def _agreeing(evaluate, dps: int, limit: int = 1300):
 def dt_reference(name: str, k, c, A, dps: int = DPS):
     """Exact critical step [s] for the exact float inputs, to ``dps`` digits (mpmath number);
     the working precision is raised until two evaluations agree (``_agreeing``).
+
+    Parameters
+    ----------
+    name : str
+        Name of the scheme.
+    k : array_like
+        Stiffness [N/m].
+    c : array_like
+        Viscous coefficient [N s/m].
+    A : array_like
+        Inverse inertia of the mode [1/kg].
+    dps : int
+        Decimal digits.
+
+    Returns
+    -------
+    mpmath.mpf
+        The critical step [s].
     """
     return _agreeing(lambda d: _dt_at(name, k, c, A, d), dps)
 
 
 def zeta_exact(k, c, A, dps: int = DPS):
-    """Damping ratio c A / (2 sqrt(k A)) of the exact float inputs (mpmath number)."""
+    """Damping ratio c A / (2 sqrt(k A)) of the exact float inputs (mpmath number).
+
+    Parameters
+    ----------
+    k : array_like
+        Stiffness [N/m].
+    c : array_like
+        Viscous coefficient [N s/m].
+    A : array_like
+        Inverse inertia of the mode [1/kg].
+    dps : int
+        Decimal digits.
+
+    Returns
+    -------
+    mpmath.mpf
+        The damping ratio.
+    """
     with mp.workdps(dps + 10):
         k, c, A = mp.mpf(k), mp.mpf(c), mp.mpf(A)
         return c * A / (2 * mp.sqrt(k * A))
@@ -264,6 +315,26 @@ NEEDS_MASS = frozenset({"eq36", "eq58", "eq59", "eq60"})
 def paper_form_reference(form: str, k, c, A, m=None, dps: int = DPS):
     """The printed form ``form`` to ``dps`` digits for the exact float inputs (NaN where not real);
     the working precision is raised until two evaluations agree (``_agreeing``).
+
+    Parameters
+    ----------
+    form : str
+        Name of the printed form (``dtcrit.bench.paper_forms``).
+    k : array_like
+        Stiffness [N/m].
+    c : array_like
+        Viscous coefficient [N s/m].
+    A : array_like
+        Inverse inertia of the mode [1/kg].
+    m : float, optional
+        Particle mass [kg].
+    dps : int
+        Decimal digits.
+
+    Returns
+    -------
+    mpmath.mpf
+        The form's value (NaN where not real).
     """
 
     def at(d):
@@ -277,7 +348,18 @@ def paper_form_reference(form: str, k, c, A, m=None, dps: int = DPS):
 # --- error measure -----------------------------------------------------------------------------
 
 def ulp_at(ref) -> mp.mpf:
-    """Unit in the last place of float64 at the real number ``ref`` (2**-1074 when subnormal)."""
+    """Unit in the last place of float64 at the real number ``ref`` (2**-1074 when subnormal).
+
+    Parameters
+    ----------
+    ref : mpmath.mpf
+        A real number.
+
+    Returns
+    -------
+    mpmath.mpf
+        The ulp.
+    """
     if ref == 0:
         return SUBNORMAL_ULP
     _, e = mp.frexp(abs(ref))  # |ref| = m 2^e, m in [1/2, 1)
@@ -285,12 +367,36 @@ def ulp_at(ref) -> mp.mpf:
 
 
 def beyond_float64(ref) -> bool:
-    """True when ``ref`` rounds to infinity in float64 (|ref| >= 2**1024 - half an ulp)."""
+    """True when ``ref`` rounds to infinity in float64 (|ref| >= 2**1024 - half an ulp).
+
+    Parameters
+    ----------
+    ref : mpmath.mpf
+        A real number.
+
+    Returns
+    -------
+    bool
+        Whether it rounds to infinity.
+    """
     return mp.isinf(ref) or abs(ref) >= mp.ldexp(mp.mpf(2) - mp.ldexp(1, -53), FLOAT_MAX_EXP - 1)
 
 
 def ulp_error(got: float, ref) -> float:
-    """|got - ref| / ulp(ref) as a float (inf when ``got`` is not finite or ``ref`` is 0 != got)."""
+    """|got - ref| / ulp(ref) as a float (inf when ``got`` is not finite or ``ref`` is 0 != got).
+
+    Parameters
+    ----------
+    got : float
+        A computed value.
+    ref : mpmath.mpf
+        The reference.
+
+    Returns
+    -------
+    float
+        The error in ulps of ``ref``.
+    """
     if not math.isfinite(got):
         return math.inf
     if ref == 0:
@@ -300,5 +406,16 @@ def ulp_error(got: float, ref) -> float:
 
 
 def to_float(ref) -> float:
-    """Round an mpmath number to the nearest float64 (inf beyond the range)."""
+    """Round an mpmath number to the nearest float64 (inf beyond the range).
+
+    Parameters
+    ----------
+    ref : mpmath.mpf
+        A real number.
+
+    Returns
+    -------
+    float
+        The nearest float64.
+    """
     return float(ref)

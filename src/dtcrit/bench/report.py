@@ -26,6 +26,18 @@ ULP_CEIL = 1e17  # relative error ~1 or worse (all digits lost) is drawn at this
 
 
 def jsonable(obj):
+    """``obj`` with non-finite floats spelled ``"inf"``, ``"-inf"``, ``"nan"`` and tuples as lists (strict JSON).
+
+    Parameters
+    ----------
+    obj : object
+        A float, dict, list, tuple or other JSON value.
+
+    Returns
+    -------
+    object
+        The converted value.
+    """
     if isinstance(obj, float):
         return obj if math.isfinite(obj) else ("inf" if obj > 0 else "-inf" if obj < 0 else "nan")
     if isinstance(obj, dict):
@@ -50,7 +62,18 @@ BENCH_UNITS = {"seconds_per_scene": "s", "floor_seconds": "s", "copy_seconds": "
 
 
 def json_summary(result: dict) -> dict:
-    """The ``--json`` document: routes, suite, the two ratios, plus the simulation check."""
+    """The ``--json`` document: routes, suite, the two ratios, plus the simulation check.
+
+    Parameters
+    ----------
+    result : dict
+        The result of ``run_bench``.
+
+    Returns
+    -------
+    dict
+        The JSON document.
+    """
     routes = [{"name": r["name"], "family": r["family"], "max_ulp": r["max_ulp"], "median_ulp": r["median_ulp"],
                "max_rel": r["max_rel"], "median_rel": r["median_rel"], "seconds_per_scene": r["seconds_per_scene"],
                "failures": r["failures"], "n_accuracy": r["n_accuracy"], "n_timed": r["n_timed"],
@@ -174,9 +197,21 @@ def _simulation_table(result) -> list[str]:
 
 
 def markdown(result: dict) -> str:
+    """The bench report in Markdown: the routes' accuracy and speed, the ratios, the simulation check.
+
+    Parameters
+    ----------
+    result : dict
+        The result of ``run_bench``.
+
+    Returns
+    -------
+    str
+        The report.
+    """
     cfg = result["config"]
     rat = result["ratios"]
-    counts = {}
+    counts: dict[str, int] = {}
     for s in result["simulation"]:
         counts[s["outcome"]] = counts.get(s["outcome"], 0) + 1
     held = [e for e in result["suite"] if e["held_to_4_ulp"]]
@@ -247,6 +282,20 @@ def _write_csv(path: Path, header: list[str], rows: list[list]) -> None:
 
 
 def write_csvs(result: dict, out: Path) -> list[Path]:
+    """Write the per-route, per-integrator and per-case tables as CSV into ``out``.
+
+    Parameters
+    ----------
+    result : dict
+        The result of ``run_bench``.
+    out : pathlib.Path
+        Folder to write into.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written.
+    """
     keys = ["n_accuracy", "max_ulp", "median_ulp", "max_rel", "median_rel", "max_ulp_well_conditioned",
             "max_ulp_extreme", "seconds_per_scene", "n_timed", "failures"]
     rows = [[r["name"], r["family"], n] + [e[k] for k in keys] for r in result["routes"] for n, e in r["by_integrator"].items()]
@@ -268,6 +317,20 @@ def _clip(u: float) -> float:
 
 
 def plot(result: dict, path: Path) -> Path:
+    """Draw the work-precision figure: seconds per scene against the largest ulp error, per route.
+
+    Parameters
+    ----------
+    result : dict
+        The result of ``run_bench``.
+    path : pathlib.Path
+        File to write (PNG).
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -275,7 +338,7 @@ def plot(result: dict, path: Path) -> Path:
 
     fig, axes = plt.subplots(1, 2, figsize=(12, 5), sharey=True)
     markers = "osD^v<>ph*X"
-    suite_worst = {}
+    suite_worst: dict = {}
     for e in result["suite"]:
         if e["ulp"] is not None and math.isfinite(e["ulp"]):
             suite_worst[e["route"]] = max(suite_worst.get(e["route"], 0.0), e["ulp"])
@@ -310,6 +373,20 @@ def plot(result: dict, path: Path) -> Path:
 
 
 def write_report(result: dict, out_dir) -> list[Path]:
+    """Write ``bench.md``, the CSV tables and ``work_precision.png`` into ``out_dir``.
+
+    Parameters
+    ----------
+    result : dict
+        The result of ``run_bench``.
+    out_dir : str or pathlib.Path
+        Folder to write into (created if needed).
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written.
+    """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     md = out / "bench.md"

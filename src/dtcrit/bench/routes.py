@@ -51,6 +51,26 @@ FULL, EIG_SAMPLE, MP_SAMPLE = "full", "eig-sample", "mp-sample"
 
 @dataclass(frozen=True)
 class Route:
+    """One way of computing the critical step that the bench times and checks.
+
+    Parameters
+    ----------
+    name : str
+        Name of the route.
+    family : str
+        ``"dtcrit"``, ``"paper"``, ``"direct"`` or ``"mpmath"``.
+    summary : str
+        What the route does, in words.
+    evaluate : callable
+        ``evaluate(integrator, k, c, A)`` returns the steps [s].
+    tier : str
+        Which sample size the route is timed on.
+    integrators : tuple of str
+        The schemes it applies to.
+    held_to_4_ulp : bool
+        dtcrit's own closed-form routes: within 4 ulp or refuse.
+    """
+
     name: str
     family: str  # dtcrit | paper | direct | mpmath
     summary: str
@@ -60,6 +80,18 @@ class Route:
     held_to_4_ulp: bool = False  # dtcrit's own closed-form routes: within 4 ulp or refuse
 
     def applies_to(self, integrator: str) -> bool:
+        """Whether the route computes the step of ``integrator``.
+
+        Parameters
+        ----------
+        integrator : str
+            Name of the scheme.
+
+        Returns
+        -------
+        bool
+            True when it is one of ``integrators``.
+        """
         return integrator in self.integrators
 
 
@@ -70,17 +102,69 @@ def _arrays(k, c, A):
 # --- closed forms ------------------------------------------------------------------------------
 
 def closed_form_numpy(integrator, k, c, A):
-    """Generated closed form, vectorised: ``dtcrit.integrators.stability.critical_dt_array``."""
+    """Generated closed form, vectorised: ``dtcrit.integrators.stability.critical_dt_array``.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    k : array_like
+        Stiffness [N/m].
+    c : array_like
+        Viscous coefficient [N s/m].
+    A : array_like
+        Inverse inertia of the mode [1/kg].
+
+    Returns
+    -------
+    numpy.ndarray
+        The critical steps [s].
+    """
     return np.asarray(critical_dt_array(integrator, *_arrays(k, c, A)), dtype=float)
 
 
 def closed_form_scalar(integrator, k, c, A):
-    """``dtcrit.critical_dt`` one scene at a time (raises InputError on what it refuses)."""
+    """``dtcrit.critical_dt`` one scene at a time (raises InputError on what it refuses).
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    k : array_like
+        Stiffness [N/m].
+    c : array_like
+        Viscous coefficient [N s/m].
+    A : array_like
+        Inverse inertia of the mode [1/kg].
+
+    Returns
+    -------
+    numpy.ndarray
+        The critical steps [s].
+    """
     k, c, A = _arrays(k, c, A)
     return np.array([critical_dt(integrator, *x).dt for x in zip(k.tolist(), c.tolist(), A.tolist())])
 
 
 def closed_form_fused(integrator, k, c, A):
+    """The fused closed form (``dtcrit.bench.fused.critical_dt_fused``) over arrays.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    k : array_like
+        Stiffness [N/m].
+    c : array_like
+        Viscous coefficient [N s/m].
+    A : array_like
+        Inverse inertia of the mode [1/kg].
+
+    Returns
+    -------
+    numpy.ndarray
+        The critical steps [s].
+    """
     from dtcrit.bench.fused import critical_dt_fused
 
     return critical_dt_fused(integrator, *_arrays(k, c, A))
@@ -89,6 +173,22 @@ def closed_form_fused(integrator, k, c, A):
 def closed_form_c(integrator, k, c, A):
     """The emitted careful C step over arrays; a step outside float64 (inf, or 0 for a stable
     contact) is refused as by the other dtcrit routes.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    k : array_like
+        Stiffness [N/m].
+    c : array_like
+        Viscous coefficient [N s/m].
+    A : array_like
+        Inverse inertia of the mode [1/kg].
+
+    Returns
+    -------
+    numpy.ndarray
+        The critical steps [s].
     """
     from dtcrit.bench.c_kernel import critical_dt_c
     from dtcrit.integrators.stability import refuse_unrepresentable
@@ -100,7 +200,7 @@ def closed_form_c(integrator, k, c, A):
 # --- direct float64 routes: eigenvalues + bisection ---------------------------------------------
 
 def _scaled_search(integrator, k, c, A, radius, tol):
-    """dt from the bisection on ``radius(integrator, tau, zeta)``, in scaled units.
+    """The step dt from the bisection on ``radius(integrator, tau, zeta)``, in scaled units.
 
     Elements whose damping ratio is not a finite float64 number are returned as NaN.
     """
@@ -128,7 +228,24 @@ def _radius_eigvals(integrator, tau, zeta):
 
 
 def eigvals_bisection(integrator, k, c, A):
-    """Batched ``numpy.linalg.eigvals`` of the update-rule matrix + bisection on rho <= 1 + 4 eps."""
+    """Batched ``numpy.linalg.eigvals`` of the update-rule matrix + bisection on rho <= 1 + 4 eps.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    k : array_like
+        Stiffness [N/m].
+    c : array_like
+        Viscous coefficient [N s/m].
+    A : array_like
+        Inverse inertia of the mode [1/kg].
+
+    Returns
+    -------
+    numpy.ndarray
+        The critical steps [s].
+    """
     return _scaled_search(integrator, k, c, A, _radius_eigvals, RHO_TOL_FLOAT)
 
 
@@ -139,7 +256,24 @@ def _radius_closed_eigenvalues(integrator, tau, zeta):
 
 
 def closed_eigenvalues_bisection(integrator, k, c, A):
-    """Generated closed-form eigenvalues (``dtcrit._generated.eigenvalues``) + bisection."""
+    """Generated closed-form eigenvalues (``dtcrit._generated.eigenvalues``) + bisection.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    k : array_like
+        Stiffness [N/m].
+    c : array_like
+        Viscous coefficient [N s/m].
+    A : array_like
+        Inverse inertia of the mode [1/kg].
+
+    Returns
+    -------
+    numpy.ndarray
+        The critical steps [s].
+    """
     return _scaled_search(integrator, k, c, A, _radius_closed_eigenvalues, RHO_TOL_FLOAT)
 
 
@@ -151,7 +285,24 @@ def _radius_cardano(integrator, tau, zeta):
 
 
 def paper_cardano_bisection(integrator, k, c, A):
-    """The paper's route: Eqs. (42)-(43) in complex float64, then the boundary search."""
+    """The paper's route: Eqs. (42)-(43) in complex float64, then the boundary search.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    k : array_like
+        Stiffness [N/m].
+    c : array_like
+        Viscous coefficient [N s/m].
+    A : array_like
+        Inverse inertia of the mode [1/kg].
+
+    Returns
+    -------
+    numpy.ndarray
+        The critical steps [s].
+    """
     if integrator != "paper-eq40":
         raise ValueError("the paper's Cardano eigenvalues (Eqs. 42-43) belong to the paper-eq40 scheme only")
     return _scaled_search(integrator, k, c, A, _radius_cardano, RHO_TOL_FLOAT)
@@ -167,6 +318,24 @@ def mp_eig_dt(integrator: str, k: float, c: float, A: float, dps: int) -> float:
     first, so tau* below float64's range is found as well, then halves the bracket 64 times;
     dt = tau/omega is rounded once to float64.  tol = 4 * 10**-dps.  NaN when tau = 4 tests
     stable (no bracket).
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    k : float
+        Stiffness [N/m].
+    c : float
+        Viscous coefficient [N s/m].
+    A : float
+        Inverse inertia of the mode [1/kg].
+    dps : int
+        Decimal digits.
+
+    Returns
+    -------
+    float
+        The critical step [s].
     """
     with mp.workdps(dps):
         kk, cc, AA = mp.mpf(k), mp.mpf(c), mp.mpf(A)
@@ -214,7 +383,22 @@ ROUTES_BY_NAME = {r.name: r for r in ROUTES}
 
 
 def floor_kernel(k, A, out=None):
-    """The trivial memory-bound kernel over the same arrays, 2/sqrt(k A), in place (section 4)."""
+    """The trivial memory-bound kernel over the same arrays, 2/sqrt(k A), in place (section 4).
+
+    Parameters
+    ----------
+    k : numpy.ndarray
+        Stiffness [N/m].
+    A : numpy.ndarray
+        Inverse inertia [1/kg].
+    out : numpy.ndarray, optional
+        Output buffer (a new array when omitted).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``out``.
+    """
     out = np.multiply(k, A, out=out)
     np.sqrt(out, out=out)
     np.divide(2.0, out, out=out)

@@ -29,6 +29,7 @@ import platform
 import statistics
 import sys
 import time
+from typing import Any
 from dataclasses import asdict, dataclass
 
 import mpmath as mp
@@ -49,6 +50,36 @@ FLOAT_DIGITS = 15.95  # log10(2^53)
 
 @dataclass(frozen=True)
 class BenchConfig:
+    """Sizes and repeats of a bench run.
+
+    Parameters
+    ----------
+    quick : bool
+        The quick configuration.
+    n_batch : int
+        Scenes timed by the vectorised closed forms (and the floor kernel).
+    n_eig : int
+        Scenes timed by the per-scene and bisection routes.
+    n_ref : int
+        Reference sample: errors of every route but mpmath's.
+    n_mp : int
+        Scenes per integrator for the mpmath routes.
+    mp_suite_cases : tuple of str or None
+        Suite cases for the mpmath routes (None: all).
+    mp_integrators : tuple of str or None
+        Integrators for the mpmath routes (None: all).
+    sim_budget : int
+        Most steps of one simulation run.
+    repeats : int
+        Timing repeats (best is kept).
+    startup_repeats : int
+        Fresh-interpreter runs of ``dtcrit step`` per example scene.
+    integrators : tuple of str
+        Schemes benched.
+    seed : int
+        Seed of the random scenes.
+    """
+
     quick: bool
     n_batch: int  # scenes timed by the vectorised closed forms (and the floor kernel)
     n_eig: int  # scenes timed by the per-scene and bisection routes
@@ -78,7 +109,22 @@ FULL_RUN = BenchConfig(
 # --- outcome of one value against its reference -------------------------------------------------
 
 def classify(got: float | None, reference, error: BaseException | None = None) -> dict:
-    """{'outcome', 'ulp', 'digits_lost', 'note'} for one route value (see the module docstring)."""
+    """{'outcome', 'ulp', 'digits_lost', 'note'} for one route value (see the module docstring).
+
+    Parameters
+    ----------
+    got : float or None
+        The route's value (None when it raised).
+    reference : mpmath.mpf
+        The exact step.
+    error : BaseException, optional
+        What the route raised.
+
+    Returns
+    -------
+    dict
+        The outcome and its error measures.
+    """
     if isinstance(error, InputError):
         return {"outcome": "refused", "ulp": None, "digits_lost": None, "note": str(error)}
     if error is not None:
@@ -115,7 +161,7 @@ def _is_failure(c: dict) -> bool:
 
 # --- timing ----------------------------------------------------------------------------------
 
-def _time(fn, repeats: int) -> tuple[float, object]:
+def _time(fn, repeats: int) -> tuple[float, Any]:
     best, out = math.inf, None
     for _ in range(max(1, repeats)):
         t0 = time.perf_counter()
@@ -134,6 +180,13 @@ def _stats(values: list[float]) -> tuple[float | None, float | None]:
 # --- machine ---------------------------------------------------------------------------------
 
 def machine_info() -> dict:
+    """The machine and library versions the bench ran on (for the report).
+
+    Returns
+    -------
+    dict
+        Platform, CPU, Python and library versions.
+    """
     import numpy
     import scipy
     import sympy
@@ -203,8 +256,9 @@ def _batch_part(config: BenchConfig, batch, refs, routes) -> tuple[list[dict], d
         row = rows.setdefault(route.name, {"name": route.name, "family": route.family, "summary": route.summary,
                                            "tier": route.tier, "held_to_4_ulp": route.held_to_4_ulp,
                                            "by_integrator": {}})
-        entry = {"n_timed": size, "seconds": t, "seconds_per_scene": t / size, "n_accuracy": n_acc}
-        ulps, rels, extreme, failures, notes = [], [], [], 0, []
+        entry: dict[str, Any] = {"n_timed": size, "seconds": t, "seconds_per_scene": t / size, "n_accuracy": n_acc}
+        ulps, rels, extreme, failures = [], [], [], 0
+        notes: list[str] = []
         for i in range(n_acc):
             r = refs[name][i]
             c = classify(None if values is None else float(values[i]), r, error)
@@ -281,7 +335,7 @@ def _suite_part(config: BenchConfig, routes) -> tuple[list[dict], list[dict], di
         if not chosen:
             continue
         values, error = _evaluate(route, name, k[chosen], c_[chosen], A[chosen])
-        results = {}
+        results: dict[int, tuple[float | None, Any]] = {}
         if error is None:
             results = {i: (float(v), None) for i, v in zip(chosen, values)}
         else:
@@ -330,7 +384,20 @@ def _suite_part(config: BenchConfig, routes) -> tuple[list[dict], list[dict], di
 
 
 def run_bench(config: BenchConfig = QUICK, route_names: tuple[str, ...] | None = None) -> dict:
-    """Run the whole bench (see the module docstring); ``route_names`` restricts the routes."""
+    """Run the whole bench (see the module docstring); ``route_names`` restricts the routes.
+
+    Parameters
+    ----------
+    config : BenchConfig
+        Sizes and repeats.
+    route_names : tuple of str, optional
+        Routes to run (all when omitted).
+
+    Returns
+    -------
+    dict
+        The routes, suite, ratios, simulation check and machine information.
+    """
     routes = [r for r in ROUTES if route_names is None or r.name in route_names]
     started = time.perf_counter()
     stages = {}

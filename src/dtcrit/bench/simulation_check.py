@@ -38,6 +38,32 @@ MIN_STEPS = 256
 
 @dataclass(frozen=True)
 class SimulationRow:
+    """One (case, integrator) row of the simulation check: the exact tau* against simulated growth.
+
+    Parameters
+    ----------
+    case : str
+        Suite case.
+    integrator : str
+        Name of the scheme.
+    tau_crit : float
+        The critical tau*.
+    zeta : float
+        Damping ratio.
+    rho_above_minus_1 : float
+        Spectral radius - 1 at 1.01 tau* (or at ``TAU_PROBE`` when tau* = 0).
+    n_steps : int
+        Steps simulated (or needed, when unobservable).
+    growth_below : float
+        Late/early amplitude at 0.99 tau* (NaN when not run).
+    growth_above : float
+        Late/early amplitude at 1.01 tau* (or at ``TAU_PROBE``).
+    outcome : str
+        Whether the simulation agrees with tau*.
+    note : str
+        Explanation of the outcome.
+    """
+
     case: str
     integrator: str
     tau_crit: float
@@ -73,17 +99,18 @@ def _growth(name: str, tau_below: np.ndarray, tau_above: np.ndarray, zeta: np.nd
     z = np.tile(zeta, 4)
     x0 = np.tile(np.concatenate([np.ones(m), np.zeros(m)]), 2)
     v0 = np.tile(np.concatenate([np.zeros(m), v0]), 2)
-    g = run(name, tau, z, n, x0=x0, v0=v0).growth.reshape(4, m)
+    g = run(name, tau, z, n, x0=x0, v0=v0).growth.reshape(4, m)  # type: ignore[arg-type]  # run broadcasts array starts
     return np.maximum(g[0], g[1]), np.maximum(g[2], g[3])
 
 
 def _rho_minus_one(name: str, tau: float, zeta) -> float:
-    """rho - 1 at 30 digits (at 80 when it is within 1e-25 of 0), rho the spectral radius."""
+    """The excess rho - 1 at 30 digits (at 80 when it is within 1e-25 of 0), rho the spectral radius."""
     for dps in (30, 80):
         with mp.workdps(dps):
             d = spectral_radius_mp(name, mp.mpf(tau), mp.mpf(zeta)) - 1
             if abs(d) > mp.mpf(10) ** -25 or dps == 80:
                 return float(d)
+    raise AssertionError("the 80-digit pass always returns")
 
 
 def _growth_mp(name: str, tau, zeta, n: int, x0, v0):
@@ -133,6 +160,24 @@ def check(cases, integrators, tau_ref: dict, zeta_ref: dict, budget: int) -> lis
 
     Unobservable rows are still stepped for ``budget`` steps: the run at 0.99 tau* must stay
     bounded (else the row ``disagrees``), and both growth factors are recorded.
+
+    Parameters
+    ----------
+    cases : sequence
+        Suite cases.
+    integrators : sequence of str
+        Schemes.
+    tau_ref : dict
+        tau* per ``(case, integrator)``.
+    zeta_ref : dict
+        Exact damping ratio per case.
+    budget : int
+        Most steps per run.
+
+    Returns
+    -------
+    list of SimulationRow
+        One row per (case, integrator).
     """
     plan = []  # (case, name, tau*, zeta float, rho - 1, steps needed, steps run)
     rows: list[SimulationRow] = []

@@ -23,7 +23,22 @@ from dtcrit.packing.distributed import slepc_backend as sb
 
 
 def measure(n: int, kind: str = "fcc", solve: bool = True) -> dict:
-    """One size on ``COMM_WORLD`` (collective): the figures of the module docstring."""
+    """One size on ``COMM_WORLD`` (collective): the figures of the module docstring.
+
+    Parameters
+    ----------
+    n : int
+        Number of particles.
+    kind : str
+        Packing kind (``"fcc"``).
+    solve : bool
+        Also solve for the largest mode.
+
+    Returns
+    -------
+    dict
+        The figures of the run.
+    """
     from dtcrit.packing.model import LinearLaw
 
     _, rank, size = mpi.world()
@@ -69,6 +84,18 @@ def measure(n: int, kind: str = "fcc", solve: bool = True) -> dict:
 
 
 def main(argv: list[str]) -> int:
+    """Command line under MPI: ``N [KIND] [nosolve]``; rank 0 prints the figures as JSON.
+
+    Parameters
+    ----------
+    argv : list of str
+        Arguments.
+
+    Returns
+    -------
+    int
+        Exit status, 0.
+    """
     n = int(float(argv[0]))
     doc = measure(n, argv[1] if len(argv) > 1 else "fcc", solve="nosolve" not in argv[2:])
     _, rank, _ = mpi.world()

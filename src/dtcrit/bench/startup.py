@@ -27,7 +27,18 @@ _PROBE = (
 
 
 def example_scenes(root: Path | None = None) -> list[Path]:
-    """The example scene files shipped in ``examples/`` (sorted), if the source tree is at hand."""
+    """The example scene files shipped in ``examples/`` (sorted), if the source tree is at hand.
+
+    Parameters
+    ----------
+    root : pathlib.Path, optional
+        Root of the source tree (found from this file when omitted).
+
+    Returns
+    -------
+    list of pathlib.Path
+        The scene files (empty when not at hand).
+    """
     root = Path(__file__).resolve().parents[3] if root is None else Path(root)
     return sorted((root / "examples").glob("*.toml"))
 
@@ -39,7 +50,18 @@ def _wall(cmd: list[str]) -> float:
 
 
 def heavy_modules_loaded(scene: Path) -> list[str]:
-    """Which of ``HEAVY_MODULES`` a ``dtcrit step`` run on ``scene`` imports."""
+    """Which of ``HEAVY_MODULES`` a ``dtcrit step`` run on ``scene`` imports.
+
+    Parameters
+    ----------
+    scene : pathlib.Path
+        A scene file.
+
+    Returns
+    -------
+    list of str
+        The heavy modules imported.
+    """
     code = _PROBE.format(heavy=HEAVY_MODULES)
     out = subprocess.run([sys.executable, "-c", code, str(scene)], capture_output=True, text=True, check=False)
     for line in out.stderr.splitlines():
@@ -49,7 +71,20 @@ def heavy_modules_loaded(scene: Path) -> list[str]:
 
 
 def measure(scenes: list[Path], repeats: int = 5) -> dict:
-    """Best and median wall seconds of ``dtcrit step`` per scene and of the ``import numpy`` floor."""
+    """Best and median wall seconds of ``dtcrit step`` per scene and of the ``import numpy`` floor.
+
+    Parameters
+    ----------
+    scenes : list of pathlib.Path
+        Scene files.
+    repeats : int
+        Fresh-interpreter runs per scene.
+
+    Returns
+    -------
+    dict
+        Best and median seconds per scene and of the floor.
+    """
     floor = [_wall([sys.executable, "-c", "import numpy"]) for _ in range(repeats)]
     rows = []
     for scene in scenes:
@@ -65,7 +100,18 @@ def measure(scenes: list[Path], repeats: int = 5) -> dict:
 
 
 def markdown(startup: dict) -> list[str]:
-    """The start-up section of the bench report."""
+    """The start-up section of the bench report.
+
+    Parameters
+    ----------
+    startup : dict
+        The result of ``measure``.
+
+    Returns
+    -------
+    list of str
+        Lines of the section.
+    """
     lines = [
         f"Fresh interpreter per run, best and median of {startup['repeats']}; the floor is "
         f"`python -c \"import numpy\"` (best {startup['numpy_import_best_seconds']:.3f} s in this run).",

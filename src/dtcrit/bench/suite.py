@@ -36,6 +36,26 @@ NEAR_CRITICAL_OR_EXTREME = "near-critical/extreme"
 
 @dataclass(frozen=True)
 class Case:
+    """One scene of the extreme suite.
+
+    Parameters
+    ----------
+    name : str
+        Name of the case.
+    group : str
+        What it stresses (stiffness, damping, ...).
+    description : str
+        The scene in words.
+    k : float
+        Stiffness [N/m].
+    c : float
+        Viscous coefficient [N s/m].
+    A : float
+        Inverse inertia of the mode [1/kg].
+    m : float, optional
+        Particle mass for two-identical-sphere cases (A = 7/m) [kg].
+    """
+
     name: str
     group: str
     description: str
@@ -101,6 +121,13 @@ def _steel(name, group, description, **kw) -> Case:
 
 
 def build_suite() -> tuple[Case, ...]:
+    """The extreme suite: scenes spread over stiffness, mass and damping ratio to float64's limits.
+
+    Returns
+    -------
+    tuple of Case
+        The cases.
+    """
     cases: list[Case] = []
     add = cases.append
     # stiffness: k A over 36 decades
@@ -161,6 +188,16 @@ def category_of(zeta) -> np.ndarray:
     """True where a scene is near-critical or extreme (for the work-precision plot's split).
 
     Well-conditioned: 1e-3 <= zeta <= 1e2 with |zeta - 1| > 1e-3.
+
+    Parameters
+    ----------
+    zeta : array_like
+        Damping ratios.
+
+    Returns
+    -------
+    numpy.ndarray
+        Booleans.
     """
     z = np.asarray(zeta, dtype=float)
     with np.errstate(invalid="ignore"):
@@ -169,6 +206,22 @@ def category_of(zeta) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Batch:
+    """Random scenes as arrays.
+
+    Parameters
+    ----------
+    k : numpy.ndarray
+        Stiffness [N/m].
+    c : numpy.ndarray
+        Viscous coefficient [N s/m].
+    A : numpy.ndarray
+        Inverse inertia [1/kg].
+    zeta : numpy.ndarray
+        Damping ratio as intended when drawing.
+    extreme : numpy.ndarray
+        Near-critical or extreme scenes (``category_of``).
+    """
+
     k: np.ndarray
     c: np.ndarray
     A: np.ndarray
@@ -179,6 +232,18 @@ class Batch:
         return self.k.size
 
     def take(self, idx) -> "Batch":
+        """The scenes at ``idx``.
+
+        Parameters
+        ----------
+        idx : int, slice or array_like
+            NumPy index.
+
+        Returns
+        -------
+        Batch
+            The selected scenes.
+        """
         return Batch(self.k[idx], self.c[idx], self.A[idx], self.zeta[idx], self.extreme[idx])
 
 
@@ -186,6 +251,18 @@ def random_batch(n: int, seed: int = 20200501) -> Batch:
     """``n`` scenes: m log-uniform 1e-18 ... 1e6 kg (A = 7/m), k A log-uniform 1e-12 ... 1e24 s^-2;
     zeta log-uniform 1e-6 ... 1e6 (80 %), 0 (5 %), 1 + 10^U(-15, -2) or 1 - 10^U(-15, -2) (15 %).
     Deterministic for a given seed.
+
+    Parameters
+    ----------
+    n : int
+        Number of scenes.
+    seed : int
+        Seed of the generator.
+
+    Returns
+    -------
+    Batch
+        The scenes.
     """
     rng = np.random.default_rng(seed)
     m = 10.0 ** rng.uniform(-18, 6, n)

@@ -32,6 +32,7 @@ import itertools
 import numpy as np
 
 from dtcrit.bodies.arm_terms import SUPPORT_SLACK, ArmSupremum, arm_lambda
+from dtcrit.bodies.checks import _vec3
 
 START_SPLITS = 4
 """Each cube face starts as START_SPLITS x START_SPLITS squares."""
@@ -109,6 +110,22 @@ def octant_cone_supremum(shape, inertia, crude: float, rtol: float) -> ArmSuprem
     """Bounds on ``S`` for a superquadric-family ``shape`` (it provides ``support``,
     ``radial_surface_points``, ``outward_normals``, ``half_lengths`` and ``max_arm``; module
     docstring); ``crude = max_arm^2 max(1/I)`` caps the bound.
+
+    Parameters
+    ----------
+    shape : object
+        A sphere, ellipsoid or superquadric of ``dtcrit.bodies.smooth``.
+    inertia : array_like
+        Principal moments ``(I_xx, I_yy, I_zz)`` [kg m^2].
+    crude : float
+        The crude bound ``max_arm^2 max(1/I)`` [1/kg].
+    rtol : float
+        Relative gap at which the refinement stops.
+
+    Returns
+    -------
+    ArmSupremum
+        Lower and upper bounds on ``S`` [1/kg].
     """
     inertia = np.asarray(inertia, dtype=float)
     scale = float(shape.max_arm)
@@ -145,5 +162,6 @@ def octant_cone_supremum(shape, inertia, crude: float, rtol: float) -> ArmSuprem
     still_open = bounds[bounds > lower * (1.0 + rtol)]
     upper = max(settled, float(np.max(still_open)) if still_open.size else -np.inf, lower)
     upper = min(upper, crude)
-    return ArmSupremum(upper, min(lower, upper), tuple(float(x) for x in point), tuple(float(x) for x in normal),
+    assert point is not None and normal is not None  # the first cell always gives a lower bound
+    return ArmSupremum(upper, min(lower, upper), _vec3(point), _vec3(normal),
                         "octant cones", cells)

@@ -26,6 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 from dtcrit._generated import contact as _k
+from dtcrit.bodies.checks import _vec3
 from dtcrit.bodies.arm_terms import (
     SUP_MAX_HALFSPACES,
     SUP_MAX_ITERATIONS,
@@ -56,7 +57,18 @@ _CACHE_SIZE = 512
 
 
 def arm_term_supremum(shape) -> ArmSupremum:
-    """Bounds on ``sup over the body of lambda_max([p]x^T I^-1 [p]x)`` (cached per shape geometry)."""
+    """Bounds on ``sup over the body of lambda_max([p]x^T I^-1 [p]x)`` (cached per shape geometry).
+
+    Parameters
+    ----------
+    shape : object
+        A ``dtcrit.bodies`` shape.
+
+    Returns
+    -------
+    ArmSupremum
+        Lower and upper bounds on ``S`` [1/kg], with the method used.
+    """
     key = _shape_key(shape)
     hit = _CACHE.get(key)
     if hit is None:
@@ -105,6 +117,18 @@ def ellipsoid_supremum(semi_axes, inertia) -> ArmSupremum:
 
     Evaluated on ``d / max(d)`` and ``I / max(d) / max(d)`` (``S`` is invariant under that
     scaling), so neither ``d^2`` nor ``max(d)^2`` can overflow or underflow.
+
+    Parameters
+    ----------
+    semi_axes : array_like
+        Semi-axes ``(a, b, c)`` along the principal axes [m].
+    inertia : array_like
+        Principal moments [kg m^2].
+
+    Returns
+    -------
+    ArmSupremum
+        ``S`` (equal lower and upper bounds) and the tip where it is attained.
     """
     d = np.array([float(x) for x in semi_axes])
     inertia = np.asarray(inertia, dtype=float)
@@ -121,7 +145,7 @@ def ellipsoid_supremum(semi_axes, inertia) -> ArmSupremum:
 
 
 def _floats(v) -> tuple[float, float, float]:
-    return tuple(float(x) for x in v)
+    return _vec3(v)
 
 
 def _vertex_normal(shape, vertex: np.ndarray) -> tuple[float, float, float]:
@@ -163,13 +187,25 @@ def _farthest_support_point(shape) -> tuple[np.ndarray, np.ndarray]:
 def support_planes(shape, normals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Support points of unit ``normals`` and offsets ``h(n)`` inflated by ``SUPPORT_SLACK |p|``:
     every half-space ``n.x <= h`` contains the body despite rounding.
+
+    Parameters
+    ----------
+    shape : object
+        A convex shape with a ``support`` function.
+    normals : numpy.ndarray
+        Unit directions, shape (N, 3).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        The support points (N, 3) and the inflated offsets (N,).
     """
     pts = np.asarray(shape.support(normals), dtype=float)
     h = np.einsum("ij,ij->i", normals, pts)
     return pts, h + SUPPORT_SLACK * np.linalg.norm(pts, axis=1)
 
 
-def _cut_directions(shape, outside: np.ndarray, start: np.ndarray) -> np.ndarray:
+def _cut_directions(shape, outside: np.ndarray, start: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Directions ``n`` with (ideally) ``n.v > h(n)`` for points ``v`` outside the body: gradient ascent
     of the violation ``n.v - h(n)`` (concave in ``n``; its supergradient is ``v - support(n)``) on
     the sphere from each row of ``start``, keeping only improving steps.
@@ -200,6 +236,20 @@ def cutting_plane_supremum(shape, inertia, crude: float | None = None) -> ArmSup
     (SciPy's ``HalfspaceIntersection``) bounds ``S`` from above; half-spaces are added where a
     vertex exceeds the best surface value until the two meet within ``SUP_RTOL`` (or the budget
     ``SUP_MAX_HALFSPACES`` / ``SUP_MAX_ITERATIONS`` is spent; the bound stays valid).
+
+    Parameters
+    ----------
+    shape : object
+        A convex shape with a ``support`` function.
+    inertia : array_like
+        Principal moments [kg m^2].
+    crude : float, optional
+        A known upper bound [1/kg] that caps the result; ``max_arm^2 max(1/I)`` when omitted.
+
+    Returns
+    -------
+    ArmSupremum
+        Lower and upper bounds on ``S`` [1/kg].
     """
     from scipy.spatial import HalfspaceIntersection, QhullError  # lazy: heavy import, general route only
 

@@ -22,7 +22,20 @@ SUPPORT_SLACK = 1e-12
 # The per-particle term and its largest eigenvalue (vectorised over a leading axis)
 # ============================================================================================
 def arm_terms_local(points: np.ndarray, inertia) -> np.ndarray:
-    """``[p]x^T I^-1 [p]x`` (generated kernel ``arm_term``) for each row of ``points`` (local frame)."""
+    """``[p]x^T I^-1 [p]x`` (generated kernel ``arm_term``) for each row of ``points`` (local frame).
+
+    Parameters
+    ----------
+    points : numpy.ndarray
+        Contact points in the principal frame, shape (N, 3) [m].
+    inertia : array_like
+        Principal moments ``(I_xx, I_yy, I_zz)`` [kg m^2].
+
+    Returns
+    -------
+    numpy.ndarray
+        The symmetric terms, shape (N, 3, 3) [1/kg].
+    """
     p = np.atleast_2d(np.asarray(points, dtype=float))
     ixx, iyy, izz = (float(i) for i in inertia)
     txx, tyy, tzz, txy, txz, tyz = (np.broadcast_to(np.asarray(t, float), p.shape[:1])
@@ -32,17 +45,52 @@ def arm_terms_local(points: np.ndarray, inertia) -> np.ndarray:
 
 
 def largest_eigenvalue(sym: np.ndarray) -> np.ndarray:
-    """Largest eigenvalue of each symmetric 3x3 matrix in ``sym`` (..., 3, 3)."""
+    """Largest eigenvalue of each symmetric 3x3 matrix in ``sym`` (..., 3, 3).
+
+    Parameters
+    ----------
+    sym : numpy.ndarray
+        Symmetric matrices, shape (..., 3, 3).
+
+    Returns
+    -------
+    numpy.ndarray
+        The largest eigenvalues, shape (...).
+    """
     return np.linalg.eigvalsh(sym)[..., -1]
 
 
 def arm_lambda(points: np.ndarray, inertia) -> np.ndarray:
-    """``lambda_max([p]x^T I^-1 [p]x)`` for each row of ``points``."""
+    """``lambda_max([p]x^T I^-1 [p]x)`` for each row of ``points``.
+
+    Parameters
+    ----------
+    points : numpy.ndarray
+        Contact points in the principal frame, shape (N, 3) [m].
+    inertia : array_like
+        Principal moments [kg m^2].
+
+    Returns
+    -------
+    numpy.ndarray
+        The largest eigenvalues, shape (N,) [1/kg].
+    """
     return largest_eigenvalue(arm_terms_local(points, inertia))
 
 
 def fibonacci_sphere(n: int) -> np.ndarray:
-    """``n`` nearly uniform unit vectors (deterministic)."""
+    """``n`` nearly uniform unit vectors (deterministic Fibonacci lattice).
+
+    Parameters
+    ----------
+    n : int
+        Number of vectors.
+
+    Returns
+    -------
+    numpy.ndarray
+        Unit vectors, shape (n, 3).
+    """
     i = np.arange(n) + 0.5
     polar = np.arccos(1.0 - 2.0 * i / n)
     azim = math.pi * (1.0 + math.sqrt(5.0)) * i
@@ -60,6 +108,21 @@ class ArmSupremum:
     unit normal there (in the normal cone at a vertex: ``support(normal) == point``), and
     ``method`` says how the bounds were obtained (see the module docstring); ``work`` counts the
     half-spaces (cutting planes) or cells (octant cones) used, 0 for the exact routes.
+
+    Parameters
+    ----------
+    upper : float
+        Upper bound on ``S`` [1/kg].
+    lower : float
+        Lower bound, attained at ``point`` [1/kg].
+    point : tuple of float
+        Surface point (local frame) where ``lower`` is attained [m].
+    normal : tuple of float
+        Outward unit normal at ``point``.
+    method : str
+        How the bounds were obtained.
+    work : int
+        Half-spaces or cells used (0 for the exact routes).
     """
 
     upper: float
@@ -71,4 +134,5 @@ class ArmSupremum:
 
     @property
     def relative_gap(self) -> float:
+        """``upper/lower - 1``: how far apart the bounds are."""
         return self.upper / self.lower - 1.0

@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from dtcrit.bodies.checks import AssumptionWarning, _assumption_issues, _count, _fmt, _mass_and_density
+from dtcrit.bodies.checks import AssumptionWarning, _assumption_issues, _count, _fmt, _mass_and_density, _vec3
 from dtcrit.errors import InputError
 
 
@@ -29,17 +29,17 @@ class _Shape:
 
     def _finish(self, volume, density, mass, inertia_per_mass, half_lengths, max_arm, size_key) -> None:
         m, rho = _mass_and_density(float(volume), density, mass, size_key)
-        inertia = tuple(float(m * i) for i in inertia_per_mass)
+        inertia = _vec3(m * i for i in inertia_per_mass)
         if not all(math.isfinite(i) and i > 0.0 for i in inertia):
             raise InputError(size_key, f"principal moments {inertia} are outside double precision")
         self._volume = float(volume)
         self._mass = m
         self._density = rho
         self._inertia = inertia
-        self._half_lengths = tuple(float(h) for h in half_lengths)
+        self._half_lengths = _vec3(half_lengths)
         self._max_arm = float(max_arm)
         self._issues = _assumption_issues(self._label(), self._half_lengths, inertia)
-        self._samples = {}  # n -> (points, normals), filled by surface_points
+        self._samples: dict[int, tuple[np.ndarray, np.ndarray]] = {}  # n -> (points, normals), by surface_points
         self._frozen = True
         if self._issues:
             warnings.warn(

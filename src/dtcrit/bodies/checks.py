@@ -110,12 +110,18 @@ def _direction(direction: Any) -> np.ndarray:
     return d
 
 
+def _vec3(v: Any) -> tuple[float, float, float]:
+    """The three components of ``v`` as floats."""
+    x, y, z = (float(t) for t in v)
+    return x, y, z
+
+
 def _count(n: Any) -> int:
     if isinstance(n, (bool, np.bool_)) or not isinstance(n, numbers.Integral):
         raise InputError("n", f"must be an integer (got {n!r})")
-    if n < 1:
+    if int(n) < 1:
         raise InputError("n", f"must be at least 1 (got {n})")
-    if n > 1_000_000:
+    if int(n) > 1_000_000:
         raise InputError("n", f"must be at most 1000000 (got {n})")
     return int(n)
 

@@ -22,7 +22,7 @@ import numpy as np
 
 from dtcrit.bodies.arm_terms import ArmSupremum, arm_lambda, fibonacci_sphere
 from dtcrit.bodies.base import _Shape
-from dtcrit.bodies.checks import _count
+from dtcrit.bodies.checks import _count, _vec3
 from dtcrit.bodies.clump_mass import union_mass_properties
 from dtcrit.errors import InputError
 
@@ -63,7 +63,17 @@ def _connected(centres: np.ndarray, radii: np.ndarray) -> bool:
 
 
 class Clump(_Shape):
-    """A rigid union of spheres ``[[x, y, z, r], ...]`` with uniform ``density`` (or total ``mass``)."""
+    """A rigid union of spheres ``[[x, y, z, r], ...]`` with uniform ``density`` (or total ``mass``).
+
+    Parameters
+    ----------
+    spheres : array_like
+        Rows ``(x, y, z, r)`` of the member spheres [m]; the union must be connected.
+    density : float, optional
+        Density [kg/m^3] (give exactly one of ``density`` and ``mass``).
+    mass : float, optional
+        Total mass [kg]; overlaps are counted once.
+    """
 
     kind = "clump"
     __slots__ = ("_spheres", "_given_centre", "_rotation", "_mass_method", "_quadrature_error")
@@ -80,7 +90,7 @@ class Clump(_Shape):
         local = (centres - props.centre) @ axes
         self._spheres = np.column_stack([local, radii])
         self._spheres.setflags(write=False)
-        self._given_centre = tuple(float(x) for x in props.centre)
+        self._given_centre = _vec3(props.centre)
         self._rotation = axes
         self._mass_method = props.method
         self._quadrature_error = props.quadrature_error
@@ -114,10 +124,12 @@ class Clump(_Shape):
 
     @property
     def mass_method(self) -> str:
+        """How the union's mass properties were computed: ``"closed form"`` or ``"quadrature"``."""
         return self._mass_method
 
     @property
     def quadrature_error(self) -> float:
+        """Relative change of the quadrature from half resolution (0 for the closed form)."""
         return self._quadrature_error
 
     def _sample(self, n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -135,7 +147,18 @@ class Clump(_Shape):
         return np.concatenate(pts), np.concatenate(nrm)
 
     def support(self, direction) -> np.ndarray:
-        """The member surface point farthest along ``direction``: ``c_k + r_k d`` with the largest ``c_k . d + r_k``."""
+        """The member surface point farthest along ``direction``: ``c_k + r_k d`` with the largest ``c_k . d + r_k``.
+
+        Parameters
+        ----------
+        direction : array_like
+            A direction (normalised here), local frame.
+
+        Returns
+        -------
+        numpy.ndarray
+            The support point [m].
+        """
         d = np.asarray(direction, dtype=float)
         single = d.ndim == 1
         d = np.atleast_2d(d)
@@ -146,17 +169,35 @@ class Clump(_Shape):
         return out[0] if single else out
 
     def arm_term_bound(self) -> ArmSupremum:
-        """``S <= r_max^2 / I_min`` (module docstring), with the value attained at sampled exposed points."""
+        """``S <= r_max^2 / I_min`` (module docstring), with the value attained at sampled exposed points.
+
+        Returns
+        -------
+        ArmSupremum
+            The crude upper bound and the best sampled lower bound [1/kg].
+        """
         upper = self.max_arm**2 / min(self.inertia)
         pts, nrm = self.surface_points(_count(BOUND_SAMPLES))
         lam = arm_lambda(pts, self.inertia)
         i = int(np.argmax(lam))
         lower = min(float(lam[i]), upper)
-        return ArmSupremum(upper, lower, tuple(float(x) for x in pts[i]), tuple(float(x) for x in nrm[i]),
+        return ArmSupremum(upper, lower, _vec3(pts[i]), _vec3(nrm[i]),
                            "clump: r_max^2 / I_min (valid for any rigid body)")
 
 
 def describe_clump(clump: Clump) -> str:
+    """One line for the text report: the number of spheres and how the mass was computed.
+
+    Parameters
+    ----------
+    clump : Clump
+        The clump.
+
+    Returns
+    -------
+    str
+        The description.
+    """
     return f"{len(clump.spheres)} spheres, mass by {clump.mass_method}" + (
         "" if clump.quadrature_error == 0 else f" (relative error about {clump.quadrature_error:.1g})")
 

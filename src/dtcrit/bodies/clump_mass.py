@@ -34,6 +34,22 @@ QUADRATURE_NODES = 96  # Gauss-Legendre nodes in cos(theta); twice as many in ph
 
 @dataclass(frozen=True)
 class MassProperties:
+    """Volume, centre and second moments of a union of balls.
+
+    Parameters
+    ----------
+    volume : float
+        Volume [m^3].
+    centre : numpy.ndarray
+        Centre of volume in the given frame [m].
+    second_moment : numpy.ndarray
+        ``int x x^T dV`` about the centre [m^5].
+    method : str
+        ``"closed form"`` or ``"quadrature"``.
+    quadrature_error : float
+        Relative change from half resolution (quadrature only).
+    """
+
     volume: float  # [m^3]
     centre: np.ndarray  # centre of volume in the given frame [m]
     second_moment: np.ndarray  # int x x^T dV about the centre [m^5]
@@ -41,6 +57,18 @@ class MassProperties:
     quadrature_error: float = 0.0  # relative change from half resolution (quadrature only)
 
     def inertia_tensor(self, density: float) -> np.ndarray:
+        """The inertia tensor ``rho (tr(S) 1 - S)`` about the centre.
+
+        Parameters
+        ----------
+        density : float
+            Density [kg/m^3].
+
+        Returns
+        -------
+        numpy.ndarray
+            The 3x3 tensor [kg m^2].
+        """
         s = self.second_moment
         return density * (np.trace(s) * np.eye(3) - s)
 
@@ -94,7 +122,20 @@ def _overlaps(centres: np.ndarray, radii: np.ndarray) -> np.ndarray:
 
 
 def needs_quadrature(centres, radii) -> bool:
-    """Three pairwise-overlapping balls (their triple intersection may be non-empty)."""
+    """Whether three balls overlap pairwise (their triple intersection may be non-empty).
+
+    Parameters
+    ----------
+    centres : array_like
+        Ball centres, shape (N, 3) [m].
+    radii : array_like
+        Ball radii, shape (N,) [m].
+
+    Returns
+    -------
+    bool
+        True when the closed form (pairwise lenses) may be wrong and the quadrature is needed.
+    """
     o = _overlaps(np.asarray(centres, float), np.asarray(radii, float))
     n = len(radii)
     return any(o[i, j] and o[i, k] and o[j, k] for i in range(n) for j in range(i + 1, n) for k in range(j + 1, n))
@@ -106,6 +147,20 @@ def _finish(v: float, first: np.ndarray, second: np.ndarray, method: str, err: f
 
 
 def closed_form(centres, radii) -> MassProperties:
+    """Mass properties by inclusion-exclusion over balls and pairwise lenses (no triple overlaps).
+
+    Parameters
+    ----------
+    centres : array_like
+        Ball centres, shape (N, 3) [m].
+    radii : array_like
+        Ball radii, shape (N,) [m].
+
+    Returns
+    -------
+    MassProperties
+        The exact volume, centre and second moments.
+    """
     centres, radii = np.asarray(centres, float), np.asarray(radii, float)
     v, first, second = 0.0, np.zeros(3), np.zeros((3, 3))
     for c, r in zip(centres, radii):
@@ -128,7 +183,7 @@ def _directions(n: int) -> tuple[np.ndarray, np.ndarray]:
     return u, weights
 
 
-def _ray_moments(centres, radii, n: int):
+def _ray_moments(centres, radii, n: int) -> tuple[float, np.ndarray, np.ndarray]:
     u, wts = _directions(n)
     v, first, second = 0.0, np.zeros(3), np.zeros((3, 3))
     for k, (c, r) in enumerate(zip(centres, radii)):
@@ -148,9 +203,10 @@ def _ray_moments(centres, radii, n: int):
                 right_lo = np.maximum(s0, t1[:, None])
                 new += [(s0, np.maximum(left_hi, s0)), (np.minimum(right_lo, s1), s1)]
             keep = new
-        m2 = sum((s1**3 - s0**3) / 3.0 for s0, s1 in keep)[:, 0]
-        m3 = sum((s1**4 - s0**4) / 4.0 for s0, s1 in keep)[:, 0]
-        m4 = sum((s1**5 - s0**5) / 5.0 for s0, s1 in keep)[:, 0]
+        zero = np.zeros_like(lo)  # 0 + x == x: the sums below add in the same order as from 0
+        m2 = sum(((s1**3 - s0**3) / 3.0 for s0, s1 in keep), zero)[:, 0]
+        m3 = sum(((s1**4 - s0**4) / 4.0 for s0, s1 in keep), zero)[:, 0]
+        m4 = sum(((s1**5 - s0**5) / 5.0 for s0, s1 in keep), zero)[:, 0]
         dv = float(wts @ m2)
         df = (wts * m3) @ u
         ds = np.einsum("n,ni,nj->ij", wts * m4, u, u)
@@ -161,6 +217,22 @@ def _ray_moments(centres, radii, n: int):
 
 
 def quadrature(centres, radii, n: int = QUADRATURE_NODES) -> MassProperties:
+    """Mass properties by quadrature over the union, with the change from half resolution as error.
+
+    Parameters
+    ----------
+    centres : array_like
+        Ball centres, shape (N, 3) [m].
+    radii : array_like
+        Ball radii, shape (N,) [m].
+    n : int
+        Quadrature resolution.
+
+    Returns
+    -------
+    MassProperties
+        The approximate volume, centre and second moments.
+    """
     centres, radii = np.asarray(centres, float), np.asarray(radii, float)
     coarse = _finish(*_ray_moments(centres, radii, n // 2), "")
     fine = _ray_moments(centres, radii, n)
@@ -172,7 +244,20 @@ def quadrature(centres, radii, n: int = QUADRATURE_NODES) -> MassProperties:
 
 
 def union_mass_properties(centres, radii) -> MassProperties:
-    """The union's volume, centre and second moments (module docstring); refuses an empty union."""
+    """The union's volume, centre and second moments (module docstring); refuses an empty union.
+
+    Parameters
+    ----------
+    centres : array_like
+        Ball centres, shape (N, 3) [m].
+    radii : array_like
+        Ball radii, shape (N,) [m].
+
+    Returns
+    -------
+    MassProperties
+        Closed form when no three balls overlap pairwise, else quadrature.
+    """
     centres, radii = np.asarray(centres, float), np.asarray(radii, float)
     if len(radii) == 0:
         raise InputError("spheres", "a clump needs at least one sphere")

@@ -107,6 +107,18 @@ def a_max(p1, p2=None) -> float:
     ``a`` is the largest half-length and ``Ixx`` the first principal moment of each particle;
     ``p2=None`` means two identical particles.  Not an upper bound on ``lambda_max(A)`` for boxes,
     polyhedra and box-like superquadrics (use :func:`a_bound`).
+
+    Parameters
+    ----------
+    p1 : object
+        The first shape.
+    p2 : object, optional
+        The second shape (None: identical to ``p1``).
+
+    Returns
+    -------
+    float
+        ``A_max`` [1/kg].
     """
     p1 = _shape("p1", p1)
     p2 = p1 if p2 is None else _shape("p2", p2)
@@ -121,6 +133,18 @@ def a_bound(p1, p2=None) -> float:
     best surface value for smooth bodies (outer support polytopes; the returned value is an upper
     bound in every case).  Holds because ``lambda_max`` is subadditive; equality for identical
     particles (``dtcrit.bodies.contact_search.mirror_contact``).  ``p2=None``: identical particles.
+
+    Parameters
+    ----------
+    p1 : object
+        The first shape.
+    p2 : object, optional
+        The second shape (None: identical to ``p1``).
+
+    Returns
+    -------
+    float
+        The bound [1/kg].
     """
     p1 = _shape("p1", p1)
     p2 = p1 if p2 is None else _shape("p2", p2)
@@ -137,6 +161,16 @@ corners has ``B ~ 3e-16``) are equal moments: ``b_max`` below this is 0, not a r
 def b_max(p) -> float:
     """Peng et al. 2020, Eq (54): ``max(|Ixx-Iyy|/Izz, |Ixx-Izz|/Iyy, |Iyy-Izz|/Ixx)`` (dimensionless),
     0 below ``B_ROUNDING``.
+
+    Parameters
+    ----------
+    p : object
+        The shape (its principal moments).
+
+    Returns
+    -------
+    float
+        ``B_max``.
     """
     p = _shape("p", p)
     b = float(_k.b_max(*p.inertia))
@@ -153,6 +187,16 @@ def b_bound(p) -> float:
     With ``x_i = w_i^2`` on the simplex, ``|wdot|^2 = c_x^2 x_y x_z + c_y^2 x_z x_x + c_z^2 x_x x_y`` is
     a quadratic form; its maximum is at an edge midpoint (``c_i^2/4``) or at the interior stationary
     point, both evaluated here in closed form.
+
+    Parameters
+    ----------
+    p : object
+        The shape (its principal moments).
+
+    Returns
+    -------
+    float
+        ``G`` (dimensionless).
     """
     p = _shape("p", p)
     c = np.array([float(x) for x in _k.gyroscopic_coefficients(*p.inertia)])
@@ -182,7 +226,8 @@ def coefficient_matrix(p1, p2, r1, r2, *rotations, body_to_world=None, R1=_OLD_R
 
     Parameters
     ----------
-    p1, p2 : dtcrit shapes
+    p1, p2 : object
+        The two ``dtcrit.bodies`` shapes.
     r1, r2 : array_like, shape (3,)
         Contact arms ``x_c - x_i`` in global components (Peng et al. 2020, Eqs 1-2).  They need not lie
         on the surfaces (pure kinematics).
@@ -190,8 +235,10 @@ def coefficient_matrix(p1, p2, r1, r2, *rotations, body_to_world=None, R1=_OLD_R
         The particles' orientations, body to world (``v_world = R_i v_body``): each a unit quaternion
         ``(qw, qx, qy, qz)`` whose Eq (7) matrix is that rotation, the rotation matrix itself, or
         ``None`` (axis aligned); ``None`` for the pair means both axis aligned.  The paper's Eq (5)
-        rotation, world to body, is ``R_i^T``.  The retired positional or ``R1=``/``R2=`` rotations
-        (read as world to body by an older dtcrit) raise ``TypeError`` saying so.
+        rotation, world to body, is ``R_i^T``.
+    *rotations, R1, R2
+        Retired positional or ``R1=``/``R2=`` rotations (read as world to body by an older dtcrit):
+        passing any raises ``TypeError`` saying so.
 
     Returns
     -------

@@ -36,7 +36,18 @@ from dtcrit.bodies.arm_terms import arm_terms_local, largest_eigenvalue
 # Small linear algebra (vectorised over a leading axis)
 # ============================================================================================
 def skew(v: np.ndarray) -> np.ndarray:
-    """``[v]x`` for each row of ``v`` (shape (..., 3) -> (..., 3, 3))."""
+    """``[v]x`` for each row of ``v`` (shape (..., 3) -> (..., 3, 3)).
+
+    Parameters
+    ----------
+    v : numpy.ndarray
+        Vectors, shape (..., 3).
+
+    Returns
+    -------
+    numpy.ndarray
+        Cross-product matrices, ``[v]x w = v x w``.
+    """
     v = np.asarray(v, dtype=float)
     z = np.zeros(v.shape[:-1])
     x, y, w = v[..., 0], v[..., 1], v[..., 2]
@@ -44,7 +55,18 @@ def skew(v: np.ndarray) -> np.ndarray:
 
 
 def rotation_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Proper rotations (body -> global style, ``Q a = b``) taking unit rows ``a`` to unit rows ``b``."""
+    """Proper rotations (body -> global style, ``Q a = b``) taking unit rows ``a`` to unit rows ``b``.
+
+    Parameters
+    ----------
+    a, b : numpy.ndarray
+        Unit vectors, shape (N, 3) or (3,).
+
+    Returns
+    -------
+    numpy.ndarray
+        Rotation matrices, shape (N, 3, 3).
+    """
     a, b = np.atleast_2d(a).astype(float), np.atleast_2d(b).astype(float)
     a = a / np.linalg.norm(a, axis=1, keepdims=True)
     b = b / np.linalg.norm(b, axis=1, keepdims=True)
@@ -62,7 +84,20 @@ def rotation_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def axis_angle(axis: np.ndarray, angle) -> np.ndarray:
-    """Rodrigues: rotation matrices (active, ``v -> Q v``) about unit ``axis`` rows by ``angle``."""
+    """Rodrigues: rotation matrices (active, ``v -> Q v``) about unit ``axis`` rows by ``angle``.
+
+    Parameters
+    ----------
+    axis : numpy.ndarray
+        Unit axes, shape (N, 3).
+    angle : array_like
+        Angles [rad], shape (N,).
+
+    Returns
+    -------
+    numpy.ndarray
+        Rotation matrices, shape (N, 3, 3).
+    """
     k = np.atleast_2d(axis).astype(float)
     k = k / np.linalg.norm(k, axis=1, keepdims=True)
     th = np.broadcast_to(np.asarray(angle, float), k.shape[:1])
@@ -74,6 +109,18 @@ def axis_angle(axis: np.ndarray, angle) -> np.ndarray:
 def random_rotations(rng: np.random.Generator, n: int) -> np.ndarray:
     """Uniformly distributed body-to-world rotations: normalised Gaussian quaternions, the transposes of their
     Eq 7 matrices, i.e. the body-to-world matrices of the conjugate quaternions (uniform on SO(3) either way).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        Source of randomness.
+    n : int
+        Number of rotations.
+
+    Returns
+    -------
+    numpy.ndarray
+        Rotation matrices, shape (n, 3, 3).
     """
     q = rng.normal(size=(n, 4))
     q /= np.linalg.norm(q, axis=1, keepdims=True)
@@ -82,6 +129,20 @@ def random_rotations(rng: np.random.Generator, n: int) -> np.ndarray:
 
 
 def unit_vectors(rng: np.random.Generator, n: int) -> np.ndarray:
+    """Uniformly distributed unit vectors (normalised Gaussian samples).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        Source of randomness.
+    n : int
+        Number of vectors.
+
+    Returns
+    -------
+    numpy.ndarray
+        Unit vectors, shape (n, 3).
+    """
     v = rng.normal(size=(n, 3))
     return v / np.linalg.norm(v, axis=1, keepdims=True)
 
@@ -97,6 +158,17 @@ class Contacts:
     ``Q1, Q2``: orientations (body -> global, so the paper's ``R_i = Q_i^T``, Eq 5);
     ``r1, r2``: contact arms ``x_c - x_i`` in global components (Eqs 1-2); ``normal``: global
     outward normal of particle 1 (particle 2's is its negative).
+
+    Parameters
+    ----------
+    p1, p2 : numpy.ndarray
+        Contact points in the local frames, (N, 3) [m].
+    Q1, Q2 : numpy.ndarray
+        Orientations, body to global, (N, 3, 3).
+    r1, r2 : numpy.ndarray
+        Contact arms in global components, (N, 3) [m].
+    normal : numpy.ndarray
+        Global outward normal of particle 1, (N, 3).
     """
 
     p1: np.ndarray
@@ -108,18 +180,57 @@ class Contacts:
     normal: np.ndarray
 
     def coefficient_matrices(self, shape1, shape2) -> np.ndarray:
-        """``A`` (global frame) for each contact."""
+        """``A`` (global frame) for each contact (Peng et al. 2020, Eqs 3-19).
+
+        Parameters
+        ----------
+        shape1, shape2 : object
+            The two shapes (mass and principal moments).
+
+        Returns
+        -------
+        numpy.ndarray
+            Coefficient matrices, (N, 3, 3) [1/kg].
+        """
         T1 = self.Q1 @ arm_terms_local(self.p1, shape1.inertia) @ self.Q1.transpose(0, 2, 1)
         T2 = self.Q2 @ arm_terms_local(self.p2, shape2.inertia) @ self.Q2.transpose(0, 2, 1)
         return (1.0 / shape1.mass + 1.0 / shape2.mass) * np.eye(3) + T1 + T2
 
     def largest_eigenvalues(self, shape1, shape2) -> np.ndarray:
+        """``lambda_max(A)`` for each contact.
+
+        Parameters
+        ----------
+        shape1, shape2 : object
+            The two shapes (mass and principal moments).
+
+        Returns
+        -------
+        numpy.ndarray
+            Largest eigenvalues, (N,) [1/kg].
+        """
         return largest_eigenvalue(self.coefficient_matrices(shape1, shape2))
 
 
 def contact_frames(p1, n1, p2, n2, spin, Q1=None) -> Contacts:
     """Place particle 2 against particle 1: its outward normal ``n2`` (local) is turned onto minus
     the global normal ``Q1 n1`` and then spun by ``spin`` [rad] about that normal.
+
+    Parameters
+    ----------
+    p1, n1 : array_like
+        Contact point and outward normal of particle 1, local frame.
+    p2, n2 : array_like
+        Contact point and outward normal of particle 2, local frame.
+    spin : array_like
+        Spin of particle 2 about the common normal [rad].
+    Q1 : array_like, optional
+        Orientation of particle 1, body to global (identity when omitted).
+
+    Returns
+    -------
+    Contacts
+        The batch of contacts.
     """
     p1, n1, p2, n2 = (np.atleast_2d(np.asarray(x, float)) for x in (p1, n1, p2, n2))
     N = max(x.shape[0] for x in (p1, n1, p2, n2))
@@ -145,6 +256,22 @@ def surface_samples(shape, rng: np.random.Generator, n: int, n_surface: int = 40
     """``n`` surface points and outward normals (local frame): half support points of random
     directions (every vertex with normals spread over its cone for polyhedra), half drawn from
     ``shape.surface_points`` (faces, edges and smooth regions with their normals).
+
+    Parameters
+    ----------
+    shape : object
+        The shape.
+    rng : numpy.random.Generator
+        Source of randomness.
+    n : int
+        Number of samples.
+    n_surface : int
+        Size of the ``surface_points`` pool drawn from.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        Points and outward normals, each (n, 3).
     """
     k = n // 2
     p_a, n_a = _support_samples(shape, rng, k)
@@ -156,6 +283,20 @@ def surface_samples(shape, rng: np.random.Generator, n: int, n_surface: int = 40
 def random_contacts(shape1, shape2, n: int, seed: int = 0) -> Contacts:
     """``n`` random admissible contacts: random surface points and normals on both particles, a
     random orientation of particle 1 and a random spin of particle 2 about the common normal.
+
+    Parameters
+    ----------
+    shape1, shape2 : object
+        The two shapes.
+    n : int
+        Number of contacts.
+    seed : int
+        Seed of the random generator.
+
+    Returns
+    -------
+    Contacts
+        The batch of contacts.
     """
     rng = np.random.default_rng(seed)
     p1, n1 = surface_samples(shape1, rng, n)
@@ -174,7 +315,17 @@ def _direction(angles: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True)
 class SearchResult:
-    """Largest ``lambda_max(A)`` found [1/kg] and the contact that gives it (one-element batch)."""
+    """Largest ``lambda_max(A)`` found [1/kg] and the contact that gives it (one-element batch).
+
+    Parameters
+    ----------
+    value : float
+        The largest value found [1/kg].
+    contact : Contacts
+        The contact that gives it.
+    evaluations : int
+        Number of contacts evaluated.
+    """
 
     value: float
     contact: Contacts
@@ -190,6 +341,24 @@ def search_supremum(shape1, shape2, n_random: int = 4000, n_starts: int = 8, ite
     (polar angles of particle 1's normal, of particle 2's normal, spin about the common normal),
     the contact points being the support points of the normals: by convexity of ``lambda_max`` in
     the contact points, at fixed normals the maximum over the touching faces is at their vertices.
+
+    Parameters
+    ----------
+    shape1, shape2 : object
+        The two shapes.
+    n_random : int
+        Number of random contacts to start from.
+    n_starts : int
+        Number of best contacts refined.
+    iterations : int
+        Generations of the evolution strategy.
+    seed : int
+        Seed of the random generator.
+
+    Returns
+    -------
+    SearchResult
+        The best contact found (a lower bound on the supremum).
     """
     rng = np.random.default_rng(seed)
     batch = random_contacts(shape1, shape2, n_random, seed)
@@ -239,6 +408,20 @@ def mirror_contact(shape, point, normal) -> Contacts:
     in the normal cone at ``point``), particle 2 turned by a half-turn about the axis normal to
     both the contact normal and the top eigenvector ``v`` of ``[p]x^T I^-1 [p]x``: then particle
     2's top eigenvector is ``-v`` and ``lambda_max(A) = 2/m + 2 lambda_max(T(p))``.
+
+    Parameters
+    ----------
+    shape : object
+        The shape of both particles.
+    point : array_like
+        Contact point, local frame [m].
+    normal : array_like
+        Outward normal at ``point``, local frame.
+
+    Returns
+    -------
+    Contacts
+        A one-element batch.
     """
     p = np.asarray(point, float)
     nrm = np.asarray(normal, float) / np.linalg.norm(normal)

@@ -19,6 +19,7 @@ are accepted wherever Qhull accepts them.
 from __future__ import annotations
 
 import math
+from typing import Any
 from dataclasses import dataclass
 
 import numpy as np
@@ -37,6 +38,18 @@ class HullError(ValueError):
 def connected_components(n: int, first, second) -> np.ndarray:
     """Component label of each of ``n`` nodes joined by the edges ``(first[k], second[k])``: the
     smallest node of its component (``scipy.sparse.csgraph.connected_components``).
+
+    Parameters
+    ----------
+    n : int
+        Number of nodes.
+    first, second : array_like
+        End nodes of the edges.
+
+    Returns
+    -------
+    numpy.ndarray
+        The label of each node.
     """
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components as components
@@ -51,7 +64,20 @@ def connected_components(n: int, first, second) -> np.ndarray:
 
 
 def nearest_neighbours(queries, points) -> tuple[np.ndarray, np.ndarray]:
-    """Distance to, and index of, the nearest of ``points`` for each row of ``queries`` (``cKDTree``)."""
+    """Distance to, and index of, the nearest of ``points`` for each row of ``queries`` (``cKDTree``).
+
+    Parameters
+    ----------
+    queries : array_like
+        Query points, (M, d).
+    points : array_like
+        Points searched, (N, d).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        Distances and indices, each (M,).
+    """
     from scipy.spatial import cKDTree
 
     p = np.atleast_2d(np.asarray(points, dtype=float))
@@ -107,7 +133,22 @@ def _ring(xy: np.ndarray, index: np.ndarray, tol: float) -> np.ndarray:
 def convex_hull_2d(points, rtol: float = HULL_RTOL) -> np.ndarray:
     """Indices of the corners of the convex hull of 2-D ``points``, counter-clockwise (Qhull).
 
-    Raises :class:`HullError` when the points are within ``rtol`` (relative) of a line or coincide.
+    Parameters
+    ----------
+    points : array_like
+        Points, (N, 2).
+    rtol : float
+        Tolerance relative to the points' extent.
+
+    Returns
+    -------
+    numpy.ndarray
+        Indices of the corners.
+
+    Raises
+    ------
+    HullError
+        When the points are within ``rtol`` (relative) of a line or coincide.
     """
     q, _, _ = _unit_scaled(points, 2, "convex_hull_2d")
     ring = _ring(q, np.arange(q.shape[0]), rtol)
@@ -130,6 +171,25 @@ class Hull3D:
     * ``vertices``: the corners, ascending;
     * ``volume``, ``area``;
     * ``tolerance``: the distance (input units) within which points were taken to be on a plane.
+
+    Parameters
+    ----------
+    faces : tuple of numpy.ndarray
+        Corner indices of each face, counter-clockwise from outside.
+    equations : numpy.ndarray
+        ``(F, 4)`` plane equations, outward normals.
+    simplices : numpy.ndarray
+        ``(T, 3)`` fan triangles.
+    simplex_face : numpy.ndarray
+        Face of each triangle.
+    vertices : numpy.ndarray
+        The corners, ascending.
+    volume : float
+        Enclosed volume.
+    area : float
+        Surface area.
+    tolerance : float
+        Distance within which points were taken to be on a plane.
     """
 
     faces: tuple
@@ -178,6 +238,18 @@ def convex_hull_3d(points, rtol: float = HULL_RTOL) -> Hull3D:
     the corner), points within ``rtol`` of a face plane belong to that face, and only the corners of
     each face polygon are hull vertices.  Raises :class:`HullError` for fewer than 4 points or points
     that Qhull finds coplanar, collinear or coincident.
+
+    Parameters
+    ----------
+    points : array_like
+        Points, (N, 3).
+    rtol : float
+        Tolerance in the scaled units.
+
+    Returns
+    -------
+    Hull3D
+        The hull.
     """
     q_all, centre, scale = _unit_scaled(points, 3, "convex_hull_3d")
     tol = float(rtol)
@@ -189,7 +261,9 @@ def convex_hull_3d(points, rtol: float = HULL_RTOL) -> Hull3D:
         raise HullError(f"a 3-D hull needs at least 4 distinct points (got {keep.size})")
     hull = _qhull(q_all[keep], "coplanar or degenerate")
     q = q_all[keep]
-    faces, normals, offsets = [], [], []
+    faces: list = []
+    normals: Any = []  # rows appended per face, then one array
+    offsets: list = []
     for group in _merged_faces(q, hull, tol):
         normal = hull.equations[group, :3].sum(axis=0)
         normal /= np.linalg.norm(normal)

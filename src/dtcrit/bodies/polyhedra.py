@@ -19,6 +19,7 @@ from dtcrit.errors import InputError
 
 class _PolyhedralShape(_Shape):
     __slots__ = ("_surface",)
+    _surface: _PolyhedralSurface
 
     @property
     def vertices(self) -> np.ndarray:
@@ -43,7 +44,17 @@ class _PolyhedralShape(_Shape):
 
 
 class Box(_PolyhedralShape):
-    """Uniform rectangular box with half-lengths a >= b >= c: I_xx = m (b^2 + c^2)/3, etc."""
+    """Uniform rectangular box with half-lengths a >= b >= c: I_xx = m (b^2 + c^2)/3, etc.
+
+    Parameters
+    ----------
+    a, b, c : float
+        Half-lengths [m], a >= b >= c.
+    density : float, optional
+        Density [kg/m^3] (give exactly one of ``density`` and ``mass``).
+    mass : float, optional
+        Mass [kg].
+    """
 
     kind = "box"
     __slots__ = ("_abc",)
@@ -60,14 +71,17 @@ class Box(_PolyhedralShape):
 
     @property
     def a(self) -> float:
+        """Largest half-length [m]."""
         return self._abc[0]
 
     @property
     def b(self) -> float:
+        """Middle half-length [m]."""
         return self._abc[1]
 
     @property
     def c(self) -> float:
+        """Smallest half-length [m]."""
         return self._abc[2]
 
     def _label(self) -> str:
@@ -99,6 +113,17 @@ class ConvexPolyhedron(_PolyhedralShape):
     4. If the half-lengths of the local bounding box then fail a >= b >= c (possible: the axis of
        least inertia need not be the longest), ``assumption_issues`` says so and an
        :class:`AssumptionWarning` is emitted; nothing is hidden.
+
+    Parameters
+    ----------
+    vertices : array_like
+        Points, (N, 3) [m].
+    density : float, optional
+        Density [kg/m^3] (give exactly one of ``density`` and ``mass``).
+    mass : float, optional
+        Mass [kg].
+    rtol : float
+        Relative tolerance of the convexity and symmetry checks.
     """
 
     kind = "polyhedron"

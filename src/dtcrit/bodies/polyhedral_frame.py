@@ -195,4 +195,5 @@ def _least_box_basis(points: np.ndarray, face_normals: np.ndarray) -> list[np.nd
         volume = area * float(np.ptp(points @ nrm))
         if volume < best_volume * (1 - 1e-9):
             best, best_volume = [u, v, nrm.copy()], volume
+    assert best is not None  # the first face normal always sets it
     return best

@@ -29,6 +29,7 @@ class _PolyhedralSurface:
         if faces is None:
             hull = convex_hull_3d(vertices)
             faces, normals = hull.faces, hull.equations[:, :3]
+        assert normals is not None  # given with the faces, or from the hull
         lens = np.array([len(poly) for poly in faces])
         owner0 = np.repeat(np.arange(len(faces)), lens)
         flat = np.concatenate(faces)
@@ -39,8 +40,8 @@ class _PolyhedralSurface:
         self.area = float(0.5 * np.sum(np.linalg.norm(newell, axis=1)))
         # merge neighbouring faces of one plane: connected components of the "same plane" graph
         across = {(a, b): f for a, b, f in zip(flat.tolist(), nxt.tolist(), owner0.tolist())}
-        pairs = [(f, across[(b, a)]) for (a, b), f in across.items() if (b, a) in across]
-        pairs = np.array(pairs, dtype=int).reshape(-1, 2)
+        pair_list = [(f, across[(b, a)]) for (a, b), f in across.items() if (b, a) in across]
+        pairs = np.array(pair_list, dtype=int).reshape(-1, 2)
         f, g = pairs[:, 0], pairs[:, 1]
         same = (np.max(np.abs(normals[f] - normals[g]), axis=1) < _PLANE_RTOL) & (np.abs(offsets[f] - offsets[g]) < _PLANE_RTOL * scale)
         comp = connected_components(len(faces), f[same], g[same])  # label: the first face of each

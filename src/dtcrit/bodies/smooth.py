@@ -77,7 +77,17 @@ class _SuperquadricFamily(_Shape):
 
 
 class Sphere(_SuperquadricFamily):
-    """Uniform solid sphere of radius ``radius``: I = 2/5 m R^2 about every centroidal axis."""
+    """Uniform solid sphere of radius ``radius``: I = 2/5 m R^2 about every centroidal axis.
+
+    Parameters
+    ----------
+    radius : float
+        Radius [m].
+    density : float, optional
+        Density [kg/m^3] (give exactly one of ``density`` and ``mass``).
+    mass : float, optional
+        Mass [kg].
+    """
 
     kind = "sphere"
     __slots__ = ("_radius",)
@@ -91,10 +101,12 @@ class Sphere(_SuperquadricFamily):
 
     @property
     def radius(self) -> float:
+        """Radius [m]."""
         return self._radius
 
     @property
     def equivalent_radius(self) -> float:
+        """Radius of the sphere of equal volume: the radius itself [m]."""
         return self._radius
 
     def _label(self) -> str:
@@ -106,6 +118,15 @@ class Ellipsoid(_SuperquadricFamily):
 
     I_xx = m (b^2 + c^2)/5, I_yy = m (a^2 + c^2)/5, I_zz = m (a^2 + b^2)/5; V = 4/3 pi a b c
     (Peng et al. 2020, Section 6.4).  ``max_arm = a``.
+
+    Parameters
+    ----------
+    a, b, c : float
+        Semi-axes [m], a >= b >= c.
+    density : float, optional
+        Density [kg/m^3] (give exactly one of ``density`` and ``mass``).
+    mass : float, optional
+        Mass [kg].
     """
 
     kind = "ellipsoid"
@@ -128,6 +149,17 @@ class Superquadric(_SuperquadricFamily):
     products (``dtcrit.symbolic.mass_properties``); ``max_arm`` from
     :func:`superquadric_max_arm`.  a >= b >= c does not guarantee I_zz >= I_yy when b is close to c
     and eps1 < eps2 (box-like profile, diamond cross-section): that case is flagged.
+
+    Parameters
+    ----------
+    a, b, c : float
+        Semi-axes [m], a >= b >= c.
+    eps1, eps2 : float
+        Shape exponents (north-south and east-west).
+    density : float, optional
+        Density [kg/m^3] (give exactly one of ``density`` and ``mass``).
+    mass : float, optional
+        Mass [kg].
     """
 
     kind = "superquadric"
@@ -150,10 +182,12 @@ class Superquadric(_SuperquadricFamily):
 
     @property
     def eps1(self) -> float:
+        """North-south shape exponent."""
         return self._e1
 
     @property
     def eps2(self) -> float:
+        """East-west shape exponent."""
         return self._e2
 
     def _label(self) -> str:

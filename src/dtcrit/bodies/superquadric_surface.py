@@ -113,6 +113,18 @@ def superquadric_max_arm(a: float, b: float, c: float, eps1: float, eps2: float)
     ``C^(2 e1)(eta) R2(w) + c^2 S^(2 e1)(eta)`` with ``R2 = a^2 C^(2 e2) + b^2 S^(2 e2)``; the maximum over w
     does not depend on eta, so the 2-D search is two nested 1-D maxima
     (:func:`_superellipse_max_radius`).
+
+    Parameters
+    ----------
+    a, b, c : float
+        Semi-axes [m].
+    eps1, eps2 : float
+        Shape exponents.
+
+    Returns
+    -------
+    float
+        The largest distance [m].
     """
     return _superellipse_max_radius(_superellipse_max_radius(a, b, eps2), c, eps1)
 
@@ -219,6 +231,7 @@ def _superquadric_surface_points(n: int, axes: np.ndarray, e1: float, e2: float)
             else:
                 hi = h
             h = math.sqrt(lo * hi) if 0 < lo and hi < math.inf else h * math.sqrt(chosen.size / target)
+        assert best is not None  # set on the first pass
         chosen, pts, h = best
         chosen = pts[chosen]
         near_tip = nearest_neighbours(chosen, tips)[0] < 0.5 * h

@@ -26,6 +26,7 @@ __all__ = [
     "metadata",
     "general_structure",
     "render",
+    "render_step",
     "structure_of_scene",
 ]
 
@@ -38,6 +39,22 @@ def metadata(scene, lang: str, name: str = DEFAULT_NAME, command: str | None = N
     """The ``dtcrit codegen --json`` document (schema ``dtcrit-codegen/1``): what the emitted code computes
     and from what -- language, integrator, function and arguments with units, the equations, the
     specialisations, the derivation hash of the kernel and of the careful step it calls -- and the source.
+
+    Parameters
+    ----------
+    scene : dtcrit.scenes.model.Scene
+        The parsed scene whose contact kernel is emitted.
+    lang : str
+        ``"c"``, ``"numpy"`` or ``"fortran"``.
+    name : str
+        Name of the emitted function (checked by ``dtcrit.codegen.names.check_name``).
+    command : str, optional
+        Command line quoted in the emitted header; a default one when omitted.
+
+    Returns
+    -------
+    dict
+        The JSON document, including the emitted ``source``.
     """
     import dtcrit.codegen.step as step
     from dtcrit.json_meta import envelope
@@ -71,7 +88,24 @@ def metadata(scene, lang: str, name: str = DEFAULT_NAME, command: str | None = N
 
 
 def emit_for_scene(scene, lang: str, name: str = DEFAULT_NAME, command: str | None = None) -> str:
-    """Source text of the kernel a scene needs, in ``lang`` (``c``, ``numpy`` or ``fortran``)."""
+    """Source text of the kernel a scene needs, in ``lang`` (``c``, ``numpy`` or ``fortran``).
+
+    Parameters
+    ----------
+    scene : dtcrit.scenes.model.Scene
+        The parsed scene.
+    lang : str
+        ``"c"``, ``"numpy"`` or ``"fortran"``.
+    name : str
+        Name of the emitted function.
+    command : str, optional
+        Command line quoted in the emitted header; a default one when omitted.
+
+    Returns
+    -------
+    str
+        The emitted source file, header included.
+    """
     kernel = build_kernel(structure_of_scene(scene))
     return render(kernel, lang, name, scene_label(scene), command)
 
@@ -79,6 +113,16 @@ def emit_for_scene(scene, lang: str, name: str = DEFAULT_NAME, command: str | No
 def scene_label(scene) -> str:
     """``FILE (TITLE)``: the scene's file name and title as given (the header's comment makes any text safe,
     ``dtcrit.codegen.comment_text``; the JSON keeps it verbatim).
+
+    Parameters
+    ----------
+    scene : dtcrit.scenes.model.Scene
+        The parsed scene (its ``source`` path and optional ``title``).
+
+    Returns
+    -------
+    str
+        The label, e.g. ``"spheres.toml (Two glass beads)"``.
     """
     from pathlib import Path
 

@@ -1,18 +1,18 @@
-"""Outside text (a scene's title, its file name, a command line) made safe for a comment of emitted code.
+r"""Outside text (a scene's title, its file name, a command line) made safe for a comment of emitted code.
 
 Every line of an emitted header passes through ``comment_lines`` (``dtcrit.codegen.render._comment``
 is the one place where text enters a comment), so no title or path can end the comment or the line
 and put code into the C, Fortran or NumPy output.  ``comment_safe`` returns printable ASCII in which
 
-* every character outside printable ASCII (line terminators ``\\n \\r \\x0b \\x0c \\x1c-\\x1e \\x85
-  \\u2028 \\u2029``, tabs, controls, any non-ASCII letter) and the backslash itself is written as
-  Python's escape ``\\xHH``, ``\\uHHHH`` or ``\\UHHHHHHHH``: a backslash only ever starts an escape,
-  so no line ends with one (C splices a line ending in ``\\`` onto the next, before comments are
+* every character outside printable ASCII (line terminators ``\n \r \x0b \x0c \x1c-\x1e \x85
+  \u2028 \u2029``, tabs, controls, any non-ASCII letter) and the backslash itself is written as
+  Python's escape ``\xHH``, ``\uHHHH`` or ``\UHHHHHHHH``: a backslash only ever starts an escape,
+  so no line ends with one (C splices a line ending in ``\`` onto the next, before comments are
   removed; so does ``gfortran -cpp``);
 * the C comment delimiters ``/*`` and ``*/`` never occur: the second character of such a pair is
-  escaped (``*\\x2f``), and so is the second ``?`` of ``??`` (a C99 trigraph, ``??/`` is a
+  escaped (``*\x2f``), and so is the second ``?`` of ``??`` (a C99 trigraph, ``??/`` is a
   backslash);
-* ``\"\"\"`` never occurs (the third quote is escaped), nor ``coding:`` or ``coding=`` in any case
+* three double quotes in a row never occur (the third is escaped), nor ``coding:`` or ``coding=`` in any case
   (on the first two lines of a Python file that declares the source encoding, e.g. UTF-7, under which
   printable ASCII decodes to a newline).
 
@@ -45,6 +45,16 @@ def comment_safe(text: str) -> str:
 
     Escapes as described in the module docstring; any other character is kept, so the result
     reads like ``text``.
+
+    Parameters
+    ----------
+    text : str
+        Any text (a title, a path, a command line); converted with ``str`` first.
+
+    Returns
+    -------
+    str
+        The escaped text, printable ASCII on one line.
     """
     out: list[str] = []
     tail = ""  # the last characters written (escapes included), to see a forbidden pair form
@@ -65,6 +75,18 @@ def comment_lines(text: str, width: int = WIDTH) -> list[str]:
     """``comment_safe(text)``, wrapped at spaces (or, in a longer word, between characters and whole
     escapes) into lines of at most ``width`` characters when it is longer; continuation lines are
     indented by two spaces.  The split never separates an escape's backslash from its digits.
+
+    Parameters
+    ----------
+    text : str
+        Any text; made safe with ``comment_safe`` first.
+    width : int
+        Largest number of characters of a line.
+
+    Returns
+    -------
+    list of str
+        The comment's lines, without the comment markers.
     """
     safe = comment_safe(text).rstrip(" ")
     if len(safe) <= width:
@@ -81,7 +103,9 @@ def comment_lines(text: str, width: int = WIDTH) -> list[str]:
                     break
                 cut, used = cut + len(atom), used + len(atom)
             if cut == 0:  # the line is full (only its indent left no room): start a fresh one
-                cut = len(_ATOM.match(word).group())
+                first = _ATOM.match(word)
+                assert first is not None  # every character of a safe text is an atom
+                cut = len(first.group())
             lines.append((line + word[:cut]).rstrip(" "))
             line, word = "  ", word[cut:]
         line += word

@@ -7,6 +7,11 @@ import sympy as sp
 class cubic_positive_root(sp.Function):
     """Smallest (largest when the fourth argument is true) positive real root of
     t^3 + a2 t^2 + a1 t + a0 (0 when there is none); emitted as a helper function.
+
+    Parameters
+    ----------
+    *args : sympy.Expr
+        ``a2, a1, a0, largest``: the cubic's coefficients and the flag choosing the largest root.
     """
 
     nargs = 4
@@ -17,6 +22,11 @@ class cubic_positive_root(sp.Function):
 class critical_step(sp.Function):
     """The careful critical step of one mode, dt(k, c, A) (``dtcrit.symbolic.careful_forms``),
     emitted as a helper function beside the kernel (``dtcrit.codegen.step``).
+
+    Parameters
+    ----------
+    *args : sympy.Expr
+        ``k, c, A``: stiffness [N/m], viscous coefficient [N s/m] and the mode's inverse mass [1/kg].
     """
 
     nargs = 3
@@ -24,14 +34,26 @@ class critical_step(sp.Function):
 
 
 class critical_step_undamped(sp.Function):
-    """``critical_step`` of an undamped mode, dt(k, A)."""
+    """``critical_step`` of an undamped mode, dt(k, A).
+
+    Parameters
+    ----------
+    *args : sympy.Expr
+        ``k, A``: stiffness [N/m] and the mode's inverse mass [1/kg].
+    """
 
     nargs = 2
     is_real = True
 
 
 class hypot(sp.Function):
-    """sqrt(x^2 + y^2) without overflow or underflow (C99/Fortran 2008 ``hypot``, ``np.hypot``)."""
+    """sqrt(x^2 + y^2) without overflow or underflow (C99/Fortran 2008 ``hypot``, ``np.hypot``).
+
+    Parameters
+    ----------
+    *args : sympy.Expr
+        ``x, y``: the two legs.
+    """
 
     nargs = 2
     is_real = True

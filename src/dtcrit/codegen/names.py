@@ -61,6 +61,22 @@ RESERVED = frozenset(
 def check_name(name: str) -> str:
     """``name`` if it can name the emitted function in C, Fortran and Python; ``InputError('name', ...)``
     otherwise (the command line reports it as ``--name: ...``).
+
+    Parameters
+    ----------
+    name : str
+        The requested function name (``dtcrit codegen --name``).
+
+    Returns
+    -------
+    str
+        ``name`` unchanged.
+
+    Raises
+    ------
+    InputError
+        When ``name`` is no identifier of all three languages, is longer than ``MAX_NAME``, or is in
+        ``RESERVED`` (compared without case).
     """
     if not isinstance(name, str) or not _IDENT.fullmatch(name):
         raise InputError("name", f"must be an identifier valid in C, Fortran and Python (letter first, then letters, "

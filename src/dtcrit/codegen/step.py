@@ -17,7 +17,8 @@ from dtcrit.codegen.helpers import (C_HELPER, C_PRIMITIVE_BLOCKS, FORTRAN_HELPER
                                     NUMPY_HELPER, NUMPY_HELPER_NAME, NUMPY_PRIMITIVE_BLOCKS)
 from dtcrit.codegen.functions import cubic_positive_root
 from dtcrit.codegen.printers import CPrinter, FortranPrinter, NumPyPrinter
-from dtcrit.symbolic.careful_forms import ARGUMENTS, Chain, careful_chain
+from dtcrit.symbolic.careful_forms import ARGUMENTS as ARGUMENTS  # the step's arguments, read by codegen.render
+from dtcrit.symbolic.careful_forms import Chain, careful_chain
 from dtcrit.symbolic.emit import derivation_hash
 from dtcrit.symbolic.stability_codegen import CUBIC_ROOT
 
@@ -50,6 +51,16 @@ def check_emittable(integrator: str) -> None:
     polynomial with terms in h^5 or higher (boundary factors beyond the cubic), or a derivation the symbolic
     layer does not support.  The
     degree checks come first, so the refusal is quick; ``dtcrit step`` still gives such a scheme's step.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of a built-in or user-written scheme (built-in ones always pass).
+
+    Raises
+    ------
+    InputError
+        When the user-written scheme's boundary cannot be emitted, with the reason.
     """
     from dtcrit.errors import InputError
     from dtcrit.integrators.schemes import USER_INTEGRATORS
@@ -76,16 +87,57 @@ def check_emittable(integrator: str) -> None:
 
 
 def chain_hash(integrator: str, damped: bool = True) -> str:
+    """The derivation hash of a careful chain (``dtcrit.symbolic.emit.derivation_hash``).
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    damped : bool
+        The chain of a damped mode (k, c, A) rather than an undamped one (k, A).
+
+    Returns
+    -------
+    str
+        The hash over the scheme's name, the arguments and every assignment of the chain.
+    """
     ch = chain(integrator, damped)
     return derivation_hash([sp.Symbol(integrator), *ch.args, *(x for s, e in ch.steps for x in (s, e))])
 
 
 def uses_cubic(integrator: str, variants=(True,)) -> bool:
+    """Whether any of the chains calls the cubic-root helper.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    variants : tuple of bool
+        The chains to look at: ``True`` for the damped one, ``False`` for the undamped one.
+
+    Returns
+    -------
+    bool
+        True when a step of a chain contains ``cubic_positive_root``.
+    """
     return any(e.has(cubic_positive_root) for d in variants for _, e in chain(integrator, d).steps)
 
 
 def primitives_used(integrator: str, variants=(True,)) -> list[str]:
-    """The primitives of ``careful_forms`` the chains call, in a fixed order."""
+    """The primitives of ``careful_forms`` the chains call, in a fixed order.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    variants : tuple of bool
+        The chains to look at: ``True`` for the damped one, ``False`` for the undamped one.
+
+    Returns
+    -------
+    list of str
+        Names among ``mantissa``, ``exponent``, ``ldexp``, ``two_product_error``, ``two_sum_error``.
+    """
     from dtcrit.symbolic import careful_forms as cf
 
     used = set()
@@ -97,13 +149,42 @@ def primitives_used(integrator: str, variants=(True,)) -> list[str]:
 
 
 def local_names(integrator: str, variants=(True,)) -> set[str]:
+    """The names the chains assign (the emitted code's local variables).
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    variants : tuple of bool
+        The chains to look at: ``True`` for the damped one, ``False`` for the undamped one.
+
+    Returns
+    -------
+    set of str
+        The assigned symbols' names.
+    """
     return {str(s) for d in variants for s, _ in chain(integrator, d).steps}
 
 
 # --- C ---------------------------------------------------------------------------------------
 
 def c_support(integrator: str, prefix: str, variants=(True,)) -> str:
-    """The C helpers the steps need (primitives, the cubic root), ``static``, names prefixed."""
+    """The C helpers the steps need (primitives, the cubic root), ``static``, names prefixed.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    prefix : str
+        Prefix of the helpers' names (the emitted function's name), so two kernels can share a file.
+    variants : tuple of bool
+        The chains to serve: ``True`` for the damped one, ``False`` for the undamped one.
+
+    Returns
+    -------
+    str
+        C source of the helper functions.
+    """
     out = "\n".join(C_PRIMITIVE_BLOCKS[key] for key in primitives_used(integrator, variants)).format(p=prefix)
     if uses_cubic(integrator, variants):
         out += "\n" + C_HELPER.format(name=f"{prefix}_cubic_positive_root")
@@ -116,6 +197,26 @@ def _what(integrator, damped):
 
 
 def c_function(integrator: str, fname: str, prefix: str, static: bool, damped: bool = True) -> str:
+    """The careful step of one mode as a C function ``double fname(k, [c,] A)``.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    fname : str
+        Name of the function.
+    prefix : str
+        Prefix of the helpers it calls (see ``c_support``).
+    static : bool
+        Declare the function ``static`` (a helper of a kernel rather than the file's entry point).
+    damped : bool
+        The damped mode's step (k, c, A) rather than the undamped one (k, A).
+
+    Returns
+    -------
+    str
+        C source of the function, newline-terminated.
+    """
     ch = chain(integrator, damped)
     printer = CPrinter(f"{prefix}_cubic_positive_root", prefix)
     params = ", ".join(f"double {a}" for a in ch.args)
@@ -129,6 +230,20 @@ def c_function(integrator: str, fname: str, prefix: str, static: bool, damped: b
 # --- Fortran ---------------------------------------------------------------------------------
 
 def fortran_support(integrator: str, variants=(True,)) -> str:
+    """The Fortran helpers the steps need (primitives, the cubic root), as module procedures.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    variants : tuple of bool
+        The chains to serve: ``True`` for the damped one, ``False`` for the undamped one.
+
+    Returns
+    -------
+    str
+        Fortran source of the helper procedures.
+    """
     out = "\n".join(FORTRAN_PRIMITIVE_BLOCKS[key] for key in primitives_used(integrator, variants))
     if uses_cubic(integrator, variants):
         out += "\n" + FORTRAN_HELPER.format(name=FORTRAN_CUBIC)
@@ -136,6 +251,24 @@ def fortran_support(integrator: str, variants=(True,)) -> str:
 
 
 def fortran_function(integrator: str, fname: str, bind: bool, damped: bool = True) -> list[str]:
+    """The careful step of one mode as a Fortran function of ``real(c_double)`` arguments.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    fname : str
+        Name of the function.
+    bind : bool
+        Give it ``bind(C)`` and ``value`` arguments (callable from C); otherwise a ``pure`` module function.
+    damped : bool
+        The damped mode's step (k, c, A) rather than the undamped one (k, A).
+
+    Returns
+    -------
+    list of str
+        The function's source lines, indented for a module's ``contains`` part.
+    """
     ch = chain(integrator, damped)
     printer = FortranPrinter(FORTRAN_CUBIC)
     res = str(ch.result)
@@ -154,6 +287,20 @@ def fortran_function(integrator: str, fname: str, bind: bool, damped: bool = Tru
 # --- NumPy -----------------------------------------------------------------------------------
 
 def numpy_support(integrator: str, variants=(True,)) -> str:
+    """The NumPy helpers the steps need (primitives, the cubic root), as module-level functions.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    variants : tuple of bool
+        The chains to serve: ``True`` for the damped one, ``False`` for the undamped one.
+
+    Returns
+    -------
+    str
+        Python source of the helper functions.
+    """
     out = "\n\n".join(NUMPY_PRIMITIVE_BLOCKS[key] for key in primitives_used(integrator, variants))
     if uses_cubic(integrator, variants):
         out += "\n\n" + NUMPY_HELPER.strip("\n") + "\n"
@@ -161,6 +308,22 @@ def numpy_support(integrator: str, variants=(True,)) -> str:
 
 
 def numpy_function(integrator: str, fname: str, damped: bool = True) -> str:
+    """The careful step of one mode as an elementwise NumPy function ``fname(k, [c,] A)``.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    fname : str
+        Name of the function.
+    damped : bool
+        The damped mode's step (k, c, A) rather than the undamped one (k, A).
+
+    Returns
+    -------
+    str
+        Python source of the function, newline-terminated.
+    """
     ch = chain(integrator, damped)
     printer = NumPyPrinter(NUMPY_HELPER_NAME)
     params = ", ".join(str(a) for a in ch.args)

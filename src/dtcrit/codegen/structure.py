@@ -24,6 +24,31 @@ SIDE_KINDS = ("sphere", "general")
 
 @dataclass(frozen=True)
 class KernelStructure:
+    """The structure of an emitted per-contact kernel: which arguments and terms it carries.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the integration scheme whose stability boundary the kernel evaluates.
+    identical : bool
+        Both particles of the contact are of one type (one set of particle arguments).
+    sides : tuple of str
+        Per side ``"sphere"`` or ``"general"`` (one entry when ``identical``, else two).
+    damped_normal : bool
+        The normal direction has a viscous term.
+    damped_shear : bool
+        The shear direction has a viscous term.
+    rotation : bool
+        The rotation-dominant bound (Peng et al. 2020, Eqs. (54), (56)) is emitted; needs a
+        non-spherical side.
+
+    Raises
+    ------
+    InputError
+        When the integrator cannot be emitted, the sides do not match ``identical``, or ``rotation``
+        is asked for spheres only.
+    """
+
     integrator: str
     identical: bool
     sides: tuple[str, ...]  # one entry when identical, else two
@@ -43,10 +68,17 @@ class KernelStructure:
 
     @property
     def damped(self) -> bool:
+        """Whether any direction has a viscous term."""
         return self.damped_normal or self.damped_shear
 
     def specialisations(self) -> list[str]:
-        """What this structure leaves out compared with :func:`general_structure`."""
+        """What this structure leaves out compared with :func:`general_structure`.
+
+        Returns
+        -------
+        list of str
+            One sentence per specialisation, in the order the emitted header lists them.
+        """
         out = []
         if self.identical:
             out.append("identical particles: one set of particle arguments")
@@ -66,7 +98,18 @@ class KernelStructure:
 
 
 def general_structure(integrator: str) -> KernelStructure:
-    """Two different non-spherical particles, damped in both directions, with the rotation bound."""
+    """Two different non-spherical particles, damped in both directions, with the rotation bound.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the integration scheme.
+
+    Returns
+    -------
+    KernelStructure
+        The structure with every argument and term, which covers any contact of that scheme.
+    """
     return KernelStructure(integrator, False, ("general", "general"), True, True, True)
 
 
@@ -76,8 +119,24 @@ def structure_of_scene(scene) -> KernelStructure:
     One kernel covers every particle-particle contact of the scene: all spheres (any number of
     types and sizes) give the exact sphere modes with two sides; otherwise at most two particle
     types.  Wall contacts are not emitted (the kernel is for a contact between two particles).
+
+    Parameters
+    ----------
+    scene : dtcrit.scenes.model.Scene
+        The parsed scene.
+
+    Returns
+    -------
+    KernelStructure
+        The smallest structure that serves every particle-particle contact of the scene.
+
+    Raises
+    ------
+    InputError
+        When the scene has more than two particle types, not all spheres.
     """
     kinds = ["sphere" if p.kind == "sphere" else "general" for p in scene.particles]
+    sides: tuple[str, ...]
     if scene.identical:
         sides = (kinds[0],)
     elif all(k == "sphere" for k in kinds):

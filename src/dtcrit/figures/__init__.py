@@ -27,12 +27,33 @@ FIGURES: tuple[str, ...] = ("fig3", "fig4", "fig5", "fig6", "appendix_a")
 
 @dataclass
 class FiguresRun:
+    """What ``make_figures`` wrote.
+
+    Parameters
+    ----------
+    files : list of pathlib.Path
+        The PNG and CSV files written, in order.
+    summary : dict
+        The figures' JSON-ready summary (``dtcrit.figures.summary.summary``).
+    """
+
     files: list[Path] = field(default_factory=list)
     summary: dict = field(default_factory=dict)
 
 
 def check_figure_names(names) -> tuple[str, ...]:
-    """Validate a list of figure names (``InputError`` naming the first unknown one)."""
+    """Validate a list of figure names (``InputError`` naming the first unknown one).
+
+    Parameters
+    ----------
+    names : iterable of str
+        Figure names as typed (aliases such as ``a`` or ``appendix`` accepted).
+
+    Returns
+    -------
+    tuple of str
+        The canonical names, in the order given.
+    """
     out = []
     for name in names:
         key = str(name).strip().lower().replace("-", "_")
@@ -46,7 +67,24 @@ def check_figure_names(names) -> tuple[str, ...]:
 
 
 def make_figures(out, *, fine: bool = False, only=None, show_progress: bool = True) -> FiguresRun:
-    """Write the PNG + CSV of every figure in ``only`` (default: all) into ``out``; return files and summary."""
+    """Write the PNG + CSV of every figure in ``only`` (default: all) into ``out``; return files and summary.
+
+    Parameters
+    ----------
+    out : str or pathlib.Path
+        Folder to write into (created if needed).
+    fine : bool
+        Use the fine grids (slower) instead of the coarse ones.
+    only : iterable of str, optional
+        Figure names to make; all when omitted.
+    show_progress : bool
+        Show progress bars for the long searches.
+
+    Returns
+    -------
+    FiguresRun
+        The files written and the summary.
+    """
     from dtcrit.figures import summary as _summary
     from dtcrit.figures.fig3_damping import write_fig3
     from dtcrit.figures.fig4_stiffness import write_fig4

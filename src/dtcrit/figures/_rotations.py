@@ -29,7 +29,20 @@ __all__ = [
 
 
 def rotation_about(axis, angle: float) -> np.ndarray:
-    """Active rotation by ``angle`` [rad] about the unit vector ``axis`` (Rodrigues' formula)."""
+    """Active rotation by ``angle`` [rad] about the unit vector ``axis`` (Rodrigues' formula).
+
+    Parameters
+    ----------
+    axis : array_like
+        Rotation axis (normalised here).
+    angle : float
+        Angle [rad].
+
+    Returns
+    -------
+    numpy.ndarray
+        The 3x3 rotation matrix.
+    """
     k = np.asarray(axis, dtype=float)
     k = k / np.linalg.norm(k)
     K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
@@ -37,7 +50,18 @@ def rotation_about(axis, angle: float) -> np.ndarray:
 
 
 def rotvec_matrix(v) -> np.ndarray:
-    """Rotation matrix of the rotation vector ``v`` (axis times angle)."""
+    """Rotation matrix of the rotation vector ``v`` (axis times angle).
+
+    Parameters
+    ----------
+    v : array_like
+        Rotation vector, axis times angle [rad].
+
+    Returns
+    -------
+    numpy.ndarray
+        The 3x3 rotation matrix (identity for a zero vector).
+    """
     v = np.asarray(v, dtype=float)
     angle = float(np.linalg.norm(v))
     if angle < 1e-300:
@@ -48,6 +72,16 @@ def rotvec_matrix(v) -> np.ndarray:
 def quaternion_matrix(q) -> np.ndarray:
     """Peng et al. 2020, Eq. (7): the body-to-world matrix ``Q`` of the unit orientation quaternion
     ``(qw, qx, qy, qz)`` (``v_world = Q v_body``).
+
+    Parameters
+    ----------
+    q : array_like
+        Unit quaternion ``(qw, qx, qy, qz)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        The 3x3 matrix ``Q``.
     """
     w, x, y, z = (float(t) for t in q)
     return np.array([
@@ -60,6 +94,16 @@ def quaternion_matrix(q) -> np.ndarray:
 def matrix_quaternion(Q) -> tuple[float, float, float, float]:
     """Unit orientation quaternion ``(qw, qx, qy, qz)`` (qw >= 0) of the body-to-world matrix ``Q``
     (Eq. (7) inverted: ``quaternion_matrix(matrix_quaternion(Q)) == Q``).
+
+    Parameters
+    ----------
+    Q : array_like
+        A 3x3 rotation matrix.
+
+    Returns
+    -------
+    tuple of float
+        ``(qw, qx, qy, qz)`` with ``qw >= 0``.
     """
     Q = np.asarray(Q, dtype=float)
     t = np.trace(Q)
@@ -79,11 +123,23 @@ def matrix_quaternion(Q) -> tuple[float, float, float, float]:
     q = np.array(q) / np.linalg.norm(q)
     if q[0] < 0:
         q = -q
-    return tuple(float(v) for v in q)
+    w, x, y, z = (float(v) for v in q)
+    return w, x, y, z
 
 
 def align_x_to(u) -> np.ndarray:
-    """The smallest rotation taking the x axis onto the unit vector ``u`` (``u != -x``)."""
+    """The smallest rotation taking the x axis onto the unit vector ``u`` (``u != -x``).
+
+    Parameters
+    ----------
+    u : array_like
+        Target unit vector.
+
+    Returns
+    -------
+    numpy.ndarray
+        The 3x3 rotation matrix.
+    """
     u = np.asarray(u, dtype=float)
     u = u / np.linalg.norm(u)
     x = np.array([1.0, 0.0, 0.0])
@@ -97,19 +153,55 @@ def align_x_to(u) -> np.ndarray:
 
 
 def unit_from_angles(theta, phi) -> np.ndarray:
-    """Unit vectors from polar angle ``theta`` (from +z) and azimuth ``phi`` (from +x); shape (..., 3)."""
+    """Unit vectors from polar angle ``theta`` (from +z) and azimuth ``phi`` (from +x); shape (..., 3).
+
+    Parameters
+    ----------
+    theta : array_like
+        Polar angle from +z [rad].
+    phi : array_like
+        Azimuth from +x [rad].
+
+    Returns
+    -------
+    numpy.ndarray
+        Unit vectors, shape (..., 3).
+    """
     theta, phi = np.broadcast_arrays(np.asarray(theta, float), np.asarray(phi, float))
     st = np.sin(theta)
     return np.stack([st * np.cos(phi), st * np.sin(phi), np.cos(theta)], axis=-1)
 
 
 def angles_from_unit(n) -> tuple[float, float]:
+    """Polar angle (from +z) and azimuth (from +x) of a unit vector: the inverse of ``unit_from_angles``.
+
+    Parameters
+    ----------
+    n : array_like
+        Unit vector (3,).
+
+    Returns
+    -------
+    tuple of float
+        ``(theta, phi)`` [rad].
+    """
     n = np.asarray(n, dtype=float)
     return math.acos(max(-1.0, min(1.0, float(n[2])))), math.atan2(float(n[1]), float(n[0]))
 
 
 def fibonacci_sphere(n: int) -> np.ndarray:
-    """``n`` nearly uniform unit vectors (golden-angle spiral), deterministic; shape (n, 3)."""
+    """``n`` nearly uniform unit vectors (golden-angle spiral), deterministic; shape (n, 3).
+
+    Parameters
+    ----------
+    n : int
+        Number of vectors.
+
+    Returns
+    -------
+    numpy.ndarray
+        Unit vectors, shape (n, 3).
+    """
     i = np.arange(int(n), dtype=float)
     z = 1.0 - (2.0 * i + 1.0) / n
     r = np.sqrt(np.maximum(0.0, 1.0 - z * z))
@@ -123,6 +215,16 @@ def super_fibonacci_rotations(n: int) -> np.ndarray:
     Unit quaternions on a double spiral of S^3 whose two angular rates are sqrt(2) and the real
     root psi of psi^4 = psi + 4 (Alexa 2022, "Super-Fibonacci spirals"): the radii sqrt(t) and
     sqrt(1 - t) make the points equal-area in the Hopf coordinates.
+
+    Parameters
+    ----------
+    n : int
+        Number of rotations.
+
+    Returns
+    -------
+    numpy.ndarray
+        Rotation matrices, shape (n, 3, 3).
     """
     psi = max(r.real for r in np.roots([1.0, 0.0, 0.0, -1.0, -4.0]) if abs(r.imag) < 1e-12)
     s = np.arange(int(n), dtype=float) + 0.5
@@ -145,7 +247,18 @@ def super_fibonacci_rotations(n: int) -> np.ndarray:
 
 
 def rotvec_matrices(v) -> np.ndarray:
-    """Rotation matrices of the rows of ``v`` (N, 3) (rotation vectors); shape (N, 3, 3)."""
+    """Rotation matrices of the rows of ``v`` (N, 3) (rotation vectors); shape (N, 3, 3).
+
+    Parameters
+    ----------
+    v : array_like
+        Rotation vectors, shape (N, 3) [rad].
+
+    Returns
+    -------
+    numpy.ndarray
+        Rotation matrices, shape (N, 3, 3).
+    """
     v = np.atleast_2d(np.asarray(v, dtype=float))
     angle = np.linalg.norm(v, axis=1)
     safe = np.where(angle > 1e-300, angle, 1.0)

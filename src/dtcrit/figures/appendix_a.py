@@ -1,4 +1,4 @@
-"""Peng et al. 2020, Appendix A, reproduced: which contact maximises the relative acceleration?
+"""Peng et al. 2020, Appendix A, reproduced: which contact maximises the relative acceleration.
 
 Setting (Appendix A): particle 1 at the origin, axis aligned; particle 2 identical; unit density;
 contact force ``F = (1, 1, 1)`` on particle 2 (``-F`` on particle 1); zero angular velocities, so
@@ -30,6 +30,7 @@ axes, the bodies then interpenetrate (:func:`penetration_depth` measures by how 
 from __future__ import annotations
 
 import math
+from typing import Any
 from dataclasses import dataclass
 
 import numpy as np
@@ -63,6 +64,16 @@ def paper_base_orientation(roll: float = 0.0) -> np.ndarray:
 
     Scenario 1 is ``roll = 0``, scenario 2 ``roll = pi/2`` ("a 90 degree rotation of ellipsoid 2
     around its local x axis").
+
+    Parameters
+    ----------
+    roll : float
+        Rotation about particle 2's local x axis [rad].
+
+    Returns
+    -------
+    numpy.ndarray
+        Particle 2's body-to-world matrix.
     """
     return quaternion_matrix(PAPER_BASE_QUATERNION) @ rotation_about((1.0, 0.0, 0.0), roll)
 
@@ -81,6 +92,20 @@ def paper_orthogonal(body1, body2, roll: float = 0.0, force=FORCE) -> ContactCon
     Contact at the tip ``(a1, 0, 0)`` of particle 1; particle 2's long axis along global z with its
     tip on the contact point, centre at ``(a1, 0, a2)``; ``roll = 0`` is scenario 1 (its local y on
     global y), ``roll = pi/2`` scenario 2.  The outward normals there are +x and -z: not opposite.
+
+    Parameters
+    ----------
+    body1, body2 : object
+        The two ellipsoids.
+    roll : float
+        Rotation of particle 2 about its long axis [rad].
+    force : array_like
+        The applied contact force [N].
+
+    Returns
+    -------
+    ContactConfig
+        The configuration with its coefficient matrix, ``|A F|`` and largest eigenvalue.
     """
     a1 = body1.half_lengths[0]
     a2 = body2.half_lengths[0]
@@ -98,6 +123,22 @@ def penetration_depth(body1, body2, centre2, Q2, directions: int = 4000) -> floa
     For convex bodies, ``min over unit d of h1(d) + h2(-d) - d . centre2`` (``h`` the support
     function) is the penetration depth when positive and minus the gap when negative: touching
     bodies give 0.  Minimised over a Fibonacci set of ``d`` and polished by Nelder-Mead.
+
+    Parameters
+    ----------
+    body1, body2 : object
+        The two convex bodies.
+    centre2 : array_like
+        Centre of particle 2 [m].
+    Q2 : array_like
+        Orientation of particle 2, body to world.
+    directions : int
+        Number of Fibonacci directions searched before polishing.
+
+    Returns
+    -------
+    float
+        Penetration depth [m] (negative: the gap).
     """
     c2 = np.asarray(centre2, dtype=float)
     Q2 = np.asarray(Q2, dtype=float)
@@ -124,7 +165,25 @@ def penetration_depth(body1, body2, centre2, Q2, directions: int = 4000) -> floa
 # ============================================================================================
 @dataclass(frozen=True)
 class ScenarioSurface:
-    """A scenario family on an octant grid: points to draw (``xyz``), |A F| and eigenvalue there."""
+    """A scenario family on an octant grid: points to draw (``xyz``), |A F| and eigenvalue there.
+
+    Parameters
+    ----------
+    name : str
+        Name of the scenario family.
+    roll : float
+        Roll of particle 2 [rad].
+    xyz : numpy.ndarray
+        (n, n, 3) contact points (Fig. A2) or centres of particle 2 (Fig. A4) [m].
+    accel : numpy.ndarray
+        ``|A F|`` on the grid [m/s^2].
+    lam : numpy.ndarray
+        Largest eigenvalue of ``A`` on the grid [1/kg].
+    best : ContactConfig
+        Grid maximum of ``|A F|``.
+    reference : ContactConfig or None
+        The orthogonal member of the family, if any.
+    """
 
     name: str
     roll: float
@@ -142,7 +201,22 @@ def _octant_grid(n: int) -> np.ndarray:
 
 
 def scenario_centre_moved(search: PairSearch, roll: float, n: int = 31) -> ScenarioSurface:
-    """Particle 2 keeps ``paper_base_orientation(roll)``; the contact normal sweeps octant I of particle 1."""
+    """Particle 2 keeps ``paper_base_orientation(roll)``; the contact normal sweeps octant I of particle 1.
+
+    Parameters
+    ----------
+    search : PairSearch
+        The pair of bodies.
+    roll : float
+        Roll of particle 2 [rad].
+    n : int
+        Grid points per side of the octant.
+
+    Returns
+    -------
+    ScenarioSurface
+        The scenario on the grid.
+    """
     U = _octant_grid(n)
     normals = U.reshape(-1, 3)
     Q2 = np.broadcast_to(paper_base_orientation(roll), (normals.shape[0], 3, 3)).copy()
@@ -161,6 +235,22 @@ def scenario_orientation_changed(search: PairSearch, roll: float, n: int = 31, p
     ``pinned_tip=False``: particle 2 tangent with opposite normal (admissible).  ``pinned_tip=True``:
     the paper's construction, the tip of particle 2 on the contact point (``r2 = -a2 u``).
     Returned ``xyz`` are the centres of particle 2.
+
+    Parameters
+    ----------
+    search : PairSearch
+        The pair of bodies.
+    roll : float
+        Roll of particle 2 [rad].
+    n : int
+        Grid points per side of the octant.
+    pinned_tip : bool
+        The paper's construction (tip on the contact point) instead of the admissible tangent contact.
+
+    Returns
+    -------
+    ScenarioSurface
+        The scenario on the grid.
     """
     U = _octant_grid(n)
     us = U.reshape(-1, 3)
@@ -199,6 +289,20 @@ def appendix_a_study(fine: bool = False, show_progress: bool = False, shapes: tu
 
     Returns a dict with the ContactConfig/ScenarioSurface objects (``objects``) and a JSON-ready
     ``summary``.
+
+    Parameters
+    ----------
+    fine : bool
+        Use the fine grids.
+    show_progress : bool
+        Show progress bars.
+    shapes : tuple of str, optional
+        Shapes to search (``comparison_shapes`` keys); all when omitted.
+
+    Returns
+    -------
+    dict
+        ``objects`` and ``summary``.
     """
     from dtcrit.bodies.contact import a_bound, a_max
 
@@ -218,7 +322,7 @@ def appendix_a_study(fine: bool = False, show_progress: bool = False, shapes: tu
         "orientation_pinned_tip": [scenario_orientation_changed(search, r, n_side, pinned_tip=True)
                                    for r in (0.0, math.pi / 2)],
     }
-    results = {}
+    results: dict[str, Any] = {}
     for name in names:
         body = bodies[name]
         s = search if name == "ellipsoid" else PairSearch(body, body)

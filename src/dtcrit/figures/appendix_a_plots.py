@@ -153,7 +153,20 @@ def _scenario_rows(fams, family: str):
 
 
 def write_appendix_a(out: Path, study: dict) -> list[Path]:
-    """Write the Appendix A images and CSVs for a finished :func:`appendix_a_study`."""
+    """Write the Appendix A images and CSVs for a finished :func:`appendix_a_study`.
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        Folder to write into.
+    study : dict
+        The result of ``appendix_a_study``.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written.
+    """
     out = Path(out)
     sc = study["objects"]["scenarios"]
     files = [_plot_a2(sc["centre_moved"], out / "figA2_centre_moved.png")]

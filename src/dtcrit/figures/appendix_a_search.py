@@ -36,7 +36,18 @@ GRIDS = {
 # Shapes of the study
 # ============================================================================================
 def paper_ellipsoid(density: float = 1.0):
-    """The a = 3, b = 2, c = 1 m ellipsoid of Section 6 and Appendix A (unit density there)."""
+    """The a = 3, b = 2, c = 1 m ellipsoid of Section 6 and Appendix A (unit density there).
+
+    Parameters
+    ----------
+    density : float
+        Density [kg/m^3].
+
+    Returns
+    -------
+    dtcrit.bodies.Ellipsoid
+        The ellipsoid.
+    """
     from dtcrit.bodies import Ellipsoid
 
     return Ellipsoid(3.0, 2.0, 1.0, density=density)
@@ -45,6 +56,16 @@ def paper_ellipsoid(density: float = 1.0):
 def comparison_shapes(density: float = 1.0) -> dict:
     """The shapes of the extended search: the paper's ellipsoid, a superquadric and a box of the
     same half-lengths 3, 2, 1 m (superquadric exponents eps1 = eps2 = 0.5, a rounded box).
+
+    Parameters
+    ----------
+    density : float
+        Density [kg/m^3].
+
+    Returns
+    -------
+    dict
+        Name to body.
     """
     import warnings
 
@@ -65,6 +86,22 @@ def comparison_shapes(density: float = 1.0) -> dict:
 def batch_coefficient_matrices(body1, body2, normals, p1, p2, Q2) -> np.ndarray:
     """``A`` for many contacts at once, through ``dtcrit.bodies.contact_search.Contacts`` (particle 1 axis
     aligned: its local contact point ``p1`` is also its global arm).
+
+    Parameters
+    ----------
+    body1, body2 : object
+        The two bodies.
+    normals : numpy.ndarray
+        Outward normals of particle 1, (N, 3).
+    p1, p2 : numpy.ndarray
+        Local contact points, (N, 3) [m].
+    Q2 : numpy.ndarray
+        Orientations of particle 2, body to world, (N, 3, 3).
+
+    Returns
+    -------
+    numpy.ndarray
+        Coefficient matrices, (N, 3, 3) [1/kg].
     """
     from dtcrit.bodies.contact_search import Contacts
 
@@ -77,6 +114,20 @@ def batch_coefficient_matrices(body1, body2, normals, p1, p2, Q2) -> np.ndarray:
 def coefficient_matrix_single(body1, body2, r1, r2, Q2) -> np.ndarray:
     """One contact's ``A`` through ``dtcrit.bodies.contact.coefficient_matrix`` (particle 1 axis aligned,
     ``Q2`` the body-to-world orientation of particle 2, as that function takes it).
+
+    Parameters
+    ----------
+    body1, body2 : object
+        The two bodies.
+    r1, r2 : array_like
+        Contact arms in global components [m].
+    Q2 : array_like
+        Orientation of particle 2, body to world.
+
+    Returns
+    -------
+    numpy.ndarray
+        The 3x3 coefficient matrix ``A`` [1/kg].
     """
     from dtcrit.bodies.contact import coefficient_matrix
 
@@ -89,7 +140,29 @@ def coefficient_matrix_single(body1, body2, r1, r2, Q2) -> np.ndarray:
 # ============================================================================================
 @dataclass(frozen=True)
 class ContactConfig:
-    """One contact of particle 2 on particle 1 (global frame = particle 1's frame)."""
+    """One contact of particle 2 on particle 1 (global frame = particle 1's frame).
+
+    Parameters
+    ----------
+    normal : tuple of float
+        Outward normal of particle 1 at the contact (global).
+    orientation : tuple of tuple of float
+        Rows of ``Q2``, body to world.
+    contact_point : tuple of float
+        The contact point [m].
+    r1, r2 : tuple of float
+        Contact arms [m].
+    centre2 : tuple of float
+        Centre of particle 2 [m].
+    matrix : tuple of tuple of float
+        Rows of the coefficient matrix ``A`` [1/kg].
+    accel : float
+        ``|A F|`` [m/s^2].
+    lam : float
+        Largest eigenvalue of ``A`` [1/kg].
+    label : str
+        Name of the configuration.
+    """
 
     normal: tuple[float, float, float]  # outward normal of particle 1 at the contact (global)
     orientation: tuple[tuple[float, ...], ...]  # Q2, body to world (v_world = Q2 v_body), rows
@@ -110,7 +183,18 @@ class ContactConfig:
         return matrix_quaternion(np.array(self.orientation))
 
     def describe(self, digits: int = 6) -> dict:
-        """Rounded, JSON-ready description."""
+        """Rounded, JSON-ready description.
+
+        Parameters
+        ----------
+        digits : int
+            Significant digits kept.
+
+        Returns
+        -------
+        dict
+            The configuration's vectors and matrices as rounded lists.
+        """
         def rnd(v):
             if isinstance(v, (tuple, list, np.ndarray)):
                 return [rnd(x) for x in v]
@@ -135,7 +219,10 @@ class ContactConfig:
 
 
 def _config(body1, body2, n, Q2, r1, r2, A, force, label="") -> ContactConfig:
-    tup = lambda v: tuple(float(x) for x in np.ravel(v))  # noqa: E731
+    def tup(v) -> tuple[float, float, float]:
+        x, y, z = (float(t) for t in np.ravel(v))
+        return x, y, z
+
     A = np.asarray(A, dtype=float)
     return ContactConfig(
         tup(n), tuple(tup(row) for row in Q2), tup(r1), tup(r1), tup(r2), tup(np.asarray(r1) - np.asarray(r2)),
@@ -148,7 +235,23 @@ def _config(body1, body2, n, Q2, r1, r2, A, force, label="") -> ContactConfig:
 # ============================================================================================
 @dataclass
 class SearchResult:
-    """Maxima over all admissible contacts found by :meth:`PairSearch.search`."""
+    """Maxima over all admissible contacts found by :meth:`PairSearch.search`.
+
+    Parameters
+    ----------
+    best_accel : ContactConfig
+        Largest ``|A F|`` found.
+    best_lam : ContactConfig
+        Largest eigenvalue found.
+    grid_accel : float
+        Best ``|A F|`` on the grid, before polishing.
+    grid_lam : float
+        Best eigenvalue on the grid, before polishing.
+    evaluated : int
+        Number of grid contacts.
+    polished : list of ContactConfig
+        Every polished end point.
+    """
 
     best_accel: ContactConfig
     best_lam: ContactConfig
@@ -159,7 +262,15 @@ class SearchResult:
 
 
 class PairSearch:
-    """Admissible contacts of ``body2`` on ``body1`` and their coefficient matrices."""
+    """Admissible contacts of ``body2`` on ``body1`` and their coefficient matrices.
+
+    Parameters
+    ----------
+    body1, body2 : object
+        The two convex bodies (particle 1 axis aligned at the origin).
+    force : array_like
+        The applied contact force [N].
+    """
 
     def __init__(self, body1, body2, force=FORCE):
         self.body1 = body1
@@ -168,7 +279,20 @@ class PairSearch:
 
     # ----- geometry ---------------------------------------------------------------------------
     def place(self, normals: np.ndarray, Q2: np.ndarray):
-        """``(r1, r2)`` for rows of ``normals`` (N, 3) and orientations ``Q2`` (N, 3, 3)."""
+        """``(r1, r2)`` for rows of ``normals`` (N, 3) and orientations ``Q2`` (N, 3, 3).
+
+        Parameters
+        ----------
+        normals : numpy.ndarray
+            Outward normals of particle 1, (N, 3).
+        Q2 : numpy.ndarray
+            Orientations of particle 2, (N, 3, 3).
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            The arms ``r1`` and ``r2``, each (N, 3) [m].
+        """
         n = np.asarray(normals, dtype=float)
         r1 = self.body1.support(n)
         local_dir = -np.einsum("nji,nj->ni", Q2, n)  # Q2^T (-n)
@@ -176,14 +300,38 @@ class PairSearch:
         return r1, r2
 
     def matrices(self, r1, r2, Q2) -> np.ndarray:
-        """``A`` for arms ``r1, r2`` (global) and orientations ``Q2`` (body 1 axis aligned)."""
+        """``A`` for arms ``r1, r2`` (global) and orientations ``Q2`` (body 1 axis aligned).
+
+        Parameters
+        ----------
+        r1, r2 : numpy.ndarray
+            Contact arms, (N, 3) [m].
+        Q2 : numpy.ndarray
+            Orientations of particle 2, (N, 3, 3).
+
+        Returns
+        -------
+        numpy.ndarray
+            Coefficient matrices, (N, 3, 3) [1/kg].
+        """
         Q2 = np.asarray(Q2, dtype=float)
         p2 = np.einsum("nji,nj->ni", Q2, r2)  # local contact point of particle 2
         normals = np.zeros_like(r1)  # not used by the coefficient matrix
         return batch_coefficient_matrices(self.body1, self.body2, normals, r1, p2, Q2)
 
     def objectives(self, A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """``(|A F|, largest eigenvalue)`` per matrix."""
+        """``(|A F|, largest eigenvalue)`` per matrix.
+
+        Parameters
+        ----------
+        A : numpy.ndarray
+            Coefficient matrices, (..., 3, 3).
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            ``|A F|`` and the largest eigenvalue.
+        """
         return np.linalg.norm(A @ self.force, axis=-1), np.linalg.eigvalsh(A)[..., -1]
 
     def config(self, n, Q2, label: str = "", canonical: bool = True) -> ContactConfig:
@@ -194,6 +342,22 @@ class PairSearch:
         reversed) and ``Q2`` times a half-turn about a body axis all describe the same ``A``; the
         form with ``n`` pointing to ``x >= 0`` (first non-zero component positive) and the
         orientation closest to the identity is returned.
+
+        Parameters
+        ----------
+        n : array_like
+            Outward normal of particle 1.
+        Q2 : array_like
+            Orientation of particle 2.
+        label : str
+            Name of the configuration.
+        canonical : bool
+            Report the unique form.
+
+        Returns
+        -------
+        ContactConfig
+            The evaluated contact.
         """
         n = np.asarray(n, dtype=float)
         n = n / np.linalg.norm(n)
@@ -227,6 +391,24 @@ class PairSearch:
         Gaussian perturbations of every current point (fixed seed, so reproducible), keeps the best
         if it improves and widens the step, or else narrows it by 0.6, until every step is below
         ``tol`` radians.  Suits the polyhedral (piecewise smooth) cases as well as the smooth ones.
+
+        Parameters
+        ----------
+        starts : list of tuple
+            ``(n, Q2)`` start points.
+        which : int
+            Objective: 0 for ``|A F|``, 1 for the largest eigenvalue.
+        population : int
+            Perturbations per point and iteration.
+        iterations : int
+            Largest number of iterations.
+        tol : float
+            Step size [rad] at which a point is converged.
+
+        Returns
+        -------
+        list of tuple
+            The polished ``(n, Q2)``.
         """
         from scipy.spatial.transform import Rotation
 
@@ -250,7 +432,26 @@ class PairSearch:
 
     def search(self, n_normals: int = 256, n_orientations: int = 384, seeds: int = 4,
                chunk: int = 64, progress_label: str | None = None) -> SearchResult:
-        """Grid over normals x orientations, then polish the ``seeds`` best of each objective."""
+        """Grid over normals x orientations, then polish the ``seeds`` best of each objective.
+
+        Parameters
+        ----------
+        n_normals : int
+            Normals of the grid.
+        n_orientations : int
+            Orientations of the grid.
+        seeds : int
+            Best grid points polished per objective.
+        chunk : int
+            Orientations evaluated per batch.
+        progress_label : str, optional
+            Label of a progress bar (none when omitted).
+
+        Returns
+        -------
+        SearchResult
+            The maxima found.
+        """
         normals = fibonacci_sphere(n_normals)
         rotations = super_fibonacci_rotations(n_orientations)
         starts = range(0, n_orientations, chunk)
@@ -259,7 +460,7 @@ class PairSearch:
 
             starts = tqdm(list(starts), desc=progress_label, disable=None)
         keep = max(seeds * 8, 16)
-        cand = {0: [], 1: []}
+        cand: dict[int, list[tuple[float, int, int]]] = {0: [], 1: []}
         for s in starts:
             Qc = rotations[s:s + chunk]
             nn = np.repeat(normals[None, :, :], Qc.shape[0], axis=0).reshape(-1, 3)
@@ -269,13 +470,13 @@ class PairSearch:
             for which in (0, 1):
                 top = np.argsort(-vals[which], kind="stable")[:keep]
                 cand[which] += [(float(vals[which][t]), s + t // normals.shape[0], t % normals.shape[0]) for t in top]
-        out = {}
+        out: dict[int, ContactConfig] = {}
         polished = []
         grid_best = {}
         for which in (0, 1):
             ranked = sorted(cand[which], key=lambda c: (-c[0], c[1], c[2]))
             grid_best[which] = ranked[0][0]
-            chosen = []
+            chosen: list[tuple[float, int, int]] = []
             for val, qi, ni in ranked:  # distinct seeds: different normal or orientation cells
                 if all(qi != q or ni != m for _, q, m in chosen):
                     chosen.append((val, qi, ni))
@@ -289,5 +490,6 @@ class PairSearch:
                 key = cfg.accel if which == 0 else cfg.lam
                 if best_cfg is None or key > (best_cfg.accel if which == 0 else best_cfg.lam):
                     best_cfg = cfg
+            assert best_cfg is not None  # polish returns at least one end per seed
             out[which] = best_cfg
         return SearchResult(out[0], out[1], grid_best[0], grid_best[1], n_normals * n_orientations, polished)

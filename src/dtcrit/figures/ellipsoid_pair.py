@@ -71,17 +71,52 @@ def pair_coefficients(density: float, axes: tuple[float, float, float] = PAPER_A
     once at ``REFERENCE_DENSITY`` and scaled by ``REFERENCE_DENSITY / density``: mass and inertia are
     both proportional to the density, so every term of the coefficient matrix scales as 1/rho
     exactly (checked against direct evaluations in tests/test_figures_sections.py).
+
+    Parameters
+    ----------
+    density : float
+        Density [kg/m^3].
+    axes : tuple of float
+        Semi-axes [m].
+
+    Returns
+    -------
+    tuple of float
+        ``(A_max, a_bound)`` [1/kg].
     """
     from dtcrit.bodies.contact import a_max
 
-    axes = tuple(float(a) for a in axes)
+    a1, a2, a3 = (float(a) for a in axes)
+    axes = (a1, a2, a3)
     body = _body(density, axes)
     return float(a_max(body, body)), _a_bound(REFERENCE_DENSITY, axes) * (REFERENCE_DENSITY / float(density))
 
 
 @dataclass(frozen=True)
 class PairSteps:
-    """Critical steps [s] on a 1-D sweep; 2-D arrays are indexed ``[N index, sweep index]``."""
+    """Critical steps [s] on a 1-D sweep; 2-D arrays are indexed ``[N index, sweep index]``.
+
+    Parameters
+    ----------
+    stiffness : numpy.ndarray
+        k_n per sweep point [N/m].
+    density : numpy.ndarray
+        Density per sweep point [kg/m^3].
+    n_values : tuple of int
+        Damping numbers N (``c = N sqrt(k_n/A_max)``).
+    a_max : numpy.ndarray
+        Eq. (26) per sweep point [1/kg].
+    a_bound : numpy.ndarray
+        Verified bound per sweep point [1/kg].
+    damping : numpy.ndarray
+        c per N and sweep point [N s/m].
+    printed_eq46 : numpy.ndarray
+        Eq. (46) with ``A_max`` [s].
+    verified_a_max : dict of str to numpy.ndarray
+        Each integrator's critical step with ``A_max`` [s].
+    verified_a_bound : dict of str to numpy.ndarray
+        Each integrator's critical step with ``a_bound`` [s].
+    """
 
     stiffness: np.ndarray  # k_n [N/m] per sweep point
     density: np.ndarray  # rho [kg/m^3] per sweep point
@@ -95,7 +130,24 @@ class PairSteps:
 
 
 def pair_steps(stiffness, density, n_values=N_VALUES, integrators=NAMES) -> PairSteps:
-    """Evaluate the Section 6 curves for arrays ``stiffness`` and ``density`` (broadcast together)."""
+    """Evaluate the Section 6 curves for arrays ``stiffness`` and ``density`` (broadcast together).
+
+    Parameters
+    ----------
+    stiffness : array_like
+        k_n [N/m].
+    density : array_like
+        Density [kg/m^3].
+    n_values : sequence of int
+        Damping numbers N.
+    integrators : sequence of str
+        Schemes to evaluate.
+
+    Returns
+    -------
+    PairSteps
+        The curves.
+    """
     k, rho = np.broadcast_arrays(np.asarray(stiffness, dtype=float), np.asarray(density, dtype=float))
     k, rho = k.ravel().copy(), rho.ravel().copy()
     coeffs = np.array([pair_coefficients(float(r)) for r in rho])  # a_max cheap, a_bound scaled
@@ -109,7 +161,20 @@ def pair_steps(stiffness, density, n_values=N_VALUES, integrators=NAMES) -> Pair
 
 
 def write_pair_csv(steps: PairSteps, path: Path) -> Path:
-    """Long-format CSV: one row per (sweep point, N)."""
+    """Long-format CSV: one row per (sweep point, N).
+
+    Parameters
+    ----------
+    steps : PairSteps
+        The curves.
+    path : pathlib.Path
+        File to write.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     names = list(steps.verified_a_max)
     header = ["k_n", "density", "N", "c", "A_max_eq26", "A_bound", "dt_eq46_printed"]
     header += [f"dt_{n}_A_max" for n in names] + [f"dt_{n}_A_bound" for n in names]
@@ -132,6 +197,26 @@ def plot_pair_steps(steps: PairSteps, x: np.ndarray, xlabel: str, title: str, pa
     Each panel has its own y-range (the printed Eq. (46) grows with N, the verified bounds do not, so a
     shared range would squeeze them); one legend below the panels gives the colour of each damping
     number N (the same in every panel) and the two line styles of the verified panels.
+
+    Parameters
+    ----------
+    steps : PairSteps
+        The curves.
+    x : numpy.ndarray
+        Abscissa per sweep point.
+    xlabel : str
+        Label of the abscissa.
+    title : str
+        Title of the figure.
+    path : pathlib.Path
+        File to write.
+    integrators : sequence of str
+        Schemes with a verified panel.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
     """
     plt = pyplot()
     from matplotlib.lines import Line2D
@@ -172,7 +257,18 @@ def plot_pair_steps(steps: PairSteps, x: np.ndarray, xlabel: str, title: str, pa
 
 
 def describe_trend(values: np.ndarray) -> str:
-    """'increases' / 'decreases' / 'is constant' for a 1-D array along N."""
+    """'increases' / 'decreases' / 'is constant' for a 1-D array along N.
+
+    Parameters
+    ----------
+    values : numpy.ndarray
+        Values along N.
+
+    Returns
+    -------
+    str
+        The trend in words ("is not monotone" otherwise).
+    """
     d = np.diff(values)
     if np.all(np.abs(d) <= 1e-12 * np.max(np.abs(values))):
         return "is constant"

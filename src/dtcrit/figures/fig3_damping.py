@@ -32,7 +32,25 @@ BETA_MAX = 3.0
 
 @dataclass(frozen=True)
 class Fig3Data:
-    """Curves of Figure 3 on the grid ``beta`` (all dimensionless, dt*sqrt(k/m))."""
+    """Curves of Figure 3 on the grid ``beta`` (all dimensionless, dt*sqrt(k/m)).
+
+    Parameters
+    ----------
+    beta : numpy.ndarray
+        Damping parameter grid.
+    printed : dict of str to numpy.ndarray
+        Eqs. (58)-(60) as printed (NaN where complex).
+    verified : dict of str to numpy.ndarray
+        Each integrator's bound with ``A = a_bound``.
+    verified_eq26 : dict of str to numpy.ndarray
+        Each integrator's bound with Eq. (26)'s ``A_max``.
+    a_max_times_m : float
+        Eq. (26) times m (7 for spheres).
+    a_bound_times_m : float
+        Verified bound times m.
+    groups : list of tuple of str
+        Integrators with identical curves.
+    """
 
     beta: np.ndarray
     printed: dict[str, np.ndarray]  # 'eq58', 'eq59', 'eq60' (NaN where the formula is complex)
@@ -69,6 +87,26 @@ def fig3_data(n: int = 601, *, betas=None, mass: float = 1.0, stiffness: float =
 
     The result does not depend on ``mass``, ``stiffness`` or ``radius`` (dt*sqrt(k/m) is
     dimensionless); they only set the physical pair fed to the library.
+
+    Parameters
+    ----------
+    n : int
+        Number of grid points.
+    betas : array_like, optional
+        The grid, instead of n equally spaced points.
+    mass : float
+        Sphere mass [kg].
+    stiffness : float
+        Contact stiffness [N/m].
+    radius : float
+        Sphere radius [m].
+    integrators : tuple of str
+        Schemes to evaluate.
+
+    Returns
+    -------
+    Fig3Data
+        The curves.
     """
     beta = np.linspace(0.0, BETA_MAX, int(n)) if betas is None else np.atleast_1d(np.asarray(betas, dtype=float))
     a_eq26, a_ver = _sphere_pair_coefficients(mass, radius)
@@ -93,6 +131,20 @@ _PRINTED_LABELS = {
 
 
 def plot_fig3(data: Fig3Data, path: Path) -> Path:
+    """Draw Figure 3: dt sqrt(k/m) against beta, the printed Eqs. (58)-(60) and the verified bounds.
+
+    Parameters
+    ----------
+    data : Fig3Data
+        The curves.
+    path : pathlib.Path
+        File to write.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(7.5, 5.0))
     styles = {"eq58": ("k", "--"), "eq59": ("0.45", "-."), "eq60": ("k", ":")}
@@ -130,7 +182,20 @@ def plot_fig3(data: Fig3Data, path: Path) -> Path:
 
 
 def write_fig3(out: Path, *, fine: bool = False) -> list[Path]:
-    """Write ``fig3_damping.png`` and ``fig3_damping.csv`` into ``out``."""
+    """Write ``fig3_damping.png`` and ``fig3_damping.csv`` into ``out``.
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        Folder to write into.
+    fine : bool
+        Use the fine grid.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The PNG and CSV.
+    """
     data = fig3_data(1201 if fine else 601)
     names = list(data.verified)
     header = ["beta", "eq58_printed", "eq59_printed", "eq60_printed"] + [f"verified_{n}" for n in names]

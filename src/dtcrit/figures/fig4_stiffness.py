@@ -20,12 +20,37 @@ STIFFNESS_RANGE = (1e10, 1e11)
 
 
 def fig4_data(n: int = 91) -> PairSteps:
-    """Figure 4 on ``n`` equally spaced k_n in [1e10, 1e11] N/m."""
+    """Figure 4 on ``n`` equally spaced k_n in [1e10, 1e11] N/m.
+
+    Parameters
+    ----------
+    n : int
+        Number of sweep points.
+
+    Returns
+    -------
+    PairSteps
+        The curves.
+    """
     k = np.linspace(*STIFFNESS_RANGE, int(n))
     return pair_steps(k, DENSITY)
 
 
 def write_fig4(out: Path, *, fine: bool = False) -> list[Path]:
+    """Write ``fig4_stiffness.png`` and ``fig4_stiffness.csv`` into ``out``.
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        Folder to write into.
+    fine : bool
+        Use the fine grid.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The PNG and CSV.
+    """
     data = fig4_data(361 if fine else 91)
     png = plot_pair_steps(
         data, data.stiffness / 1e10, r"$k_n$ [$10^{10}$ N/m]",

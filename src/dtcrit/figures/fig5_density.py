@@ -17,12 +17,37 @@ DENSITY_RANGE = (500.0, 5000.0)
 
 
 def fig5_data(n: int = 91) -> PairSteps:
-    """Figure 5 on ``n`` equally spaced densities in [500, 5000] kg/m^3."""
+    """Figure 5 on ``n`` equally spaced densities in [500, 5000] kg/m^3.
+
+    Parameters
+    ----------
+    n : int
+        Number of sweep points.
+
+    Returns
+    -------
+    PairSteps
+        The curves.
+    """
     rho = np.linspace(*DENSITY_RANGE, int(n))
     return pair_steps(STIFFNESS, rho)
 
 
 def write_fig5(out: Path, *, fine: bool = False) -> list[Path]:
+    """Write ``fig5_density.png`` and ``fig5_density.csv`` into ``out``.
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        Folder to write into.
+    fine : bool
+        Use the fine grid.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The PNG and CSV.
+    """
     data = fig5_data(361 if fine else 91)
     png = plot_pair_steps(
         data, data.density, r"density $\rho$ [kg/m$^3$]",

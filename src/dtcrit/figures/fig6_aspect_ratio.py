@@ -56,7 +56,20 @@ B_ZERO = 1e-13
 
 
 def ellipsoid_axes(e1, e2, volume: float = VOLUME):
-    """Semi-axes ``(a, b, c)`` with ``a/b = e1``, ``b/c = e2`` and ``4/3 pi a b c = volume``."""
+    """Semi-axes ``(a, b, c)`` with ``a/b = e1``, ``b/c = e2`` and ``4/3 pi a b c = volume``.
+
+    Parameters
+    ----------
+    e1, e2 : array_like
+        Aspect ratios ``a/b`` and ``b/c``.
+    volume : float
+        Volume [m^3].
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(a, b, c)`` [m].
+    """
     e1 = np.asarray(e1, dtype=float)
     e2 = np.asarray(e2, dtype=float)
     c = np.cbrt(3.0 * volume / (4.0 * math.pi) / (e1 * e2 * e2))
@@ -65,7 +78,20 @@ def ellipsoid_axes(e1, e2, volume: float = VOLUME):
 
 
 def rotation_dominant_dt(b_max_1: float, b_max_2: float, omega_max: float = OMEGA_MAX) -> float:
-    """Peng et al. 2020, Eq. (56): ``2/(omega_max (B_max1 + B_max2))`` (Eq. (57) when equal); inf if both are 0."""
+    """Peng et al. 2020, Eq. (56): ``2/(omega_max (B_max1 + B_max2))`` (Eq. (57) when equal); inf if both are 0.
+
+    Parameters
+    ----------
+    b_max_1, b_max_2 : float
+        Eq. (54) of each particle.
+    omega_max : float
+        Largest angular speed [rad/s].
+
+    Returns
+    -------
+    float
+        The step [s].
+    """
     total = b_max_1 + b_max_2
     return math.inf if total <= 0.0 else 2.0 / (omega_max * total)
 
@@ -94,7 +120,20 @@ def _a_bound_point(e1: float, e2: float) -> float:
 
 
 def ratio_at(e1: float, e2: float, *, verified: bool = False) -> float:
-    """rotation-dominant / translation-dominant step at one (e1, e2); ``verified`` uses a_bound."""
+    """rotation-dominant / translation-dominant step at one (e1, e2); ``verified`` uses a_bound.
+
+    Parameters
+    ----------
+    e1, e2 : float
+        Aspect ratios.
+    verified : bool
+        Use ``a_bound`` instead of Eq. (26).
+
+    Returns
+    -------
+    float
+        The ratio.
+    """
     amax, bm = _printed_point(e1, e2)
     A = _a_bound_point(e1, e2) if verified else amax
     trans = float(critical_steps(SCENE_INTEGRATOR, STIFFNESS, 0.0, A))
@@ -107,6 +146,23 @@ class AspectRatioData:
 
     Every quantity, the verified one included, is evaluated at every grid point (``a_bound`` of an
     ellipsoid is a closed form, :func:`dtcrit.bodies.contact.a_bound`).
+
+    Parameters
+    ----------
+    e1, e2 : numpy.ndarray
+        The grid's aspect ratios.
+    a_max : numpy.ndarray
+        Eq. (26) [1/kg].
+    b_max : numpy.ndarray
+        Eq. (54).
+    translation_printed : numpy.ndarray
+        Eq. (48) with A_max [s].
+    rotation : numpy.ndarray
+        Eq. (56)/(57) [s].
+    a_bound : numpy.ndarray
+        Verified bound [1/kg].
+    translation_verified : numpy.ndarray
+        Velocity Verlet, undamped, ``A = a_bound`` [s].
     """
 
     e1: np.ndarray
@@ -120,18 +176,43 @@ class AspectRatioData:
 
     @property
     def ratio_printed(self) -> np.ndarray:
+        """Rotation-dominant over translation-dominant step with Eq. (26)'s ``A_max``."""
         return self.rotation / self.translation_printed
 
     @property
     def ratio_verified(self) -> np.ndarray:
+        """Rotation-dominant over translation-dominant step with the verified ``a_bound``."""
         return self.rotation / self.translation_verified
 
     def fall_from_sphere(self, verified: bool) -> float:
-        """Fraction by which the translation-dominant step falls from the sphere (1, 1) to (5, 5)."""
+        """Fraction by which the translation-dominant step falls from the sphere (1, 1) to (5, 5).
+
+        Parameters
+        ----------
+        verified : bool
+            Use the verified step instead of the printed one.
+
+        Returns
+        -------
+        float
+            The fraction.
+        """
         t = self.translation_verified if verified else self.translation_printed
         return float(1.0 - t[-1, -1] / t[0, 0])
 
     def ratio_stats(self, verified: bool = False) -> dict:
+        """Smallest and largest ratio over the grid, and how many points exceed 1e4.
+
+        Parameters
+        ----------
+        verified : bool
+            Use the verified ratio instead of the printed one.
+
+        Returns
+        -------
+        dict
+            JSON-ready statistics.
+        """
         r = self.ratio_verified if verified else self.ratio_printed
         finite = r[np.isfinite(r)]
         return {
@@ -151,6 +232,18 @@ def fig6_data(n: int = 41, progress_label: str | None = None) -> AspectRatioData
     """Evaluate Figure 6 on an ``n x n`` grid of (e1, e2) in [1, 5]^2 (both ends included).
 
     The grid of one size is computed once per process and reused (the summary and the image share it).
+
+    Parameters
+    ----------
+    n : int
+        Grid points per axis.
+    progress_label : str, optional
+        Label of a progress bar (none when omitted).
+
+    Returns
+    -------
+    AspectRatioData
+        The grid's quantities.
     """
     key = int(n)
     if key not in _CACHE:
@@ -187,6 +280,18 @@ def four_orders_region(verified: bool = False, directions: int = 19) -> dict:
     infinity (t = 0); the crossing ``t*`` with ratio = 1e4 is found by Brent's method.  Returns the
     smallest and largest ``t*`` and whether the ratio stays below 1e4 on the rest of the ray
     (checked at 40 points out to the edge of [1, 5]^2).
+
+    Parameters
+    ----------
+    verified : bool
+        Use the verified ratio.
+    directions : int
+        Number of rays.
+
+    Returns
+    -------
+    dict
+        The crossing distances and the check.
     """
     crossings = []
     beyond_ok = True
@@ -222,6 +327,18 @@ def plot_fig6(d: AspectRatioData, path: Path) -> Path:
     """Four panels on the full grid: the translation-dominant step with Eq. (26)'s ``A_max`` (Eq. (48)) and
     with the verified ``a_bound`` on one colour scale (so their fall with aspect ratio compares directly),
     the rotation-dominant step (Eq. (57)) and the ratio of Eq. (57) to Eq. (48).
+
+    Parameters
+    ----------
+    d : AspectRatioData
+        The grid's quantities.
+    path : pathlib.Path
+        File to write.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
     """
     plt = pyplot()
     from matplotlib.colors import LogNorm, Normalize
@@ -273,6 +390,22 @@ def plot_fig6(d: AspectRatioData, path: Path) -> Path:
 
 
 def write_fig6(out: Path, *, fine: bool = False, show_progress: bool = True) -> list[Path]:
+    """Write ``fig6_aspect_ratio.png`` and ``fig6_aspect_ratio.csv`` into ``out``.
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        Folder to write into.
+    fine : bool
+        Use the fine grid.
+    show_progress : bool
+        Show a progress bar.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The PNG and CSV.
+    """
     d = fig6_data(161 if fine else 41, progress_label="fig6 a_bound" if show_progress else None)
     header = ["e1", "e2", "a", "b", "c", "A_max_eq26", "B_max_eq54", "dt_translation_eq48", "dt_rotation_eq57",
               "ratio_eq57_over_eq48", "A_bound", "dt_translation_verified", "ratio_eq57_over_verified"]

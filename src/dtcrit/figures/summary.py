@@ -66,7 +66,18 @@ Appendix A is at unit density with F = (1, 1, 1) N."""
 
 
 def document(summary_: dict) -> dict:
-    """The ``--json`` document: the envelope (``dtcrit.json_meta.envelope``), then the figures' summary."""
+    """The ``--json`` document: the envelope (``dtcrit.json_meta.envelope``), then the figures' summary.
+
+    Parameters
+    ----------
+    summary_ : dict
+        The figures' summary.
+
+    Returns
+    -------
+    dict
+        The JSON document.
+    """
     from dtcrit.json_meta import envelope
 
     return {**envelope(JSON_SCHEMA, JSON_UNITS), **summary_}
@@ -89,6 +100,14 @@ def _clean(obj):
 
 
 def fig3_summary() -> dict:
+    """Figure 3's key numbers at beta = 0..3: A m of Eq. (26) and of the verified bound, Eq. (60), the
+    verified steps and the groups of identical curves.
+
+    Returns
+    -------
+    dict
+        JSON-ready summary.
+    """
     from dtcrit.figures.fig3_damping import fig3_data
 
     d = fig3_data(n=4)  # beta = 0, 1, 2, 3
@@ -103,6 +122,18 @@ def fig3_summary() -> dict:
 
 
 def pair_summary(data) -> dict:
+    """Figures 4 and 5's key numbers: the steps at the first sweep point and their trends along N.
+
+    Parameters
+    ----------
+    data : dtcrit.figures.ellipsoid_pair.PairSteps
+        The curves.
+
+    Returns
+    -------
+    dict
+        JSON-ready summary.
+    """
     from dtcrit.figures.ellipsoid_pair import SCENE_INTEGRATORS, describe_trend
 
     j = 0
@@ -121,6 +152,20 @@ def pair_summary(data) -> dict:
 
 
 def aspect_ratio_summary(fine: bool = False, region: bool = True) -> dict:
+    """Figure 6's key numbers: ratio statistics, the fall from the sphere and the four-orders region.
+
+    Parameters
+    ----------
+    fine : bool
+        Use the fine grid.
+    region : bool
+        Also measure the region where the ratio exceeds 1e4.
+
+    Returns
+    -------
+    dict
+        JSON-ready summary.
+    """
     from dtcrit.figures.fig6_aspect_ratio import fig6_data, four_orders_region, ratio_at
 
     d = fig6_data(161 if fine else 41)
@@ -155,7 +200,22 @@ def aspect_ratio_summary(fine: bool = False, region: bool = True) -> dict:
 
 
 def summary(names, fine: bool = False, appendix: dict | None = None) -> dict:
-    """Summary for the figures in ``names`` (``appendix``: a finished appendix_a_study to reuse)."""
+    """Summary for the figures in ``names`` (``appendix``: a finished appendix_a_study to reuse).
+
+    Parameters
+    ----------
+    names : iterable of str
+        Canonical figure names.
+    fine : bool
+        Use the fine grids.
+    appendix : dict, optional
+        A finished ``appendix_a_study`` to reuse.
+
+    Returns
+    -------
+    dict
+        One entry per figure.
+    """
     out: dict = {}
     if "fig3" in names:
         out["fig3"] = fig3_summary()

@@ -57,6 +57,23 @@ float64 range; physically the contact is then a pure dashpot that never releases
 
 
 def check_zeta(zeta) -> float:
+    """The damping ratio of the linear contact, checked.
+
+    Parameters
+    ----------
+    zeta : float
+        Damping ratio ``c / (2 sqrt(k m))``, dimensionless.
+
+    Returns
+    -------
+    float
+        ``zeta`` as a float, in [0, ``MAX_ZETA``].
+
+    Raises
+    ------
+    InputError
+        When it is no finite number, is negative or exceeds ``MAX_ZETA``.
+    """
     z = _number("zeta", zeta)
     if z < 0:
         raise InputError("zeta", f"damping ratio must be >= 0 (got {z})")
@@ -66,6 +83,25 @@ def check_zeta(zeta) -> float:
 
 
 def check_omega_dt(value, key: str = "omega_dt") -> float:
+    """A step in units of the contact's period, ``omega dt``, checked.
+
+    Parameters
+    ----------
+    value : float
+        The step ``omega dt`` (dimensionless).
+    key : str
+        Name of the input reported in the error.
+
+    Returns
+    -------
+    float
+        ``value`` as a float, in [``MIN_OMEGA_DT``, ``MAX_OMEGA_DT``].
+
+    Raises
+    ------
+    InputError
+        When it is no finite number or lies outside that range.
+    """
     t = _number(key, value)
     if not MIN_OMEGA_DT <= t <= MAX_OMEGA_DT:
         raise InputError(key, f"must lie in [{MIN_OMEGA_DT:g}, {MAX_OMEGA_DT:g}] (got {t:g})")
@@ -73,6 +109,23 @@ def check_omega_dt(value, key: str = "omega_dt") -> float:
 
 
 def check_energy_threshold(value) -> float:
+    """The tolerated energy error of the Hertz study, checked.
+
+    Parameters
+    ----------
+    value : float
+        Largest accepted ``|v_exit^2/v0^2 - 1|``.
+
+    Returns
+    -------
+    float
+        ``value`` as a float, in (0, 1).
+
+    Raises
+    ------
+    InputError
+        When it is no finite number or lies outside (0, 1).
+    """
     thr = _number("energy_threshold", value)
     if not 0 < thr < 1:
         raise InputError("energy_threshold", f"must lie in (0, 1) (got {thr:g})")
@@ -80,6 +133,23 @@ def check_energy_threshold(value) -> float:
 
 
 def check_phases(n) -> int:
+    """The number of entry phases of a sweep, checked.
+
+    Parameters
+    ----------
+    n : int
+        Number of equally spaced entry phases in [0, 1).
+
+    Returns
+    -------
+    int
+        ``n`` as an int, in [1, ``MAX_PHASES``].
+
+    Raises
+    ------
+    InputError
+        When it is no integer or lies outside that range.
+    """
     try:
         k = int(n)
     except (TypeError, ValueError):

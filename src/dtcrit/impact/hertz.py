@@ -4,6 +4,8 @@ the tangent frequency there (``u'' = -(2/3) u^(3/2)``, entry speed ``sqrt(8/15)`
 """
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from dtcrit._generated import impact as _gen
@@ -25,6 +27,22 @@ def hertz_study(
     integrator's undamped linear bound tau* applied to the tangent stiffness at maximum overlap, the
     energy error at tau*, and the largest grid step below which the error stays under ``threshold``
     (same quantities for the linear contact at zeta = 0, for comparison).
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    omega_dt : float or array_like, optional
+        Steps omega_t dt to evaluate; ``sweep_grid()`` when omitted.
+    n_phases : int
+        Number of equally spaced entry phases per step.
+    threshold : float
+        Largest accepted energy error ``|v_exit^2/v0^2 - 1|``, in (0, 1).
+
+    Returns
+    -------
+    dict
+        The study, JSON-ready apart from the private ``_``-prefixed arrays the figures use.
     """
     name = check_integrator(integrator)
     thr = check_energy_threshold(threshold)
@@ -36,7 +54,7 @@ def hertz_study(
     lin_run = simulate_impacts(name, grid, phases, 0.0, "linear")
     lin_err = energy_errors(lin_run)
     tau_star = linear_bound(name, 0.0)
-    out = {
+    out: dict[str, Any] = {
         "integrator": name,
         "exact": {
             "duration": _gen.HERTZ_SCALED_DURATION,

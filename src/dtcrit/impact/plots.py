@@ -23,7 +23,15 @@ def _figure(width: float, height: float):
 
 
 def plot_sweep(report: dict, path) -> None:
-    """v_exit/v_entry vs omega*dt per damping ratio: min-max band over phases, mean, on-step, exact."""
+    """v_exit/v_entry vs omega*dt per damping ratio: min-max band over phases, mean, on-step, exact.
+
+    Parameters
+    ----------
+    report : dict
+        A sweep made by ``impact_report`` (its private ``_runs`` arrays).
+    path : str or pathlib.Path
+        File to write (format from the suffix).
+    """
     name = report["integrator"]
     runs = report["_runs"]
     zs = sorted(runs)
@@ -55,6 +63,13 @@ def plot_sweep(report: dict, path) -> None:
 def plot_hertz(study: dict, path) -> None:
     """Hertz impact: v_exit/v_entry band over phases vs omega_t dt, and the energy error vs the step
     (Hertz in omega_t dt, linear contact in omega dt) with the threshold and the linearised bound.
+
+    Parameters
+    ----------
+    study : dict
+        A study made by ``hertz_study`` (its private ``_grid`` array and ``numerical`` rows).
+    path : str or pathlib.Path
+        File to write (format from the suffix).
     """
     grid = study["_grid"]
     rows = study["numerical"]
@@ -92,6 +107,13 @@ def plot_hertz(study: dict, path) -> None:
 def plot_phase_curve(report: dict, path) -> None:
     """v_exit/v_entry vs entry phase at the single step of a report made with ``omega_dt``: one marker per
     simulated entry phase, the exact impact and the line v_exit = v_entry, every one named in the legend.
+
+    Parameters
+    ----------
+    report : dict
+        A single-step report made by ``impact_report`` with ``omega_dt`` (its private ``_run``).
+    path : str or pathlib.Path
+        File to write (format from the suffix).
     """
     run: ImpactRun = report["_run"]
     fig = _figure(6.0, 3.4)

@@ -84,6 +84,30 @@ def impact_report(
     ``omega_dt=None`` sweeps ``sweep_grid(step)``; a number evaluates that step only.  ``hertz`` and
     ``standard`` (summaries for zeta in ``STANDARD_ZETAS``) default to on for a sweep.
     Keys starting with ``_`` carry arrays for the figures and are not part of the JSON.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    zeta : float
+        Damping ratio of the linear contact.
+    omega_dt : float, optional
+        One step omega dt to evaluate; a sweep over ``sweep_grid(step)`` when omitted.
+    n_phases : int
+        Number of equally spaced entry phases per step.
+    hertz : bool, optional
+        Add the undamped Hertz study (default: on for a sweep).
+    energy_threshold : float
+        Largest accepted energy error of the Hertz study, in (0, 1).
+    step : float
+        Spacing of the sweep's grid in omega dt.
+    standard : bool, optional
+        Add summaries for the damping ratios ``STANDARD_ZETAS`` (default: on for a sweep).
+
+    Returns
+    -------
+    dict
+        The report (see ``to_json`` for its public form).
     """
     name = check_integrator(integrator)
     z = check_zeta(zeta)
@@ -175,5 +199,15 @@ def _plain(value):
 def to_json(report: dict) -> dict:
     """The documented JSON form of a report (schema ``dtcrit-impact/1``): the envelope of every dtcrit JSON
     (:func:`dtcrit.json_meta.envelope`), then the report without its private entries.
+
+    Parameters
+    ----------
+    report : dict
+        A report made by ``impact_report``.
+
+    Returns
+    -------
+    dict
+        The JSON document; non-finite numbers become null.
     """
     return {**envelope(JSON_SCHEMA, JSON_UNITS), **_plain(report)}

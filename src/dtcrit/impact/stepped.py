@@ -23,28 +23,49 @@ from dtcrit.impact.conventions import (
     check_phases,
     check_zeta,
 )
-from dtcrit.integrators.schemes import INTEGRATORS
+from dtcrit.integrators.schemes import INTEGRATORS, LinearForce
 from dtcrit.integrators.stability import check_integrator
 
 # ---------------------------------------------------------------------------------------------
 # time-stepped impact
 # ---------------------------------------------------------------------------------------------
 
-class SwitchedForce:
+class SwitchedForce(LinearForce):
     """Acceleration ``-K x^p - C v`` where ``x >= 0`` and 0 where ``x < 0`` (contact by sign of x).
 
     ``p = 1`` is the CFL note's spring-dashpot law, ``p = 3/2`` (with ``C = 0``) the Hertz law.
     ``dv`` (d force / d v) is set per step from the position at which the force is evaluated; only
     ``leapfrog-centred`` uses it, and it evaluates its force at the start-of-step position.
+
+    Parameters
+    ----------
+    K : float or numpy.ndarray
+        Spring coefficient per unit mass (1 in the note's units).
+    C : float or numpy.ndarray
+        Viscous coefficient per unit mass (``2 zeta`` in the note's units).
+    exponent : float
+        Power ``p`` of the overlap in the spring term.
     """
 
     def __init__(self, K, C, exponent: float = 1.0):
-        self.K = K
-        self.C = C
+        super().__init__(K, C)  # K, C and dv = -C, as for the persistent linear contact
         self.exponent = exponent
-        self.dv = -C
 
     def __call__(self, x, v):
+        """The acceleration at overlap ``x`` and velocity ``v`` (0 out of contact, ``x < 0``).
+
+        Parameters
+        ----------
+        x : numpy.ndarray
+            Overlaps (positive in contact).
+        v : numpy.ndarray
+            Velocities.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``-K x^p - C v`` where ``x >= 0``, else 0.
+        """
         contact = x >= 0
         if self.exponent == 1.0:
             spring = self.K * x
@@ -58,7 +79,21 @@ STATUS_EXITED, STATUS_NOT_SEPARATED, STATUS_DIVERGED = 0, 1, 2
 
 @dataclass
 class ImpactRun:
-    """Exit/entry speed ratios with shape ``(len(omega_dt), len(phases))`` and a status per run."""
+    """Exit/entry speed ratios with shape ``(len(omega_dt), len(phases))`` and a status per run.
+
+    Parameters
+    ----------
+    omega_dt : numpy.ndarray
+        The steps omega dt (rows).
+    phases : numpy.ndarray
+        The entry phases in [0, 1) (columns).
+    ratios : numpy.ndarray
+        v_exit/v0 per run; 0 where not separated by the cut-off, inf where diverged.
+    status : numpy.ndarray
+        ``STATUS_EXITED``, ``STATUS_NOT_SEPARATED`` or ``STATUS_DIVERGED`` per run.
+    steps : numpy.ndarray
+        Steps from the first in-contact step to the exit, per run.
+    """
 
     omega_dt: np.ndarray
     phases: np.ndarray
@@ -68,7 +103,18 @@ class ImpactRun:
 
 
 def entry_phases(n: int) -> np.ndarray:
-    """``n`` equally spaced entry phases ``j/n`` in [0, 1); phase 0 is contact beginning on a step."""
+    """``n`` equally spaced entry phases ``j/n`` in [0, 1); phase 0 is contact beginning on a step.
+
+    Parameters
+    ----------
+    n : int
+        Number of phases, in [1, ``MAX_PHASES``].
+
+    Returns
+    -------
+    numpy.ndarray
+        The phases ``0, 1/n, ..., (n-1)/n``.
+    """
     return np.arange(check_phases(n)) / n
 
 
@@ -87,6 +133,24 @@ def simulate_impacts(integrator: str, omega_dt, phases, zeta=0.0, contact: str =
 
     ``contact``: "linear" (CFL note, damping ratio ``zeta``) or "hertz" (undamped; ``omega_dt`` is then
     ``omega_t dt`` with ``omega_t`` the tangent frequency at the exact maximum overlap).
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme; its own update rule (``dtcrit.integrators.schemes``) steps the impact.
+    omega_dt : array_like
+        Steps tau = omega dt.
+    phases : array_like
+        Entry phases in [0, 1).
+    zeta : float
+        Damping ratio (linear contact only).
+    contact : str
+        ``"linear"`` or ``"hertz"``.
+
+    Returns
+    -------
+    ImpactRun
+        Exit ratios, status and step counts per (step, phase).
     """
     name = check_integrator(integrator)
     if contact not in ("linear", "hertz"):
@@ -175,6 +239,20 @@ def undamped_exit_ratios(integrator: str, omega_dt, phases) -> np.ndarray | None
     ``Q = v^2 + x^2 - tau x v``).  Forward Euler: ``(x_n, v_n) = (1 + tau^2)^(n/2)`` rotation by
     ``n arctan(tau)``; ratio ``|v_m|``.  None for other integrators (no closed form here); NaN where
     ``tau >= 2`` for the family.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    omega_dt : array_like
+        Steps tau = omega dt.
+    phases : array_like
+        Entry phases in [0, 1).
+
+    Returns
+    -------
+    numpy.ndarray or None
+        The exit ratios, or None for a scheme without a closed form here.
     """
     name = check_integrator(integrator)
     taus = np.atleast_1d(np.asarray(omega_dt, dtype=float))[:, None]
@@ -205,7 +283,18 @@ def undamped_exit_ratios(integrator: str, omega_dt, phases) -> np.ndarray | None
 
 
 def central_difference_bounds(omega_dt) -> tuple[np.ndarray, np.ndarray]:
-    """(lower, upper) bound of v_exit/v0 over all entry phases, undamped central difference (tau < 2)."""
+    """(lower, upper) bound of v_exit/v0 over all entry phases, undamped central difference (tau < 2).
+
+    Parameters
+    ----------
+    omega_dt : array_like
+        Steps tau = omega dt.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        The lower and upper bounds per step (NaN where tau >= 2).
+    """
     with np.errstate(all="ignore"):
         lo, hi = _gen.central_difference_ratio_bounds(np.asarray(omega_dt, dtype=float))
     return lo, hi
@@ -214,6 +303,18 @@ def central_difference_bounds(omega_dt) -> tuple[np.ndarray, np.ndarray]:
 def unit_ratio_steps(tau_min: float = 0.05, tau_max: float = 2.0) -> list[tuple[int, float]]:
     """(N, tau_N = 2 sin(pi/(2N))) in [tau_min, tau_max]: undamped central difference has
     v_exit = v0 for every entry phase exactly at these steps (the contact lasts N steps).
+
+    Parameters
+    ----------
+    tau_min : float
+        Smallest step to list.
+    tau_max : float
+        Largest step to list.
+
+    Returns
+    -------
+    list of tuple of (int, float)
+        ``(N, tau_N)`` pairs, N increasing (tau decreasing).
     """
     out = []
     n = 1

@@ -21,19 +21,57 @@ INLINE_BACKEND = "module://matplotlib_inline.backend_inline"
 
 
 def sources(directory: Path | None = None) -> list[Path]:
+    """The notebook sources, ``NN_name.py`` files in jupytext percent format, in their numbered order.
+
+    Parameters
+    ----------
+    directory : pathlib.Path, optional
+        Folder to list; the repository's ``notebooks/`` when omitted.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The sources, sorted by name (so by their two-digit number).
+    """
     directory = Path(directory or NOTEBOOK_DIR)
     return sorted(p for p in directory.glob("[0-9][0-9]_*.py"))
 
 
 def kernel_env() -> dict[str, str]:
-    """The environment of the notebook kernel: this process's, with the inline matplotlib backend."""
+    """The environment of the notebook kernel: this process's, with the inline matplotlib backend.
+
+    Returns
+    -------
+    dict of str to str
+        A copy of ``os.environ`` with ``MPLBACKEND`` set to ``INLINE_BACKEND``.
+    """
     env = dict(os.environ)
     env["MPLBACKEND"] = INLINE_BACKEND
     return env
 
 
 def render(source: Path, out_dir: Path | None = None, timeout: int = 120):
-    """Execute one notebook source; write ``<out_dir>/<stem>.ipynb`` when ``out_dir`` is given."""
+    """Execute one notebook source; write ``<out_dir>/<stem>.ipynb`` when ``out_dir`` is given.
+
+    Parameters
+    ----------
+    source : pathlib.Path
+        The jupytext percent-format source (``notebooks/NN_name.py``); it runs in its own folder.
+    out_dir : pathlib.Path, optional
+        Folder for the executed notebook (created if needed); nothing is written when omitted.
+    timeout : int
+        Seconds each cell may run before nbclient stops the notebook.
+
+    Returns
+    -------
+    nbformat.NotebookNode
+        The executed notebook, with every cell's outputs (figures as PNG).
+
+    Raises
+    ------
+    InputError
+        When the ``notebooks`` extra is not installed.
+    """
     try:
         import jupytext
         from nbclient import NotebookClient

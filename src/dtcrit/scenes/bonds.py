@@ -41,6 +41,30 @@ SPRINGS = ("kn", "ks", "kr", "ktw")
 
 @dataclass(frozen=True)
 class BondLaw:
+    """A bonded contact: the bond's springs, the contact's in parallel, and rotational dashpots.
+
+    Parameters
+    ----------
+    kn : float
+        Normal spring of the bond [N/m].
+    ks : float
+        Tangential spring of the bond [N/m].
+    kr : float
+        Rolling (bending) spring [N m/rad].
+    ktw : float
+        Twisting spring [N m/rad].
+    source : str
+        How the springs were obtained, in words.
+    contact_kn : float
+        Normal spring of the contact in parallel [N/m].
+    contact_ks : float
+        Tangential spring of the contact in parallel [N/m].
+    cr : float or None
+        Rolling dashpot [N m s/rad] when given.
+    ctw : float or None
+        Twisting dashpot [N m s/rad] when given.
+    """
+
     kn: float
     ks: float
     kr: float
@@ -56,17 +80,58 @@ def parallel_bond_springs(E: float, radius: float, length: float, *, kappa: floa
                           G: float | None = None) -> tuple[float, float, float, float]:
     """``(k_n, k_s, k_r, k_tw)`` of PFC's linear parallel bond with ``kn_bar = E/L`` and ``ks_bar = kn_bar/kappa``
     (or ``G/L``): ``kn_bar A``, ``ks_bar A``, ``kn_bar I``, ``ks_bar J`` (module docstring).
+
+    Parameters
+    ----------
+    E : float
+        Young's modulus of the bond [Pa].
+    radius : float
+        Radius of the bond's cylinder [m].
+    length : float
+        Length of the bond [m].
+    kappa : float, optional
+        Normal-to-shear stiffness ratio ``kn_bar/ks_bar``.
+    G : float, optional
+        Shear modulus of the bond [Pa], used when ``kappa`` is not given.
+
+    Returns
+    -------
+    tuple of float
+        ``(k_n, k_s, k_r, k_tw)`` [N/m, N/m, N m/rad, N m/rad].
     """
     area = math.pi * radius * radius
     second = area * radius * radius / 4.0  # I = pi r^4/4
     polar = 2.0 * second  # J = pi r^4/2
     kn_bar = E / length
-    ks_bar = kn_bar / kappa if kappa is not None else G / length
+    if kappa is not None:
+        ks_bar = kn_bar / kappa
+    elif G is not None:
+        ks_bar = G / length
+    else:
+        raise ValueError("give kappa or G")
     return kn_bar * area, ks_bar * area, kn_bar * second, ks_bar * polar
 
 
 def parse_bond(prefix: str, table: dict) -> BondLaw:
-    """Validate a ``model = "bond"`` table: springs directly, or the parallel bond's material and cylinder."""
+    """Validate a ``model = "bond"`` table: springs directly, or the parallel bond's material and cylinder.
+
+    Parameters
+    ----------
+    prefix : str
+        Location of the table in the scene file, prefixed to the keys of error messages.
+    table : dict
+        The ``[contact]`` table's entries.
+
+    Returns
+    -------
+    BondLaw
+        The bond's springs, the contact springs in parallel and the rotational dashpots.
+
+    Raises
+    ------
+    InputError
+        When springs and material are mixed, a key is missing, or a value is invalid.
+    """
     direct = [k for k in SPRINGS if k in table]
     material = [k for k in MATERIAL_KEYS if k in table]
     if direct and material:
@@ -99,7 +164,7 @@ def parse_bond(prefix: str, table: dict) -> BondLaw:
                 raise InputError(prefix + "bond_poisson_ratio", "must exceed -1")
             G = E / (2.0 * (1.0 + nu))
             how = f"PFC linear parallel bond, kn_bar = E/L, ks_bar = G/L with G = E/(2 (1 + {nu:g}))"
-        springs = parallel_bond_springs(E, radius, length, kappa=kappa, G=G)
+        springs: tuple[float, ...] = parallel_bond_springs(E, radius, length, kappa=kappa, G=G)
         for name, value in zip(SPRINGS, springs):
             if not (math.isfinite(value) and value > 0):
                 raise InputError(prefix + "bond_youngs_modulus", f"the bond's {name} = {value!r} is outside double precision")
@@ -118,16 +183,52 @@ def parse_bond(prefix: str, table: dict) -> BondLaw:
     if (cr is not None or ctw is not None) and "damping_ratio" in table:
         raise InputError(prefix + ("cr" if cr is not None else "ctw"),
                          "conflicting damping specifications: coefficients and damping_ratio; give exactly one way")
-    return BondLaw(*springs, source, *contact, cr=cr, ctw=ctw)
+    kn, ks, kr, ktw = springs
+    contact_kn, contact_ks = contact
+    return BondLaw(kn, ks, kr, ktw, source, contact_kn, contact_ks, cr=cr, ctw=ctw)
 
 
 def bond_springs(bond: BondLaw) -> tuple[float, float, float, float]:
-    """``(k_n, k_s, k_r, k_tw)`` of the element: the bond's springs plus the contact's in parallel."""
+    """``(k_n, k_s, k_r, k_tw)`` of the element: the bond's springs plus the contact's in parallel.
+
+    Parameters
+    ----------
+    bond : BondLaw
+        The validated bond.
+
+    Returns
+    -------
+    tuple of float
+        ``(k_n, k_s, k_r, k_tw)`` [N/m, N/m, N m/rad, N m/rad].
+    """
     return bond.kn + bond.contact_kn, bond.ks + bond.contact_ks, bond.kr, bond.ktw
 
 
 def rotational_dashpots(bond: BondLaw, zeta: float | None, kr: float, ktw: float, i1: float, i2: float | None):
-    """``(c_r, c_tw)``: the coefficients given, or ``2 zeta sqrt(k I*)`` from a damping ratio."""
+    """``(c_r, c_tw)``: the coefficients given, or ``2 zeta sqrt(k I*)`` from a damping ratio.
+
+    ``I* = I_1 I_2/(I_1 + I_2)`` (``I_1`` against a wall).
+
+    Parameters
+    ----------
+    bond : BondLaw
+        The validated bond (its ``cr``, ``ctw`` when given).
+    zeta : float or None
+        Damping ratio of the rotational modes; None to use the given coefficients.
+    kr : float
+        Rolling spring [N m/rad].
+    ktw : float
+        Twisting spring [N m/rad].
+    i1 : float
+        Moment of inertia of the first particle [kg m^2].
+    i2 : float or None
+        Moment of inertia of the second particle, None against a wall.
+
+    Returns
+    -------
+    tuple of float
+        ``(c_r, c_tw)`` [N m s/rad].
+    """
     if zeta is None:
         return bond.cr or 0.0, bond.ctw or 0.0
     i_star = i1 if i2 is None else (i1 / (1.0 + i1 / i2) if i1 <= i2 else i2 / (1.0 + i2 / i1))

@@ -42,6 +42,15 @@ ROUND = 1e-12  # relative inflation of the interval bound on cos(theta): covers 
 class Coordination:
     """``z``: the largest number of contacts any particle of the scene can have; ``where``: which particle
     attains it; ``how``: the argument, in words (printed with the headline).
+
+    Parameters
+    ----------
+    z : int
+        The largest coordination.
+    where : str
+        The particle that attains it.
+    how : str
+        The argument, in words.
     """
 
     z: int
@@ -72,6 +81,18 @@ def _cos_bound_binned(lo: np.ndarray, hi: np.ndarray, overlap: float) -> np.ndar
 def sphere_cos_bounds(radii, overlap: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(lo, hi, cos_max)``: groups of radii ``[lo, hi]`` (single radii up to ``EXACT_SPECIES``, else bins)
     and for each an upper bound on the cosine of the smallest angle between two contact normals.
+
+    Parameters
+    ----------
+    radii : array_like
+        Sphere radii of the scene [m].
+    overlap : float
+        Largest overlap as a fraction of ``R_i + R_j``.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(lo, hi, cos_max)`` per group.
     """
     r = np.unique(np.asarray(radii, float))
     if len(r) <= EXACT_SPECIES:
@@ -90,6 +111,20 @@ def sphere_volume_count(lo: np.ndarray, hi: np.ndarray, r_min: float, r_max: flo
     docstring with balls): its neighbours shrunk by ``1 - eps`` are disjoint balls of radius at least
     ``(1 - eps) r_min`` inside the ball of radius ``(1 + tau)(hi + r_max) + (1 - eps) r_max``, outside its
     own shrunken ball.  Finite for every size ratio, where the angle argument may bound nothing.
+
+    Parameters
+    ----------
+    lo, hi : numpy.ndarray
+        Radius groups [m].
+    r_min, r_max : float
+        Smallest and largest radius of the scene [m].
+    overlap : float
+        Largest overlap as a fraction of ``R_i + R_j``.
+
+    Returns
+    -------
+    numpy.ndarray
+        The count per group.
     """
     q = 1.0 - overlap
     rho = (1.0 + CONTACT_TOLERANCE) * (hi + r_max) + q * r_max
@@ -99,6 +134,18 @@ def sphere_volume_count(lo: np.ndarray, hi: np.ndarray, r_min: float, r_max: flo
 def sphere_coordination(radii, overlap: float) -> tuple[int, float]:
     """The largest number of sphere neighbours a sphere with one of ``radii`` can have (the smaller of
     the contact-angle and the volume count), and the radius (lower end of its group) where it is attained.
+
+    Parameters
+    ----------
+    radii : array_like
+        Sphere radii of the scene [m].
+    overlap : float
+        Largest overlap as a fraction of ``R_i + R_j``.
+
+    Returns
+    -------
+    tuple
+        ``(z, radius)``.
     """
     lo, hi, cos_max = sphere_cos_bounds(radii, overlap)
     r = np.asarray(radii, float)
@@ -129,7 +176,18 @@ def _body_coordination(shapes: list, overlap: float) -> tuple[int, int]:
 
 
 def scene_coordination(scene) -> Coordination:
-    """The largest coordination the scene's shapes and sizes allow (see the module docstring)."""
+    """The largest coordination the scene's shapes and sizes allow (see the module docstring).
+
+    Parameters
+    ----------
+    scene : dtcrit.scenes.model.Scene
+        The parsed scene.
+
+    Returns
+    -------
+    Coordination
+        The bound, where it is attained and why.
+    """
     overlap = scene.overlap_max
     walls = {p.number: sum(1 for w in scene.walls if p.number in w.particles) for p in scene.particles}
     if all(p.kind == "sphere" for p in scene.particles):

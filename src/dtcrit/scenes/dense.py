@@ -52,6 +52,16 @@ DENSE_SCHEMES = ("symplectic-euler", "leapfrog", "leapfrog-centred", "velocity-v
 def dense_reason(integrator: str) -> str | None:
     """None when the packing bound applies to ``integrator`` (a ``DENSE_SCHEMES`` entry, or a user-written
     scheme whose update is the same map as one of them for matrix K and C), else why it does not.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+
+    Returns
+    -------
+    str or None
+        None, or the reason in words.
     """
     from dtcrit.integrators.schemes import USER_INTEGRATORS
 
@@ -70,6 +80,24 @@ FACTOR_COORDINATIONS = (4, 6, 12)
 
 @dataclass(frozen=True)
 class DenseStep:
+    """The step that holds for every packing with at most ``coordination`` contacts per particle.
+
+    Parameters
+    ----------
+    coordination : int
+        Largest number of contacts of a particle.
+    dt : float or None
+        The step [s] (None when the bound does not apply).
+    lambda_k : float
+        Bound on lambda_max(M^-1/2 K M^-1/2) [1/s^2].
+    lambda_c : float
+        Bound on lambda_max(M^-1/2 C M^-1/2) [1/s].
+    particle : str
+        Where the bound is attained: ``"particle i (radius r) against j"``.
+    reason : str
+        Which bound gives the step, in words.
+    """
+
     coordination: int
     dt: float | None
     lambda_k: float  # bound on lambda_max(M^-1/2 K M^-1/2) [1/s^2]
@@ -105,7 +133,20 @@ def _rotational_block(kind: str, shape, k_n: float, k_s: float, k_r: float, k_tw
 
 
 def block_terms(scene, steps) -> list[tuple[float, float, str]]:
-    """``(w lambda_K, w lambda_C, where)`` of every contact a particle can have, from the pair steps."""
+    """``(w lambda_K, w lambda_C, where)`` of every contact a particle can have, from the pair steps.
+
+    Parameters
+    ----------
+    scene : dtcrit.scenes.model.Scene
+        The parsed scene.
+    steps : sequence of dtcrit.scenes.pair_modes.PairStep
+        The isolated-contact steps of the scene's pairs.
+
+    Returns
+    -------
+    list of tuple
+        One ``(lambda_K, lambda_C, where)`` per contact end.
+    """
     out = []
     for s in steps:
         pc = s.contact
@@ -131,6 +172,24 @@ def sphere_bound(scene, steps, z: int, rtol: float = 2e-3, n_theta: int = 96) ->
     """``(lambda_K, lambda_C)`` from the geometric sphere-packing bound (:mod:`dtcrit.scenes.dense_spheres`),
     or None where it does not apply (other shapes, walls, more than ``SPHERE_BOUND_MAX_SPECIES`` sizes).
     ``rtol``, ``n_theta``: the branch-and-bound tolerance and sphere grid (tightness and time, never validity).
+
+    Parameters
+    ----------
+    scene : dtcrit.scenes.model.Scene
+        The parsed scene.
+    steps : sequence of dtcrit.scenes.pair_modes.PairStep
+        The isolated-contact steps of the scene's pairs.
+    z : int
+        Largest number of contacts of a particle.
+    rtol : float
+        Branch-and-bound stopping tolerance.
+    n_theta : int
+        Resolution of the sphere grid.
+
+    Returns
+    -------
+    tuple of float or None
+        ``(lambda_K [1/s^2], lambda_C [1/s])``, or None.
     """
     if scene.walls or any(p.kind != "sphere" for p in scene.particles) or any(s.contact.rotational for s in steps):
         return None  # the geometric bound covers normal and shear springs only
@@ -155,6 +214,24 @@ def dense_step(integrator: str, terms: list[tuple[float, float, str]], z: int,
                spheres: tuple[float, float] | None = None, overlap: float | None = None) -> DenseStep:
     """The step that holds for every packing with at most ``z`` contacts per particle: the block bound,
     or the smaller geometric sphere bound ``spheres = (lambda_K, lambda_C)`` where it applies.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    terms : list of tuple
+        ``(lambda_K, lambda_C, where)`` per contact end (``block_terms``).
+    z : int
+        Largest number of contacts of a particle.
+    spheres : tuple of float, optional
+        The geometric sphere bound ``(lambda_K, lambda_C)``.
+    overlap : float, optional
+        Largest overlap as a fraction of ``R_i + R_j`` (reported).
+
+    Returns
+    -------
+    DenseStep
+        The step and the bound that gives it.
     """
     lam_k = z * max(t[0] for t in terms)
     lam_c = z * max(t[1] for t in terms)

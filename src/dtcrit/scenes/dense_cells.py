@@ -20,6 +20,20 @@ def min_contact_angle_cos(r_i, r_j, r_k, overlap=0.0, contact_tolerance=1e-9):
     Lemma 5: with ``d_ij <= (1+tau)(R_i+R_j)``, ``d_ij >= (1-eps)(R_i+R_j)`` (same for k) and
     ``d_jk >= (1-eps)(R_j+R_k)``, ``cos(angle) <= max over the four corners (x, y) of
     (x^2 + y^2 - L^2) / (2 x y)``, ``L = (1-eps)(R_j+R_k)``.  Broadcasts.
+
+    Parameters
+    ----------
+    r_i, r_j, r_k : array_like
+        Radii of the centre sphere and its two neighbours [m].
+    overlap : float
+        Largest overlap ``eps`` as a fraction of the sum of radii.
+    contact_tolerance : float
+        How far beyond touching a contact may be, ``tau``.
+
+    Returns
+    -------
+    numpy.ndarray
+        The bound on the cosine, broadcast shape.
     """
     r_i, r_j, r_k = np.broadcast_arrays(*(np.asarray(v, float) for v in (r_i, r_j, r_k)))
     lo, hi = 1.0 - overlap, 1.0 + contact_tolerance
@@ -41,10 +55,22 @@ def _cross(n):
 
 
 def end_matrix(n, pars):
-    """6 x 6 matrix ``Q(n)`` of one contact end (Lemma 3), mass-scaled DOFs ``v = (x, y)``:
+    """The 6 x 6 matrix ``Q(n)`` of one contact end (Lemma 3), mass-scaled DOFs ``v = (x, y)``.
 
     ``v^T Q v = alpha (n.x)^2 + |sqrt(beta) P x - sqrt(gamma) n x y|^2 + gamma_r |P y|^2 + gamma_w (n.y)^2``
     with ``P = 1 - n n^T`` and ``pars = (alpha, beta, gamma, gamma_r, gamma_w)``.
+
+    Parameters
+    ----------
+    n : array_like
+        Unit contact normal (3,).
+    pars : sequence of float
+        ``(alpha, beta, gamma, gamma_r, gamma_w)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``Q(n)``, shape (6, 6).
     """
     alpha, beta, gamma, gr, gw = pars[:5]
     n = np.asarray(n, float)
@@ -141,6 +167,16 @@ def max_code_size(theta: float) -> float:
     for every N >= 3 points, sharpened to 12 (13) when theta exceeds the Tammes angle of 13 (14)
     points (Musin & Tarasov 2012, 2015) with a margin of 1e-6 deg.  ``math.inf`` when ``theta <= 0``
     (no angle between the normals: the angle argument bounds nothing).
+
+    Parameters
+    ----------
+    theta : float
+        Smallest angle between two points [rad].
+
+    Returns
+    -------
+    float
+        The bound on the number of points.
     """
     if theta <= 0:
         return math.inf

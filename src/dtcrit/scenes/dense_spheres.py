@@ -216,6 +216,19 @@ class DenseBound:
     """Result: ``omega2`` [1/s^2] (rigorous upper bound on omega_max^2), ``dt = 2/sqrt(omega2)`` (a
     rigorous lower bound on the undamped central-difference critical step), the weight exponent
     ``p`` used, the governing species and per-species details.
+
+    Parameters
+    ----------
+    omega2 : float
+        Rigorous upper bound on omega_max^2 [1/s^2].
+    p : float
+        The weight exponent of the splitting that gave it.
+    governing : int
+        Index of the species that attains the bound.
+    species : list of dict
+        Per species: mass, radius, inertia, effective coordination, smallest angle, bound, how.
+    trivial_omega2 : float
+        The bound without the angle argument (for comparison) [1/s^2].
     """
 
     omega2: float
@@ -226,6 +239,7 @@ class DenseBound:
 
     @property
     def dt(self) -> float:
+        """``2/sqrt(omega2)`` [s]: a lower bound on the undamped central-difference critical step."""
         return 2.0 / math.sqrt(self.omega2) if self.omega2 > 0 else math.inf
 
 
@@ -302,8 +316,38 @@ def dense_omega2_bound(kn, ks, masses, radii, inertia=None, z=12, *, kr: float =
     species).  ``rtol`` the branch-and-bound stopping tolerance and ``n_theta`` the sphere grid:
     they change only how tight the bound is, never its validity.
 
-    Returns :class:`DenseBound`; ``.dt = 2/sqrt(omega2)`` is a lower bound on the true critical
-    step of the undamped central-difference family for every such packing.
+    Parameters
+    ----------
+    kn, ks : float
+        Largest normal / tangential contact stiffness [N/m].
+    masses : array_like
+        Mass of each species [kg].
+    radii : array_like
+        Radius of each species [m].
+    inertia : array_like, optional
+        Smallest principal moment of each species [kg m^2]; ``2/5 m R^2`` when omitted.
+    z : int or array_like
+        Largest number of contacts of a particle (scalar or per species).
+    kr, ktw : float
+        Rolling / twisting springs [N m/rad].
+    overlap : float
+        Largest overlap as a fraction of ``R_i + R_j``.
+    contact_tolerance : float
+        How far beyond touching a contact may be, as a fraction of ``R_i + R_j``.
+    arms : str
+        ``"full"`` or ``"overlap-midpoint"``.
+    p_grid : sequence of float, optional
+        Splitting exponents tried.
+    rtol : float
+        Branch-and-bound stopping tolerance.
+    n_theta : int
+        Resolution of the sphere grid.
+
+    Returns
+    -------
+    DenseBound
+        The bound; ``.dt = 2/sqrt(omega2)`` is a lower bound on the true critical step of the
+        undamped central-difference family for every such packing.
     """
     kn, ks, kr, ktw = (float(v) for v in (kn, ks, kr, ktw))
     if min(kn, ks, kr, ktw) < 0 or not all(math.isfinite(v) for v in (kn, ks, kr, ktw)):
@@ -380,9 +424,22 @@ def dense_omega2_bound(kn, ks, masses, radii, inertia=None, z=12, *, kr: float =
                                     "omega2": details[s][0], "how": details[s][1]} for s in range(len(m))])
         if best is None or cand.omega2 < best.omega2:
             best = cand
+    if best is None:
+        raise ArithmeticError("no splitting exponent gave a finite bound")
     return best
 
 
 def dense_dt_bound(*args, **kwargs) -> float:
-    """``2 / sqrt(dense_omega2_bound(...).omega2)``: a rigorous lower bound on the critical step."""
+    """``2 / sqrt(dense_omega2_bound(...).omega2)``: a rigorous lower bound on the critical step.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        The arguments of :func:`dense_omega2_bound`.
+
+    Returns
+    -------
+    float
+        The step [s].
+    """
     return dense_omega2_bound(*args, **kwargs).dt

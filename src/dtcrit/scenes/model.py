@@ -58,7 +58,44 @@ CONTACT_ALL = tuple(dict.fromkeys(CONTACT_KEYS["linear"] + CONTACT_KEYS["yade"] 
 
 @dataclass(frozen=True)
 class PairContact:
-    """The linear(ised) contact of one pair of particle types (Peng et al. 2020, Eq. (29))."""
+    """The linear(ised) contact of one pair of particle types (Peng et al. 2020, Eq. (29)).
+
+    Parameters
+    ----------
+    i, j : int
+        Particle numbers, counted from 1 (``j = 0`` against a wall).
+    m_star : float
+        Effective mass ``m_i m_j / (m_i + m_j)`` [kg].
+    kn, ks : float
+        Normal / tangential spring [N/m].
+    cn, cs : float
+        Normal / tangential dashpot [N s/m].
+    zeta : float or None
+        The damping ratio the user gave (None when given as coefficients).
+    radius_i, radius_j : float or None
+        Sphere radii of this contact [m] (None for other shapes).
+    zeta_n, zeta_s : float or None
+        Damping ratio per direction as the damping convention defines it (``zeta_s`` None: no
+        tangential spring).
+    convention : str or None
+        The damping convention (``dtcrit.scenes.damping``).
+    wall : str or None
+        The wall's name for a particle-wall contact.
+    wall_number : int or None
+        The wall's number, counted from 1.
+    e_star, g_star : float or None
+        Hertz: effective Young's and shear moduli [Pa].
+    r_star : float or None
+        Hertz: effective radius [m].
+    delta_max : float or None
+        Hertz: largest overlap [m].
+    velocity : float or None
+        Hertz: impact speed [m/s].
+    kr, ktw : float
+        Rolling / twisting spring [N m/rad] (``dtcrit.scenes.rotational``).
+    cr, ctw : float
+        Rolling / twisting dashpot [N m s/rad].
+    """
 
     i: int  # particle numbers, counted from 1
     j: int
@@ -92,12 +129,35 @@ class PairContact:
 
     @property
     def label(self) -> str:
+        """``"i-j"``, or ``"i-wallN"`` against wall N."""
         return f"{self.i}-wall{self.wall_number}" if self.wall is not None else f"{self.i}-{self.j}"
 
 
 @dataclass(frozen=True)
 class Particle:
-    """One particle type of a scene: its shape object and (optional) elastic constants."""
+    """One particle type of a scene: its shape object and (optional) elastic constants.
+
+    Parameters
+    ----------
+    number : int
+        Position of the ``[[particle]]`` table, counted from 1.
+    kind : str
+        Shape kind (``"sphere"``, ``"ellipsoid"``, ``"clump"``, ...).
+    dimensions : dict
+        The dimension entries as given (validated).
+    shape : object
+        A ``dtcrit.bodies`` object (for a size distribution: its smallest sphere).
+    youngs_modulus : float or None
+        Young's modulus [Pa] (Hertz contacts).
+    poisson_ratio : float or None
+        Poisson's ratio (Hertz contacts).
+    name : str
+        The particle type's name.
+    sizes : dtcrit.scenes.sizes.SizeDistribution, optional
+        Spheres: the radii of the type.
+    shapes : sequence
+        Spheres: one body per radius of ``sizes``.
+    """
 
     number: int  # counted from 1
     kind: str
@@ -111,6 +171,7 @@ class Particle:
 
     @property
     def mass(self) -> float:
+        """Mass of the type's shape [kg] (the smallest sphere of a size distribution)."""
         return self.shape.mass
 
     @property
@@ -119,7 +180,18 @@ class Particle:
         return self.sizes.radii if self.sizes is not None else ()
 
     def shape_at(self, radius: float | None):
-        """The body at ``radius`` (spheres of a size distribution), else the one shape."""
+        """The body at ``radius`` (spheres of a size distribution), else the one shape.
+
+        Parameters
+        ----------
+        radius : float or None
+            One of the distribution's radii [m]; None for the type's shape.
+
+        Returns
+        -------
+        object
+            The ``dtcrit.bodies`` object.
+        """
         if radius is None or not len(self.shapes):
             return self.shape
         k = bisect.bisect_left(self.radii, radius)  # the radii are ascending
@@ -128,9 +200,28 @@ class Particle:
         return self.shapes[k]
 
     def mass_at(self, radius: float | None) -> float:
+        """Mass of the body at ``radius`` [kg].
+
+        Parameters
+        ----------
+        radius : float or None
+            One of the distribution's radii [m]; None for the type's shape.
+
+        Returns
+        -------
+        float
+            The mass.
+        """
         return self.shape_at(radius).mass
 
     def describe(self) -> str:
+        """One line for the text report: the dimensions as given and the mass.
+
+        Returns
+        -------
+        str
+            The description.
+        """
         if self.kind == "clump":
             return f"clump ({len(self.dimensions['spheres'])} spheres, overlaps counted once), mass {self.shape.mass:.6g} kg"
         dims = ", ".join(f"{k} = {_fmt_dim(v)}" for k, v in self.dimensions.items() if k != "vertices")
@@ -152,7 +243,33 @@ def _fmt_dim(v) -> str:
 
 @dataclass(frozen=True)
 class ContactLaw:
-    """The ``[contact]`` table after validation."""
+    """The ``[contact]`` table after validation.
+
+    Parameters
+    ----------
+    model : str
+        ``"linear"``, ``"yade"``, ``"hertz"`` or ``"bond"``.
+    kn, ks : float or None
+        Normal / tangential spring [N/m].
+    cn, cs : float or None
+        Given normal / tangential dashpot [N s/m] (linear only).
+    restitution : float or None
+        Coefficient of restitution, when given.
+    damping_ratio : float or None
+        Damping ratio, given or derived from the restitution.
+    velocity : float or None
+        Hertz: impact speed [m/s].
+    curvature_radius : float or None
+        Hertz: effective radius of curvature [m], when given.
+    damping_convention : str or None
+        The damping convention (None: the model's default, ``dtcrit.scenes.damping``).
+    ks_ratio : float or None
+        YADE: ``ks/kn``.
+    rotational : dtcrit.scenes.rotational.RotationalLaw, optional
+        Rolling and twisting springs (None: none).
+    bond : dtcrit.scenes.bonds.BondLaw, optional
+        The bond of ``model = "bond"``.
+    """
 
     model: str  # linear | yade | hertz
     kn: float | None = None
@@ -175,6 +292,7 @@ class ContactLaw:
 
     @property
     def damped(self) -> bool:
+        """Whether the law has any damping (coefficients, or a positive damping ratio)."""
         if self.damping == "coefficients":
             return True
         return (self.damping_ratio or 0.0) > 0.0
@@ -182,7 +300,37 @@ class ContactLaw:
 
 @dataclass(frozen=True)
 class Scene:
-    """A validated scene (see module docstring); build with :func:`load_scene` or :func:`parse_scene`."""
+    """A validated scene (see module docstring); build with :func:`load_scene` or :func:`parse_scene`.
+
+    Parameters
+    ----------
+    source : str
+        Path of the scene file (or a label for a scene given as text).
+    integrator : str
+        Name of the scheme.
+    particles : tuple of Particle
+        The particle types.
+    contact : ContactLaw
+        The contact law.
+    omega_max : float, optional
+        Largest angular speed [rad/s] (enables the rotation-dominant bound).
+    safety : float
+        Factor applied to the critical step for the recommended step.
+    pairs : str
+        ``"all"`` or ``"unlike"``: which pairs of types can touch.
+    title : str, optional
+        The scene's title.
+    warnings : tuple of tuple of str
+        ``(key, message)`` warnings found while validating.
+    walls : tuple of dtcrit.scenes.walls.Wall
+        The fixed walls.
+    coordination_max : int, optional
+        Given largest number of contacts of a particle.
+    overlap_max : float
+        Largest overlap in a packing, as a fraction of ``R_i + R_j``.
+    isolated : bool
+        The headline is the isolated-contact step (else the step for any packing).
+    """
 
     source: str
     integrator: str
@@ -206,6 +354,11 @@ class Scene:
     def pair_numbers(self) -> tuple[tuple[int, int], ...]:
         """The pairs of particle types that can touch: every ``(i, j)`` with ``i <= j``
         (``pairs = "all"``), or only ``i < j`` (``pairs = "unlike"``).
+
+        Returns
+        -------
+        tuple of tuple of int
+            The pairs of particle numbers (counted from 1).
         """
         n = len(self.particles)
         if self.pairs == "unlike" and n > 1:
@@ -213,9 +366,21 @@ class Scene:
         return tuple((i, j) for i in range(1, n + 1) for j in range(i, n + 1))
 
     def particle(self, number: int) -> Particle:
+        """The particle type with the given number.
+
+        Parameters
+        ----------
+        number : int
+            Particle number, counted from 1.
+
+        Returns
+        -------
+        Particle
+            The type.
+        """
         return self.particles[number - 1]
 
 
 def _harmonic(x: float, y: float) -> float:
-    """x y / (x + y) without overflow: 1 / (1/x + 1/y) for positive finite x, y."""
+    """The harmonic product x y / (x + y) without overflow: 1 / (1/x + 1/y) for positive finite x, y."""
     return x / (1.0 + x / y) if x <= y else y / (1.0 + y / x)

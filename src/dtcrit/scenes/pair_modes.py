@@ -45,7 +45,29 @@ BOUND = "bound (A_bound)"
 
 @dataclass(frozen=True)
 class DirectionStep:
-    """The step of one contact mode: ``direction`` normal | shear."""
+    """The step of one contact mode: ``direction`` normal | shear.
+
+    Parameters
+    ----------
+    direction : str
+        ``"normal"``, ``"shear"`` or the name of a rotational or coupled mode.
+    k : float
+        Spring of the mode [N/m, or N m/rad].
+    c : float
+        Dashpot of the mode [N s/m, or N m s/rad].
+    A : float
+        Inverse inertia of the mode [1/kg, or 1/(kg m^2)] (Peng et al. 2020, Eq. (29)).
+    zeta : float or None
+        The damping ratio of this direction as the scene's convention defines it.
+    zeta_mode : float
+        ``c A / (2 sqrt(k A))``: the mode's own damping ratio, which decides the step.
+    regime : str
+        Regime of ``zeta`` (underdamped, ...), or ``"dashpot only"`` / ``"free"``.
+    dt : float
+        Critical step of the mode [s].
+    reason : str
+        Which bound of the integrator gives ``dt``, in words.
+    """
 
     direction: str
     k: float
@@ -60,6 +82,32 @@ class DirectionStep:
 
 @dataclass(frozen=True)
 class PairStep:
+    """The isolated-contact step of one pair of particle types (or a particle type and a wall).
+
+    Parameters
+    ----------
+    contact : PairContact
+        The linearised contact.
+    A_max : float or None
+        Eq. (26) of Peng et al. 2020 as printed (None against a wall) [1/kg].
+    A_bound : float
+        Bound on the coefficient matrix's largest eigenvalue [1/kg].
+    normal : DirectionStep
+        The normal mode.
+    shear : DirectionStep
+        The shear mode.
+    method : str
+        ``EXACT`` (sphere modes) or ``BOUND`` (the eigenvalue bound).
+    B_sum : float or None
+        ``B_i + B_j`` of the rotation-dominant bound (None without ``omega_max``).
+    dt_rotation : float or None
+        Rotation-dominant step (Eqs. (54), (56)) [s].
+    rotational : tuple of DirectionStep
+        Rolling, twisting, shear-rolling or translation+rotation modes.
+    shear_coupled : bool
+        The shear spring is part of a coupled mode (then ``shear`` is not a mode).
+    """
+
     contact: PairContact
     A_max: float | None  # Eq. (26) as printed (None against a wall)
     A_bound: float  # the bound on the coefficient matrix's largest eigenvalue (reported for every pair)
@@ -73,6 +121,7 @@ class PairStep:
 
     @property
     def label(self) -> str:
+        """The contact's label, ``"i-j"`` or ``"i-wallN"``."""
         return self.contact.label
 
     @property
@@ -82,6 +131,7 @@ class PairStep:
 
     @property
     def governing_direction(self) -> DirectionStep:
+        """The mode with the smallest step."""
         return min(self.modes, key=lambda d: d.dt)
 
     @property
@@ -105,19 +155,77 @@ def _regime(zeta: float | None, mode) -> str:
 
 
 def direction_step(integrator: str, name: str, k: float, c: float, A: float, zeta: float | None) -> DirectionStep:
+    """The critical step of one mode ``x'' = -k A x - c A x'`` (``dtcrit.integrators.stability.mode_dt``).
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    name : str
+        Name of the mode (``"normal"``, ``"shear"``, ...).
+    k : float
+        Spring [N/m or N m/rad].
+    c : float
+        Dashpot [N s/m or N m s/rad].
+    A : float
+        Inverse inertia of the mode [1/kg or 1/(kg m^2)].
+    zeta : float or None
+        The damping ratio as the scene's convention defines it (reported, not used for the step).
+
+    Returns
+    -------
+    DirectionStep
+        The mode's step with its regime and reason.
+    """
     r = mode_dt(integrator, k, c, A)
     return DirectionStep(name, k, c, A, zeta, r.zeta, _regime(zeta, r), r.dt, r.reason)
 
 
 def sphere_modes(p_shape, q_shape) -> tuple[float, float]:
-    """(A_n, A_t) of two spheres, or of a sphere and a fixed wall (``q_shape`` None), arm = radius."""
+    """(A_n, A_t) of two spheres, or of a sphere and a fixed wall (``q_shape`` None), arm = radius.
+
+    ``A_n = 1/m_p + 1/m_q`` and ``A_t = A_n + R_p^2/I_p + R_q^2/I_q`` (Peng et al. 2020, Section 4.3).
+
+    Parameters
+    ----------
+    p_shape : dtcrit.bodies.smooth.Sphere
+        The first sphere.
+    q_shape : dtcrit.bodies.smooth.Sphere or None
+        The second sphere, or None for a fixed wall.
+
+    Returns
+    -------
+    tuple of float
+        ``(A_n, A_t)`` [1/kg].
+    """
     inv = 1.0 / p_shape.mass + (0.0 if q_shape is None else 1.0 / q_shape.mass)
     rot = p_shape.max_arm**2 / p_shape.inertia[0] + (0.0 if q_shape is None else q_shape.max_arm**2 / q_shape.inertia[0])
     return inv, inv + rot
 
 
 def pair_step(integrator: str, pc: PairContact, p_shape, q_shape, p_kind: str, q_kind: str | None) -> PairStep:
-    """The isolated contact ``pc`` between ``p_shape`` and ``q_shape`` (``None``: a fixed wall)."""
+    """The isolated contact ``pc`` between ``p_shape`` and ``q_shape`` (``None``: a fixed wall).
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    pc : PairContact
+        The linearised contact.
+    p_shape : object
+        Body of the first particle (a ``dtcrit.bodies`` object).
+    q_shape : object or None
+        Body of the second particle, or None for a fixed wall.
+    p_kind : str
+        Kind of the first particle (``"sphere"``, ``"ellipsoid"``, ...).
+    q_kind : str or None
+        Kind of the second particle (None for a wall).
+
+    Returns
+    -------
+    PairStep
+        The steps of every mode of the contact.
+    """
     from dtcrit.bodies import arm_supremum, contact
 
     if q_shape is None:
@@ -134,7 +242,8 @@ def pair_step(integrator: str, pc: PairContact, p_shape, q_shape, p_kind: str, q
         method = BOUND
     normal = direction_step(integrator, "normal", pc.kn, pc.cn, a_n, pc.zeta_n)
     shear = direction_step(integrator, "shear", pc.ks, pc.cs, a_t, pc.zeta_s)
-    rotational, coupled = (), False
+    rotational: tuple[DirectionStep, ...] = ()
+    coupled = False
     if pc.rotational:
         rotational, coupled = rotational_modes(integrator, pc, p_shape, q_shape, method == EXACT, a_bound)
     return PairStep(pc, a_max, a_bound, normal, shear, method, rotational=rotational, shear_coupled=coupled)
@@ -142,7 +251,28 @@ def pair_step(integrator: str, pc: PairContact, p_shape, q_shape, p_kind: str, q
 
 def rotational_modes(integrator: str, pc: PairContact, p_shape, q_shape, spheres: bool,
                      a_bound: float) -> tuple[tuple[DirectionStep, ...], bool]:
-    """The rolling and twisting modes (module docstring) and whether the shear spring is coupled."""
+    """The rolling and twisting modes (module docstring) and whether the shear spring is coupled.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the scheme.
+    pc : PairContact
+        The linearised contact (its ``kr``, ``ktw``, ``cr``, ``ctw``).
+    p_shape : object
+        Body of the first particle.
+    q_shape : object or None
+        Body of the second particle, or None for a fixed wall.
+    spheres : bool
+        Both bodies are spheres (exact modes); otherwise the block bound with ``a_bound``.
+    a_bound : float
+        Bound on the translational coefficient matrix's largest eigenvalue [1/kg].
+
+    Returns
+    -------
+    tuple
+        The rotational modes' steps, and whether the shear spring is coupled into one of them.
+    """
     from dtcrit._generated import rotational_modes as gen
     from dtcrit.scenes.coupled_modes import block_step
 

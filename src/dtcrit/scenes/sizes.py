@@ -30,12 +30,33 @@ LOGNORMAL_KEYS = ("median", "sigma", "min", "max")
 
 @dataclass(frozen=True)
 class SizeDistribution:
+    """The sphere radii of one particle type (``radius``, ``radii`` with ``fractions``, or ``lognormal``).
+
+    Parameters
+    ----------
+    kind : str
+        ``"single"``, ``"discrete"`` or ``"lognormal"``.
+    radii : tuple of float
+        The radii evaluated, ascending [m].
+    fractions : tuple of float
+        Number fractions of the discrete radii (empty otherwise).
+    parameters : dict, optional
+        The lognormal's ``median``, ``sigma``, ``min`` and ``max`` (None otherwise).
+    """
+
     kind: str  # single | discrete | lognormal
     radii: tuple[float, ...]  # the radii evaluated, ascending
     fractions: tuple[float, ...] = ()
     parameters: dict | None = None
 
     def describe(self) -> str:
+        """One line for the text report, e.g. ``radius = 0.001`` or the lognormal's parameters.
+
+        Returns
+        -------
+        str
+            The description.
+        """
         if self.kind == "single":
             return f"radius = {self.radii[0]:g}"
         if self.kind == "discrete" and len(self.radii) > DESCRIBE_RADII:
@@ -43,11 +64,30 @@ class SizeDistribution:
         if self.kind == "discrete":
             return "radii = [" + ", ".join(f"{r:g}" for r in self.radii) + "]"
         p = self.parameters
+        assert p is not None  # a lognormal distribution always carries its parameters
         return f"lognormal radius (median {p['median']:g}, sigma {p['sigma']:g}, cut-offs {p['min']:g}..{p['max']:g})"
 
 
 def size_distribution(prefix: str, table: dict) -> SizeDistribution:
-    """The distribution a sphere table gives: exactly one of ``radius``, ``radii`` (+ ``fractions``), ``lognormal``."""
+    """The distribution a sphere table gives: exactly one of ``radius``, ``radii`` (+ ``fractions``), ``lognormal``.
+
+    Parameters
+    ----------
+    prefix : str
+        Location of the table in the scene file, prefixed to the keys of error messages.
+    table : dict
+        The ``[[particle]]`` table's entries.
+
+    Returns
+    -------
+    SizeDistribution
+        The validated distribution.
+
+    Raises
+    ------
+    InputError
+        When none or several of the keys are given, or a value is invalid.
+    """
     given = [k for k in ("radius", "radii", "lognormal") if k in table]
     if not given:
         raise InputError(prefix + "radius", "missing: a sphere needs radius, or radii with fractions, or lognormal")
@@ -99,6 +139,13 @@ class SizeShapes:
     """The bodies of a size distribution, one per radius, built by ``build(radius)`` when first asked for
     (a scene may list 10^5 radii of which the step needs two).  The smallest and largest are built at
     once: the mass is monotone in the radius, so they carry every range check the others could fail.
+
+    Parameters
+    ----------
+    build : callable
+        ``build(radius)`` returns the body of that radius.
+    radii : tuple of float
+        The radii, ascending [m].
     """
 
     def __init__(self, build, radii: tuple):

@@ -25,6 +25,38 @@ WALL_KEYS = ("name", "model", "kn", "ks", "cn", "cs", "restitution", "damping_ra
 
 @dataclass(frozen=True)
 class Wall:
+    """A fixed plane wall of a scene (one ``[[wall]]`` table) and its contact law with the particles.
+
+    Parameters
+    ----------
+    number : int
+        Position of the table in the file, counted from 1.
+    name : str
+        The wall's name as given (or a default).
+    kn : float
+        Normal spring [N/m].
+    ks : float
+        Tangential spring [N/m].
+    cn : float or None
+        Normal dashpot [N s/m], when given as a coefficient.
+    cs : float or None
+        Tangential dashpot [N s/m], when given as a coefficient.
+    restitution : float or None
+        Coefficient of restitution, when damping is given that way.
+    damping_ratio : float or None
+        Damping ratio, when damping is given that way.
+    particles : tuple of int
+        Numbers of the particle types that touch the wall.
+    kr : float
+        Rolling spring [N m/rad].
+    ktw : float
+        Twisting spring [N m/rad].
+    cr : float or None
+        Rolling dashpot [N m s/rad].
+    ctw : float or None
+        Twisting dashpot [N m s/rad].
+    """
+
     number: int  # counted from 1
     name: str
     kn: float
@@ -41,19 +73,42 @@ class Wall:
 
     @property
     def cr_value(self) -> float:
+        """The rolling dashpot [N m s/rad], 0 when none is given."""
         return self.cr or 0.0
 
     @property
     def ctw_value(self) -> float:
+        """The twisting dashpot [N m s/rad], 0 when none is given."""
         return self.ctw or 0.0
 
     @property
     def damping(self) -> str:
+        """How damping was given: none | coefficients | restitution | damping_ratio."""
         return damping_kind(self.restitution, self.damping_ratio, self.cn, self.cs)
 
 
 def parse_walls(value: Any, n_particles: int, out_warnings: list | None = None) -> tuple[Wall, ...]:
-    """Validate the ``[[wall]]`` tables (``ks > kn`` is accepted with a warning, as in ``[contact]``)."""
+    """Validate the ``[[wall]]`` tables (``ks > kn`` is accepted with a warning, as in ``[contact]``).
+
+    Parameters
+    ----------
+    value : dict or list of dict
+        The ``wall`` entry of the scene file.
+    n_particles : int
+        Number of particle types of the scene (a wall's ``particles`` must name some of them).
+    out_warnings : list, optional
+        List to which ``(key, message)`` warnings are appended.
+
+    Returns
+    -------
+    tuple of Wall
+        The walls, in file order.
+
+    Raises
+    ------
+    InputError
+        When a table is missing a key or has an invalid value.
+    """
     tables = [value] if isinstance(value, dict) else value
     if not isinstance(tables, list):
         raise InputError("wall", f"must be [[wall]] tables (got {_type_name(value)}: {_short(value)})")
