@@ -98,9 +98,7 @@ def _bodies(args):
         if value is not None:
             raise ValueError(f"{flag}: not used with a bodies file (each body's shape gives its density or mass; "
                              "a dump holds spheres only)")
-    from dtcrit.scenes.scene import parse_particle  # the scenes' [[particle]] parser
-
-    return read_bodies_file(args.file, parse_particle)
+    return read_bodies_file(args.file)
 
 
 def _bodies_and_law(args):

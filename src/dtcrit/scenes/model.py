@@ -7,6 +7,8 @@ import bisect
 from dataclasses import dataclass, field
 from typing import Any
 
+# the keys of a [[particle]] table are the shape parser's (re-exported: part of a scene's vocabulary)
+from dtcrit.bodies.spec import PARTICLE_ALL, PARTICLE_COMMON, SHAPE_KEYS, SPHERE_SIZE_KEYS  # noqa: F401
 from dtcrit.scenes.damping import damping_kind
 
 # ----------------------------------------------------------------------------------------------
@@ -15,19 +17,6 @@ from dtcrit.scenes.damping import damping_kind
 TOP_KEYS = ("integrator", "omega_max", "safety", "pairs", "title", "coordination_max", "overlap_max", "isolated", "particle", "contact",
             "wall")
 PAIRS_CHOICES = ("all", "unlike")
-
-# shape -> the dimension keys it needs (TOML key, expected length or None for a scalar)
-SHAPE_KEYS: dict[str, tuple[tuple[str, int | None], ...]] = {
-    "sphere": (("radius", None),),
-    "ellipsoid": (("semi_axes", 3),),
-    "superquadric": (("semi_axes", 3), ("exponents", 2)),
-    "box": (("half_lengths", 3),),
-    "polyhedron": (("vertices", -1),),
-    "clump": (("spheres", -2),),
-}
-PARTICLE_COMMON = ("shape", "density", "mass", "youngs_modulus", "poisson_ratio", "name")
-SPHERE_SIZE_KEYS = ("radius", "radii", "fractions", "lognormal")
-PARTICLE_ALL = tuple(dict.fromkeys(PARTICLE_COMMON + SPHERE_SIZE_KEYS + tuple(k for v in SHAPE_KEYS.values() for k, _ in v)))
 
 CONTACT_MODELS = ("linear", "yade", "hertz", "bond")
 ROTATIONAL_KEYS = ("kr", "ktw", "cr", "ctw", "rolling_model", "rolling_friction", "rolling_viscous_damping",
