@@ -42,7 +42,7 @@ def read_bounded(path: str | Path, limit: int) -> bytes:
 
 
 def line_of(data: bytes, offset: int) -> int:
-    """The 1-based line of byte ``offset`` in ``data`` (``\\n`` ends a line).
+    """The 1-based line of byte ``offset`` in ``data`` (a newline ends a line).
 
     Parameters
     ----------
@@ -60,7 +60,7 @@ def line_of(data: bytes, offset: int) -> int:
 
 
 def text_lines(path: str | Path) -> list[str]:
-    """A text file's lines, each decoded as UTF-8: ``\\n`` ends one, a trailing ``\\r`` and a leading
+    """A text file's lines, each decoded as UTF-8: a newline ends one, a trailing carriage return and a leading
     byte-order mark are dropped; a byte that is not UTF-8 is an error located at its line.
 
     Parameters

@@ -20,7 +20,12 @@ from typing import Callable
 
 import numpy as np
 
-from dtcrit.errors import InputError
+from dtcrit.errors import InputError, Location
+
+def _error(where: str | Location, reason: str) -> InputError:
+    """An error at ``where``: a key (``FILE: bodies[3]``) or a :class:`Location`."""
+    return InputError.at(where, reason) if isinstance(where, Location) else InputError(where, reason)
+
 
 MAX_RATE = 1e200
 """Largest accepted ``rate_c`` [1/s^2] (module docstring)."""
@@ -50,13 +55,13 @@ def _times(coefficient, factor) -> np.ndarray:
     return np.where(coefficient == 0, 0.0, coefficient * factor)
 
 
-def check_rates(rate: np.ndarray, key_of: Callable[[int], str]) -> None:
+def check_rates(rate: np.ndarray, key_of: Callable[[int], str | Location]) -> None:
     """Refuse the first contact whose ``rate`` is not below ``MAX_RATE``; ``key_of(c)`` names contact ``c``."""
     bad = ~(rate < MAX_RATE)
     if bad.any():
         c = int(np.argmax(bad))
         size = f"~ {rate[c]:.3g} 1/s^2" if np.isfinite(rate[c]) else "beyond double precision"
-        raise InputError(key_of(c), f"its springs and dashpots on these masses and moments of inertia give "
+        raise _error(key_of(c), f"its springs and dashpots on these masses and moments of inertia give "
                                     f"omega^2 {size}, above the {MAX_RATE:g} 1/s^2 the eigen-solve carries in double "
                                     "precision (a step below 2e-100 s)")
 
@@ -66,7 +71,7 @@ MAX_LENGTH = 1e100
 multiply lengths (``|x|^2``, ``k |a|^2``), which must stay far inside double precision."""
 
 
-def check_lengths(values, key_of: Callable[[int], str], what: str) -> None:
+def check_lengths(values, key_of: Callable[[int], str | Location], what: str) -> None:
     """Refuse the first row of ``values`` (one row per particle, or a flat array) holding a length
     beyond ``MAX_LENGTH``; ``key_of(k)`` names row ``k``.
     """
@@ -74,7 +79,7 @@ def check_lengths(values, key_of: Callable[[int], str], what: str) -> None:
     bad = ~(v.reshape(len(v), -1) <= MAX_LENGTH).all(axis=1)
     if bad.any():
         k = int(np.argmax(bad))
-        raise InputError(key_of(k), f"{what} {v[k].max():g} m is beyond the {MAX_LENGTH:g} m a packing's lengths may "
+        raise _error(key_of(k), f"{what} {v[k].max():g} m is beyond the {MAX_LENGTH:g} m a packing's lengths may "
                                     "reach (they are squared and multiplied in double precision)")
 
 
@@ -84,11 +89,11 @@ divide every spring by them, so a spring of up to 1e100 N/m stays below ``MAX_RA
 1 nm weighs ~1e-24 kg and turns with ~1e-42 kg m^2)."""
 
 
-def check_inertia(values, key_of: Callable[[int], str], what: str) -> None:
+def check_inertia(values, key_of: Callable[[int], str | Location], what: str) -> None:
     """Refuse the first row of ``values`` (masses, or rows of principal moments) below ``MIN_INERTIA``."""
     v = np.asarray(values, float)
     bad = ~(v.reshape(len(v), -1) >= MIN_INERTIA).all(axis=1)
     if bad.any():
         k = int(np.argmax(bad))
-        raise InputError(key_of(k), f"{what} {v[k].min():g} is below the {MIN_INERTIA:g} a packing's masses and moments "
+        raise _error(key_of(k), f"{what} {v[k].min():g} is below the {MIN_INERTIA:g} a packing's masses and moments "
                                     "may reach (every spring is divided by them in double precision)")

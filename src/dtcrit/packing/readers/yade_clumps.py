@@ -54,49 +54,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from dtcrit.errors import InputError
+from dtcrit.inputs.arrays import triple as _triple
+from dtcrit.inputs.text import show
+from dtcrit.inputs.values import finite as _finite
+from dtcrit.inputs.values import whole
 from dtcrit.packing.model import Box, Contacts
 from dtcrit.packing.readers.limits import check_inertia, check_lengths, check_rates, contact_rates
 
 TERMS = ("kn", "ks", "kr", "ktw", "cn", "cs", "fn")
-
-
-def show(value, limit: int = 60) -> str:
-    """A value as a message shows it: a float by ``%g``, anything else by a shortened ``repr``."""
-    if isinstance(value, float):
-        return f"{value:g}"
-    text = " ".join(repr(value).split())
-    return text if len(text) <= limit else text[: limit - 3] + "..."
-
-
-def _finite(where: str, value, *, positive: bool = False, allow_none: bool = False, signed: bool = False):
-    if value is None and allow_none:
-        return None
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise InputError(where, f"expected a finite number, found {show(value)}")
-    try:
-        x = float(value)
-    except OverflowError:
-        raise InputError(where, f"expected a finite number, found an integer of {len(str(value))} digits") from None
-    if not math.isfinite(x):
-        raise InputError(where, f"expected a finite number, found {show(x)}")
-    if not signed and (x < 0 or (positive and x == 0)):
-        raise InputError(where, f"must be {'positive' if positive else '>= 0'}, found {show(x)}")
-    return x + 0.0  # -0.0 is 0
-
-
-def whole(where: str, value) -> int:
-    """An engine id: a whole number within 64 bits."""
-    if isinstance(value, float) and math.isfinite(value) and value.is_integer():
-        value = int(value)
-    if isinstance(value, bool) or not isinstance(value, int) or abs(value) >= 2**63:
-        raise InputError(where, f"expected an integer id, found {show(value)}")
-    return value
-
-
-def _triple(where: str, value, size: int = 3, positive: bool = False) -> np.ndarray:
-    if not isinstance(value, list) or len(value) != size:
-        raise InputError(where, f"expected {size} finite numbers, found {show(value)}")
-    return np.array([_finite(f"{where}[{a}]", v, positive=positive, signed=not positive) for a, v in enumerate(value)])
 
 
 def rotation_from_quaternion(where: str, wxyz) -> np.ndarray:
@@ -133,6 +98,7 @@ class RigidBodies:
 
     @property
     def clumps(self) -> int:
+        """The number of clumps among the bodies."""
         return int(self.is_clump.sum())
 
 
