@@ -85,9 +85,18 @@ MAX_BYTES = 64 << 20
 
 @dataclass(frozen=True)
 class BodiesFile:
-    """A read ``dtcrit-bodies/1`` file: the ``packing`` (``Packing.from_shapes`` with the file's ids),
-    its geometric ``contacts`` (with the file's ``kn``/``ks`` when ``stiffness_given``) and the
-    number of bodies of each shape ``kinds``.
+    """A read ``dtcrit-bodies/1`` file.
+
+    Parameters
+    ----------
+    packing : Packing
+        The bodies (``Packing.from_shapes``, or a sphere packing) with the file's ids.
+    contacts : Contacts
+        The geometric contacts, with the file's ``kn``/``ks`` [N/m] when ``stiffness_given``.
+    stiffness_given : bool
+        Whether the file lists each contact's springs.
+    kinds : dict
+        Shape name -> number of bodies of that shape.
     """
 
     packing: Packing
@@ -97,7 +106,18 @@ class BodiesFile:
 
 
 def is_bodies_file(path) -> bool:
-    """Whether ``path`` starts (after blanks and a byte-order mark) with ``{``; unreadable: False."""
+    """Whether a file is a bodies file: it starts (after blanks and a byte-order mark) with ``{``.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file.
+
+    Returns
+    -------
+    bool
+        True when its first character is ``{``; False otherwise or when it cannot be read.
+    """
     try:
         with open(path, "rb") as handle:
             head = handle.read(4096)

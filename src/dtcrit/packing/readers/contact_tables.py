@@ -36,7 +36,16 @@ OPTIONAL = ("cn", "cs", "kr", "ktw", "fn")
 
 @dataclass(frozen=True)
 class ContactTable:
-    """Pairs ``(i, j)`` as particle indices and the per-contact columns given (by name)."""
+    """The contacts of a ``--contacts`` table.
+
+    Parameters
+    ----------
+    i, j : numpy.ndarray
+        The pairs as particle indices of the packing.
+    values : dict of str to numpy.ndarray
+        The per-contact columns given, by name (``kn``, ``ks`` [N/m]; ``cn``, ``cs`` [N s/m];
+        ``kr``, ``ktw`` [N m/rad]; ``fn`` [N]).
+    """
 
     i: np.ndarray
     j: np.ndarray

@@ -192,7 +192,22 @@ def read_dump(path, *, density: float | None = None, snapshot: int = -1) -> Pack
 
 
 def format_dump(packing: Packing, *, timestep: int = 0, with_mass: bool = True) -> str:
-    """A one-snapshot dump text (``id type x y z radius [mass]``) of a sphere packing."""
+    """A one-snapshot dump text (``id type x y z radius [mass]``) of a sphere packing.
+
+    Parameters
+    ----------
+    packing : Packing
+        A sphere packing; without a box, a non-periodic one enclosing the spheres is written.
+    timestep : int
+        The ``ITEM: TIMESTEP`` value.
+    with_mass : bool
+        Write the ``mass`` column.
+
+    Returns
+    -------
+    str
+        The dump's text, every number with 17 significant digits (read back exactly).
+    """
     if not packing.is_spheres:
         raise InputError("packing", "only sphere packings can be written as a dump")
     box = packing.box

@@ -65,7 +65,22 @@ TERMS = ("kn", "ks", "kr", "ktw", "cn", "cs", "fn")
 
 
 def rotation_from_quaternion(where: str, wxyz) -> np.ndarray:
-    """Body-to-global rotation matrix of a quaternion ``[w, x, y, z]`` (normalised here)."""
+    """Body-to-global rotation matrix of a quaternion ``[w, x, y, z]`` (normalised here).
+
+    ``v_global = R v_body`` (YADE's ``Quaternion`` ``ori``; README, One rotation convention).
+
+    Parameters
+    ----------
+    where : str
+        The quaternion's location, named in errors.
+    wxyz : Any
+        The quaternion as read: four finite numbers, not all zero.
+
+    Returns
+    -------
+    numpy.ndarray
+        The ``3 x 3`` rotation matrix.
+    """
     q = _triple(where, wxyz, 4)
     with np.errstate(over="ignore"):
         norm = float(np.linalg.norm(q))
@@ -81,9 +96,28 @@ def rotation_from_quaternion(where: str, wxyz) -> np.ndarray:
 
 @dataclass(frozen=True)
 class RigidBodies:
-    """The rigid bodies of an export (module docstring): engine ``ids``, centres of mass ``positions``
-    (as exported), ``masses``, principal ``inertia``, body-to-global ``rotations``, bounding ``radii``,
-    ``fixed``, ``is_clump``; ``members`` maps every sphere's export id to ``(body index, centre, radius)``.
+    """The rigid bodies of an export (module docstring).
+
+    Parameters
+    ----------
+    ids : numpy.ndarray
+        The engine ids.
+    positions : numpy.ndarray
+        The centres of mass [m], as exported.
+    masses : numpy.ndarray
+        The masses [kg].
+    inertia : numpy.ndarray
+        The principal moments [kg m^2], ``(bodies, 3)``.
+    rotations : numpy.ndarray
+        The body-to-global rotations, ``(bodies, 3, 3)``.
+    radii : numpy.ndarray
+        The bounding radii [m], ``max |d| + r`` over the members.
+    fixed : numpy.ndarray
+        Whether each body is fixed (all degrees of freedom blocked).
+    members : dict
+        Every sphere's export id -> ``(body index, centre, radius)``.
+    is_clump : numpy.ndarray
+        Whether each body is a clump.
     """
 
     ids: np.ndarray
@@ -135,7 +169,20 @@ def _one_body(where: str, b, rows: list, members: dict, clump_index: dict, pendi
 
 
 def rigid_bodies(bodies: list, path) -> RigidBodies:
-    """Clumps and free spheres of the export's ``bodies`` list; members become part of their clump."""
+    """Clumps and free spheres of the export's ``bodies`` list; members become part of their clump.
+
+    Parameters
+    ----------
+    bodies : list
+        The export's ``bodies`` entries as read.
+    path : str or pathlib.Path
+        The export, naming it in errors.
+
+    Returns
+    -------
+    RigidBodies
+        The rigid bodies.
+    """
     rows, members, clump_index, pending, seen = [], {}, {}, [], {}
     for k, b in enumerate(bodies):
         where = f"{path}: bodies[{k}]"
@@ -181,9 +228,28 @@ def _terms(where: str, it: dict) -> dict:
 
 def yade_contacts(bodies: RigidBodies, interactions: list, path, *, box: Box | None, wrapped: np.ndarray,
                   ratcheting: bool = True) -> Contacts:
-    """Contacts between the rigid bodies with YADE's kinematics (module docstring): arms, ``alpha k_s``,
-    per-contact ``kr``, ``ktw``, ``cn``, ``cs`` and the pre-load of sphere-sphere contacts.  ``wrapped``
-    are the packing's positions (the exported ones mapped into the periodic cell).
+    """Contacts between the rigid bodies with YADE's kinematics (module docstring).
+
+    Parameters
+    ----------
+    bodies : RigidBodies
+        The bodies (:func:`rigid_bodies`).
+    interactions : list
+        The export's ``interactions`` entries as read.
+    path : str or pathlib.Path
+        The export, naming it in errors.
+    box : Box or None
+        The periodic cell, if any.
+    wrapped : numpy.ndarray
+        The packing's positions (the exported ones mapped into the periodic cell).
+    ratcheting : bool
+        YADE's ``avoidGranularRatcheting`` (its default: on).
+
+    Returns
+    -------
+    Contacts
+        The contacts: arms, ``alpha k_s``, per-contact ``kr``, ``ktw``, ``cn``, ``cs`` and the pre-load
+        of sphere-sphere contacts.
     """
     rows = []
     lengths = None if box is None else box.lengths
