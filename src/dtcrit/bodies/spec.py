@@ -224,6 +224,7 @@ def build_shape(prefix: str, kind: str, dims: dict, density: float | None, mass:
         The shape.
     """
     args: tuple
+    cls: Any  # one of the shape classes, each taking density= and mass=
     if kind == "sphere":
         args, cls = (next(iter(dims.values())),), Sphere
     elif kind == "ellipsoid":

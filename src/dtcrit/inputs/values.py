@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import difflib
 import math
-from typing import Any
+from typing import Any, Literal, overload
 
 from dtcrit.errors import InputError
 from dtcrit.inputs.text import short, show, type_name
@@ -120,6 +120,13 @@ def is_finite_number(value: Any) -> bool:
     """
     return isinstance(value, (int, float)) and not isinstance(value, bool) and (
         math.isfinite(value) if isinstance(value, float) else abs(value) < 2**1000)
+
+
+@overload
+def finite(where: str, value: Any, *, positive: bool = ..., allow_none: Literal[False] = ...,
+           signed: bool = ...) -> float: ...
+@overload
+def finite(where: str, value: Any, *, positive: bool = ..., allow_none: bool = ..., signed: bool = ...) -> float | None: ...
 
 
 def finite(where: str, value: Any, *, positive: bool = False, allow_none: bool = False,

@@ -96,7 +96,7 @@ class Particle:
     poisson_ratio: float | None
     name: str
     sizes: Any = None  # spheres: a dtcrit.scenes.sizes.SizeDistribution
-    shapes: tuple = ()  # spheres: one Sphere per radius of ``sizes``
+    shapes: Any = ()  # spheres: one Sphere per radius of ``sizes`` (a SizeShapes: built when first used)
 
     @property
     def mass(self) -> float:

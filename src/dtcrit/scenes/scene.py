@@ -102,8 +102,8 @@ def _contact(table: Any, particles: list[Particle], out_warnings: list) -> tuple
     cn, cs, restitution, zeta = parse_damping(prefix, table)  # one way only
     from dtcrit.scenes.rotational import parse_rotational
 
-    rotational = parse_rotational(prefix, table)
-    rotational = rotational if rotational.present else None
+    parsed = parse_rotational(prefix, table)
+    rotational = parsed if parsed.present else None
     for key, why in NOT_IN_THE_STEP.items():
         if key in table:
             _number(prefix + key, table[key], allow_zero=True)

@@ -161,7 +161,7 @@ def _box(where: str, value) -> Box | None:
     periodic = booleans(f"{where}.periodic", value["periodic"], 3)
     if np.any(hi <= lo):
         raise _fail(f"{where}.hi", f"each upper bound must exceed its lower bound (lo = {lo.tolist()}, hi = {hi.tolist()})")
-    return Box(lo, hi, tuple(periodic))
+    return Box(lo, hi, (periodic[0], periodic[1], periodic[2]))
 
 
 def _shape(where: str, table):
@@ -217,7 +217,11 @@ def _sphere_properties(where: list, tables: list, found: np.ndarray):
 
 def _entries(path, bodies: list):
     """Per-body checks of keys and ids: ``(ids, shape tables, positions, orientations)`` as given."""
-    ids, tables, positions, quats, seen = [], [], [], [], {}
+    ids: list[int] = []
+    tables: list = []
+    positions: list = []
+    quats: list = []
+    seen: dict[int, int] = {}
     for k, body in enumerate(bodies):
         if type(body) is not dict:
             raise _fail(f"{path}: bodies[{k}]", "expected an object with id, shape, position (and orientation), "
@@ -266,6 +270,7 @@ def _shapes(path, tables: list, sphere_rows: list):
     out = []
     for k, table in enumerate(tables):
         row = sphere_rows[k]
+        key: tuple | str
         if row is not None:
             key = ("sphere",) + tuple(row)
             if key not in parsed:
@@ -329,6 +334,7 @@ def _listed_stiffness(path, doc: dict, packing: Packing, contacts: Contacts) -> 
     rows = doc["contacts"]
     if not isinstance(rows, list):
         raise _fail(f"{path}: contacts", f"expected an array of {{id1, id2, kn, ks}} objects, found {_short(rows)}")
+    assert packing.ids is not None  # a bodies file's packing carries the file's ids
     index = {int(b): k for k, b in enumerate(packing.ids)}
     pairs = [frozenset((int(packing.ids[a]), int(packing.ids[b]))) for a, b in zip(contacts.i, contacts.j)]
     springs: dict = {}

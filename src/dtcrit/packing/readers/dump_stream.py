@@ -11,7 +11,7 @@ from __future__ import annotations
 import io
 import math
 from collections import deque
-from collections.abc import Iterator
+from collections.abc import Generator, Iterator
 from pathlib import Path
 
 import numpy as np
@@ -177,7 +177,7 @@ def _parse_box(lines: _Lines, header_text: str) -> Box:
         lo[a], hi[a] = vals
     if not np.all(np.isfinite(hi - lo)):
         raise lines.fail(lines.number, "the box lengths overflow double precision")
-    return Box(lo, hi, tuple("p" in f for f in flags))
+    return Box(lo, hi, ("p" in flags[0], "p" in flags[1], "p" in flags[2]))
 
 
 def _next_block(lines: _Lines) -> DumpSnapshot | None:
@@ -199,7 +199,7 @@ def _next_block(lines: _Lines) -> DumpSnapshot | None:
     if not columns:
         raise lines.fail(lines.number, "the ATOMS header names no columns")
     first = lines.number + 1
-    rows = []
+    rows: list[str] = []
     for _ in range(count):
         text = lines.next()
         if text is None:
@@ -242,7 +242,7 @@ def _snapshots(lines: _Lines) -> Iterator[DumpSnapshot]:
         block = _next_block(lines)
 
 
-def iter_dump(path) -> Iterator[DumpSnapshot]:
+def iter_dump(path) -> Generator[DumpSnapshot, None, None]:
     """Stream the snapshots of a LAMMPS/LIGGGHTS text dump, one at a time.
 
     The file is read one line at a time: only the snapshot being yielded is held in memory, and its

@@ -183,7 +183,11 @@ def rigid_bodies(bodies: list, path) -> RigidBodies:
     RigidBodies
         The rigid bodies.
     """
-    rows, members, clump_index, pending, seen = [], {}, {}, [], {}
+    rows: list[tuple] = []
+    members: dict[int, tuple] = {}
+    clump_index: dict[int, int] = {}
+    pending: list[tuple] = []
+    seen: dict[int, int] = {}
     for k, b in enumerate(bodies):
         where = f"{path}: bodies[{k}]"
         bid = _one_body(where, b, rows, members, clump_index, pending)
@@ -207,22 +211,23 @@ def rigid_bodies(bodies: list, path) -> RigidBodies:
     if bad:
         raise InputError(f"{path}: bodies", f"the members of clump {rows[bad[0]][0]} reach beyond double precision")
     ids, x, m, inertia, rot, _, fixed = (list(c) for c in zip(*rows))
-    is_clump = np.zeros(len(rows), bool)
+    is_clump = np.zeros(len(rows), dtype=np.bool_)
     is_clump[list(clump_index.values())] = True
     return RigidBodies(np.array(ids), np.array(x), np.array(m), np.array(inertia), np.array(rot), np.array(reach),
                        np.array(fixed), members, is_clump)
 
 
 def _terms(where: str, it: dict) -> dict:
-    out = {}
+    out: dict[str, float | None] = {}
     for key in TERMS:
         value = it.get(key)
         if key == "fn" and isinstance(value, (int, float)) and not isinstance(value, bool) and value < 0:
             out[key] = -_finite(f"{where}.fn", -value)  # a bond in tension: negative normal force
         else:
             out[key] = _finite(f"{where}.{key}", value, allow_none=key not in ("kn", "ks"))
-    if out["fn"] is None:  # linear law: the normal force is kn times the penetration
-        out["fn"] = out["kn"] * _finite(f"{where}.penetration", it.get("penetration", 0.0), signed=True)
+    kn = out["kn"]
+    if out["fn"] is None and kn is not None:  # linear law: the normal force is kn times the penetration (kn is required)
+        out["fn"] = kn * _finite(f"{where}.penetration", it.get("penetration", 0.0), signed=True)
     return out
 
 
@@ -303,12 +308,13 @@ def yade_contacts(bodies: RigidBodies, interactions: list, path, *, box: Box | N
         image = np.rint(shift / lengths + moved[p] - moved[q]).astype(np.int64)
     contacts = Contacts(i=p, j=q, normal=n, arm_i=d1 + m1[:, None] * n, arm_j=d2 - m2[:, None] * n,
                         overlap=np.maximum(delta, 0.0), image=image, radius_eff=r1 * r2 / (r1 + r2))
-    contacts = contacts.with_stiffness(col["kn"], alpha * col["ks"], col["kr"], col["ktw"])
+    ks = alpha * col["ks"]
+    contacts = contacts.with_stiffness(col["kn"], ks, col["kr"], col["ktw"])
     free = ~bodies.fixed
     with np.errstate(over="ignore"):  # an overflowing F/d is refused below
         preload = np.abs(col["fn"]) / (r1 + r2 - delta)
     rate = contact_rates(np.where(free, bodies.masses, np.inf), np.where(free[:, None], bodies.inertia, np.inf), p, q,
-                         contacts.arm_i, contacts.arm_j, np.maximum(np.maximum(col["kn"], contacts.ks), preload),
+                         contacts.arm_i, contacts.arm_j, np.maximum(np.maximum(col["kn"], ks), preload),
                          np.maximum(np.abs(col["kr"]), np.abs(col["ktw"])), np.maximum(col["cn"], col["cs"]))
     check_rates(rate, lambda c: f"{path}: interactions[{rows[c][10]}]")
     both_free = ~bodies.is_clump[p] & ~bodies.is_clump[q]

@@ -219,7 +219,13 @@ def read_yade_export(path) -> tuple[Packing, Contacts, dict]:
 def _read_yade_export(path: Path) -> tuple[Packing, Contacts, dict]:
     doc, bodies, inters = _load(path)
     meta = _meta(doc, path)
-    ids, x, radii, masses, inertia, fixed, seen = [], [], [], [], [], [], {}
+    ids: list[int] = []
+    x: list[np.ndarray] = []
+    radii: list[float] = []
+    masses: list[float] = []
+    inertia: list[np.ndarray] = []
+    fixed: list[bool] = []
+    seen: dict[int, int] = {}
     for k, b in enumerate(bodies):
         where = f"{path}: bodies[{k}]"
         if not isinstance(b, dict):
@@ -242,23 +248,24 @@ def _read_yade_export(path: Path) -> tuple[Packing, Contacts, dict]:
         check_inertia([inertia[-1], [masses[-1]] * 3], lambda a: f"{where}.{('inertia', 'mass')[a]}",
                       "a mass or moment of inertia")
         fixed.append(bool(b.get("fixed")))
-    masses, inertia, fixed = np.array(masses), np.array(inertia), np.array(fixed)
-    if fixed.all():
+    mass_of, inertia_of, is_fixed = np.array(masses), np.array(inertia), np.array(fixed)
+    if is_fixed.all():
         raise InputError(f"{path}: bodies", "every body is fixed: nothing moves")
-    if fixed.any():
-        masses, inertia = _heavy(path, masses, fixed, "mass"), _heavy(path, inertia, fixed, "moment of inertia")
+    if is_fixed.any():
+        mass_of, inertia_of = _heavy(path, mass_of, is_fixed, "mass"), _heavy(path, inertia_of, is_fixed, "moment of inertia")
     box = _box(doc, path)
-    x = np.array(x)
+    positions = np.array(x)
     if box is not None:
-        x = np.mod(x, box.lengths)
+        positions = np.mod(positions, box.lengths)
     try:
-        packing = Packing(x, masses, inertia, np.array(radii), box=box,
+        packing = Packing(positions, mass_of, inertia_of, np.array(radii), box=box,
                           half_lengths=np.repeat(np.array(radii)[:, None], 3, 1), label=_label(path, doc),
                           ids=np.array(ids))
     except InputError as exc:
         raise _keyed(path, exc) from None
     lookup = {v: k for k, v in enumerate(ids)}
-    pairs, terms = [], {key: [] for key in ("kn", "ks", "kr", "ktw", "cn", "cs", "fn")}
+    pairs: list[tuple[int, ...]] = []
+    terms: dict[str, list[float | None]] = {key: [] for key in ("kn", "ks", "kr", "ktw", "cn", "cs", "fn")}
     for k, it in enumerate(inters):
         where = f"{path}: interactions[{k}]"
         if not isinstance(it, dict):
@@ -277,9 +284,10 @@ def _read_yade_export(path: Path) -> tuple[Packing, Contacts, dict]:
             else:
                 value = _finite(f"{where}.{key}", value, allow_none=key not in ("kn", "ks"))
             terms[key].append(value)
-        if terms["fn"][-1] is None:  # linear law: the normal force is kn times the penetration
+        kn = terms["kn"][-1]
+        if terms["fn"][-1] is None and kn is not None:  # linear law: fn = kn times the penetration (kn is required)
             pen = _finite(f"{where}.penetration", it.get("penetration", 0.0))
-            terms["fn"][-1] = terms["kn"][-1] * pen
+            terms["fn"][-1] = kn * pen
     if not pairs:
         raise InputError(f"{path}: interactions", "no interactions: no contact limits the step")
     ij = np.array(pairs, dtype=np.int64)
