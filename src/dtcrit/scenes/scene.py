@@ -31,6 +31,7 @@ from pathlib import Path
 from typing import Any
 
 from dtcrit.errors import InputError
+from dtcrit.inputs.files import read_bounded
 from dtcrit.scenes.damping import CONVENTIONS, convention_for, parse_damping
 from dtcrit.bodies.spec import build_shape, density_or_mass, table_dimensions, table_kind
 from dtcrit.scenes.fields import _check_keys, _choice, _number, _required, _short, _string, _type_name
@@ -219,7 +220,20 @@ def _integrator(value) -> tuple[str, str]:
 
 
 def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
-    """Validate a parsed TOML document (a dict) and build the :class:`Scene`."""
+    """Validate a parsed TOML document and build the :class:`Scene` (module docstring).
+
+    Parameters
+    ----------
+    doc : Any
+        The document as ``tomllib`` returns it (a dict).
+    source : str
+        The scene's name (its file), kept in ``Scene.source``.
+
+    Returns
+    -------
+    Scene
+        The validated scene; each problem raises one ``InputError`` keyed by its entry.
+    """
     if not isinstance(doc, dict):
         raise InputError("scene", "must be a TOML table")
     _check_keys("", doc, TOP_KEYS, TOP_KEYS, "at the top level")
@@ -288,7 +302,20 @@ def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
 
 
 def parse_scene(text: str, source: str = "<scene>") -> Scene:
-    """Parse TOML text (never evaluated as code) and validate it."""
+    """Parse a scene's TOML text (never evaluated as code) and validate it.
+
+    Parameters
+    ----------
+    text : str
+        The TOML text.
+    source : str
+        The scene's name (its file), kept in ``Scene.source``.
+
+    Returns
+    -------
+    Scene
+        The validated scene; bad TOML raises ``InputError('toml', ...)``.
+    """
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -309,11 +336,20 @@ MAX_COORDINATION = 100_000
 
 
 def load_scene(path: str | Path) -> Scene:
-    """Read and validate a scene file; unreadable or non-UTF-8 files raise ``InputError('file', ...)``."""
-    p = Path(path)
+    """Read and validate a scene file.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The scene file (UTF-8 TOML, at most ``MAX_SCENE_BYTES``).
+
+    Returns
+    -------
+    Scene
+        The validated scene; unreadable, too large or non-UTF-8 files raise ``InputError('file', ...)``.
+    """
     try:
-        with p.open("rb") as handle:
-            data = handle.read(MAX_SCENE_BYTES + 1)  # never more: /dev/zero is not a scene
+        data = read_bounded(path, MAX_SCENE_BYTES)  # never more: /dev/zero is not a scene
     except OSError as exc:
         reason = exc.strerror or type(exc).__name__
         raise InputError("file", f"cannot read the scene file: {reason}") from None
