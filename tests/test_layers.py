@@ -21,6 +21,7 @@ PACKAGE = SRC / "dtcrit"
 LAYERS = (
     ("dtcrit", 0),  # the lazy public namespace: names modules in strings only
     ("dtcrit.errors", 0),
+    ("dtcrit.inputs", 0),  # checks of input values: the standard library, NumPy and dtcrit.errors only
     ("dtcrit.json_meta", 0),
     ("dtcrit.mp_roots", 0),  # mpmath-only cubic roots shared by the 50-digit references  # the JSON envelope: reads generated headers as text, imports nothing
     ("dtcrit.integrators.schemes", 1),  # update rules: plain arithmetic, read by SymPy and the runtime

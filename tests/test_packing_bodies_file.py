@@ -148,7 +148,6 @@ def test_listed_contacts_replace_the_command_line_law(tmp_path, capsys):
     different spring on one contact changes the result; the Python reader agrees."""
     from dtcrit.packing.readers.bodies_file import read_bodies_file
     from dtcrit.packing.report import analyse
-    from dtcrit.scenes.scene import parse_particle
 
     doc = json.loads(EXAMPLE.read_text())
     base = _run(capsys, [str(EXAMPLE), "--kn", "1e5", "--ks", "8e4"])
@@ -160,7 +159,7 @@ def test_listed_contacts_replace_the_command_line_law(tmp_path, capsys):
     path = _write(tmp_path, doc, "stiffer.json")
     stiffer = _run(capsys, [path])
     assert stiffer["omega_max"] > base["omega_max"] * 1.01
-    read = read_bodies_file(path, parse_particle)
+    read = read_bodies_file(path)
     assert read.stiffness_given and read.kinds == {"ellipsoid": 4}
     assert analyse(read.packing, None, read.contacts).omega_max == pytest.approx(stiffer["omega_max"], rel=1e-12)
 
@@ -343,12 +342,11 @@ def test_spheres_beside_an_ellipsoid_meet_as_by_the_support_functions(tmp_path):
     from dtcrit.packing.readers.bodies_file import read_bodies_file
     from dtcrit.packing.detection.overlaps import find_convex_contacts
     from dtcrit.packing.model import Packing
-    from dtcrit.scenes.scene import parse_particle
 
     ell = {"id": 1, "shape": {"shape": "ellipsoid", "semi_axes": [1.2e-3, 0.6e-3, 0.5e-3], "density": RHO},
            "position": [1.0e-3, 1.0e-3, 2.55e-3]}
     doc, x, radii = _sphere_doc(27, 5, extra=[ell])
-    read = read_bodies_file(_write(tmp_path, doc), parse_particle)
+    read = read_bodies_file(_write(tmp_path, doc))
     shapes = [Sphere(float(r), density=RHO) for r in radii] + [Ellipsoid(1.2e-3, 0.6e-3, 0.5e-3, density=RHO)]
     ref = find_convex_contacts(Packing.from_shapes(shapes, np.vstack([x, ell["position"]])))
     got = read.contacts
@@ -365,12 +363,11 @@ def test_twenty_thousand_sphere_bodies_read_in_seconds(tmp_path):
     import time
 
     from dtcrit.packing.readers.bodies_file import read_bodies_file
-    from dtcrit.scenes.scene import parse_particle
 
     doc, _, _ = _sphere_doc(20_000, 7)
     path = _write(tmp_path, doc)
     start = time.perf_counter()
-    read = read_bodies_file(path, parse_particle)
+    read = read_bodies_file(path)
     assert time.perf_counter() - start < 20.0
     assert read.packing.n == 20_000 and read.packing.is_spheres
     assert read.contacts.count > 20_000  # about half the 60,000 grid neighbours overlap

@@ -58,10 +58,8 @@ def test_the_step_of_a_scene_is_the_one_dtcrit_step_prints(scene, capsys):
     ([str(BODIES), "--kn", "1e5", "--ks", "8e4"], {"source": str(BODIES), "kn": 1e5, "ks": 8e4}),
 ], ids=["dump", "lattice", "bodies"])
 def test_packing_step_gives_the_numbers_dtcrit_packing_prints(argv, kwargs, capsys):
-    from dtcrit.scenes.scene import parse_particle
-
     cli = _cli_json(capsys, ["packing", *argv, "--json"])
-    step = dtcrit.packing_step(**kwargs, particle_table=parse_particle)
+    step = dtcrit.packing_step(**kwargs)
     assert (step.omega_max, step.dt_crit, step.dt_safe) == (cli["omega_max"], cli["dt_crit"], cli["dt_safe"])
     assert {e.name: e.dt for e in step.estimates} == {k: v["dt"] for k, v in cli["estimates"].items()}
     _same(step.to_json(), cli)

@@ -14,7 +14,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from dtcrit.cli import main
-from dtcrit.scenes.scene import CONTACT_ALL, PARTICLE_ALL, SHAPE_KEYS, TOP_KEYS
+from dtcrit.scenes.model import CONTACT_ALL, PARTICLE_ALL, SHAPE_KEYS, TOP_KEYS
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE_TEXTS = [p.read_text() for p in sorted((ROOT / "examples").glob("*.toml"))]

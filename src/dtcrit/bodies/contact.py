@@ -35,7 +35,7 @@ import numpy as np
 from dtcrit._generated import contact as _k
 from dtcrit.bodies.arm_supremum import arm_term_supremum
 from dtcrit.bodies.arm_terms import arm_terms_local
-from dtcrit.errors import InputError
+from dtcrit.errors import InputError, MisuseError
 
 __all__ = ["a_max", "a_bound", "b_max", "b_bound", "coefficient_matrix"]
 
@@ -247,7 +247,7 @@ def coefficient_matrix(p1, p2, r1, r2, *rotations, body_to_world=None, R1=_OLD_R
         ``T(p) = [p]x^T I^-1 [p]x`` in body components (Eqs 3-19), symmetrised.
     """
     if rotations or R1 is not _OLD_ROTATIONS or R2 is not _OLD_ROTATIONS:
-        raise TypeError(OLD_ROTATION_CALL)
+        raise MisuseError(OLD_ROTATION_CALL)  # a TypeError: the retired calling convention
     p1, p2 = _shape("p1", p1), _shape("p2", p2)
     r1, r2 = _vector("r1", r1), _vector("r2", r2)
     Q1, Q2 = _rotation_pair(body_to_world)

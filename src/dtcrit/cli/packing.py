@@ -144,12 +144,10 @@ def run_command(args) -> int:
 
 def _packing_options(args) -> dict:
     """The keyword arguments of ``packing_step`` the flags give."""
-    from dtcrit.scenes.scene import parse_particle  # the scenes' [[particle]] parser, for a bodies file
-
     return {"lattice": args.lattice, "cells": args.cells, "random": args.random, "cn": args.cn, "sizes": args.sizes,
             "spread": args.spread, "seed": args.seed, "radius": args.radius, "density": args.density, "kn": args.kn,
             "ks": args.ks, "youngs": args.youngs, "poisson": args.poisson, "snapshot": args.snapshot,
-            "integrator": args.integrator, "damping_ratio": args.damping_ratio, "particle_table": parse_particle}
+            "integrator": args.integrator, "damping_ratio": args.damping_ratio}
 
 
 def _run(args) -> int:

@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass, field, fields
-from typing import TYPE_CHECKING, Callable
+from typing import TYPE_CHECKING
 
 from dtcrit.errors import InputError
 from dtcrit.packing.step_input import DEFAULT_DENSITY, DEFAULT_RADIUS, RANDOM_SECONDS_LIMIT, PackingInput, packing_input
@@ -192,8 +192,7 @@ def packing_step(source: str | os.PathLike | None = None, *, lattice: str | None
                  kn: float | None = None, ks: float | None = None, youngs: float | None = None,
                  poisson: float = 0.25, snapshot: int = -1, integrator: str = "velocity-verlet",
                  damping_ratio: float = 0.0, solver: str = "auto", route: str = "auto", certify: str = "auto",
-                 write_dump: str | os.PathLike | None = None,
-                 particle_table: Callable | None = None) -> PackingStep:
+                 write_dump: str | os.PathLike | None = None) -> PackingStep:
     """The critical time step of a packing from its largest eigenfrequency (Otsubo et al. 2017).
 
     Exactly one of ``source``, ``lattice`` and ``random`` gives the packing; ``kn`` (and ``ks``) or
@@ -243,9 +242,6 @@ def packing_step(source: str | os.PathLike | None = None, *, lattice: str | None
         Certify by an ``LDL^T`` inertia count that no mode lies above ``omega_max^2 (1 + 1e-6)``.
     write_dump : str or os.PathLike, optional
         Also write the analysed sphere packing as a LAMMPS dump file there.
-    particle_table : callable, optional
-        The ``[[particle]]`` table parser a bodies file's shapes go through
-        (``dtcrit.scenes.scene.parse_particle``); required for a bodies file.
 
     Returns
     -------
@@ -274,8 +270,7 @@ def packing_step(source: str | os.PathLike | None = None, *, lattice: str | None
         raise InputError("certify", f"unknown {certify!r}; choose one of {', '.join(CERTIFY)}")
     given = packing_input(source, lattice=lattice, cells=cells, random=random, cn=cn, sizes=sizes, spread=spread,
                           seed=seed, radius=radius, density=density, kn=kn, ks=ks, youngs=youngs, poisson=poisson,
-                          snapshot=snapshot, route=route, certify=certify, write_dump=write_dump,
-                          particle_table=particle_table)
+                          snapshot=snapshot, route=route, certify=certify, write_dump=write_dump)
     from dtcrit.packing import report as packing_report
 
     report = packing_report.analyse(given.packing, given.law, given.contacts, integrator=integrator,

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Callable
+from typing import TYPE_CHECKING, Any
 
 from dtcrit.errors import InputError
 
@@ -59,7 +59,7 @@ def _law(kn: float | None, ks: float | None, youngs: float | None, poisson: floa
     return LinearLaw(kn, kn if ks is None else ks)
 
 
-def _bodies(source, generated: bool, density: float | None, write_dump, particle_table: Callable | None):
+def _bodies(source, generated: bool, density: float | None, write_dump):
     """The ``dtcrit-bodies/1`` file ``source`` names, or None when it is not one (then it is a dump)."""
     from dtcrit.packing.readers.bodies_file import is_bodies_file, read_bodies_file
 
@@ -69,10 +69,7 @@ def _bodies(source, generated: bool, density: float | None, write_dump, particle
         if value is not None:
             raise InputError(key, "not used with a bodies file (each body's shape gives its density or mass; a dump "
                                   "holds spheres only)")
-    if particle_table is None:
-        raise TypeError("packing_step: a bodies file needs particle_table, the scenes' [[particle]] parser "
-                        "(dtcrit.scenes.scene.parse_particle)")
-    return read_bodies_file(source, particle_table)
+    return read_bodies_file(source)
 
 
 def _certificate_cost(certify: str, n: int, coordination: float) -> dict:
@@ -133,7 +130,7 @@ def packing_input(source: str | os.PathLike | None = None, *, lattice: str | Non
                   seed: int = 0, radius: float = DEFAULT_RADIUS, density: float | None = None,
                   kn: float | None = None, ks: float | None = None, youngs: float | None = None,
                   poisson: float = 0.25, snapshot: int = -1, route: str = "auto", certify: str = "auto",
-                  write_dump: str | os.PathLike | None = None, particle_table: Callable | None = None,
+                  write_dump: str | os.PathLike | None = None,
                   check_memory: bool = True) -> PackingInput:
     """Read or generate a packing and resolve its contact law (the parameters of :func:`packing_step`).
 
@@ -145,8 +142,6 @@ def packing_input(source: str | os.PathLike | None = None, *, lattice: str | Non
         As in :func:`dtcrit.packing.step.packing_step`: they size the memory check of a generated packing.
     write_dump : str or os.PathLike, optional
         Refused with a bodies file (a dump holds spheres only); not written here.
-    particle_table : callable, optional
-        As in :func:`dtcrit.packing.step.packing_step`.
     check_memory : bool
         Refuse up front a generated packing whose analysis would not fit in memory (or whose generation
         would take longer than ``RANDOM_SECONDS_LIMIT``).
@@ -158,7 +153,7 @@ def packing_input(source: str | os.PathLike | None = None, *, lattice: str | Non
         bodies file gives each contact's stiffness).
     """
     generated = lattice is not None or random is not None
-    bodies = _bodies(source, generated, density, write_dump, particle_table)
+    bodies = _bodies(source, generated, density, write_dump)
     if bodies is not None and bodies.stiffness_given:
         if kn is not None or ks is not None or youngs is not None:
             raise InputError("kn", f"{source} lists each contact's kn and ks; drop --kn/--ks/--youngs")

@@ -7,6 +7,8 @@ import bisect
 from dataclasses import dataclass, field
 from typing import Any
 
+# the keys of a [[particle]] table are the shape parser's (re-exported: part of a scene's vocabulary)
+from dtcrit.bodies.spec import PARTICLE_ALL, PARTICLE_COMMON, SHAPE_KEYS, SPHERE_SIZE_KEYS  # noqa: F401
 from dtcrit.scenes.damping_input import damping_kind
 
 # ----------------------------------------------------------------------------------------------
@@ -15,19 +17,6 @@ from dtcrit.scenes.damping_input import damping_kind
 TOP_KEYS = ("integrator", "omega_max", "safety", "pairs", "title", "coordination_max", "overlap_max", "isolated", "particle", "contact",
             "wall")
 PAIRS_CHOICES = ("all", "unlike")
-
-# shape -> the dimension keys it needs (TOML key, expected length or None for a scalar)
-SHAPE_KEYS: dict[str, tuple[tuple[str, int | None], ...]] = {
-    "sphere": (("radius", None),),
-    "ellipsoid": (("semi_axes", 3),),
-    "superquadric": (("semi_axes", 3), ("exponents", 2)),
-    "box": (("half_lengths", 3),),
-    "polyhedron": (("vertices", -1),),
-    "clump": (("spheres", -2),),
-}
-PARTICLE_COMMON = ("shape", "density", "mass", "youngs_modulus", "poisson_ratio", "name")
-SPHERE_SIZE_KEYS = ("radius", "radii", "fractions", "lognormal")
-PARTICLE_ALL = tuple(dict.fromkeys(PARTICLE_COMMON + SPHERE_SIZE_KEYS + tuple(k for v in SHAPE_KEYS.values() for k, _ in v)))
 
 CONTACT_MODELS = ("linear", "yade", "hertz", "bond")
 ROTATIONAL_KEYS = ("kr", "ktw", "cr", "ctw", "rolling_model", "rolling_friction", "rolling_viscous_damping",
@@ -78,7 +67,7 @@ class PairContact:
         Damping ratio per direction as the damping convention defines it (``zeta_s`` None: no
         tangential spring).
     convention : str or None
-        The damping convention (``dtcrit.scenes.damping``).
+        The damping convention (``dtcrit.scenes.damping_input``).
     wall : str or None
         The wall's name for a particle-wall contact.
     wall_number : int or None
@@ -167,7 +156,7 @@ class Particle:
     poisson_ratio: float | None
     name: str
     sizes: Any = None  # spheres: a dtcrit.scenes.sizes.SizeDistribution
-    shapes: tuple = ()  # spheres: one Sphere per radius of ``sizes``
+    shapes: Any = ()  # spheres: one Sphere per radius of ``sizes`` (a SizeShapes: built when first used)
 
     @property
     def mass(self) -> float:
@@ -262,7 +251,7 @@ class ContactLaw:
     curvature_radius : float or None
         Hertz: effective radius of curvature [m], when given.
     damping_convention : str or None
-        The damping convention (None: the model's default, ``dtcrit.scenes.damping``).
+        The damping convention (None: the model's default, ``dtcrit.scenes.damping_input``).
     ks_ratio : float or None
         YADE: ``ks/kn``.
     rotational : dtcrit.scenes.rotational.RotationalLaw, optional

@@ -26,25 +26,15 @@ from __future__ import annotations
 
 import math
 import tomllib
-import warnings
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 from dtcrit.errors import InputError
+from dtcrit.inputs.files import read_bounded
 from dtcrit.scenes.damping_input import CONVENTIONS, convention_for, parse_damping
-from dtcrit.scenes.fields import (
-    _check_keys,
-    _choice,
-    _number,
-    _required,
-    _short,
-    _string,
-    _type_name,
-    _vector,
-    _vertices,
-    _clump_spheres,
-)
+from dtcrit.bodies.spec import build_shape, density_or_mass, table_dimensions, table_kind
+from dtcrit.scenes.fields import _check_keys, _choice, _number, _required, _short, _string, _type_name
 from dtcrit.scenes.laws import resolve_pair
 from dtcrit.scenes.model import (
     CONTACT_ALL,
@@ -52,10 +42,6 @@ from dtcrit.scenes.model import (
     CONTACT_MODELS,
     NOT_IN_THE_STEP,
     PAIRS_CHOICES,
-    PARTICLE_ALL,
-    PARTICLE_COMMON,
-    SHAPE_KEYS,
-    SPHERE_SIZE_KEYS,
     TOP_KEYS,
     ContactLaw,
     Particle,
@@ -67,85 +53,15 @@ from dtcrit.scenes.walls import parse_walls
 # ----------------------------------------------------------------------------------------------
 # Particles
 # ----------------------------------------------------------------------------------------------
-# key names used by dtcrit.bodies -> scene key
-_SHAPE_ARG_TO_KEY = {
-    "sphere": {"radius": "radius"},
-    "ellipsoid": {"a": "semi_axes", "b": "semi_axes", "c": "semi_axes"},
-    "superquadric": {"a": "semi_axes", "b": "semi_axes", "c": "semi_axes", "eps1": "exponents", "eps2": "exponents"},
-    "box": {"a": "half_lengths", "b": "half_lengths", "c": "half_lengths"},
-    "polyhedron": {"vertices": "vertices"},
-    "clump": {"spheres": "spheres"},
-}
-
-
-def _build_shape(prefix: str, kind: str, dims: dict, density: float | None, mass: float | None):
-    import dtcrit.bodies as shapes  # NumPy only at import
-
-    if kind == "sphere":
-        args = (next(iter(dims.values())),)
-        cls = shapes.Sphere
-    elif kind == "ellipsoid":
-        args, cls = tuple(dims["semi_axes"]), shapes.Ellipsoid
-    elif kind == "superquadric":
-        args, cls = tuple(dims["semi_axes"]) + tuple(dims["exponents"]), shapes.Superquadric
-    elif kind == "box":
-        args, cls = tuple(dims["half_lengths"]), shapes.Box
-    elif kind == "clump":
-        args, cls = (dims["spheres"],), shapes.Clump
-    else:
-        args, cls = (dims["vertices"],), shapes.ConvexPolyhedron
-    size_key = next(iter(dims))
-    try:
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            shape = cls(*args, density=density, mass=mass)
-    except InputError as exc:
-        key = _SHAPE_ARG_TO_KEY[kind].get(exc.key, exc.key)
-        reason = exc.reason
-        if exc.key in ("a", "b", "c") and "a >= b >= c" in reason:
-            reason += "; list the axes largest first (Peng et al. 2020, Section 3, assumption 3)"
-        raise InputError(f"{prefix}{key}", reason) from None
-    except (ValueError, ArithmeticError) as exc:  # numerical trouble inside the shape
-        raise InputError(f"{prefix}{size_key}", f"cannot build the {kind}: {' '.join(str(exc).split())}") from None
-    issues = getattr(shape, "assumption_issues", ())
-    if issues:
-        raise InputError(
-            f"{prefix}{size_key}",
-            "breaks Peng et al. 2020, Section 3, assumption 3: " + "; ".join(issues),
-        )
-    del caught  # other warnings from the shape layer are not the user's concern
-    return shape
-
-
 def _particle(number: int, table: Any) -> Particle:
+    """A ``[[particle]]`` table: its shape by the one shape parser (``dtcrit.bodies.spec``), a sphere's
+    size distribution (``dtcrit.scenes.sizes``), the elastic constants and the name.
+    """
     prefix = f"particle[{number}]."
-    if not isinstance(table, dict):
-        raise InputError(f"particle[{number}]", f"must be a table (got {_type_name(table)}: {_short(table)})")
-    kind = _choice(f"{prefix}shape", _required(prefix, table, "shape", f"one of {', '.join(SHAPE_KEYS)}"), tuple(SHAPE_KEYS), "shape")
-    needed = () if kind == "sphere" else SHAPE_KEYS[kind]
-    sizes = SPHERE_SIZE_KEYS if kind == "sphere" else ()
-    allowed = tuple(dict.fromkeys(("shape",) + sizes + tuple(k for k, _ in needed) + PARTICLE_COMMON[1:]))
-    _check_keys(prefix, table, allowed, PARTICLE_ALL, f"by a {kind}")
-    dims: dict[str, Any] = {}
-    for key, length in needed:
-        value = _required(prefix, table, key, f"a {kind} needs {', '.join(k for k, _ in needed)}")
-        if length is None:
-            dims[key] = _number(prefix + key, value)
-        elif length == -1:
-            dims[key] = _vertices(prefix + key, value)
-        elif length == -2:
-            dims[key] = _clump_spheres(prefix + key, value)
-        else:
-            dims[key] = _vector(prefix + key, value, length)
+    kind = table_kind(prefix, table)
+    dims = table_dimensions(prefix, table, kind)
     distribution = size_distribution(prefix, table) if kind == "sphere" else None
-    if "density" in table and "mass" in table:
-        raise InputError(f"{prefix}mass", "give density or mass, not both")
-    if "density" not in table and "mass" not in table:
-        raise InputError(f"{prefix}density", "missing: give density [kg/m^3] or mass [kg]")
-    if "mass" in table and distribution is not None and distribution.kind != "single":
-        raise InputError(f"{prefix}mass", "a size distribution needs the density (each size has its own mass)")
-    density = _number(prefix + "density", table["density"]) if "density" in table else None
-    mass = _number(prefix + "mass", table["mass"]) if "mass" in table else None
+    density, mass = density_or_mass(prefix, table, per_size=distribution is not None and distribution.kind != "single")
     youngs = _number(prefix + "youngs_modulus", table["youngs_modulus"]) if "youngs_modulus" in table else None
     poisson = (
         _number(prefix + "poisson_ratio", table["poisson_ratio"], lo=-1.0, hi=0.5, hi_open=True)
@@ -154,10 +70,10 @@ def _particle(number: int, table: Any) -> Particle:
     )
     name = _string(prefix + "name", table["name"]) if "name" in table else f"particle {number}"
     if distribution is None:
-        shape = _build_shape(prefix, kind, dims, density, mass)
+        shape = build_shape(prefix, kind, dims, density, mass)
         return Particle(number, kind, dims, shape, youngs, poisson, name)
     key = "radius" if distribution.kind == "single" else ("radii" if distribution.kind == "discrete" else "lognormal")
-    shapes = SizeShapes(lambda r: _build_shape(prefix, kind, {key: r}, density, mass), distribution.radii)
+    shapes = SizeShapes(lambda r: build_shape(prefix, kind, {key: r}, density, mass), distribution.radii)
     dims = {"radius": distribution.radii[0]} if distribution.kind == "single" else {key: list(distribution.radii)}
     return Particle(number, kind, dims, shapes[0], youngs, poisson, name, distribution, shapes)
 
@@ -165,12 +81,6 @@ def _particle(number: int, table: Any) -> Particle:
 # ----------------------------------------------------------------------------------------------
 # Contact law
 # ----------------------------------------------------------------------------------------------
-parse_particle = _particle
-"""The scenes' ``[[particle]]`` table parser, ``parse_particle(number, table) -> Particle`` (also read
-by ``dtcrit.packing.readers.bodies_file`` through the command line, which passes it in: the packing layer
-comes before the scenes)."""
-
-
 def _per_particle(key: str, value: Any, n: int, **limits) -> tuple[float, ...]:
     """A scalar (all particle types) or an array with one entry per particle type."""
     if isinstance(value, list):
@@ -193,8 +103,8 @@ def _contact(table: Any, particles: list[Particle], out_warnings: list) -> tuple
     cn, cs, restitution, zeta = parse_damping(prefix, table)  # one way only
     from dtcrit.scenes.rotational import parse_rotational
 
-    rotational = parse_rotational(prefix, table)
-    rotational = rotational if rotational.present else None
+    parsed = parse_rotational(prefix, table)
+    rotational = parsed if parsed.present else None
     for key, why in NOT_IN_THE_STEP.items():
         if key in table:
             _number(prefix + key, table[key], allow_zero=True)
@@ -310,7 +220,20 @@ def _integrator(value) -> tuple[str, str]:
 
 
 def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
-    """Validate a parsed TOML document (a dict) and build the :class:`Scene`."""
+    """Validate a parsed TOML document and build the :class:`Scene` (module docstring).
+
+    Parameters
+    ----------
+    doc : Any
+        The document as ``tomllib`` returns it (a dict).
+    source : str
+        The scene's name (its file), kept in ``Scene.source``.
+
+    Returns
+    -------
+    Scene
+        The validated scene; each problem raises one ``InputError`` keyed by its entry.
+    """
     if not isinstance(doc, dict):
         raise InputError("scene", "must be a TOML table")
     _check_keys("", doc, TOP_KEYS, TOP_KEYS, "at the top level")
@@ -379,7 +302,20 @@ def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
 
 
 def parse_scene(text: str, source: str = "<scene>") -> Scene:
-    """Parse TOML text (never evaluated as code) and validate it."""
+    """Parse a scene's TOML text (never evaluated as code) and validate it.
+
+    Parameters
+    ----------
+    text : str
+        The TOML text.
+    source : str
+        The scene's name (its file), kept in ``Scene.source``.
+
+    Returns
+    -------
+    Scene
+        The validated scene; bad TOML raises ``InputError('toml', ...)``.
+    """
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -400,11 +336,20 @@ MAX_COORDINATION = 100_000
 
 
 def load_scene(path: str | Path) -> Scene:
-    """Read and validate a scene file; unreadable or non-UTF-8 files raise ``InputError('file', ...)``."""
-    p = Path(path)
+    """Read and validate a scene file.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The scene file (UTF-8 TOML, at most ``MAX_SCENE_BYTES``).
+
+    Returns
+    -------
+    Scene
+        The validated scene; unreadable, too large or non-UTF-8 files raise ``InputError('file', ...)``.
+    """
     try:
-        with p.open("rb") as handle:
-            data = handle.read(MAX_SCENE_BYTES + 1)  # never more: /dev/zero is not a scene
+        data = read_bounded(path, MAX_SCENE_BYTES)  # never more: /dev/zero is not a scene
     except OSError as exc:
         reason = exc.strerror or type(exc).__name__
         raise InputError("file", f"cannot read the scene file: {reason}") from None

@@ -12,7 +12,7 @@ from __future__ import annotations
 import os
 import time
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Callable
+from typing import TYPE_CHECKING
 
 from dtcrit.errors import InputError
 from dtcrit.packing.step import DEFAULT_RADIUS
@@ -103,7 +103,7 @@ def distributed_packing_step(source: str | os.PathLike | None = None, *, lattice
                              seed: int = 0, radius: float = DEFAULT_RADIUS, density: float | None = None,
                              kn: float | None = None, ks: float | None = None, youngs: float | None = None,
                              poisson: float = 0.25, snapshot: int = -1, integrator: str = "velocity-verlet",
-                             damping_ratio: float = 0.0, particle_table: Callable | None = None) -> DistributedStep:
+                             damping_ratio: float = 0.0) -> DistributedStep:
     """The critical step of a packing by PETSc and SLEPc on the processes of an MPI launcher (collective).
 
     Parameters
@@ -114,8 +114,6 @@ def distributed_packing_step(source: str | os.PathLike | None = None, *, lattice
         Integrator of the damped bound.
     damping_ratio : float
         Modal damping ratio of the highest mode (finite, at least 0).
-    particle_table : callable, optional
-        The ``[[particle]]`` parser of a bodies file (``dtcrit.scenes.scene.parse_particle``).
 
     Returns
     -------
@@ -146,7 +144,7 @@ def distributed_packing_step(source: str | os.PathLike | None = None, *, lattice
     clock = time.perf_counter()
     given = packing_input(source, lattice=lattice, cells=cells, random=random, cn=cn, sizes=sizes, spread=spread,
                           seed=seed, radius=radius, density=density, kn=kn, ks=ks, youngs=youngs, poisson=poisson,
-                          snapshot=snapshot, particle_table=particle_table, check_memory=False)
+                          snapshot=snapshot, check_memory=False)
     share = sb.distribute(given.packing, given.law, given.contacts, t_input=time.perf_counter() - clock)
     del given  # the O(N) input is not needed by the matrix and the solve
     result = sb.analyse_share(share)

@@ -1,6 +1,8 @@
 """Readers of engine files: LAMMPS/LIGGGHTS dumps and local dumps, contact tables, ``dtcrit-bodies/1`` files, YADE exports.
 
-Modules: ``lammps_dump`` (text dumps, read one snapshot at a time), ``contact_tables`` (``--contacts`` tables and
-``--local`` dumps), ``bodies_file`` and ``bodies_values`` (``dtcrit-bodies/1``), ``yade_export`` and ``yade_clumps``
-(``dtcrit-yade-export/1``), ``limits`` (the range of numbers a read packing may carry).
+Modules: ``lammps_dump`` (text dumps: a snapshot as a packing, writing dumps) and ``dump_stream`` (a dump
+streamed one snapshot at a time, ``iter_dump``), ``contact_tables`` (``--contacts`` tables and ``--local``
+dumps), ``bodies_file`` and ``bodies_values`` (``dtcrit-bodies/1``; shapes by ``dtcrit.bodies.spec``),
+``yade_export`` and ``yade_clumps`` (``dtcrit-yade-export/1``), ``limits`` (the range of numbers a read
+packing may carry).  Values are checked by ``dtcrit.inputs``; errors carry their location (source, line, key).
 """

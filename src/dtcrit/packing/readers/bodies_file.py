@@ -13,7 +13,7 @@ The file (UTF-8 JSON, one object)::
      "contacts": [{"id1": 1, "id2": 2, "kn": 1e5, "ks": 8e4}, ...]}               (optional)
 
 * ``shape`` holds the keys of a scene's ``[[particle]]`` table (README, Scene files) and is read by
-  the scenes' own parser: ``shape`` is one of ``sphere`` (``radius``), ``ellipsoid`` (``semi_axes``,
+  the one shape parser of scenes and bodies files (``dtcrit.bodies.spec.shape_from_table``): ``shape`` is one of ``sphere`` (``radius``), ``ellipsoid`` (``semi_axes``,
   largest first), ``superquadric`` (``semi_axes``, ``exponents``), ``box`` (``half_lengths``),
   ``polyhedron`` (``vertices``), ``clump`` (``spheres`` ``[[x, y, z, r], ...]``), with exactly one
   of ``density`` [kg/m^3] or ``mass`` [kg].  A body is one particle: size distributions (``radii``,
@@ -41,7 +41,7 @@ clump's centre of mass (contacts sit at member surfaces), and members of one clu
 touch each other.  Periodic axes use the box's images as for spheres.
 
 Bad input raises one ``InputError`` whose key names the file and the entry,
-``FILE: bodies[3].shape.semi_axes``: arrays of the file count from 0, as JSON does; entries inside
+``FILE: bodies[3].shape.semi_axes`` (its ``location`` holds the two apart): arrays of the file count from 0, as JSON does; entries inside
 a shape table count from 1, as in scene files.
 """
 from __future__ import annotations
@@ -50,12 +50,13 @@ import json
 import math
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Callable
-
 import numpy as np
 
-from dtcrit.errors import InputError
 from dtcrit._generated import mass_properties as _mp
+from dtcrit.bodies.spec import shape_from_table
+from dtcrit.errors import InputError
+from dtcrit.inputs.arrays import booleans
+from dtcrit.inputs.files import located_in, read_bounded
 from dtcrit.packing.readers.bodies_values import (_array, _fail, _integer, _keys, _numbers, _short, _sphere_table,
                                           _stiffness)
 from dtcrit.packing.detection.body_contacts import find_body_contacts
@@ -82,17 +83,20 @@ UNIT_TOLERANCE = 1e-6
 """Largest accepted ``| |q| - 1 |`` of an orientation (eight digits of 0.70710678 pass)."""
 MAX_BYTES = 64 << 20
 
-ParticleTable = Callable[[int, dict], object]
-"""``(number, table) -> particle`` with ``.shape`` (a ``dtcrit.bodies`` object), raising ``InputError``
-keyed ``particle[number].<key>``: the scenes' parser ``dtcrit.scenes.scene._particle``.  The packing
-layer sits below the scenes, so the caller hands the parser in (``dtcrit.cli.packing`` does)."""
-
-
 @dataclass(frozen=True)
 class BodiesFile:
-    """A read ``dtcrit-bodies/1`` file: the ``packing`` (``Packing.from_shapes`` with the file's ids),
-    its geometric ``contacts`` (with the file's ``kn``/``ks`` when ``stiffness_given``) and the
-    number of bodies of each shape ``kinds``.
+    """A read ``dtcrit-bodies/1`` file.
+
+    Parameters
+    ----------
+    packing : Packing
+        The bodies (``Packing.from_shapes``, or a sphere packing) with the file's ids.
+    contacts : Contacts
+        The geometric contacts, with the file's ``kn``/``ks`` [N/m] when ``stiffness_given``.
+    stiffness_given : bool
+        Whether the file lists each contact's springs.
+    kinds : dict
+        Shape name -> number of bodies of that shape.
     """
 
     packing: Packing
@@ -102,7 +106,18 @@ class BodiesFile:
 
 
 def is_bodies_file(path) -> bool:
-    """Whether ``path`` starts (after blanks and a byte-order mark) with ``{``; unreadable: False."""
+    """Whether a file is a bodies file: it starts (after blanks and a byte-order mark) with ``{``.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file.
+
+    Returns
+    -------
+    bool
+        True when its first character is ``{``; False otherwise or when it cannot be read.
+    """
     try:
         with open(path, "rb") as handle:
             head = handle.read(4096)
@@ -113,8 +128,7 @@ def is_bodies_file(path) -> bool:
 
 def _load(path: Path) -> dict:
     try:
-        with path.open("rb") as handle:
-            data = handle.read(MAX_BYTES + 1)
+        data = read_bounded(path, MAX_BYTES)
     except OSError as exc:
         raise _fail(str(path), f"cannot read: {exc.strerror or exc}") from None
     if len(data) > MAX_BYTES:
@@ -144,25 +158,19 @@ def _box(where: str, value) -> Box | None:
         if key not in value:
             raise _fail(f"{where}.{key}", "missing: a box needs lo, hi and periodic")
     lo, hi = _numbers(f"{where}.lo", value["lo"], 3), _numbers(f"{where}.hi", value["hi"], 3)
-    periodic = value["periodic"]
-    if not (isinstance(periodic, list) and len(periodic) == 3 and all(isinstance(p, bool) for p in periodic)):
-        raise _fail(f"{where}.periodic", f"expected three booleans, found {_short(periodic)}")
+    periodic = booleans(f"{where}.periodic", value["periodic"], 3)
     if np.any(hi <= lo):
         raise _fail(f"{where}.hi", f"each upper bound must exceed its lower bound (lo = {lo.tolist()}, hi = {hi.tolist()})")
-    return Box(lo, hi, tuple(periodic))
+    return Box(lo, hi, (periodic[0], periodic[1], periodic[2]))
 
 
-def _shape(where: str, table, particle_table: ParticleTable):
+def _shape(where: str, table):
     if not isinstance(table, dict):
         raise _fail(where, f"expected an object with the keys of a scene's [[particle]] table, found {_short(table)}")
     for key, why in REFUSED_SHAPE_KEYS.items():
         if key in table:
             raise _fail(f"{where}.{key}", why)
-    try:
-        return particle_table(1, table).shape
-    except InputError as exc:
-        tail = exc.key.removeprefix("particle[1]")
-        raise _fail(where + tail, exc.reason) from None
+    return shape_from_table(where + ".", table)
 
 
 def _orientation(where: str, value) -> np.ndarray:
@@ -185,11 +193,11 @@ def _frame(shape) -> tuple[np.ndarray, np.ndarray]:
     return np.eye(3), np.zeros(3)
 
 
-def _sphere_properties(where: list, tables: list, found: np.ndarray, particle_table: ParticleTable):
+def _sphere_properties(where: list, tables: list, found: np.ndarray):
     """``(radius, mass, inertia)`` of plain sphere tables (``found`` their rows of ``_sphere_table``),
     for all at once: ``m = rho 4/3 pi R^3`` or the given mass, ``I = 2/5 m R^2`` (the formulas of
     ``dtcrit.bodies.Sphere``).  A table whose numbers do not give a positive finite radius, density,
-    mass and moment is read by the scenes' parser, which names the key.
+    mass and moment is read by the shape parser, which names the key.
     """
     r, rho, given = found[:, 0], found[:, 1], found[:, 2]
     with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
@@ -202,14 +210,18 @@ def _sphere_properties(where: list, tables: list, found: np.ndarray, particle_ta
         ok &= np.isfinite(v) & (v > 0)
     if not ok.all():
         k = int(np.argmin(ok))
-        _shape(where[k], tables[k], particle_table)
+        _shape(where[k], tables[k])
         raise _fail(where[k], "the radius and density (or mass) give a moment of inertia outside double precision")
     return r, mass, inertia
 
 
 def _entries(path, bodies: list):
     """Per-body checks of keys and ids: ``(ids, shape tables, positions, orientations)`` as given."""
-    ids, tables, positions, quats, seen = [], [], [], [], {}
+    ids: list[int] = []
+    tables: list = []
+    positions: list = []
+    quats: list = []
+    seen: dict[int, int] = {}
     for k, body in enumerate(bodies):
         if type(body) is not dict:
             raise _fail(f"{path}: bodies[{k}]", "expected an object with id, shape, position (and orientation), "
@@ -248,7 +260,7 @@ def _rotations(path, quats: list) -> np.ndarray:
                      np.stack([2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)], -1)], -2)
 
 
-def _shapes(path, tables: list, particle_table: ParticleTable, sphere_rows: list):
+def _shapes(path, tables: list, sphere_rows: list):
     """One shape object per body: equal tables share one (parsed once), plain spheres are built
     from their checked numbers.
     """
@@ -258,6 +270,7 @@ def _shapes(path, tables: list, particle_table: ParticleTable, sphere_rows: list
     out = []
     for k, table in enumerate(tables):
         row = sphere_rows[k]
+        key: tuple | str
         if row is not None:
             key = ("sphere",) + tuple(row)
             if key not in parsed:
@@ -266,12 +279,12 @@ def _shapes(path, tables: list, particle_table: ParticleTable, sphere_rows: list
         else:
             key = json.dumps(table, sort_keys=True)
             if key not in parsed:
-                parsed[key] = _shape(f"{path}: bodies[{k}].shape", table, particle_table)
+                parsed[key] = _shape(f"{path}: bodies[{k}].shape", table)
         out.append(parsed[key])
     return out
 
 
-def _bodies(path, doc: dict, particle_table: ParticleTable, box: Box | None):
+def _bodies(path, doc: dict, box: Box | None):
     bodies = doc.get("bodies")
     if not isinstance(bodies, list) or not bodies:
         raise _fail(f"{path}: bodies", "missing: a non-empty array of bodies")
@@ -280,8 +293,8 @@ def _bodies(path, doc: dict, particle_table: ParticleTable, box: Box | None):
     spheres = [k for k, row in enumerate(rows) if row is not None]
     found = np.array([rows[k] for k in spheres], dtype=float).reshape(-1, 3)
     radius, mass, inertia = _sphere_properties([f"{path}: bodies[{k}].shape" for k in spheres],
-                                               [tables[k] for k in spheres], found, particle_table)
-    shapes = None if len(spheres) == len(ids) else _shapes(path, tables, particle_table, rows)
+                                               [tables[k] for k in spheres], found)
+    shapes = None if len(spheres) == len(ids) else _shapes(path, tables, rows)
     position = _array(path, "position", positions, 3)
     check_lengths(position, lambda k: f"{path}: bodies[{k}].position", "a coordinate")
     rot = _rotations(path, quats)
@@ -321,6 +334,7 @@ def _listed_stiffness(path, doc: dict, packing: Packing, contacts: Contacts) -> 
     rows = doc["contacts"]
     if not isinstance(rows, list):
         raise _fail(f"{path}: contacts", f"expected an array of {{id1, id2, kn, ks}} objects, found {_short(rows)}")
+    assert packing.ids is not None  # a bodies file's packing carries the file's ids
     index = {int(b): k for k, b in enumerate(packing.ids)}
     pairs = [frozenset((int(packing.ids[a]), int(packing.ids[b]))) for a, b in zip(contacts.i, contacts.j)]
     springs: dict = {}
@@ -357,8 +371,28 @@ def _listed_stiffness(path, doc: dict, packing: Packing, contacts: Contacts) -> 
     return contacts.with_stiffness(kn, ks)
 
 
-def load_bodies(doc, path, particle_table: ParticleTable, tolerance: float = 1e-9) -> BodiesFile:
-    """Validate a parsed ``dtcrit-bodies/1`` document (``path`` names it in messages) and build it."""
+def load_bodies(doc, path, tolerance: float = 1e-9) -> BodiesFile:
+    """Validate a parsed ``dtcrit-bodies/1`` document and build it.
+
+    Parameters
+    ----------
+    doc : Any
+        The parsed JSON document.
+    path : str or pathlib.Path
+        The file it was read from, naming it in messages (and ``InputError.location.source``).
+    tolerance : float
+        Relative tolerance of the convex contact search (``find_body_contacts``).
+
+    Returns
+    -------
+    BodiesFile
+        The packing, its contacts and the count of each shape.
+    """
+    with located_in(path):
+        return _load_bodies(doc, path, tolerance)
+
+
+def _load_bodies(doc, path, tolerance: float) -> BodiesFile:
     if not isinstance(doc, dict):
         raise _fail(str(path), f"a {SCHEMA} file is one JSON object")
     if doc.get("schema") != SCHEMA:
@@ -371,7 +405,7 @@ def load_bodies(doc, path, particle_table: ParticleTable, tolerance: float = 1e-
     box = _box(f"{path}: box", doc["box"])
     if box is not None:
         check_lengths(np.vstack([box.lo, box.hi]).T, lambda a: f"{path}: box", "a bound")
-    packing, kinds = _bodies(path, doc, particle_table, box)
+    packing, kinds = _bodies(path, doc, box)
     check_lengths(packing.radii, lambda k: f"{path}: bodies[{k}].shape", "the bounding radius")
     check_inertia(packing.masses, lambda k: f"{path}: bodies[{k}].shape", "the mass [kg]")
     check_inertia(packing.inertia, lambda k: f"{path}: bodies[{k}].shape", "a principal moment of inertia [kg m^2]")
@@ -386,6 +420,21 @@ def load_bodies(doc, path, particle_table: ParticleTable, tolerance: float = 1e-
     return BodiesFile(packing, contacts, given, kinds)
 
 
-def read_bodies_file(path, particle_table: ParticleTable, tolerance: float = 1e-9) -> BodiesFile:
-    """Read and validate a ``dtcrit-bodies/1`` file (module docstring)."""
-    return load_bodies(_load(Path(path)), path, particle_table, tolerance)
+def read_bodies_file(path, tolerance: float = 1e-9) -> BodiesFile:
+    """Read and validate a ``dtcrit-bodies/1`` file (module docstring).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file.
+    tolerance : float
+        Relative tolerance of the convex contact search (``find_body_contacts``).
+
+    Returns
+    -------
+    BodiesFile
+        The packing, its contacts and the count of each shape.
+    """
+    with located_in(path):
+        doc = _load(Path(path))
+    return load_bodies(doc, path, tolerance)

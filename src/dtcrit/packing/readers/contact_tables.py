@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from dtcrit.errors import InputError
-
+from dtcrit.inputs.files import located_in, text_lines
 from dtcrit.packing.model import Packing
 from dtcrit.packing.readers.limits import check_rates, contact_rates
 
@@ -36,28 +36,20 @@ OPTIONAL = ("cn", "cs", "kr", "ktw", "fn")
 
 @dataclass(frozen=True)
 class ContactTable:
-    """Pairs ``(i, j)`` as particle indices and the per-contact columns given (by name)."""
+    """The contacts of a ``--contacts`` table.
+
+    Parameters
+    ----------
+    i, j : numpy.ndarray
+        The pairs as particle indices of the packing.
+    values : dict of str to numpy.ndarray
+        The per-contact columns given, by name (``kn``, ``ks`` [N/m]; ``cn``, ``cs`` [N s/m];
+        ``kr``, ``ktw`` [N m/rad]; ``fn`` [N]).
+    """
 
     i: np.ndarray
     j: np.ndarray
     values: dict[str, np.ndarray]
-
-
-def _text(path: Path) -> list[str]:
-    """The file's lines (``\n`` ends one; a trailing ``\r`` and a leading byte-order mark are
-    dropped), each decoded as UTF-8: a byte that is not is named by its line.
-    """
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise InputError(str(path), f"cannot read: {exc.strerror or exc}") from None
-    lines = []
-    for n, raw in enumerate(data.removeprefix(b"\xef\xbb\xbf").split(b"\n")):
-        try:
-            lines.append(raw.decode("utf-8").rstrip("\r"))
-        except UnicodeDecodeError as exc:
-            raise InputError(f"{path}:{n + 1}", f"byte {exc.start + 1} of the line is not UTF-8: not a text file") from None
-    return lines
 
 
 def _in_range(path: Path, packing: Packing, ij: np.ndarray, values: dict, lines: list[int]) -> None:
@@ -117,9 +109,27 @@ def _pair_indices(where: str, a: float, b: float, lookup) -> tuple[int, int]:
 
 
 def read_contact_table(path, packing: Packing) -> ContactTable:
-    """The ``--contacts`` table (module docstring)."""
-    path = Path(path)
-    lines = _text(path)
+    """Read a ``--contacts`` table of per-contact springs and dashpots (module docstring).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The table.
+    packing : Packing
+        The atom dump's packing, whose ids the table's ``id1``/``id2`` name.
+
+    Returns
+    -------
+    ContactTable
+        The pairs as particle indices and the columns given; errors are located at their line
+        (``InputError.location``: source and line).
+    """
+    with located_in(path):
+        return _read_contact_table(Path(path), packing)
+
+
+def _read_contact_table(path: Path, packing: Packing) -> ContactTable:
+    lines = text_lines(path)
     k = next((n for n, ln in enumerate(lines) if ln.strip()), None)
     if k is None:
         raise InputError(f"{path}:1", "the contact table is empty")
@@ -168,9 +178,26 @@ def _id_columns(names: list[str]) -> tuple[int, int]:
 
 
 def read_local_dump(path, packing: Packing) -> tuple[np.ndarray, np.ndarray]:
-    """Pairs ``(i, j)`` of the last snapshot of a LAMMPS ``dump local`` (module docstring)."""
-    path = Path(path)
-    lines = _text(path)
+    """Read the contact pairs of the last snapshot of a LAMMPS ``dump local`` (module docstring).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The local dump.
+    packing : Packing
+        The atom dump's packing, whose ids the entries name.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(i, j)``: the pairs as particle indices, ``i < j``, each pair once.
+    """
+    with located_in(path):
+        return _read_local_dump(Path(path), packing)
+
+
+def _read_local_dump(path: Path, packing: Packing) -> tuple[np.ndarray, np.ndarray]:
+    lines = text_lines(path)
     starts = [n for n, ln in enumerate(lines) if ln.startswith("ITEM: NUMBER OF ENTRIES")]
     if not starts:
         raise InputError(f"{path}:1", "not a LAMMPS local dump (no 'ITEM: NUMBER OF ENTRIES')")

@@ -54,53 +54,33 @@ from dataclasses import dataclass
 import numpy as np
 
 from dtcrit.errors import InputError
+from dtcrit.inputs.arrays import triple as _triple
+from dtcrit.inputs.text import show
+from dtcrit.inputs.values import finite as _finite
+from dtcrit.inputs.values import whole
 from dtcrit.packing.model import Box, Contacts
 from dtcrit.packing.readers.limits import check_inertia, check_lengths, check_rates, contact_rates
 
 TERMS = ("kn", "ks", "kr", "ktw", "cn", "cs", "fn")
 
 
-def show(value, limit: int = 60) -> str:
-    """A value as a message shows it: a float by ``%g``, anything else by a shortened ``repr``."""
-    if isinstance(value, float):
-        return f"{value:g}"
-    text = " ".join(repr(value).split())
-    return text if len(text) <= limit else text[: limit - 3] + "..."
-
-
-def _finite(where: str, value, *, positive: bool = False, allow_none: bool = False, signed: bool = False):
-    if value is None and allow_none:
-        return None
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise InputError(where, f"expected a finite number, found {show(value)}")
-    try:
-        x = float(value)
-    except OverflowError:
-        raise InputError(where, f"expected a finite number, found an integer of {len(str(value))} digits") from None
-    if not math.isfinite(x):
-        raise InputError(where, f"expected a finite number, found {show(x)}")
-    if not signed and (x < 0 or (positive and x == 0)):
-        raise InputError(where, f"must be {'positive' if positive else '>= 0'}, found {show(x)}")
-    return x + 0.0  # -0.0 is 0
-
-
-def whole(where: str, value) -> int:
-    """An engine id: a whole number within 64 bits."""
-    if isinstance(value, float) and math.isfinite(value) and value.is_integer():
-        value = int(value)
-    if isinstance(value, bool) or not isinstance(value, int) or abs(value) >= 2**63:
-        raise InputError(where, f"expected an integer id, found {show(value)}")
-    return value
-
-
-def _triple(where: str, value, size: int = 3, positive: bool = False) -> np.ndarray:
-    if not isinstance(value, list) or len(value) != size:
-        raise InputError(where, f"expected {size} finite numbers, found {show(value)}")
-    return np.array([_finite(f"{where}[{a}]", v, positive=positive, signed=not positive) for a, v in enumerate(value)])
-
-
 def rotation_from_quaternion(where: str, wxyz) -> np.ndarray:
-    """Body-to-global rotation matrix of a quaternion ``[w, x, y, z]`` (normalised here)."""
+    """Body-to-global rotation matrix of a quaternion ``[w, x, y, z]`` (normalised here).
+
+    ``v_global = R v_body`` (YADE's ``Quaternion`` ``ori``; README, One rotation convention).
+
+    Parameters
+    ----------
+    where : str
+        The quaternion's location, named in errors.
+    wxyz : Any
+        The quaternion as read: four finite numbers, not all zero.
+
+    Returns
+    -------
+    numpy.ndarray
+        The ``3 x 3`` rotation matrix.
+    """
     q = _triple(where, wxyz, 4)
     with np.errstate(over="ignore"):
         norm = float(np.linalg.norm(q))
@@ -116,9 +96,28 @@ def rotation_from_quaternion(where: str, wxyz) -> np.ndarray:
 
 @dataclass(frozen=True)
 class RigidBodies:
-    """The rigid bodies of an export (module docstring): engine ``ids``, centres of mass ``positions``
-    (as exported), ``masses``, principal ``inertia``, body-to-global ``rotations``, bounding ``radii``,
-    ``fixed``, ``is_clump``; ``members`` maps every sphere's export id to ``(body index, centre, radius)``.
+    """The rigid bodies of an export (module docstring).
+
+    Parameters
+    ----------
+    ids : numpy.ndarray
+        The engine ids.
+    positions : numpy.ndarray
+        The centres of mass [m], as exported.
+    masses : numpy.ndarray
+        The masses [kg].
+    inertia : numpy.ndarray
+        The principal moments [kg m^2], ``(bodies, 3)``.
+    rotations : numpy.ndarray
+        The body-to-global rotations, ``(bodies, 3, 3)``.
+    radii : numpy.ndarray
+        The bounding radii [m], ``max |d| + r`` over the members.
+    fixed : numpy.ndarray
+        Whether each body is fixed (all degrees of freedom blocked).
+    members : dict
+        Every sphere's export id -> ``(body index, centre, radius)``.
+    is_clump : numpy.ndarray
+        Whether each body is a clump.
     """
 
     ids: np.ndarray
@@ -133,6 +132,7 @@ class RigidBodies:
 
     @property
     def clumps(self) -> int:
+        """The number of clumps among the bodies."""
         return int(self.is_clump.sum())
 
 
@@ -169,8 +169,25 @@ def _one_body(where: str, b, rows: list, members: dict, clump_index: dict, pendi
 
 
 def rigid_bodies(bodies: list, path) -> RigidBodies:
-    """Clumps and free spheres of the export's ``bodies`` list; members become part of their clump."""
-    rows, members, clump_index, pending, seen = [], {}, {}, [], {}
+    """Clumps and free spheres of the export's ``bodies`` list; members become part of their clump.
+
+    Parameters
+    ----------
+    bodies : list
+        The export's ``bodies`` entries as read.
+    path : str or pathlib.Path
+        The export, naming it in errors.
+
+    Returns
+    -------
+    RigidBodies
+        The rigid bodies.
+    """
+    rows: list[tuple] = []
+    members: dict[int, tuple] = {}
+    clump_index: dict[int, int] = {}
+    pending: list[tuple] = []
+    seen: dict[int, int] = {}
     for k, b in enumerate(bodies):
         where = f"{path}: bodies[{k}]"
         bid = _one_body(where, b, rows, members, clump_index, pending)
@@ -194,30 +211,50 @@ def rigid_bodies(bodies: list, path) -> RigidBodies:
     if bad:
         raise InputError(f"{path}: bodies", f"the members of clump {rows[bad[0]][0]} reach beyond double precision")
     ids, x, m, inertia, rot, _, fixed = (list(c) for c in zip(*rows))
-    is_clump = np.zeros(len(rows), bool)
+    is_clump = np.zeros(len(rows), dtype=np.bool_)
     is_clump[list(clump_index.values())] = True
     return RigidBodies(np.array(ids), np.array(x), np.array(m), np.array(inertia), np.array(rot), np.array(reach),
                        np.array(fixed), members, is_clump)
 
 
 def _terms(where: str, it: dict) -> dict:
-    out = {}
+    out: dict[str, float | None] = {}
     for key in TERMS:
         value = it.get(key)
         if key == "fn" and isinstance(value, (int, float)) and not isinstance(value, bool) and value < 0:
             out[key] = -_finite(f"{where}.fn", -value)  # a bond in tension: negative normal force
         else:
             out[key] = _finite(f"{where}.{key}", value, allow_none=key not in ("kn", "ks"))
-    if out["fn"] is None:  # linear law: the normal force is kn times the penetration
-        out["fn"] = out["kn"] * _finite(f"{where}.penetration", it.get("penetration", 0.0), signed=True)
+    kn = out["kn"]
+    if out["fn"] is None and kn is not None:  # linear law: the normal force is kn times the penetration (kn is required)
+        out["fn"] = kn * _finite(f"{where}.penetration", it.get("penetration", 0.0), signed=True)
     return out
 
 
 def yade_contacts(bodies: RigidBodies, interactions: list, path, *, box: Box | None, wrapped: np.ndarray,
                   ratcheting: bool = True) -> Contacts:
-    """Contacts between the rigid bodies with YADE's kinematics (module docstring): arms, ``alpha k_s``,
-    per-contact ``kr``, ``ktw``, ``cn``, ``cs`` and the pre-load of sphere-sphere contacts.  ``wrapped``
-    are the packing's positions (the exported ones mapped into the periodic cell).
+    """Contacts between the rigid bodies with YADE's kinematics (module docstring).
+
+    Parameters
+    ----------
+    bodies : RigidBodies
+        The bodies (:func:`rigid_bodies`).
+    interactions : list
+        The export's ``interactions`` entries as read.
+    path : str or pathlib.Path
+        The export, naming it in errors.
+    box : Box or None
+        The periodic cell, if any.
+    wrapped : numpy.ndarray
+        The packing's positions (the exported ones mapped into the periodic cell).
+    ratcheting : bool
+        YADE's ``avoidGranularRatcheting`` (its default: on).
+
+    Returns
+    -------
+    Contacts
+        The contacts: arms, ``alpha k_s``, per-contact ``kr``, ``ktw``, ``cn``, ``cs`` and the pre-load
+        of sphere-sphere contacts.
     """
     rows = []
     lengths = None if box is None else box.lengths
@@ -271,12 +308,13 @@ def yade_contacts(bodies: RigidBodies, interactions: list, path, *, box: Box | N
         image = np.rint(shift / lengths + moved[p] - moved[q]).astype(np.int64)
     contacts = Contacts(i=p, j=q, normal=n, arm_i=d1 + m1[:, None] * n, arm_j=d2 - m2[:, None] * n,
                         overlap=np.maximum(delta, 0.0), image=image, radius_eff=r1 * r2 / (r1 + r2))
-    contacts = contacts.with_stiffness(col["kn"], alpha * col["ks"], col["kr"], col["ktw"])
+    ks = alpha * col["ks"]
+    contacts = contacts.with_stiffness(col["kn"], ks, col["kr"], col["ktw"])
     free = ~bodies.fixed
     with np.errstate(over="ignore"):  # an overflowing F/d is refused below
         preload = np.abs(col["fn"]) / (r1 + r2 - delta)
     rate = contact_rates(np.where(free, bodies.masses, np.inf), np.where(free[:, None], bodies.inertia, np.inf), p, q,
-                         contacts.arm_i, contacts.arm_j, np.maximum(np.maximum(col["kn"], contacts.ks), preload),
+                         contacts.arm_i, contacts.arm_j, np.maximum(np.maximum(col["kn"], ks), preload),
                          np.maximum(np.abs(col["kr"]), np.abs(col["ktw"])), np.maximum(col["cn"], col["cs"]))
     check_rates(rate, lambda c: f"{path}: interactions[{rows[c][10]}]")
     both_free = ~bodies.is_clump[p] & ~bodies.is_clump[q]

@@ -19,7 +19,6 @@ Two readers:
 from __future__ import annotations
 
 import json
-import math
 import re
 from pathlib import Path
 
@@ -30,18 +29,14 @@ from dtcrit.errors import InputError
 from dtcrit.packing.conventions.engines import overlaps_of_pairs
 from dtcrit.packing.model import Box, Contacts, Packing
 from dtcrit.packing.readers.limits import check_inertia, check_lengths
-from dtcrit.packing.readers.yade_clumps import _finite, _triple, show, whole
+from dtcrit.inputs.arrays import triple as _triple
+from dtcrit.inputs.files import line_of, located_in
+from dtcrit.inputs.text import show
+from dtcrit.inputs.values import finite as _finite
+from dtcrit.inputs.values import whole
 
 SCHEMA = "dtcrit-yade-export/1"
 FIXED_INERTIA = 1e300
-
-
-def _number(where: str, value, *, positive: bool = False, allow_none: bool = False):
-    return _finite(where, value, positive=positive, allow_none=allow_none)
-
-
-def _vector(where: str, value) -> np.ndarray:
-    return _triple(where, value)
 
 
 def _box(doc: dict, path: Path) -> Box | None:
@@ -50,7 +45,7 @@ def _box(doc: dict, path: Path) -> Box | None:
     h = doc.get("cell_hsize")
     if not isinstance(h, list) or len(h) != 3:
         raise InputError(f"{path}: cell_hsize", f"a periodic export needs the 3 x 3 cell_hsize, found {show(h)}")
-    cell = np.array([_vector(f"{path}: cell_hsize[{a}]", row) for a, row in enumerate(h)])
+    cell = np.array([_triple(f"{path}: cell_hsize[{a}]", row) for a, row in enumerate(h)])
     check_lengths(cell, lambda a: f"{path}: cell_hsize[{a}]", "a cell vector component")
     if np.abs(cell - np.diag(np.diag(cell))).max() > 1e-12 * np.abs(cell).max():
         raise InputError(f"{path}: cell_hsize", "triclinic (sheared) periodic cells are not supported yet")
@@ -64,8 +59,14 @@ _SCHEMA_KEY = re.compile(rb'"schema"\s*:\s*"([^"\\]{0,80})"')
 
 
 def check_schema(path) -> None:
-    """Refuse, before anything else is read, a JSON file whose ``schema`` (looked for in its first
-    64 KiB; both writers put it first) names another format than a YADE export.
+    """Refuse, before anything else is read, a JSON file whose ``schema`` names another format.
+
+    The schema is looked for in the file's first 64 KiB (both writers put it first).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file to check; an unreadable one passes (the reader says why).
     """
     path = Path(path)
     try:
@@ -78,11 +79,7 @@ def check_schema(path) -> None:
         name = found.group(1).decode("utf-8", "replace")
         why = (": a file of bodies, which dtcrit packing reads (dtcrit audit reads dumps and YADE exports)"
                if name == "dtcrit-bodies/1" else "")
-        raise InputError(f"{path}: schema", f"expected {SCHEMA!r} (written by yade_export.py), found {name!r}{why}")
-
-
-def _json_line(data: bytes, offset: int) -> int:
-    return data[:offset].count(b"\n") + 1
+        raise InputError("schema", f"expected {SCHEMA!r} (written by yade_export.py), found {name!r}{why}", source=path)
 
 
 def _load(path: Path) -> tuple[dict, list, list]:
@@ -93,7 +90,7 @@ def _load(path: Path) -> tuple[dict, list, list]:
     try:
         doc = json.loads(data.decode("utf-8-sig"))
     except UnicodeDecodeError as exc:
-        raise InputError(f"{path}:{_json_line(data, exc.start)}", "not UTF-8 text: not a JSON YADE export") from None
+        raise InputError(f"{path}:{line_of(data, exc.start)}", "not UTF-8 text: not a JSON YADE export") from None
     except json.JSONDecodeError as exc:
         raise InputError(f"{path}:{exc.lineno}", f"not valid JSON ({exc.msg}): not a YADE export") from None
     except RecursionError:
@@ -153,13 +150,31 @@ def _label(path: Path, doc: dict, clumps: int = 0) -> str:
 
 
 def read_yade_audit(path) -> tuple[Packing, Contacts, dict]:
-    """``(packing, contacts with YADE's terms and kinematics, metadata)`` from any export, clumps
-    included (module docstring; ``dtcrit.packing.readers.yade_clumps``).  The packing's ``radii`` are bounding
-    radii and ``orientations`` the clumps' (identity for spheres).
+    """Read any YADE export, clumps included, with YADE's contact kinematics applied.
+
+    The module docstring and ``dtcrit.packing.readers.yade_clumps`` give the conventions; errors name
+    the file and the entry (``InputError.location``: source and key).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The ``dtcrit-yade-export/1`` file.
+
+    Returns
+    -------
+    tuple
+        ``(packing, contacts, metadata)``: the packing's ``radii`` are bounding radii and
+        ``orientations`` the clumps' (identity for spheres); the contacts carry YADE's terms and
+        kinematics; the metadata holds ``dt``, ``iter``, ``yade_version``, ``newton_damping`` and
+        the number of ``clumps``.
     """
+    with located_in(path):
+        return _read_yade_audit(Path(path))
+
+
+def _read_yade_audit(path: Path) -> tuple[Packing, Contacts, dict]:
     from dtcrit.packing.readers.yade_clumps import rigid_bodies, yade_contacts
 
-    path = Path(path)
     doc, bodies, inters = _load(path)
     meta = _meta(doc, path)
     rb = rigid_bodies(bodies, path)
@@ -182,14 +197,35 @@ def read_yade_audit(path) -> tuple[Packing, Contacts, dict]:
 
 
 def read_yade_export(path) -> tuple[Packing, Contacts, dict]:
-    """``(packing, contacts with YADE's terms, metadata)`` from a sphere-only export; arms along the
-    centre line, to be given YADE's kinematics by ``with_arms`` (an export with clumps: use
-    ``read_yade_audit``).
+    """Read a sphere-only YADE export with its contacts' arms along the centre line.
+
+    ``with_arms`` gives the contacts YADE's kinematics (an export with clumps: use
+    :func:`read_yade_audit`); errors name the file and the entry (``InputError.location``).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The ``dtcrit-yade-export/1`` file.
+
+    Returns
+    -------
+    tuple
+        ``(packing, contacts with YADE's terms, metadata)``.
     """
-    path = Path(path)
+    with located_in(path):
+        return _read_yade_export(Path(path))
+
+
+def _read_yade_export(path: Path) -> tuple[Packing, Contacts, dict]:
     doc, bodies, inters = _load(path)
     meta = _meta(doc, path)
-    ids, x, radii, masses, inertia, fixed, seen = [], [], [], [], [], [], {}
+    ids: list[int] = []
+    x: list[np.ndarray] = []
+    radii: list[float] = []
+    masses: list[float] = []
+    inertia: list[np.ndarray] = []
+    fixed: list[bool] = []
+    seen: dict[int, int] = {}
     for k, b in enumerate(bodies):
         where = f"{path}: bodies[{k}]"
         if not isinstance(b, dict):
@@ -204,31 +240,32 @@ def read_yade_export(path) -> tuple[Packing, Contacts, dict]:
             raise InputError(f"{where}.id", f"id {bid} is already used by bodies[{seen[bid]}]")
         seen[bid] = k
         ids.append(bid)
-        x.append(_vector(f"{where}.pos", b.get("pos")))
-        radii.append(_number(f"{where}.radius", b.get("radius"), positive=True))
+        x.append(_triple(f"{where}.pos", b.get("pos")))
+        radii.append(_finite(f"{where}.radius", b.get("radius"), positive=True))
         check_lengths([x[-1], [radii[-1]] * 3], lambda a: f"{where}.{('pos', 'radius')[a]}", "a length")
-        masses.append(_number(f"{where}.mass", b.get("mass"), positive=True))
+        masses.append(_finite(f"{where}.mass", b.get("mass"), positive=True))
         inertia.append(_triple(f"{where}.inertia", b.get("inertia"), positive=True))
         check_inertia([inertia[-1], [masses[-1]] * 3], lambda a: f"{where}.{('inertia', 'mass')[a]}",
                       "a mass or moment of inertia")
         fixed.append(bool(b.get("fixed")))
-    masses, inertia, fixed = np.array(masses), np.array(inertia), np.array(fixed)
-    if fixed.all():
+    mass_of, inertia_of, is_fixed = np.array(masses), np.array(inertia), np.array(fixed)
+    if is_fixed.all():
         raise InputError(f"{path}: bodies", "every body is fixed: nothing moves")
-    if fixed.any():
-        masses, inertia = _heavy(path, masses, fixed, "mass"), _heavy(path, inertia, fixed, "moment of inertia")
+    if is_fixed.any():
+        mass_of, inertia_of = _heavy(path, mass_of, is_fixed, "mass"), _heavy(path, inertia_of, is_fixed, "moment of inertia")
     box = _box(doc, path)
-    x = np.array(x)
+    positions = np.array(x)
     if box is not None:
-        x = np.mod(x, box.lengths)
+        positions = np.mod(positions, box.lengths)
     try:
-        packing = Packing(x, masses, inertia, np.array(radii), box=box,
+        packing = Packing(positions, mass_of, inertia_of, np.array(radii), box=box,
                           half_lengths=np.repeat(np.array(radii)[:, None], 3, 1), label=_label(path, doc),
                           ids=np.array(ids))
     except InputError as exc:
         raise _keyed(path, exc) from None
     lookup = {v: k for k, v in enumerate(ids)}
-    pairs, terms = [], {key: [] for key in ("kn", "ks", "kr", "ktw", "cn", "cs", "fn")}
+    pairs: list[tuple[int, ...]] = []
+    terms: dict[str, list[float | None]] = {key: [] for key in ("kn", "ks", "kr", "ktw", "cn", "cs", "fn")}
     for k, it in enumerate(inters):
         where = f"{path}: interactions[{k}]"
         if not isinstance(it, dict):
@@ -243,13 +280,14 @@ def read_yade_export(path) -> tuple[Packing, Contacts, dict]:
         for key in terms:
             value = it.get(key)
             if key == "fn" and isinstance(value, (int, float)) and not isinstance(value, bool) and value < 0:
-                value = -_number(f"{where}.fn", -value)  # a bond in tension: negative normal force
+                value = -_finite(f"{where}.fn", -value)  # a bond in tension: negative normal force
             else:
-                value = _number(f"{where}.{key}", value, allow_none=key not in ("kn", "ks"))
+                value = _finite(f"{where}.{key}", value, allow_none=key not in ("kn", "ks"))
             terms[key].append(value)
-        if terms["fn"][-1] is None:  # linear law: the normal force is kn times the penetration
-            pen = _number(f"{where}.penetration", it.get("penetration", 0.0))
-            terms["fn"][-1] = terms["kn"][-1] * pen
+        kn = terms["kn"][-1]
+        if terms["fn"][-1] is None and kn is not None:  # linear law: fn = kn times the penetration (kn is required)
+            pen = _finite(f"{where}.penetration", it.get("penetration", 0.0))
+            terms["fn"][-1] = kn * pen
     if not pairs:
         raise InputError(f"{path}: interactions", "no interactions: no contact limits the step")
     ij = np.array(pairs, dtype=np.int64)

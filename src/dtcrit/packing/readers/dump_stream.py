@@ -1,0 +1,304 @@
+"""Stream the snapshots of a LAMMPS / LIGGGHTS text dump one at a time (the format:
+``dtcrit.packing.readers.lammps_dump``).
+
+:func:`iter_dump` is a generator: the file is read one line at a time, only the snapshot being
+yielded is held in memory, and its atom rows are parsed when :attr:`DumpSnapshot.rows` is first read.
+Malformed content raises ``InputError`` located at its line (``InputError.location``: the file and
+the line; ``line N`` for text read without a file name).
+"""
+from __future__ import annotations
+
+import io
+import math
+from collections import deque
+from collections.abc import Generator, Iterator
+from pathlib import Path
+
+import numpy as np
+
+from dtcrit.errors import InputError, Location
+from dtcrit.packing.model import Box
+
+class DumpSnapshot:
+    """One snapshot of a dump: its header parsed, its atom rows kept as text until :attr:`rows` is read.
+
+    Parameters
+    ----------
+    timestep : int
+        The ``ITEM: TIMESTEP`` value.
+    box : Box
+        The orthogonal box with its periodic axes.
+    columns : list of str
+        The names of the ``ITEM: ATOMS`` columns.
+    lines : list of str
+        The atom rows as text, one per atom.
+    first_line : int
+        The 1-based line of the first atom row.
+    source : str or None
+        The file read (None for text), naming it in errors.
+    """
+
+    def __init__(self, timestep: int, box: Box, columns: list[str], lines: list[str], first_line: int,
+                 source: str | None = None):
+        self.timestep = timestep
+        self.box = box
+        self.columns = columns
+        self.first_line = first_line
+        self.source = source
+        self._lines: list[str] | None = lines
+        self._rows: np.ndarray | None = None
+        self.count = len(lines)
+
+    @property
+    def rows(self) -> np.ndarray:
+        """The atom rows as numbers, ``(atoms, columns)``, parsed on first use (then the text is dropped)."""
+        if self._rows is None:
+            assert self._lines is not None
+            self._rows = _parse_rows(self._lines, self.columns, self.first_line, self.source)
+            self._lines = None
+        return self._rows
+
+    def fail(self, line: int, reason: str) -> InputError:
+        """An error at a line of this snapshot's file.
+
+        Parameters
+        ----------
+        line : int
+            The 1-based line number.
+        reason : str
+            What is wrong.
+
+        Returns
+        -------
+        InputError
+            The error, located at ``(source, line)``.
+        """
+        return _fail(line, reason, self.source)
+
+    def at(self, line: int) -> Location:
+        """The location of a line of this snapshot's file.
+
+        Parameters
+        ----------
+        line : int
+            The 1-based line number.
+
+        Returns
+        -------
+        Location
+            ``Location(source, line)``.
+        """
+        return Location(self.source, line)
+
+
+MAX_LINE = 1 << 20
+"""Longest line a dump may hold [characters]; longer means it is not a text dump."""
+
+
+class _Lines:
+    """The lines of a binary stream read one at a time (a newline ends one, a trailing carriage return is
+    dropped), each decoded as UTF-8 and numbered from 1: a dump is read no further than the
+    snapshot asked for, and a byte that is not UTF-8 is named by its line.
+    """
+
+    def __init__(self, handle, source: str | None = None):
+        self._handle = handle
+        self.source = source
+        self.number = 0  # of the last line returned
+
+    def next(self) -> str | None:
+        raw = self._handle.readline(MAX_LINE + 1)
+        if not raw:
+            return None
+        self.number += 1
+        if len(raw) > MAX_LINE:
+            raise _fail(self.number, f"a line longer than {MAX_LINE} bytes: not a text dump", self.source)
+        if self.number == 1:
+            raw = raw.removeprefix(b"\xef\xbb\xbf")
+        try:
+            return raw.decode("utf-8").rstrip("\r\n")
+        except UnicodeDecodeError as exc:
+            raise _fail(self.number, f"byte {exc.start + 1} of the line is not UTF-8 text: not a text dump",
+                        self.source) from None
+
+    def fail(self, line: int, reason: str) -> InputError:
+        return _fail(line, reason, self.source)
+
+    def need(self, what: str) -> str:
+        line = self.next()
+        if line is None:
+            raise _fail(self.number + 1, f"unexpected end of file, expected {what}", self.source)
+        return line
+
+
+def _fail(line: int, reason: str, source: str | None = None) -> InputError:
+    return InputError(None, reason, source=source, line=line)
+
+
+def _expect(lines: _Lines, prefix: str, line: str | None = None) -> str:
+    line = lines.need(f"'{prefix}'") if line is None else line
+    if not line.strip().startswith(prefix):
+        raise lines.fail(lines.number, f"expected '{prefix}', found '{line.strip()[:60]}'")
+    return line
+
+
+def _int_at(lines: _Lines, what: str) -> int:
+    text = lines.need(f"the {what}").strip()
+    try:
+        return int(text)
+    except ValueError:
+        raise lines.fail(lines.number, f"expected the {what} (a whole number), found '{text[:60]}'") from None
+
+
+def _parse_box(lines: _Lines, header_text: str) -> Box:
+    k = lines.number
+    header = header_text.strip()[len("ITEM: BOX BOUNDS"):].split()
+    if any(flag in ("xy", "xz", "yz") for flag in header):
+        raise lines.fail(k, "triclinic boxes are not supported (orthogonal boxes only)")
+    flags = header if header else ["pp", "pp", "pp"]
+    if len(flags) != 3 or any(len(f) != 2 or any(ch not in "pfsm" for ch in f) for f in flags):
+        raise lines.fail(k, f"boundary flags must be three of pp/ff/ss/mm/fs/..., found '{' '.join(header)}'")
+    for a, f in enumerate(flags):
+        if ("p" in f) and f != "pp":
+            raise lines.fail(k, f"axis {'xyz'[a]}: a periodic axis needs the flag 'pp', found '{f}'")
+    lo, hi = np.zeros(3), np.zeros(3)
+    for a in range(3):
+        text = lines.need("the box bounds 'lo hi' (BOX BOUNDS has three lines)")
+        try:
+            vals = [float(p) for p in text.split()]
+        except ValueError:
+            raise lines.fail(lines.number, f"box bounds must be numbers, found '{text.strip()[:60]}'") from None
+        if len(vals) == 3:
+            raise lines.fail(lines.number, "triclinic boxes are not supported (orthogonal boxes only)")
+        if len(vals) != 2 or not all(math.isfinite(v) for v in vals):
+            raise lines.fail(lines.number, f"expected two finite numbers 'lo hi', found '{text.strip()[:60]}'")
+        if not vals[1] - vals[0] > 0:  # also an overflowing length
+            raise lines.fail(lines.number, f"upper box bound {vals[1]:g} must exceed the lower bound {vals[0]:g}")
+        lo[a], hi[a] = vals
+    if not np.all(np.isfinite(hi - lo)):
+        raise lines.fail(lines.number, "the box lengths overflow double precision")
+    return Box(lo, hi, ("p" in flags[0], "p" in flags[1], "p" in flags[2]))
+
+
+def _next_block(lines: _Lines) -> DumpSnapshot | None:
+    """The next snapshot (its rows unparsed), or None at the end of the file."""
+    line = lines.next()
+    while line is not None and not line.strip():
+        line = lines.next()
+    if line is None:
+        return None
+    _expect(lines, "ITEM: TIMESTEP", line)
+    step = _int_at(lines, "timestep")
+    _expect(lines, "ITEM: NUMBER OF ATOMS")
+    count = _int_at(lines, "number of atoms")
+    if count < 1:
+        raise lines.fail(lines.number, f"the number of atoms must be at least 1, found {count}")
+    box = _parse_box(lines, _expect(lines, "ITEM: BOX BOUNDS"))
+    header = _expect(lines, "ITEM: ATOMS")
+    columns = header.strip()[len("ITEM: ATOMS"):].split()
+    if not columns:
+        raise lines.fail(lines.number, "the ATOMS header names no columns")
+    first = lines.number + 1
+    rows: list[str] = []
+    for _ in range(count):
+        text = lines.next()
+        if text is None:
+            raise lines.fail(lines.number + 1, f"unexpected end of file: {count} atom rows announced, {len(rows)} found")
+        rows.append(text)
+    return DumpSnapshot(step, box, columns, rows, first, lines.source)
+
+
+def _parse_rows(lines: list[str], columns: list[str], first: int, source: str | None) -> np.ndarray:
+    """The atom rows as an ``(atoms, columns)`` array; the first bad row is named by its line."""
+    count, width = len(lines), len(columns)
+    tokens = " ".join(lines).split()
+    values = None
+    if len(tokens) == count * width:
+        try:
+            values = np.array(tokens, dtype=float).reshape(count, width)
+        except ValueError:
+            values = None
+    if values is None:  # locate the first bad row
+        for n, text in enumerate(lines):
+            parts = text.split()
+            if len(parts) != width:
+                raise _fail(first + n, f"expected {width} values ({' '.join(columns)[:200]}), found {len(parts)}", source)
+            for p in parts:
+                try:
+                    float(p)
+                except ValueError:
+                    raise _fail(first + n, f"'{p[:30]}' is not a number", source) from None
+        raise _fail(first, "could not read the atom rows", source)  # pragma: no cover
+    return values
+
+
+def _snapshots(lines: _Lines) -> Iterator[DumpSnapshot]:
+    """The snapshots of a stream of lines, one at a time; an empty stream is an error at line 1."""
+    block = _next_block(lines)
+    if block is None:
+        raise lines.fail(1, "the file is empty")
+    while block is not None:
+        yield block
+        block = _next_block(lines)
+
+
+def iter_dump(path) -> Generator[DumpSnapshot, None, None]:
+    """Stream the snapshots of a LAMMPS/LIGGGHTS text dump, one at a time.
+
+    The file is read one line at a time: only the snapshot being yielded is held in memory, and its
+    atom rows are parsed when its :attr:`DumpSnapshot.rows` is first read.  Errors are located at
+    their line of the file (``InputError.location``: source and line).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The dump file.
+
+    Yields
+    ------
+    DumpSnapshot
+        Each snapshot in the order of the file.
+    """
+    path = Path(path)
+    try:
+        with path.open("rb") as handle:
+            yield from _snapshots(_Lines(handle, str(path)))
+    except OSError as exc:
+        raise InputError("file", f"cannot read {path}: {exc.strerror or exc}") from None
+
+
+def _chosen(snapshots: Iterator[DumpSnapshot], snapshot: int) -> DumpSnapshot:
+    """Snapshot ``snapshot`` (Python indexing) of a stream, reading no further than it when
+    ``snapshot >= 0`` and holding at most ``-snapshot`` snapshots when it is negative.
+    """
+    if isinstance(snapshot, bool) or not isinstance(snapshot, (int, np.integer)):
+        raise InputError("snapshot", f"must be a whole number, got {snapshot!r}")
+    kept: deque = deque(maxlen=1 if snapshot >= 0 else -int(snapshot))
+    seen = 0
+    for block in snapshots:
+        seen += 1
+        kept.append(block)
+        if seen == snapshot + 1:
+            return block
+    if snapshot >= 0 or len(kept) < -snapshot:
+        raise InputError("snapshot", f"the file has {seen} snapshot(s); index {snapshot} is out of range")
+    return kept[0]
+
+
+def read_snapshots(text: str) -> list[DumpSnapshot]:
+    """Every snapshot of a dump's ``text``, its rows parsed.
+
+    Parameters
+    ----------
+    text : str
+        The dump's text.
+
+    Returns
+    -------
+    list of DumpSnapshot
+        The snapshots in order; errors are located ``line N``.
+    """
+    snaps = list(_snapshots(_Lines(io.BytesIO(text.encode("utf-8", "surrogateescape")))))
+    for snap in snaps:
+        snap.rows  # noqa: B018 (parsed now, so that a bad row is refused here)
+    return snaps
