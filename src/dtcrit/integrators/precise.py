@@ -35,26 +35,11 @@ import numpy as np
 
 from dtcrit._generated import critical_steps as _gen
 from dtcrit.integrators import precise_onstep
-
-_SPLIT = 134217729.0  # 2^27 + 1 (Dekker)
-
-
-def _two_prod(a, b):
-    """(p, e) with p + e = a*b exactly (Dekker's splitting; |a|, |b| < 2^995)."""
-    p = a * b
-    t = _SPLIT * a
-    ah = t - (t - a)
-    al = a - ah
-    t = _SPLIT * b
-    bh = t - (t - b)
-    bl = b - bh
-    return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
-
-
-def _two_sum(a, b):
-    s = a + b
-    bb = s - a
-    return s, (a - (s - bb)) + (b - bb)
+from dtcrit.numerics.cubic import cubic_positive_root
+from dtcrit.numerics.eft import split as _split
+from dtcrit.numerics.eft import two_product as _two_prod
+from dtcrit.numerics.eft import two_sum as _two_sum
+from dtcrit.numerics.scaling import frexp_parts, scaled_root
 
 
 def _residual(mc, mA, mk, shift):
@@ -82,9 +67,7 @@ def forward_euler_exact(k, c, A):
     exponent; all arithmetic is on O(1) numbers and the exponents are put back with ldexp.
     """
     k, c, A = (np.asarray(v, dtype=float) for v in (k, c, A))
-    mk, ek = np.frexp(k)
-    mc, ec = np.frexp(c)
-    mA, eA = np.frexp(A)
+    mk, ek, mc, ec, mA, eA = frexp_parts(k, c, A)
     E = 2 * ec + eA - ek  # c^2 A / (4k) ~ mc^2 mA / (4 mk) * 2^E
     with np.errstate(all="ignore"):
         under = np.ldexp(mc / mk, ec - ek)  # c / k
@@ -109,13 +92,8 @@ def scaled_closed_form(integrator: str, k, c, A) -> np.ndarray:
     The centred leapfrog (dt = 2/omega whatever gamma) is scaled by omega alone.
     """
     k, c, A = (np.asarray(v, dtype=float) for v in (k, c, A))
-    mk, ek = np.frexp(k)
-    mc, ec = np.frexp(c)
-    mA, eA = np.frexp(A)
-    e = ek + eA
-    odd = e & 1
-    w = np.sqrt(mk * mA * np.where(odd, 2.0, 1.0))  # omega = w 2^sw, w in [1/2, 1.42)
-    sw = (e - odd) // 2
+    mk, ek, mc, ec, mA, eA = frexp_parts(k, c, A)
+    w, sw = scaled_root(mk, ek, mA, eA)  # omega = w 2^sw, w in [1/2, 1.42)
     gm = mc * mA * 0.5  # gamma = gm 2^sg
     sg = ec + eA
     if integrator == "leapfrog-centred":
@@ -139,13 +117,8 @@ def paper_eq40_identity(k, c, A) -> np.ndarray:
     zeta > 1 (tau* ~ 1/(2 zeta)) the generated reciprocal-cubic branch is kept.
     """
     k, c, A = (np.asarray(v, dtype=float) for v in (k, c, A))
-    mk, ek = np.frexp(k)
-    mA, eA = np.frexp(A)
-    mc, ec = np.frexp(c)
-    e = ek + eA
-    odd = e & 1
-    w = np.sqrt(mk * mA * np.where(odd, 2.0, 1.0))
-    s = (e - odd) // 2
+    mk, ek, mA, eA, mc, ec = frexp_parts(k, A, c)
+    w, s = scaled_root(mk, ek, mA, eA)
     with np.errstate(all="ignore"):
         g = np.ldexp(mc * mA * 0.5, ec + eA - s)
         z = g / w
@@ -156,7 +129,7 @@ def paper_eq40_identity(k, c, A) -> np.ndarray:
             out[rest] = scaled_closed_form("paper-eq40", k[rest], c[rest], A[rest])
         if np.any(small):
             zs = z[small]
-            t = _gen._cubic_positive_root(-4.0 * zs, 4.0 * zs * zs + 2.0, -2.0 * zs, False)
+            t = cubic_positive_root(-4.0 * zs, 4.0 * zs * zs + 2.0, -2.0 * zs, False)
             d = t - 2.0 * zs
             half_c_over_k = np.ldexp(mc[small] / mk[small], ec[small] - ek[small] - 1)
             out[small] = half_c_over_k / (1.0 + 0.5 * d * d)
@@ -288,12 +261,6 @@ def _forward_euler_redo(k, c, A):
 
 
 _C_LO, _C_HI, _KA_LO, _KA_HI = 2.0**-450, 2.0**450, 2.0**-900, 2.0**900
-
-
-def _split(a):
-    t = _SPLIT * a
-    hi = t - (t - a)
-    return hi, a - hi
 
 
 def _forward_euler_near(k, c, A):
