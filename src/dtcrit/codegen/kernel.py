@@ -28,35 +28,13 @@ from functools import cached_property, lru_cache
 
 import sympy as sp
 
-from dtcrit.codegen.functions import critical_step, critical_step_undamped, cubic_positive_root, hypot
+from dtcrit.codegen.functions import critical_step, critical_step_undamped, cubic_positive_root
 from dtcrit.codegen.structure import KernelStructure
 from dtcrit.errors import InputError
 from dtcrit.symbolic.closed_forms import closed_pieces, eps, formula_text, gamma, omega
 from dtcrit.symbolic.careful_forms import nan_max, nan_min
-from dtcrit.symbolic.emit import derivation_hash, square_root_of_term
+from dtcrit.symbolic.emit import derivation_hash, rewrite_for_printing
 from dtcrit.symbolic.integrators import zeta as zeta_sym
-
-
-
-
-
-
-
-
-
-
-def _with_hypot(expr: sp.Expr) -> sp.Expr:
-    """Rewrite every sqrt(x^2 + y^2) (x, y free of radicals) as hypot(x, y)."""
-    def is_hypot(e):
-        if not (e.is_Pow and e.exp in (sp.S.Half, -sp.S.Half) and e.base.is_Add and len(e.base.args) == 2):
-            return False
-        return all(square_root_of_term(t) is not None for t in e.base.args)
-
-    def make(e):
-        h = hypot(*(square_root_of_term(t) for t in e.base.args))
-        return h if e.exp == sp.S.Half else 1 / h
-
-    return expr.replace(is_hypot, make)
 
 
 def _pos(name: str) -> sp.Symbol:
@@ -234,7 +212,7 @@ def direction_kernel(integrator: str) -> sp.Expr:
     branches = []
     for cp in closed_pieces(integrator):
         if cp.kind == "root":
-            e = _with_hypot(cp.dt_expr).subs(omega**2, KA).xreplace({omega: OMEGA, gamma: GAMMA})
+            e = rewrite_for_printing(cp.dt_expr).subs(omega**2, KA).xreplace({omega: OMEGA, gamma: GAMMA})
         else:
             a2, a1, a0 = (c.subs(zeta_sym, ZETA) for c in cp.cubic)
             b2, b1, b0 = (c.subs(eps, EPS) for c in cp.cubic_large)

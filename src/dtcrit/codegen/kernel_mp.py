@@ -9,42 +9,7 @@ import mpmath as mp
 import sympy as sp
 
 from dtcrit.codegen.kernel import ContactKernel
-
-
-# ----------------------------------------------------------------------------------------------
-# High-precision evaluation (the reference the emitted code is tested against)
-# ----------------------------------------------------------------------------------------------
-def mp_cubic_positive_root(a2, a1, a0, largest) -> mp.mpf:
-    """Smallest (largest if ``largest``) positive real root of t^3 + a2 t^2 + a1 t + a0, at the
-    working precision (mpmath ``polyroots`` with extra precision on the cubic with its exact roots at 0
-    deflated, then Newton steps at twice the precision); 0 if none.
-    """
-    dps = mp.mp.dps
-    coeffs = [mp.mpf(1), mp.mpf(a2), mp.mpf(a1), mp.mpf(a0)]
-    poly = list(coeffs)
-    while len(poly) > 1 and poly[-1] == 0:
-        # an exact root at 0 is not positive: deflate it (adams-bashforth-2 undamped is t^3, whose
-        # clustered polyroots values would otherwise pass as a positive root of size 1e-143)
-        poly.pop()
-    if len(poly) == 1:
-        return mp.mpf(0)
-    nonzero = [abs(c) for c in coeffs if c != 0]
-    spread_bits = int(mp.log(max(nonzero) / min(nonzero), 2)) if len(nonzero) > 1 else 0
-    extra = min(spread_bits, 256)  # widely spread coefficients: more bits for the root iteration
-    with mp.workdps(2 * dps + 20):
-        roots = mp.polyroots(poly, maxsteps=2000, extraprec=8 * dps + 4 * extra)
-        scale = 1 + max(abs(r) for r in roots)
-        good = [mp.re(r) for r in roots if abs(mp.im(r)) <= mp.mpf(10) ** (-dps) * scale and mp.re(r) > 0]
-        if not good:
-            return mp.mpf(0)
-        t = max(good) if bool(largest) else min(good)
-        for _ in range(8):  # Newton polish at the raised precision (quadratic from polyroots' value)
-            f = ((t + coeffs[1]) * t + coeffs[2]) * t + coeffs[3]
-            df = (3 * t + 2 * coeffs[1]) * t + coeffs[2]
-            if df == 0:
-                break
-            t -= f / df
-    return +mp.re(t)
+from dtcrit.numerics.reference import mp_cubic_positive_root  # the cubic root's 50-digit reference
 
 
 def _mp_max(*xs):

@@ -5,7 +5,8 @@ and 5), never typed in here:
 
 * ``a_max``: Eq (26) as printed;
 * ``b_max``: Eq (54);
-* ``rotation_matrix``: Eq (7) (global -> local, the paper's ``M_L = R M_G``);
+* ``rotation_matrix``: Eq (7), body to world (``v_world = R(q) v_body``; the convention of
+  ``dtcrit.numerics.rotations``; the paper's Eq (5) matrix, world to body, is its transpose);
 * ``arm_term``: the rotational part one particle adds to the coefficient matrix of the contact
   force, in its local frame, from the general kinematics (Eqs 3-19 with the partner removed);
 * ``gyroscopic_coefficients``: torque-free Euler equations (Eqs 11-12 with ``M_L = 0``);
@@ -79,7 +80,7 @@ def kernels() -> list[Kernel]:
             name="rotation_matrix",
             args=[(qw, "quaternion scalar part"), (qx, "x part"), (qy, "y part"), (qz, "z part")],
             expr=tuple(R),
-            doc="Peng et al. 2020, Eq. (7): rotation matrix of a unit quaternion, maps global to local components.",
+            doc="Peng et al. 2020, Eq. (7): rotation matrix of a unit quaternion, body to world (v_world = R v_body).",
             returns="(R00, R01, R02, R10, R11, R12, R20, R21, R22), row by row",
         ),
         Kernel(

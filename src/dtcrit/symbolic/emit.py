@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 from typing import Sequence
 
 import sympy as sp
+from sympy.codegen.rewriting import ReplaceOptim, optimize
 from sympy.printing.numpy import NumPyPrinter
 
 REGENERATE_COMMAND = "python3 dev.py generate"
@@ -40,20 +41,67 @@ def square_root_of_term(term: sp.Expr) -> sp.Expr | None:
     return r
 
 
-def hypot_arguments(expr: sp.Pow):
-    """(x, y) when ``expr`` is sqrt(x^2 + y^2) or 1/sqrt(x^2 + y^2) with x, y free of radicals, else None:
-    such a root is printed as ``hypot(x, y)`` (no overflow of the squares, no cancellation).
+def hypot_arguments(expr: sp.Basic) -> list[sp.Expr] | None:
+    """The two legs of a root of a sum of two squares, the pattern the ``hypot`` rewrite replaces.
+
+    Parameters
+    ----------
+    expr : sympy.Basic
+        Any expression.
+
+    Returns
+    -------
+    list of sympy.Expr or None
+        ``[x, y]`` when ``expr`` is ``sqrt(x^2 + y^2)`` or ``1/sqrt(x^2 + y^2)`` with ``x``, ``y`` free of
+        radicals, else None.
     """
+    if not expr.is_Pow:
+        return None
     base, exp = expr.args
     if exp in (sp.S.Half, -sp.S.Half) and base.is_Add and len(base.args) == 2:
         roots = [square_root_of_term(t) for t in base.args]
         if all(r is not None for r in roots):
-            return roots
+            return roots  # type: ignore[return-value]  # None excluded just above
     return None
 
 
+class hypot(sp.Function):
+    """``sqrt(x^2 + y^2)`` without overflow or underflow (C99/Fortran 2008 ``hypot``, ``np.hypot``)."""
+
+    nargs = 2
+    is_real = True
+    is_nonnegative = True
+
+
+def _as_hypot(expr: sp.Pow) -> sp.Expr:
+    x, y = hypot_arguments(expr) or (None, None)
+    h = hypot(x, y)
+    return h if expr.exp == sp.S.Half else 1 / h
+
+
+HYPOT_REWRITE = ReplaceOptim(lambda e: hypot_arguments(e) is not None, _as_hypot)
+"""``sqrt(x^2 + y^2) -> hypot(x, y)`` (and its reciprocal): no overflow of the squares, no cancellation."""
+
+
+def rewrite_for_printing(expr: sp.Basic) -> sp.Basic:
+    """Apply the expression rewrites every emitted language shares, once, before printing.
+
+    Parameters
+    ----------
+    expr : sympy.Basic
+        Expression (or Boolean) to print.
+
+    Returns
+    -------
+    sympy.Basic
+        ``expr`` with every root of a sum of two squares written as :class:`hypot` (``HYPOT_REWRITE``,
+        a ``sympy.codegen.rewriting.ReplaceOptim``); the printers only print.
+    """
+    return optimize(expr, [HYPOT_REWRITE])
+
+
 class NumPyHypotPrinter(NumPyPrinter):
-    """NumPy printer: ``np.`` prefix, ``hypot`` for the root of a sum of two squares (no overflow)."""
+    """NumPy printer of the generated modules: ``np.`` prefix, :class:`hypot` as ``np.hypot``."""
 
     def __init__(self, settings=None):
         settings = dict(settings or {})
@@ -65,17 +113,24 @@ class NumPyHypotPrinter(NumPyPrinter):
         text = super()._module_format(fqn, register)
         return text.replace("numpy.", "np.")
 
-    def _print_Pow(self, expr, rational=False):
-        roots = hypot_arguments(expr)
-        if roots is not None:
-            text = f"np.hypot({self._print(roots[0])}, {self._print(roots[1])})"
-            return text if expr.exp == sp.S.Half else f"1/{text}"
-        return super()._print_Pow(expr, rational=rational)
+    def _print_hypot(self, expr):
+        return f"np.hypot({self._print(expr.args[0])}, {self._print(expr.args[1])})"
 
 
 def expr_code(expr: sp.Expr) -> str:
-    """NumPy source text for one expression."""
-    return NumPyHypotPrinter({"fully_qualified_modules": True, "inline": True}).doprint(expr)
+    """NumPy source text for one expression, after :func:`rewrite_for_printing`.
+
+    Parameters
+    ----------
+    expr : sympy.Expr
+        Expression in the kernel's arguments.
+
+    Returns
+    -------
+    str
+        One line of NumPy code.
+    """
+    return NumPyHypotPrinter({"fully_qualified_modules": True, "inline": True}).doprint(rewrite_for_printing(expr))
 
 
 def derivation_hash(exprs: Sequence[sp.Basic]) -> str:
