@@ -9,6 +9,11 @@ import dtcrit.symbolic.emit as _emit
 class cubic_positive_root(sp.Function):
     """Smallest (largest when the fourth argument is true) positive real root of
     t^3 + a2 t^2 + a1 t + a0 (0 when there is none); emitted as a helper function.
+
+    Parameters
+    ----------
+    *args : sympy.Expr
+        ``a2``, ``a1``, ``a0`` and the Boolean ``largest``.
     """
 
     nargs = 4
@@ -19,6 +24,11 @@ class cubic_positive_root(sp.Function):
 class critical_step(sp.Function):
     """The careful critical step of one mode, dt(k, c, A) (``dtcrit.symbolic.careful_forms``),
     emitted as a helper function beside the kernel (``dtcrit.codegen.step``).
+
+    Parameters
+    ----------
+    *args : sympy.Expr
+        ``k`` [N/m], ``c`` [N s/m] and ``A`` [1/kg].
     """
 
     nargs = 3
@@ -26,7 +36,13 @@ class critical_step(sp.Function):
 
 
 class critical_step_undamped(sp.Function):
-    """``critical_step`` of an undamped mode, dt(k, A)."""
+    """``critical_step`` of an undamped mode, dt(k, A).
+
+    Parameters
+    ----------
+    *args : sympy.Expr
+        ``k`` [N/m] and ``A`` [1/kg].
+    """
 
     nargs = 2
     is_real = True

@@ -55,6 +55,20 @@ def evaluate_mp(kernel: ContactKernel, values, dps: int = 50) -> mp.mpf:
     """The kernel's result at ``dps`` digits for argument values taken as exact (floats are exact).
 
     ``values``: a sequence in argument order or a mapping from argument name to value.
+
+    Parameters
+    ----------
+    kernel : ContactKernel
+        The kernel to evaluate.
+    values : sequence of float or dict of str to float
+        The argument values, taken as exact.
+    dps : int, optional
+        Decimal digits of the result.
+
+    Returns
+    -------
+    mpmath.mpf
+        The critical step [s] at ``dps`` digits.
     """
     if isinstance(values, dict):
         values = [values[a.name] for a in kernel.arguments]

@@ -19,6 +19,20 @@ from dtcrit.symbolic.emit import rewrite_for_printing
 def nested_branches(printer, expr: sp.Piecewise, template: str) -> str:
     """A Piecewise with a default branch as nested inline choices, ``template`` with the fields
     ``cond``, ``then`` and ``other`` (C ternary, ``np.where``).
+
+    Parameters
+    ----------
+    printer : sympy.printing.codeprinter.CodePrinter
+        The printer of the branches' expressions and conditions.
+    expr : sympy.Piecewise
+        The Piecewise, with a default branch.
+    template : str
+        Format string with the fields ``cond``, ``then`` and ``other``.
+
+    Returns
+    -------
+    str
+        The nested choice.
     """
     if expr.args[-1].cond != sp.true:
         raise ValueError("Piecewise without a default branch")
@@ -53,7 +67,7 @@ class _Primitives:
         str
             The code, ``dtcrit.symbolic.emit.rewrite_for_printing`` applied once to ``expr`` first.
         """
-        return super().doprint(rewrite_for_printing(expr), assign_to=assign_to)  # type: ignore[misc]
+        return super().doprint(rewrite_for_printing(expr), assign_to=assign_to)
 
     def _call(self, key, expr):
         return f"{self.PRIMITIVE[key].format(p=self.prefix)}({', '.join(self._print(a) for a in expr.args)})"
@@ -104,7 +118,15 @@ class _CompiledCalls(_Primitives):
 
 
 class CPrinter(_CompiledCalls, C99CodePrinter):
-    """C99 with ``hypot``, ``x*x`` for squares and the cubic helper ``<prefix>_cubic_positive_root``."""
+    """C99 with ``hypot``, ``x*x`` for squares and the cubic helper ``<prefix>_cubic_positive_root``.
+
+    Parameters
+    ----------
+    helper_name : str
+        Name of the emitted cubic-root helper.
+    prefix : str, optional
+        Prefix of the emitted primitive helpers (``<prefix>_mantissa``, ...).
+    """
 
     PRIMITIVE = {"mantissa": "{p}_mantissa", "exponent": "{p}_exponent", "ldexp": "{p}_ldexp",
                  "two_product_error": "{p}_two_product_error", "two_sum_error": "{p}_two_sum_error",
@@ -157,6 +179,13 @@ class FortranPrinter(_CompiledCalls, FCodePrinter):
     SymPy's ``d0``: a ``d0`` literal is DOUBLE PRECISION, which compilers can widen on their own
     (gfortran's ``-fdefault-real-8`` makes it quad precision), and then ``merge``, ``max`` and
     ``sign`` refuse the mixed kinds, or the arithmetic silently leaves IEEE double.
+
+    Parameters
+    ----------
+    helper_name : str
+        Name of the emitted cubic-root helper.
+    prefix : str, optional
+        Prefix of the emitted primitive helpers (unused: Fortran's helpers are private module procedures).
     """
 
     KIND = "c_double"
@@ -220,7 +249,15 @@ class FortranPrinter(_CompiledCalls, FCodePrinter):
 
 
 class NumPyPrinter(_Primitives, _NumPyBase):
-    """NumPy (vectorised): ``np.hypot``, elementwise ``np.minimum``/``np.maximum``, ``np.where``."""
+    """NumPy (vectorised): ``np.hypot``, elementwise ``np.minimum``/``np.maximum``, ``np.where``.
+
+    Parameters
+    ----------
+    helper_name : str
+        Name of the emitted cubic-root helper.
+    prefix : str, optional
+        Prefix of the emitted primitive helpers (unused: the NumPy helpers carry fixed names).
+    """
 
     PRIMITIVE = {"mantissa": "_mantissa", "exponent": "_exponent", "ldexp": "_ldexp",
                  "two_product_error": "_two_product_error", "two_sum_error": "_two_sum_error",

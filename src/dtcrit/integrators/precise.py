@@ -65,6 +65,20 @@ def forward_euler_exact(k, c, A):
     dt = c/k (c^2 A <= 4k, i.e. zeta <= 1; tau* = 2 zeta) else 4/(u + sqrt(A R)),
     R = c^2 A - 4k (tau* = 2/(zeta + sqrt(zeta^2 - 1))).  Every input is split into mantissa and
     exponent; all arithmetic is on O(1) numbers and the exponents are put back with ldexp.
+
+    Parameters
+    ----------
+    k : float or array_like
+        Stiffness of the mode [N/m].
+    c : float or array_like
+        Viscous damping coefficient [N s/m].
+    A : float or array_like
+        Inverse inertia coefficient [1/kg].
+
+    Returns
+    -------
+    numpy.ndarray
+        The critical step [s], elementwise.
     """
     k, c, A = (np.asarray(v, dtype=float) for v in (k, c, A))
     mk, ek, mc, ec, mA, eA = frexp_parts(k, c, A)
@@ -90,6 +104,22 @@ def scaled_closed_form(integrator: str, k, c, A) -> np.ndarray:
     the step comes out as 0).  The kernels are homogeneous of degree -1, so
     dt = 2^-s dt(omega 2^-s, gamma 2^-s) exactly; the smaller rate may underflow harmlessly.
     The centred leapfrog (dt = 2/omega whatever gamma) is scaled by omega alone.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of a built-in integrator (a key of ``dtcrit._generated.critical_steps.DT_KERNELS``).
+    k : float or array_like
+        Stiffness of the mode [N/m].
+    c : float or array_like
+        Viscous damping coefficient [N s/m].
+    A : float or array_like
+        Inverse inertia coefficient [1/kg].
+
+    Returns
+    -------
+    numpy.ndarray
+        The critical step [s] (0 where no positive step is stable or it underflows, inf beyond float64).
     """
     k, c, A = (np.asarray(v, dtype=float) for v in (k, c, A))
     mk, ek, mc, ec, mA, eA = frexp_parts(k, c, A)
@@ -107,14 +137,30 @@ def scaled_closed_form(integrator: str, k, c, A) -> np.ndarray:
 
 
 def paper_eq40_identity(k, c, A) -> np.ndarray:
-    """The paper's Eq. (40) scheme: its boundary cubic tau^3 - 4 zeta tau^2 + (4 zeta^2 + 2) tau - 2 zeta
-    = tau (tau - 2 zeta)^2 + 2 (tau - zeta) = 0 gives the identity
+    """Critical step of the paper's Eq. (40) scheme from an identity of its boundary cubic.
+
+    The cubic tau^3 - 4 zeta tau^2 + (4 zeta^2 + 2) tau - 2 zeta = tau (tau - 2 zeta)^2 + 2 (tau - zeta) = 0
+    gives the identity
 
         tau* = zeta / (1 + (tau* - 2 zeta)^2 / 2),  so  dt = (c / (2k)) / (1 + (tau* - 2 zeta)^2 / 2),
 
     where c/(2k) = gamma/omega^2 comes straight from the inputs (one rounding) and the root tau*
     (the generated cubic solver) enters only through a correction term.  Used for zeta <= 1; for
     zeta > 1 (tau* ~ 1/(2 zeta)) the generated reciprocal-cubic branch is kept.
+
+    Parameters
+    ----------
+    k : float or array_like
+        Stiffness of the mode [N/m].
+    c : float or array_like
+        Viscous damping coefficient [N s/m].
+    A : float or array_like
+        Inverse inertia coefficient [1/kg].
+
+    Returns
+    -------
+    numpy.ndarray
+        The critical step [s] of the Eq. (40) scheme, elementwise (flattened like ``k``).
     """
     k, c, A = (np.asarray(v, dtype=float) for v in (k, c, A))
     mk, ek, mA, eA, mc, ec = frexp_parts(k, A, c)
@@ -152,6 +198,18 @@ def eq40_bounded_cubic(w, m):
     root in (1, 3/2) for every zeta >= 0: h < 0 on [0, 1], h(3/2) > 0 and h' >= 1/4 on [1, 3/2]
     (derived from ``dtcrit.symbolic.closed_forms`` in ``tests/test_precise.py``).  In delta = r - 1,
     h = c3 delta^3 + c2 delta^2 + c1 delta + c0.  Plain arithmetic (the test calls it on symbols).
+
+    Parameters
+    ----------
+    w : float or array_like or sympy.Expr
+        ``c^2 A / (2k + c^2 A)``, in [0, 1].
+    m : float or array_like or sympy.Expr
+        ``1 - w``.
+
+    Returns
+    -------
+    tuple
+        ``(c3, c2, c1, c0)``, the coefficients of ``h`` in ``delta = r - 1``.
     """
     a = w * m
     b = a * m * 0.25
@@ -185,7 +243,7 @@ def _eq40_step(d, c3, c2, c1, c0, t1, t2, t3, t4, halley: bool):
 
 
 def _eq40_chunk(k, c, A, o, B) -> bool:
-    """dt = L r, L = (c/2) / (k + c^2 A/2), on one chunk (tau = zeta m r, ``eq40_bounded_cubic``), r = 1 + delta
+    """Step dt = L r, L = (c/2) / (k + c^2 A/2), on one chunk (tau = zeta m r, ``eq40_bounded_cubic``), r = 1 + delta
     by a Halley step from delta = 0, a Halley step and a Newton step (h' >= 1/4 on [1, 3/2]; the
     three steps reach the root to about an ulp for every zeta, ``tests/test_precise.py``).  False when the chunk is outside the unscaled
     range (k + c^2 A/2 outside [2^-1000, 2^1000], A < 2^-511, or a NaN): inside it nothing
@@ -340,6 +398,24 @@ def fast_steps(integrator: str, k, c, A, chunk: int = _CHUNK) -> tuple[np.ndarra
     ``forward_euler_exact``, ``paper_eq40_identity``), which have no limits.  ``checked`` is True when
     every chunk was fast and none holds a step outside float64 (inf, NaN, or 0 for a damped contact),
     so that ``stability.refuse_unrepresentable`` has nothing to find.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of a built-in integrator.
+    k : float or array_like
+        Stiffness of the mode [N/m].
+    c : float or array_like
+        Viscous damping coefficient [N s/m].
+    A : float or array_like
+        Inverse inertia coefficient [1/kg].
+    chunk : int, optional
+        Number of elements per chunk.
+
+    Returns
+    -------
+    tuple of (numpy.ndarray, bool)
+        ``(dt, checked)``: the flattened steps [s] and whether every chunk was fast and in range.
     """
     k, c, A = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (k, c, A)))
     k, c, A = (np.ascontiguousarray(v.ravel()) for v in (k, c, A))
@@ -379,5 +455,22 @@ def fast_steps(integrator: str, k, c, A, chunk: int = _CHUNK) -> tuple[np.ndarra
 
 
 def fast_closed_form(integrator: str, k, c, A) -> np.ndarray:
-    """The exact step of ``integrator`` for every float64 input (``fast_steps`` without the flag)."""
+    """The exact step of ``integrator`` for every float64 input (``fast_steps`` without the flag).
+
+    Parameters
+    ----------
+    integrator : str
+        Name of a built-in integrator.
+    k : float or array_like
+        Stiffness of the mode [N/m].
+    c : float or array_like
+        Viscous damping coefficient [N s/m].
+    A : float or array_like
+        Inverse inertia coefficient [1/kg].
+
+    Returns
+    -------
+    numpy.ndarray
+        The flattened critical steps [s].
+    """
     return fast_steps(integrator, k, c, A)[0]

@@ -29,7 +29,22 @@ _AB2_TINY = 2.0**-94
 
 
 def extended_taylor(k, c, A) -> np.ndarray:
-    """dt = min(2c/k, 2/(cA)) (0 when c = 0)."""
+    """Critical step dt = min(2c/k, 2/(cA)) of the extended Taylor scheme (0 when c = 0).
+
+    Parameters
+    ----------
+    k : float or array_like
+        Stiffness of the mode [N/m].
+    c : float or array_like
+        Viscous damping coefficient [N s/m].
+    A : float or array_like
+        Inverse inertia coefficient [1/kg].
+
+    Returns
+    -------
+    numpy.ndarray
+        The critical step [s] of ``extended-taylor``, elementwise.
+    """
     mk, ek, mc, ec, mA, eA = frexp_parts(k, c, A)
     with np.errstate(all="ignore"):
         spring = np.ldexp(2.0 * mc / mk, ec - ek)
@@ -38,7 +53,22 @@ def extended_taylor(k, c, A) -> np.ndarray:
 
 
 def adams_bashforth_2(k, c, A) -> np.ndarray:
-    """dt = 1/(cA) for zeta >= sqrt(3)/6, else (4c/k)/((tau - 4 zeta)(tau + 2 zeta)) (0 when c = 0)."""
+    """Critical step of Adams-Bashforth 2: 1/(cA) for zeta >= sqrt(3)/6, else (4c/k)/((tau - 4 zeta)(tau + 2 zeta)).
+
+    Parameters
+    ----------
+    k : float or array_like
+        Stiffness of the mode [N/m].
+    c : float or array_like
+        Viscous damping coefficient [N s/m].
+    A : float or array_like
+        Inverse inertia coefficient [1/kg].
+
+    Returns
+    -------
+    numpy.ndarray
+        The critical step [s] of ``adams-bashforth-2``, elementwise.
+    """
     mk, ek, mc, ec, mA, eA = frexp_parts(k, c, A)
     w, s = scaled_root(mk, ek, mA, eA)  # omega = w 2^s
     with np.errstate(all="ignore"):
@@ -64,5 +94,22 @@ CAREFUL = {"extended-taylor": extended_taylor, "adams-bashforth-2": adams_bashfo
 
 
 def steps(integrator: str, k, c, A) -> np.ndarray:
-    """The careful exact step of one of ``SCHEMES`` for arrays of k, c, A."""
+    """The careful exact step of one of ``SCHEMES`` for arrays of k, c, A.
+
+    Parameters
+    ----------
+    integrator : str
+        One of ``SCHEMES``.
+    k : float or array_like
+        Stiffness of the mode [N/m].
+    c : float or array_like
+        Viscous damping coefficient [N s/m].
+    A : float or array_like
+        Inverse inertia coefficient [1/kg].
+
+    Returns
+    -------
+    numpy.ndarray
+        The critical step [s], elementwise.
+    """
     return CAREFUL[integrator](k, c, A)

@@ -19,7 +19,27 @@ REGENERATE_COMMAND = "python3 dev.py generate"
 
 @dataclass
 class Kernel:
-    """One emitted function: ``name(args...) -> expr`` (or a tuple for several outputs)."""
+    """One emitted function: ``name(args...) -> expr`` (or a tuple for several outputs).
+
+    Parameters
+    ----------
+    name : str
+        Name of the emitted function.
+    args : sequence of (sympy.Symbol, str)
+        The arguments in order, each with its meaning and unit.
+    expr : sympy.Expr or sequence of sympy.Expr
+        The value returned (a tuple for several outputs).
+    doc : str
+        The function's docstring.
+    cse : bool
+        Eliminate common subexpressions before printing.
+    returns : str
+        What the function returns, for its docstring.
+    extra_lines : sequence of str
+        Lines emitted at the start of the body.
+    as_arrays : bool
+        Convert the arguments to float arrays and silence IEEE warnings.
+    """
 
     name: str
     args: Sequence[tuple[sp.Symbol, str]]  # (symbol, "meaning [unit]")
@@ -32,7 +52,18 @@ class Kernel:
 
 
 def square_root_of_term(term: sp.Expr) -> sp.Expr | None:
-    """``r`` with ``r**2 == term`` and no radical in ``r``, or None."""
+    """``r`` with ``r**2 == term`` and no radical in ``r``, or None.
+
+    Parameters
+    ----------
+    term : sympy.Expr
+        One term of a sum.
+
+    Returns
+    -------
+    sympy.Expr or None
+        ``r`` with ``r**2 == term`` and no radical in it, else None.
+    """
     if term.could_extract_minus_sign():
         return None
     r = sp.sqrt(term)
@@ -61,12 +92,18 @@ def hypot_arguments(expr: sp.Basic) -> list[sp.Expr] | None:
     if exp in (sp.S.Half, -sp.S.Half) and base.is_Add and len(base.args) == 2:
         roots = [square_root_of_term(t) for t in base.args]
         if all(r is not None for r in roots):
-            return roots  # type: ignore[return-value]  # None excluded just above
+            return [r for r in roots if r is not None]
     return None
 
 
 class hypot(sp.Function):
-    """``sqrt(x^2 + y^2)`` without overflow or underflow (C99/Fortran 2008 ``hypot``, ``np.hypot``)."""
+    """``sqrt(x^2 + y^2)`` without overflow or underflow (C99/Fortran 2008 ``hypot``, ``np.hypot``).
+
+    Parameters
+    ----------
+    *args : sympy.Expr
+        The legs ``x`` and ``y``.
+    """
 
     nargs = 2
     is_real = True
@@ -101,7 +138,13 @@ def rewrite_for_printing(expr: sp.Basic) -> sp.Basic:
 
 
 class NumPyHypotPrinter(NumPyPrinter):
-    """NumPy printer of the generated modules: ``np.`` prefix, :class:`hypot` as ``np.hypot``."""
+    """NumPy printer of the generated modules: ``np.`` prefix, :class:`hypot` as ``np.hypot``.
+
+    Parameters
+    ----------
+    settings : dict, optional
+        SymPy printer settings (unknown functions are allowed by default).
+    """
 
     def __init__(self, settings=None):
         settings = dict(settings or {})
@@ -134,7 +177,18 @@ def expr_code(expr: sp.Expr) -> str:
 
 
 def derivation_hash(exprs: Sequence[sp.Basic]) -> str:
-    """A short, stable hash of the emitted expressions (their ``srepr``)."""
+    """A short, stable hash of the emitted expressions (their ``srepr``).
+
+    Parameters
+    ----------
+    exprs : sequence of sympy.Basic
+        The emitted expressions.
+
+    Returns
+    -------
+    str
+        The first 16 hexadecimal digits of the SHA-256 of their ``srepr``.
+    """
     digest = hashlib.sha256()
     for e in exprs:
         digest.update(sp.srepr(e).encode())
@@ -143,6 +197,18 @@ def derivation_hash(exprs: Sequence[sp.Basic]) -> str:
 
 
 def kernel_source(k: Kernel) -> str:
+    """Source text of one emitted NumPy function (docstring, optional CSE, return).
+
+    Parameters
+    ----------
+    k : Kernel
+        The function to emit.
+
+    Returns
+    -------
+    str
+        Its Python source, the expressions printed by :func:`expr_code`.
+    """
     outputs = list(k.expr) if isinstance(k.expr, (list, tuple)) else [k.expr]
     names = [str(s) for s, _ in k.args]
     lines = [f"def {k.name}({', '.join(names)}):"]
@@ -174,7 +240,26 @@ def kernel_source(k: Kernel) -> str:
 def python_module(
     producer: str, summary: str, kernels: Sequence[Kernel], preamble: str = "", postamble: str = ""
 ) -> str:
-    """Full text of a generated module.  ``producer`` is the dotted name of the generating module."""
+    """Full text of a generated module.  ``producer`` is the dotted name of the generating module.
+
+    Parameters
+    ----------
+    producer : str
+        Dotted name of the producing module (named in the header).
+    summary : str
+        The module docstring.
+    kernels : sequence of Kernel
+        The functions emitted.
+    preamble : str, optional
+        Text placed after ``import numpy as np`` (e.g. imports from ``dtcrit.numerics``).
+    postamble : str, optional
+        Text placed after the functions (tables of kernels).
+
+    Returns
+    -------
+    str
+        The module's text, byte for byte reproducible.
+    """
     exprs: list[sp.Basic] = []
     for k in kernels:
         exprs += list(k.expr) if isinstance(k.expr, (list, tuple)) else [k.expr]

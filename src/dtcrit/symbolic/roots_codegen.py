@@ -45,11 +45,34 @@ from dtcrit.numerics.polynomial_roots import stack_roots as _stack
 
 
 def py_name(integrator: str) -> str:
+    """Name of the emitted eigenvalue kernel of an integrator.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the integrator.
+
+    Returns
+    -------
+    str
+        ``eigenvalues_<name>`` with dashes as underscores.
+    """
     return "eigenvalues_" + integrator.replace("-", "_")
 
 
 def dd_factor(f: sp.Expr) -> sp.Expr:
-    """A polynomial factor of the discriminant, evaluated in double-double unless it is a monomial."""
+    """A polynomial factor of the discriminant, evaluated in double-double unless it is a monomial.
+
+    Parameters
+    ----------
+    f : sympy.Expr
+        A polynomial in tau and zeta.
+
+    Returns
+    -------
+    sympy.Expr
+        ``f`` itself (a monomial) or a call of ``_dd_poly`` (``dtcrit.numerics.eft.dd_polynomial``).
+    """
     poly = sp.Poly(f, tau, zeta)
     if len(poly.terms()) == 1:
         return f
@@ -60,14 +83,36 @@ def dd_factor(f: sp.Expr) -> sp.Expr:
 
 
 def dd_rational(f: sp.Expr) -> sp.Expr:
-    """A polynomial with rational coefficients as (integer polynomial in double-double) / denominator."""
+    """A polynomial with rational coefficients as (integer polynomial in double-double) / denominator.
+
+    Parameters
+    ----------
+    f : sympy.Expr
+        A polynomial in tau and zeta with rational coefficients.
+
+    Returns
+    -------
+    sympy.Expr
+        The double-double evaluation of the integer polynomial divided by the common denominator.
+    """
     poly = sp.Poly(f, tau, zeta)
     den = sp.ilcm(*[sp.Rational(c).q for c in poly.coeffs()])
     return dd_factor(sp.expand(f * den)) / den
 
 
 def discriminant_numeric(name: str) -> tuple[sp.Expr, sp.Expr]:
-    """(Disc, sqrt(|Disc|)) for the kernels: factor by factor, near-zero factors in double-double."""
+    """(Disc, sqrt(|Disc|)) for the kernels: factor by factor, near-zero factors in double-double.
+
+    Parameters
+    ----------
+    name : str
+        Name of the integrator.
+
+    Returns
+    -------
+    tuple of sympy.Expr
+        ``(Disc, sqrt(|Disc|))`` built from the factors.
+    """
     const, factors = R.discriminant_factors(name)
     disc = const
     sad = sp.sqrt(abs(const))
@@ -84,6 +129,16 @@ def discriminant_numeric(name: str) -> tuple[sp.Expr, sp.Expr]:
 def discriminant_scale(name: str) -> sp.Expr:
     """The discriminant with every coefficient replaced by its absolute value: the size of the terms
     that cancel in it, from which the kernel bounds the double-double rounding error.
+
+    Parameters
+    ----------
+    name : str
+        Name of the integrator.
+
+    Returns
+    -------
+    sympy.Expr
+        The discriminant with absolute coefficients.
     """
     const, factors = R.discriminant_factors(name)
     out = abs(const)
@@ -94,7 +149,18 @@ def discriminant_scale(name: str) -> sp.Expr:
 
 
 def kernel_expr(name: str) -> sp.Expr:
-    """The sound-form eigenvalue kernel of one integrator, as a call of a preamble helper."""
+    """The sound-form eigenvalue kernel of one integrator, as a call of a preamble helper.
+
+    Parameters
+    ----------
+    name : str
+        Name of the integrator.
+
+    Returns
+    -------
+    sympy.Expr
+        A call of ``_quadratic_roots`` or ``_cubic_roots`` (``dtcrit.numerics.polynomial_roots``).
+    """
     disc, sad = discriminant_numeric(name)
     if R.degree(name) == 2:
         a, b, c = R.coefficients(name)
@@ -109,7 +175,13 @@ def kernel_expr(name: str) -> sp.Expr:
 
 
 def cardano_paper_eq40_expr() -> sp.Expr:
-    """Eqs. (42)-(43) literally (complex principal roots), with C_j dt = -2 zeta tau, K_j dt^2 = -tau^2."""
+    """Eqs. (42)-(43) literally (complex principal roots), with C_j dt = -2 zeta tau, K_j dt^2 = -tau^2.
+
+    Returns
+    -------
+    sympy.Expr
+        A call of ``_stack`` on the three roots in tau and zeta.
+    """
     N = -9 * R.Cj * R.dt + 27 * R.Kj * R.dt**2 - 2
     M = 3 * R.Cj * R.dt + 1
     D = CCBRT(CSQRT(N**2 - 4 * M**3) + N)
@@ -124,6 +196,13 @@ ARGS = (
 
 
 def kernels() -> list[Kernel]:
+    """The eigenvalue kernels of every integrator and the paper's Cardano route (Eqs. (42)-(43)).
+
+    Returns
+    -------
+    list of Kernel
+        One eigenvalue kernel per integrator, then the paper's Cardano route.
+    """
     out = []
     for n in NAMES:
         deg = R.degree(n)
@@ -159,6 +238,13 @@ def kernels() -> list[Kernel]:
 
 
 def postamble() -> str:
+    """The tables and the spectral radius appended to ``eigenvalues.py``.
+
+    Returns
+    -------
+    str
+        ``EIGENVALUE_KERNELS``, ``STRUCTURAL_ZERO_EIGENVALUES`` and ``spectral_radius``.
+    """
     lines = ["EIGENVALUE_KERNELS = {"]
     lines += [f"    {n!r}: {py_name(n)}," for n in NAMES]
     lines += ["}", "", "# zero eigenvalues of the amplification matrix left out of its characteristic polynomial"]
@@ -175,6 +261,13 @@ def postamble() -> str:
 
 
 def generated_files() -> dict[str, str]:
+    """The files this producer writes under ``dtcrit/_generated`` (``dtcrit.symbolic.regenerate``).
+
+    Returns
+    -------
+    dict of str to str
+        ``{"eigenvalues.py": text}``.
+    """
     text = python_module(
         "dtcrit.symbolic.roots_codegen",
         "Eigenvalues of the integrators' amplification matrices (numerically sound closed forms) and the\n"

@@ -25,16 +25,41 @@ PREAMBLE = "from dtcrit.numerics.cubic import cubic_positive_root as _cubic_posi
 
 
 def py_name(integrator: str) -> str:
+    """Name of the emitted critical-step kernel of an integrator.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the integrator.
+
+    Returns
+    -------
+    str
+        ``dt_<name>`` with dashes as underscores.
+    """
     return "dt_" + integrator.replace("-", "_")
 
 
 def kernel_expr(name: str) -> sp.Expr:
-    """dt(omega, gamma) for one integrator, as a SymPy expression (Piecewise over zeta ranges)."""
+    """dt(omega, gamma) for one integrator, as a SymPy expression (Piecewise over zeta ranges).
+
+    Parameters
+    ----------
+    name : str
+        Name of the integrator.
+
+    Returns
+    -------
+    sympy.Expr
+        ``dt(omega, gamma)``, a Piecewise over the zeta ranges of the closed pieces.
+    """
     branches = []
     for cp in closed_pieces(name):
         if cp.kind == "root":
             e = cp.dt_expr
         else:
+            if cp.cubic is None or cp.cubic_large is None:  # pragma: no cover - a cubic piece carries both
+                raise ValueError(f"'{name}': a cubic piece without its cubics")
             # zeta <= 1: the cubic in tau; zeta > 1: the cubic in y = 1/(zeta tau), eps = (omega/gamma)^2
             a2, a1, a0 = (sp.simplify(c.subs(zeta, gamma / omega)) for c in cp.cubic)
             b2, b1, b0 = (sp.simplify(c.subs(eps, (omega / gamma) ** 2)) for c in cp.cubic_large)
@@ -56,6 +81,13 @@ RATE_ARGS = (
 
 
 def integrator_kernels() -> list[Kernel]:
+    """The exact critical-step kernels of every integrator.
+
+    Returns
+    -------
+    list of Kernel
+        ``dt_<name>(omega, gamma)`` for every integrator (Peng et al. 2020, Eqs. (29)-(30)).
+    """
     return [
         Kernel(
             py_name(n),
@@ -72,6 +104,13 @@ def integrator_kernels() -> list[Kernel]:
 
 
 def paper_kernels() -> list[Kernel]:
+    """The paper's labelled comparison formulas (``dtcrit.symbolic.paper_section4``).
+
+    Returns
+    -------
+    list of Kernel
+        Eqs. (34), (36), (37), (46), (58)-(60) as kernels.
+    """
     k, c, A, m, beta = p4.k, p4.c, p4.A, p4.m, p4.beta
     kcA = ((k, "contact stiffness [N/m]"), (c, "viscous damping coefficient [N s/m]"), (A, "inverse inertia coefficient [1/kg]"))
     return [
@@ -90,6 +129,13 @@ def _float_text(value: sp.Expr) -> str:
 
 
 def postamble() -> str:
+    """The tables appended to ``critical_steps.py``.
+
+    Returns
+    -------
+    str
+        ``DT_KERNELS``, ``FORMULAS``, ``SWITCH_POINTS`` and ``GOVERNING``.
+    """
     lines = ["DT_KERNELS = {"]
     lines += [f"    {n!r}: {py_name(n)}," for n in NAMES]
     lines += ["}", "", "FORMULAS = {"]
@@ -108,6 +154,13 @@ def postamble() -> str:
 
 
 def generated_files() -> dict[str, str]:
+    """The files this producer writes under ``dtcrit/_generated`` (``dtcrit.symbolic.regenerate``).
+
+    Returns
+    -------
+    dict of str to str
+        ``{"critical_steps.py": text}``.
+    """
     text = python_module(
         "dtcrit.symbolic.stability_codegen",
         "Exact critical time steps of explicit integrators and the paper's comparison formulas.",
