@@ -247,6 +247,8 @@ def undamped_tau(integrator: str) -> sp.Expr:
     cp = closed_pieces(integrator)[0]
     if cp.kind == "cubic":  # smallest positive real root of the cubic at zeta = 0, or 0 if none
         t = sp.Symbol("t")
+        if cp.cubic is None:  # pragma: no cover - a cubic piece carries its cubic
+            raise ValueError(f"'{integrator}': a cubic piece without its cubic")
         a2, a1, a0 = (c.subs(zeta_sym, 0) for c in cp.cubic)
         positive = [r for r in sp.Poly(t**3 + a2 * t**2 + a1 * t + a0, t).real_roots() if r > 0]
         return min(positive) if positive else sp.Integer(0)
@@ -269,6 +271,8 @@ def direction_kernel(integrator: str) -> sp.Expr:
         if cp.kind == "root":
             e = rewrite_for_printing(cp.dt_expr).subs(omega**2, KA).xreplace({omega: OMEGA, gamma: GAMMA})
         else:
+            if cp.cubic is None or cp.cubic_large is None:  # pragma: no cover - a cubic piece carries both
+                raise ValueError(f"'{integrator}': a cubic piece without its cubics")
             a2, a1, a0 = (c.subs(zeta_sym, ZETA) for c in cp.cubic)
             b2, b1, b0 = (c.subs(eps, EPS) for c in cp.cubic_large)
             # zeta <= 1/2, where dt ~ tau(zeta)/omega ~ gamma/(k A): the factor 1/omega is taken as

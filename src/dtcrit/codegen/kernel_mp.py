@@ -4,6 +4,7 @@ checked against in ulps (tests/test_codegen_*.py).
 from __future__ import annotations
 
 from functools import lru_cache
+from typing import Any
 
 import mpmath as mp
 import sympy as sp
@@ -20,10 +21,9 @@ def _mp_min(*xs):
     return min(xs)
 
 
-_MP_MODULES = [
-    {"cubic_positive_root": mp_cubic_positive_root, "hypot": mp.hypot, "Max": _mp_max, "Min": _mp_min},
-    "mpmath",
-]
+_MP_FUNCTIONS: dict[str, Any] = {"cubic_positive_root": mp_cubic_positive_root, "hypot": mp.hypot, "Max": _mp_max,
+                                  "Min": _mp_min}
+_MP_MODULES = [_MP_FUNCTIONS, "mpmath"]
 
 
 def _mp_step(integrator: str):
@@ -40,7 +40,7 @@ def _mp_step(integrator: str):
 def _step_functions(kernel: ContactKernel):
     known = list(kernel.symbols)
     funcs = []
-    modules = [{**_MP_MODULES[0], "critical_step": _mp_step(kernel.structure.integrator),
+    modules = [{**_MP_FUNCTIONS, "critical_step": _mp_step(kernel.structure.integrator),
                 "critical_step_undamped": (lambda f: lambda k, A: f(k, 0, A))(_mp_step(kernel.structure.integrator)), "is_nan": mp.isnan, "is_negative": lambda x: x < 0}, "mpmath"]
     from dtcrit.symbolic.careful_forms import is_nan
 

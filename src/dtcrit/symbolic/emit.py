@@ -268,11 +268,10 @@ def python_module(
         f"# Regenerate with: {REGENERATE_COMMAND}",
         f"# Derivation hash: {derivation_hash(exprs)}",
         '"""' + summary.strip() + '\n"""',
-        "import numpy as np",
-        "",
     ]
-    if preamble:
-        head += [preamble.rstrip(), ""]
     body = "\n\n".join(kernel_source(k) for k in kernels)
     tail = ("\n\n" + postamble.rstrip() + "\n") if postamble else ""
+    head += ["import numpy as np", ""] if "np." in preamble + body + tail else [""]  # no unused import
+    if preamble:
+        head += [preamble.rstrip(), ""]
     return "\n".join(head) + "\n" + body + tail
