@@ -68,12 +68,8 @@ def forward_euler_exact(k, c, A):
 
     Parameters
     ----------
-    k : float or array_like
-        Stiffness of the mode [N/m].
-    c : float or array_like
-        Viscous damping coefficient [N s/m].
-    A : float or array_like
-        Inverse inertia coefficient [1/kg].
+    k, c, A : float or array_like
+        Stiffness [N/m], viscous damping coefficient [N s/m] and inverse inertia coefficient [1/kg].
 
     Returns
     -------
@@ -109,12 +105,8 @@ def scaled_closed_form(integrator: str, k, c, A) -> np.ndarray:
     ----------
     integrator : str
         Name of a built-in integrator (a key of ``dtcrit._generated.critical_steps.DT_KERNELS``).
-    k : float or array_like
-        Stiffness of the mode [N/m].
-    c : float or array_like
-        Viscous damping coefficient [N s/m].
-    A : float or array_like
-        Inverse inertia coefficient [1/kg].
+    k, c, A : float or array_like
+        Stiffness [N/m], viscous damping coefficient [N s/m] and inverse inertia coefficient [1/kg].
 
     Returns
     -------
@@ -150,12 +142,8 @@ def paper_eq40_identity(k, c, A) -> np.ndarray:
 
     Parameters
     ----------
-    k : float or array_like
-        Stiffness of the mode [N/m].
-    c : float or array_like
-        Viscous damping coefficient [N s/m].
-    A : float or array_like
-        Inverse inertia coefficient [1/kg].
+    k, c, A : float or array_like
+        Stiffness [N/m], viscous damping coefficient [N s/m] and inverse inertia coefficient [1/kg].
 
     Returns
     -------
@@ -403,12 +391,8 @@ def fast_steps(integrator: str, k, c, A, chunk: int = _CHUNK) -> tuple[np.ndarra
     ----------
     integrator : str
         Name of a built-in integrator.
-    k : float or array_like
-        Stiffness of the mode [N/m].
-    c : float or array_like
-        Viscous damping coefficient [N s/m].
-    A : float or array_like
-        Inverse inertia coefficient [1/kg].
+    k, c, A : float or array_like
+        Stiffness [N/m], viscous damping coefficient [N s/m] and inverse inertia coefficient [1/kg].
     chunk : int, optional
         Number of elements per chunk.
 
@@ -461,12 +445,8 @@ def fast_closed_form(integrator: str, k, c, A) -> np.ndarray:
     ----------
     integrator : str
         Name of a built-in integrator.
-    k : float or array_like
-        Stiffness of the mode [N/m].
-    c : float or array_like
-        Viscous damping coefficient [N s/m].
-    A : float or array_like
-        Inverse inertia coefficient [1/kg].
+    k, c, A : float or array_like
+        Stiffness [N/m], viscous damping coefficient [N s/m] and inverse inertia coefficient [1/kg].
 
     Returns
     -------

@@ -33,12 +33,8 @@ def extended_taylor(k, c, A) -> np.ndarray:
 
     Parameters
     ----------
-    k : float or array_like
-        Stiffness of the mode [N/m].
-    c : float or array_like
-        Viscous damping coefficient [N s/m].
-    A : float or array_like
-        Inverse inertia coefficient [1/kg].
+    k, c, A : float or array_like
+        Stiffness [N/m], viscous damping coefficient [N s/m] and inverse inertia coefficient [1/kg].
 
     Returns
     -------
@@ -57,12 +53,8 @@ def adams_bashforth_2(k, c, A) -> np.ndarray:
 
     Parameters
     ----------
-    k : float or array_like
-        Stiffness of the mode [N/m].
-    c : float or array_like
-        Viscous damping coefficient [N s/m].
-    A : float or array_like
-        Inverse inertia coefficient [1/kg].
+    k, c, A : float or array_like
+        Stiffness [N/m], viscous damping coefficient [N s/m] and inverse inertia coefficient [1/kg].
 
     Returns
     -------
@@ -100,12 +92,8 @@ def steps(integrator: str, k, c, A) -> np.ndarray:
     ----------
     integrator : str
         One of ``SCHEMES``.
-    k : float or array_like
-        Stiffness of the mode [N/m].
-    c : float or array_like
-        Viscous damping coefficient [N s/m].
-    A : float or array_like
-        Inverse inertia coefficient [1/kg].
+    k, c, A : float or array_like
+        Stiffness [N/m], viscous damping coefficient [N s/m] and inverse inertia coefficient [1/kg].
 
     Returns
     -------

@@ -62,12 +62,8 @@ def scaled_rates(k, c, A):
 
     Parameters
     ----------
-    k : float or array_like
-        Stiffness [N/m].
-    c : float or array_like
-        Viscous damping coefficient [N s/m].
-    A : float or array_like
-        Inverse inertia coefficient [1/kg].
+    k, c, A : float or array_like
+        Stiffness [N/m], viscous damping coefficient [N s/m] and inverse inertia coefficient [1/kg].
 
     Returns
     -------
