@@ -23,6 +23,7 @@ LAYERS = (
     ("dtcrit.errors", 0),
     ("dtcrit.inputs", 0),  # checks of input values: the standard library, NumPy and dtcrit.errors only
     ("dtcrit.json_meta", 0),
+    ("dtcrit.numerics", 0),  # numerical primitives (NumPy; the mpmath references in numerics.reference)
     ("dtcrit.mp_roots", 0),  # mpmath-only cubic roots shared by the 50-digit references  # the JSON envelope: reads generated headers as text, imports nothing
     ("dtcrit.integrators.schemes", 1),  # update rules: plain arithmetic, read by SymPy and the runtime
     ("dtcrit.symbolic", 2),

@@ -38,7 +38,7 @@ def b_max(Ixx, Iyy, Izz):
 
 
 def rotation_matrix(qw, qx, qy, qz):
-    """Peng et al. 2020, Eq. (7): rotation matrix of a unit quaternion, maps global to local components.
+    """Peng et al. 2020, Eq. (7): rotation matrix of a unit quaternion, body to world (v_world = R v_body).
 
     Arguments:
         qw: quaternion scalar part

@@ -5,43 +5,7 @@
 """
 import numpy as np
 
-
-def _cubic_positive_root(a2, a1, a0, largest):
-    """Smallest (largest if ``largest``) positive real root of t^3 + a2 t^2 + a1 t + a0; 0.0 if none.
-
-    Viete's forms: trigonometric when the three roots are real, hyperbolic (no cancellation)
-    otherwise; then three Newton steps on the cubic polish the root to working precision.
-    """
-    a2, a1, a0 = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (a2, a1, a0)))
-    shift = a2 / 3.0
-    p = a1 - a2 * shift
-    q = (2.0 * shift * shift - a1) * shift + a0
-    with np.errstate(all="ignore"):
-        # three real roots (p < 0 and the discriminant is non-positive)
-        r = 2.0 * np.sqrt(np.maximum(-p, 0.0) / 3.0)
-        arg = np.clip(np.where(r > 0, 4.0 * q / np.where(r > 0, r, 1.0) ** 3, 0.0), -1.0, 1.0)
-        phi = np.arccos(-arg) / 3.0
-        trig = np.stack([r * np.cos(phi - 2.0 * np.pi * j / 3.0) - shift for j in range(3)])
-        # one real root: hyperbolic forms of Cardano's formula
-        sp3 = np.sqrt(np.abs(p) / 3.0)
-        pos = np.where(sp3 > 0, sp3, 1.0)
-        hyp_pos = -2.0 * sp3 * np.sinh(np.arcsinh(1.5 * q / (np.abs(p) * pos)) / 3.0)
-        hyp_neg = -2.0 * np.sign(q) * sp3 * np.cosh(np.arccosh(np.maximum(1.5 * np.abs(q) / (np.abs(p) * pos), 1.0)) / 3.0)
-        zero_p = -np.cbrt(q)
-        one = np.where(p > 0, hyp_pos, np.where(p < 0, hyp_neg, zero_p)) - shift
-        three_real = (p < 0) & (q * q / 4.0 + p * p * p / 27.0 <= 0)
-        cand = np.where(three_real, trig, np.stack([one, np.full_like(one, np.nan), np.full_like(one, np.nan)]))
-        if largest:
-            t = np.max(np.where(cand > 0, cand, -np.inf), axis=0)
-        else:
-            t = np.min(np.where(cand > 0, cand, np.inf), axis=0)
-        for _ in range(3):
-            g = ((t + a2) * t + a1) * t + a0
-            dg = (3.0 * t + 2.0 * a2) * t + a1
-            step = np.where(np.isfinite(t) & (dg != 0), g / np.where(dg != 0, dg, 1.0), 0.0)
-            t = t - step
-        t = np.where(np.isfinite(t), t, 0.0)
-    return t[()] if t.ndim == 0 else t
+from dtcrit.numerics.cubic import cubic_positive_root as _cubic_positive_root
 
 def dt_paper_eq40(omega, gamma):
     """Exact critical step of the 'paper-eq40' integrator for xddot = -kA x - cA xdot.

@@ -4,7 +4,6 @@
 """Coefficient blocks of the contact element with rotational springs (rolling, twisting).
 Derived in dtcrit.symbolic.rotational_modes from A6 = B M^-1 B^T; used by dtcrit.scenes.pair_modes.
 """
-import numpy as np
 
 def shear_rolling_block(m1, I1, R1, m2, I2, R2):
     """Two spheres: the shear-rolling block [[a_ss, a_sr], [a_sr, a_rr]] and the twisting coefficient a_tw of A6 = B M^-1 B^T (contact deformations u, phi = theta_2 - theta_1; arms R_i n).

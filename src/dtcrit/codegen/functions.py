@@ -3,6 +3,8 @@ from __future__ import annotations
 
 import sympy as sp
 
+import dtcrit.symbolic.emit as _emit
+
 
 class cubic_positive_root(sp.Function):
     """Smallest (largest when the fourth argument is true) positive real root of
@@ -46,15 +48,4 @@ class critical_step_undamped(sp.Function):
     is_real = True
 
 
-class hypot(sp.Function):
-    """sqrt(x^2 + y^2) without overflow or underflow (C99/Fortran 2008 ``hypot``, ``np.hypot``).
-
-    Parameters
-    ----------
-    *args : sympy.Expr
-        ``x, y``: the two legs.
-    """
-
-    nargs = 2
-    is_real = True
-    is_nonnegative = True
+hypot = _emit.hypot  # sqrt(x^2 + y^2) without overflow: the class the shared rewrite emits

@@ -28,35 +28,13 @@ from functools import cached_property, lru_cache
 
 import sympy as sp
 
-from dtcrit.codegen.functions import critical_step, critical_step_undamped, cubic_positive_root, hypot
+from dtcrit.codegen.functions import critical_step, critical_step_undamped, cubic_positive_root
 from dtcrit.codegen.structure import KernelStructure
 from dtcrit.errors import InputError
 from dtcrit.symbolic.closed_forms import closed_pieces, eps, formula_text, gamma, omega
 from dtcrit.symbolic.careful_forms import nan_max, nan_min
-from dtcrit.symbolic.emit import derivation_hash, square_root_of_term
+from dtcrit.symbolic.emit import derivation_hash, rewrite_for_printing
 from dtcrit.symbolic.integrators import zeta as zeta_sym
-
-
-
-
-
-
-
-
-
-
-def _with_hypot(expr: sp.Expr) -> sp.Expr:
-    """Rewrite every sqrt(x^2 + y^2) (x, y free of radicals) as hypot(x, y)."""
-    def is_hypot(e):
-        if not (e.is_Pow and e.exp in (sp.S.Half, -sp.S.Half) and e.base.is_Add and len(e.base.args) == 2):
-            return False
-        return all(square_root_of_term(t) is not None for t in e.base.args)
-
-    def make(e):
-        h = hypot(*(square_root_of_term(t) for t in e.base.args))
-        return h if e.exp == sp.S.Half else 1 / h
-
-    return expr.replace(is_hypot, make)
 
 
 def _pos(name: str) -> sp.Symbol:
@@ -65,18 +43,45 @@ def _pos(name: str) -> sp.Symbol:
 
 @dataclass(frozen=True)
 class Argument:
+    """One argument of an emitted kernel: symbol, meaning and unit.
+
+    Parameters
+    ----------
+    symbol : sympy.Symbol
+        The argument's symbol (its name is the emitted name).
+    meaning : str
+        What the argument is, for the header.
+    unit : str
+        Its unit.
+    """
+
     symbol: sp.Symbol
     meaning: str
     unit: str
 
     @property
     def name(self) -> str:
+        """The argument's name in the emitted code."""
         return self.symbol.name
 
 
 @dataclass(frozen=True)
 class ContactKernel:
-    """An emitted kernel: arguments in order, assignment chain, and the result symbol."""
+    """An emitted kernel: arguments in order, assignment chain, and the result symbol.
+
+    Parameters
+    ----------
+    structure : KernelStructure
+        The scene's structure the kernel is specialised to.
+    arguments : tuple of Argument
+        The arguments in order.
+    steps : tuple of (sympy.Symbol, sympy.Expr)
+        The assignments, each of the arguments and earlier names.
+    result : sympy.Symbol
+        The name of the critical step [s].
+    equations : tuple of str
+        Human-readable lines for the header.
+    """
 
     structure: KernelStructure
     arguments: tuple[Argument, ...]
@@ -86,10 +91,12 @@ class ContactKernel:
 
     @property
     def symbols(self) -> tuple[sp.Symbol, ...]:
+        """The argument symbols, in order."""
         return tuple(a.symbol for a in self.arguments)
 
     @property
     def uses_step(self) -> bool:
+        """Whether the chain calls a careful step helper (``dtcrit.codegen.step``)."""
         return bool(self.step_variants)
 
     @property
@@ -99,7 +106,13 @@ class ContactKernel:
                      if any(e.has(f) for _, e in self.steps))
 
     def hash(self) -> str:
-        """Short stable hash of the derivation (integrator, arguments, every step and the careful step's chain)."""
+        """Short stable hash of the derivation (integrator, arguments, every step and the careful step's chain).
+
+        Returns
+        -------
+        str
+            16 hexadecimal digits (``dtcrit.symbolic.emit.derivation_hash``).
+        """
         from dtcrit.codegen.step import chain
 
         items = [sp.Symbol(self.structure.integrator)] + list(self.symbols)
@@ -113,13 +126,22 @@ class ContactKernel:
     def cse(self) -> tuple[list[tuple[sp.Symbol, sp.Expr]], list[tuple[sp.Symbol, sp.Expr]]]:
         """Common-subexpression elimination over the whole chain.
 
-        Returns ``(temporaries, steps)``: temporaries ``x0, x1, ...`` first, then the named steps
-        rewritten in terms of them; the last step defines ``result``.
+        Returns
+        -------
+        tuple of (list, list)
+            ``(temporaries, steps)``: temporaries ``x0, x1, ...`` first, then the named steps
+            rewritten in terms of them; the last step defines ``result``.
         """
         return _cse_chain(self.symbols, self.steps)
 
     def statements(self) -> list[tuple[sp.Symbol, sp.Expr]]:
-        """All assignments after CSE, each after everything it uses; the last defines ``result``."""
+        """All assignments after CSE, each after everything it uses; the last defines ``result``.
+
+        Returns
+        -------
+        list of (sympy.Symbol, sympy.Expr)
+            The assignments to emit, in order.
+        """
         return list(self._statements)
 
     @cached_property
@@ -148,6 +170,11 @@ class ContactKernel:
     def op_count(self) -> int:
         """Arithmetic and function operations after CSE (``sympy.count_ops``, each emitted statement,
         including those of the careful steps it calls).
+
+        Returns
+        -------
+        int
+            The operation count printed in the header.
         """
         from dtcrit.codegen.step import chain
 
@@ -155,7 +182,13 @@ class ContactKernel:
         return int(own + sum(sp.count_ops(e) for d in self.step_variants for _, e in chain(self.structure.integrator, d).steps))
 
     def full_expression(self) -> sp.Expr:
-        """The result as one expression of the arguments (steps substituted back)."""
+        """The result as one expression of the arguments (steps substituted back).
+
+        Returns
+        -------
+        sympy.Expr
+            The critical step [s] in the arguments.
+        """
         expr = self.result
         for s, e in reversed(self.steps):
             expr = expr.xreplace({s: e})
@@ -214,6 +247,8 @@ def undamped_tau(integrator: str) -> sp.Expr:
     cp = closed_pieces(integrator)[0]
     if cp.kind == "cubic":  # smallest positive real root of the cubic at zeta = 0, or 0 if none
         t = sp.Symbol("t")
+        if cp.cubic is None:  # pragma: no cover - a cubic piece carries its cubic
+            raise ValueError(f"'{integrator}': a cubic piece without its cubic")
         a2, a1, a0 = (c.subs(zeta_sym, 0) for c in cp.cubic)
         positive = [r for r in sp.Poly(t**3 + a2 * t**2 + a1 * t + a0, t).real_roots() if r > 0]
         return min(positive) if positive else sp.Integer(0)
@@ -222,7 +257,7 @@ def undamped_tau(integrator: str) -> sp.Expr:
 
 @lru_cache(maxsize=None)
 def direction_kernel(integrator: str) -> sp.Expr:
-    """dt of one direction in the placeholders OMEGA = sqrt(k A), GAMMA = c A/2, KA = k A,
+    """Step dt of one direction in the placeholders OMEGA = sqrt(k A), GAMMA = c A/2, KA = k A,
     ZETA = GAMMA/OMEGA and EPS = 1/ZETA^2 (Peng et al. 2020, Eqs. (29)-(30)).
 
     Built piece by piece from ``dtcrit.symbolic.closed_forms.closed_pieces`` (the exact boundary of
@@ -234,8 +269,10 @@ def direction_kernel(integrator: str) -> sp.Expr:
     branches = []
     for cp in closed_pieces(integrator):
         if cp.kind == "root":
-            e = _with_hypot(cp.dt_expr).subs(omega**2, KA).xreplace({omega: OMEGA, gamma: GAMMA})
+            e = rewrite_for_printing(cp.dt_expr).subs(omega**2, KA).xreplace({omega: OMEGA, gamma: GAMMA})
         else:
+            if cp.cubic is None or cp.cubic_large is None:  # pragma: no cover - a cubic piece carries both
+                raise ValueError(f"'{integrator}': a cubic piece without its cubics")
             a2, a1, a0 = (c.subs(zeta_sym, ZETA) for c in cp.cubic)
             b2, b1, b0 = (c.subs(eps, EPS) for c in cp.cubic_large)
             # zeta <= 1/2, where dt ~ tau(zeta)/omega ~ gamma/(k A): the factor 1/omega is taken as
@@ -292,7 +329,18 @@ def _b_max(syms: dict[str, sp.Symbol]) -> sp.Expr:
 # The chain
 # ----------------------------------------------------------------------------------------------
 def build_kernel(structure: KernelStructure) -> ContactKernel:
-    """The specialised assignment chain for ``structure`` (see the module docstring)."""
+    """The specialised assignment chain for ``structure`` (see the module docstring).
+
+    Parameters
+    ----------
+    structure : KernelStructure
+        The scene's structure (integrator, particle kinds, what is specialised).
+
+    Returns
+    -------
+    ContactKernel
+        The chain, its arguments and its header equations.
+    """
     integrator = structure.integrator
     kernel = direction_kernel(integrator)
     depends_on_damping = kernel.has(GAMMA)

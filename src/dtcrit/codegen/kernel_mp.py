@@ -4,47 +4,13 @@ checked against in ulps (tests/test_codegen_*.py).
 from __future__ import annotations
 
 from functools import lru_cache
+from typing import Any
 
 import mpmath as mp
 import sympy as sp
 
 from dtcrit.codegen.kernel import ContactKernel
-
-
-# ----------------------------------------------------------------------------------------------
-# High-precision evaluation (the reference the emitted code is tested against)
-# ----------------------------------------------------------------------------------------------
-def mp_cubic_positive_root(a2, a1, a0, largest) -> mp.mpf:
-    """Smallest (largest if ``largest``) positive real root of t^3 + a2 t^2 + a1 t + a0, at the
-    working precision (mpmath ``polyroots`` with extra precision on the cubic with its exact roots at 0
-    deflated, then Newton steps at twice the precision); 0 if none.
-    """
-    dps = mp.mp.dps
-    coeffs = [mp.mpf(1), mp.mpf(a2), mp.mpf(a1), mp.mpf(a0)]
-    poly = list(coeffs)
-    while len(poly) > 1 and poly[-1] == 0:
-        # an exact root at 0 is not positive: deflate it (adams-bashforth-2 undamped is t^3, whose
-        # clustered polyroots values would otherwise pass as a positive root of size 1e-143)
-        poly.pop()
-    if len(poly) == 1:
-        return mp.mpf(0)
-    nonzero = [abs(c) for c in coeffs if c != 0]
-    spread_bits = int(mp.log(max(nonzero) / min(nonzero), 2)) if len(nonzero) > 1 else 0
-    extra = min(spread_bits, 256)  # widely spread coefficients: more bits for the root iteration
-    with mp.workdps(2 * dps + 20):
-        roots = mp.polyroots(poly, maxsteps=2000, extraprec=8 * dps + 4 * extra)
-        scale = 1 + max(abs(r) for r in roots)
-        good = [mp.re(r) for r in roots if abs(mp.im(r)) <= mp.mpf(10) ** (-dps) * scale and mp.re(r) > 0]
-        if not good:
-            return mp.mpf(0)
-        t = max(good) if bool(largest) else min(good)
-        for _ in range(8):  # Newton polish at the raised precision (quadratic from polyroots' value)
-            f = ((t + coeffs[1]) * t + coeffs[2]) * t + coeffs[3]
-            df = (3 * t + 2 * coeffs[1]) * t + coeffs[2]
-            if df == 0:
-                break
-            t -= f / df
-    return +mp.re(t)
+from dtcrit.numerics.reference import mp_cubic_positive_root  # the cubic root's 50-digit reference
 
 
 def _mp_max(*xs):
@@ -55,10 +21,9 @@ def _mp_min(*xs):
     return min(xs)
 
 
-_MP_MODULES = [
-    {"cubic_positive_root": mp_cubic_positive_root, "hypot": mp.hypot, "Max": _mp_max, "Min": _mp_min},
-    "mpmath",
-]
+_MP_FUNCTIONS: dict[str, Any] = {"cubic_positive_root": mp_cubic_positive_root, "hypot": mp.hypot, "Max": _mp_max,
+                                  "Min": _mp_min}
+_MP_MODULES = [_MP_FUNCTIONS, "mpmath"]
 
 
 def _mp_step(integrator: str):
@@ -75,7 +40,7 @@ def _mp_step(integrator: str):
 def _step_functions(kernel: ContactKernel):
     known = list(kernel.symbols)
     funcs = []
-    modules = [{**_MP_MODULES[0], "critical_step": _mp_step(kernel.structure.integrator),
+    modules = [{**_MP_FUNCTIONS, "critical_step": _mp_step(kernel.structure.integrator),
                 "critical_step_undamped": (lambda f: lambda k, A: f(k, 0, A))(_mp_step(kernel.structure.integrator)), "is_nan": mp.isnan, "is_negative": lambda x: x < 0}, "mpmath"]
     from dtcrit.symbolic.careful_forms import is_nan
 
@@ -90,6 +55,20 @@ def evaluate_mp(kernel: ContactKernel, values, dps: int = 50) -> mp.mpf:
     """The kernel's result at ``dps`` digits for argument values taken as exact (floats are exact).
 
     ``values``: a sequence in argument order or a mapping from argument name to value.
+
+    Parameters
+    ----------
+    kernel : ContactKernel
+        The kernel to evaluate.
+    values : sequence of float or dict of str to float
+        The argument values, taken as exact.
+    dps : int, optional
+        Decimal digits of the result.
+
+    Returns
+    -------
+    mpmath.mpf
+        The critical step [s] at ``dps`` digits.
     """
     if isinstance(values, dict):
         values = [values[a.name] for a in kernel.arguments]

@@ -1,8 +1,10 @@
 """SymPy printers for the emitted languages (C99, Fortran 2008, NumPy).
 
-Common rules: the root of a sum of two squares is printed as ``hypot`` (no overflow, no
-cancellation); small integer powers are multiplications in C; the cubic-root helper is printed as
-a call to the helper emitted next to the kernel.
+Every printer's ``doprint`` first applies the shared expression rewrites once
+(``dtcrit.symbolic.emit.rewrite_for_printing``: the root of a sum of two squares becomes ``hypot``,
+no overflow, no cancellation); the printers then only print: small integer powers are
+multiplications in C, the cubic-root helper and the floating-point primitives are calls to the
+helpers emitted next to the kernel.
 """
 from __future__ import annotations
 
@@ -11,12 +13,26 @@ from sympy.printing.c import C99CodePrinter
 from sympy.printing.fortran import FCodePrinter
 
 from dtcrit.symbolic.emit import NumPyHypotPrinter as _NumPyBase
-from dtcrit.symbolic.emit import hypot_arguments as _hypot_args
+from dtcrit.symbolic.emit import rewrite_for_printing
 
 
 def nested_branches(printer, expr: sp.Piecewise, template: str) -> str:
     """A Piecewise with a default branch as nested inline choices, ``template`` with the fields
     ``cond``, ``then`` and ``other`` (C ternary, ``np.where``).
+
+    Parameters
+    ----------
+    printer : sympy.printing.codeprinter.CodePrinter
+        The printer of the branches' expressions and conditions.
+    expr : sympy.Piecewise
+        The Piecewise, with a default branch.
+    template : str
+        Format string with the fields ``cond``, ``then`` and ``other``.
+
+    Returns
+    -------
+    str
+        The nested choice.
     """
     if expr.args[-1].cond != sp.true:
         raise ValueError("Piecewise without a default branch")
@@ -35,6 +51,23 @@ class _Primitives:
 
     PRIMITIVE: dict = {}
     prefix = ""
+
+    def doprint(self, expr, assign_to=None):
+        """Source text of ``expr`` (assigned to ``assign_to`` when given), after the shared rewrites.
+
+        Parameters
+        ----------
+        expr : sympy.Basic
+            Expression to print.
+        assign_to : sympy.Symbol or str, optional
+            Variable the value is assigned to (Fortran and C statements).
+
+        Returns
+        -------
+        str
+            The code, ``dtcrit.symbolic.emit.rewrite_for_printing`` applied once to ``expr`` first.
+        """
+        return super().doprint(rewrite_for_printing(expr), assign_to=assign_to)
 
     def _call(self, key, expr):
         return f"{self.PRIMITIVE[key].format(p=self.prefix)}({', '.join(self._print(a) for a in expr.args)})"
@@ -85,7 +118,15 @@ class _CompiledCalls(_Primitives):
 
 
 class CPrinter(_CompiledCalls, C99CodePrinter):
-    """C99 with ``hypot``, ``x*x`` for squares and the cubic helper ``<prefix>_cubic_positive_root``."""
+    """C99 with ``hypot``, ``x*x`` for squares and the cubic helper ``<prefix>_cubic_positive_root``.
+
+    Parameters
+    ----------
+    helper_name : str
+        Name of the emitted cubic-root helper.
+    prefix : str, optional
+        Prefix of the emitted primitive helpers (``<prefix>_mantissa``, ...).
+    """
 
     PRIMITIVE = {"mantissa": "{p}_mantissa", "exponent": "{p}_exponent", "ldexp": "{p}_ldexp",
                  "two_product_error": "{p}_two_product_error", "two_sum_error": "{p}_two_sum_error",
@@ -110,10 +151,6 @@ class CPrinter(_CompiledCalls, C99CodePrinter):
         return self._logical(expr, "||")
 
     def _print_Pow(self, expr):
-        roots = _hypot_args(expr)
-        if roots is not None:
-            text = f"hypot({self._print(roots[0])}, {self._print(roots[1])})"
-            return text if expr.exp == sp.S.Half else f"(1.0/{text})"
         base, exp = expr.args
         if exp == 2:
             b = self.parenthesize(base, sp.printing.precedence.PRECEDENCE["Mul"], strict=True)
@@ -142,6 +179,13 @@ class FortranPrinter(_CompiledCalls, FCodePrinter):
     SymPy's ``d0``: a ``d0`` literal is DOUBLE PRECISION, which compilers can widen on their own
     (gfortran's ``-fdefault-real-8`` makes it quad precision), and then ``merge``, ``max`` and
     ``sign`` refuse the mixed kinds, or the arithmetic silently leaves IEEE double.
+
+    Parameters
+    ----------
+    helper_name : str
+        Name of the emitted cubic-root helper.
+    prefix : str, optional
+        Prefix of the emitted primitive helpers (unused: Fortran's helpers are private module procedures).
     """
 
     KIND = "c_double"
@@ -195,10 +239,6 @@ class FortranPrinter(_CompiledCalls, FCodePrinter):
         return f"{self._real(expr.p)}/{self._real(expr.q)}"
 
     def _print_Pow(self, expr):
-        roots = _hypot_args(expr)
-        if roots is not None:
-            text = f"hypot({self._print(roots[0])}, {self._print(roots[1])})"
-            return text if expr.exp == sp.S.Half else f"({self._real(1)}/{text})"
         base, exp = expr.args
         prec = sp.printing.precedence.precedence(expr)
         if exp == -1:
@@ -209,7 +249,15 @@ class FortranPrinter(_CompiledCalls, FCodePrinter):
 
 
 class NumPyPrinter(_Primitives, _NumPyBase):
-    """NumPy (vectorised): ``np.hypot``, elementwise ``np.minimum``/``np.maximum``, ``np.where``."""
+    """NumPy (vectorised): ``np.hypot``, elementwise ``np.minimum``/``np.maximum``, ``np.where``.
+
+    Parameters
+    ----------
+    helper_name : str
+        Name of the emitted cubic-root helper.
+    prefix : str, optional
+        Prefix of the emitted primitive helpers (unused: the NumPy helpers carry fixed names).
+    """
 
     PRIMITIVE = {"mantissa": "_mantissa", "exponent": "_exponent", "ldexp": "_ldexp",
                  "two_product_error": "_two_product_error", "two_sum_error": "_two_sum_error",
@@ -246,6 +294,3 @@ class NumPyPrinter(_Primitives, _NumPyBase):
     def _print_cubic_positive_root(self, expr):
         a2, a1, a0, largest = expr.args
         return f"{self.helper_name}({self._print(a2)}, {self._print(a1)}, {self._print(a0)}, {bool(largest)})"
-
-    def _print_hypot(self, expr):
-        return f"np.hypot({self._print(expr.args[0])}, {self._print(expr.args[1])})"

@@ -14,6 +14,8 @@ import math
 
 import numpy as np
 
+from dtcrit.numerics.rotations import body_to_world_matrix
+
 __all__ = [
     "rotation_about",
     "rotvec_matrix",
@@ -71,7 +73,7 @@ def rotvec_matrix(v) -> np.ndarray:
 
 def quaternion_matrix(q) -> np.ndarray:
     """Peng et al. 2020, Eq. (7): the body-to-world matrix ``Q`` of the unit orientation quaternion
-    ``(qw, qx, qy, qz)`` (``v_world = Q v_body``).
+    ``(qw, qx, qy, qz)`` (``v_world = Q v_body``; ``dtcrit.numerics.rotations.body_to_world_matrix``).
 
     Parameters
     ----------
@@ -83,12 +85,7 @@ def quaternion_matrix(q) -> np.ndarray:
     numpy.ndarray
         The 3x3 matrix ``Q``.
     """
-    w, x, y, z = (float(t) for t in q)
-    return np.array([
-        [w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)],
-        [2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x)],
-        [2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z],
-    ])
+    return body_to_world_matrix(q)
 
 
 def matrix_quaternion(Q) -> tuple[float, float, float, float]:

@@ -35,26 +35,11 @@ import numpy as np
 
 from dtcrit._generated import critical_steps as _gen
 from dtcrit.integrators import precise_onstep
-
-_SPLIT = 134217729.0  # 2^27 + 1 (Dekker)
-
-
-def _two_prod(a, b):
-    """(p, e) with p + e = a*b exactly (Dekker's splitting; |a|, |b| < 2^995)."""
-    p = a * b
-    t = _SPLIT * a
-    ah = t - (t - a)
-    al = a - ah
-    t = _SPLIT * b
-    bh = t - (t - b)
-    bl = b - bh
-    return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
-
-
-def _two_sum(a, b):
-    s = a + b
-    bb = s - a
-    return s, (a - (s - bb)) + (b - bb)
+from dtcrit.numerics.cubic import cubic_positive_root
+from dtcrit.numerics.eft import split as _split
+from dtcrit.numerics.eft import two_product as _two_prod
+from dtcrit.numerics.eft import two_sum as _two_sum
+from dtcrit.numerics.scaling import frexp_parts, scaled_root
 
 
 def _residual(mc, mA, mk, shift):
@@ -80,11 +65,19 @@ def forward_euler_exact(k, c, A):
     dt = c/k (c^2 A <= 4k, i.e. zeta <= 1; tau* = 2 zeta) else 4/(u + sqrt(A R)),
     R = c^2 A - 4k (tau* = 2/(zeta + sqrt(zeta^2 - 1))).  Every input is split into mantissa and
     exponent; all arithmetic is on O(1) numbers and the exponents are put back with ldexp.
+
+    Parameters
+    ----------
+    k, c, A : float or array_like
+        Stiffness [N/m], viscous damping coefficient [N s/m] and inverse inertia coefficient [1/kg].
+
+    Returns
+    -------
+    numpy.ndarray
+        The critical step [s], elementwise.
     """
     k, c, A = (np.asarray(v, dtype=float) for v in (k, c, A))
-    mk, ek = np.frexp(k)
-    mc, ec = np.frexp(c)
-    mA, eA = np.frexp(A)
+    mk, ek, mc, ec, mA, eA = frexp_parts(k, c, A)
     E = 2 * ec + eA - ek  # c^2 A / (4k) ~ mc^2 mA / (4 mk) * 2^E
     with np.errstate(all="ignore"):
         under = np.ldexp(mc / mk, ec - ek)  # c / k
@@ -107,15 +100,22 @@ def scaled_closed_form(integrator: str, k, c, A) -> np.ndarray:
     the step comes out as 0).  The kernels are homogeneous of degree -1, so
     dt = 2^-s dt(omega 2^-s, gamma 2^-s) exactly; the smaller rate may underflow harmlessly.
     The centred leapfrog (dt = 2/omega whatever gamma) is scaled by omega alone.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of a built-in integrator (a key of ``dtcrit._generated.critical_steps.DT_KERNELS``).
+    k, c, A : float or array_like
+        Stiffness [N/m], viscous damping coefficient [N s/m] and inverse inertia coefficient [1/kg].
+
+    Returns
+    -------
+    numpy.ndarray
+        The critical step [s] (0 where no positive step is stable or it underflows, inf beyond float64).
     """
     k, c, A = (np.asarray(v, dtype=float) for v in (k, c, A))
-    mk, ek = np.frexp(k)
-    mc, ec = np.frexp(c)
-    mA, eA = np.frexp(A)
-    e = ek + eA
-    odd = e & 1
-    w = np.sqrt(mk * mA * np.where(odd, 2.0, 1.0))  # omega = w 2^sw, w in [1/2, 1.42)
-    sw = (e - odd) // 2
+    mk, ek, mc, ec, mA, eA = frexp_parts(k, c, A)
+    w, sw = scaled_root(mk, ek, mA, eA)  # omega = w 2^sw, w in [1/2, 1.42)
     gm = mc * mA * 0.5  # gamma = gm 2^sg
     sg = ec + eA
     if integrator == "leapfrog-centred":
@@ -129,23 +129,30 @@ def scaled_closed_form(integrator: str, k, c, A) -> np.ndarray:
 
 
 def paper_eq40_identity(k, c, A) -> np.ndarray:
-    """The paper's Eq. (40) scheme: its boundary cubic tau^3 - 4 zeta tau^2 + (4 zeta^2 + 2) tau - 2 zeta
-    = tau (tau - 2 zeta)^2 + 2 (tau - zeta) = 0 gives the identity
+    """Critical step of the paper's Eq. (40) scheme from an identity of its boundary cubic.
+
+    The cubic tau^3 - 4 zeta tau^2 + (4 zeta^2 + 2) tau - 2 zeta = tau (tau - 2 zeta)^2 + 2 (tau - zeta) = 0
+    gives the identity
 
         tau* = zeta / (1 + (tau* - 2 zeta)^2 / 2),  so  dt = (c / (2k)) / (1 + (tau* - 2 zeta)^2 / 2),
 
     where c/(2k) = gamma/omega^2 comes straight from the inputs (one rounding) and the root tau*
     (the generated cubic solver) enters only through a correction term.  Used for zeta <= 1; for
     zeta > 1 (tau* ~ 1/(2 zeta)) the generated reciprocal-cubic branch is kept.
+
+    Parameters
+    ----------
+    k, c, A : float or array_like
+        Stiffness [N/m], viscous damping coefficient [N s/m] and inverse inertia coefficient [1/kg].
+
+    Returns
+    -------
+    numpy.ndarray
+        The critical step [s] of the Eq. (40) scheme, elementwise (flattened like ``k``).
     """
     k, c, A = (np.asarray(v, dtype=float) for v in (k, c, A))
-    mk, ek = np.frexp(k)
-    mA, eA = np.frexp(A)
-    mc, ec = np.frexp(c)
-    e = ek + eA
-    odd = e & 1
-    w = np.sqrt(mk * mA * np.where(odd, 2.0, 1.0))
-    s = (e - odd) // 2
+    mk, ek, mA, eA, mc, ec = frexp_parts(k, A, c)
+    w, s = scaled_root(mk, ek, mA, eA)
     with np.errstate(all="ignore"):
         g = np.ldexp(mc * mA * 0.5, ec + eA - s)
         z = g / w
@@ -156,7 +163,7 @@ def paper_eq40_identity(k, c, A) -> np.ndarray:
             out[rest] = scaled_closed_form("paper-eq40", k[rest], c[rest], A[rest])
         if np.any(small):
             zs = z[small]
-            t = _gen._cubic_positive_root(-4.0 * zs, 4.0 * zs * zs + 2.0, -2.0 * zs, False)
+            t = cubic_positive_root(-4.0 * zs, 4.0 * zs * zs + 2.0, -2.0 * zs, False)
             d = t - 2.0 * zs
             half_c_over_k = np.ldexp(mc[small] / mk[small], ec[small] - ek[small] - 1)
             out[small] = half_c_over_k / (1.0 + 0.5 * d * d)
@@ -179,6 +186,18 @@ def eq40_bounded_cubic(w, m):
     root in (1, 3/2) for every zeta >= 0: h < 0 on [0, 1], h(3/2) > 0 and h' >= 1/4 on [1, 3/2]
     (derived from ``dtcrit.symbolic.closed_forms`` in ``tests/test_precise.py``).  In delta = r - 1,
     h = c3 delta^3 + c2 delta^2 + c1 delta + c0.  Plain arithmetic (the test calls it on symbols).
+
+    Parameters
+    ----------
+    w : float or array_like or sympy.Expr
+        ``c^2 A / (2k + c^2 A)``, in [0, 1].
+    m : float or array_like or sympy.Expr
+        ``1 - w``.
+
+    Returns
+    -------
+    tuple
+        ``(c3, c2, c1, c0)``, the coefficients of ``h`` in ``delta = r - 1``.
     """
     a = w * m
     b = a * m * 0.25
@@ -212,7 +231,7 @@ def _eq40_step(d, c3, c2, c1, c0, t1, t2, t3, t4, halley: bool):
 
 
 def _eq40_chunk(k, c, A, o, B) -> bool:
-    """dt = L r, L = (c/2) / (k + c^2 A/2), on one chunk (tau = zeta m r, ``eq40_bounded_cubic``), r = 1 + delta
+    """Step dt = L r, L = (c/2) / (k + c^2 A/2), on one chunk (tau = zeta m r, ``eq40_bounded_cubic``), r = 1 + delta
     by a Halley step from delta = 0, a Halley step and a Newton step (h' >= 1/4 on [1, 3/2]; the
     three steps reach the root to about an ulp for every zeta, ``tests/test_precise.py``).  False when the chunk is outside the unscaled
     range (k + c^2 A/2 outside [2^-1000, 2^1000], A < 2^-511, or a NaN): inside it nothing
@@ -288,12 +307,6 @@ def _forward_euler_redo(k, c, A):
 
 
 _C_LO, _C_HI, _KA_LO, _KA_HI = 2.0**-450, 2.0**450, 2.0**-900, 2.0**900
-
-
-def _split(a):
-    t = _SPLIT * a
-    hi = t - (t - a)
-    return hi, a - hi
 
 
 def _forward_euler_near(k, c, A):
@@ -373,6 +386,20 @@ def fast_steps(integrator: str, k, c, A, chunk: int = _CHUNK) -> tuple[np.ndarra
     ``forward_euler_exact``, ``paper_eq40_identity``), which have no limits.  ``checked`` is True when
     every chunk was fast and none holds a step outside float64 (inf, NaN, or 0 for a damped contact),
     so that ``stability.refuse_unrepresentable`` has nothing to find.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of a built-in integrator.
+    k, c, A : float or array_like
+        Stiffness [N/m], viscous damping coefficient [N s/m] and inverse inertia coefficient [1/kg].
+    chunk : int, optional
+        Number of elements per chunk.
+
+    Returns
+    -------
+    tuple of (numpy.ndarray, bool)
+        ``(dt, checked)``: the flattened steps [s] and whether every chunk was fast and in range.
     """
     k, c, A = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (k, c, A)))
     k, c, A = (np.ascontiguousarray(v.ravel()) for v in (k, c, A))
@@ -412,5 +439,18 @@ def fast_steps(integrator: str, k, c, A, chunk: int = _CHUNK) -> tuple[np.ndarra
 
 
 def fast_closed_form(integrator: str, k, c, A) -> np.ndarray:
-    """The exact step of ``integrator`` for every float64 input (``fast_steps`` without the flag)."""
+    """The exact step of ``integrator`` for every float64 input (``fast_steps`` without the flag).
+
+    Parameters
+    ----------
+    integrator : str
+        Name of a built-in integrator.
+    k, c, A : float or array_like
+        Stiffness [N/m], viscous damping coefficient [N s/m] and inverse inertia coefficient [1/kg].
+
+    Returns
+    -------
+    numpy.ndarray
+        The flattened critical steps [s].
+    """
     return fast_steps(integrator, k, c, A)[0]

@@ -20,21 +20,28 @@ from __future__ import annotations
 
 import numpy as np
 
-from dtcrit._generated import critical_steps as _gen
+from dtcrit.numerics.cubic import cubic_positive_root
+from dtcrit.numerics.scaling import frexp_parts, scaled_root
 
 SCHEMES = ("extended-taylor", "adams-bashforth-2")
 _AB2_SWITCH = np.sqrt(3.0) / 6.0
 _AB2_TINY = 2.0**-94
 
 
-def _split(k, c, A):
-    k, c, A = (np.asarray(v, dtype=float) for v in (k, c, A))
-    return np.frexp(k) + np.frexp(c) + np.frexp(A)
-
-
 def extended_taylor(k, c, A) -> np.ndarray:
-    """dt = min(2c/k, 2/(cA)) (0 when c = 0)."""
-    mk, ek, mc, ec, mA, eA = _split(k, c, A)
+    """Critical step dt = min(2c/k, 2/(cA)) of the extended Taylor scheme (0 when c = 0).
+
+    Parameters
+    ----------
+    k, c, A : float or array_like
+        Stiffness [N/m], viscous damping coefficient [N s/m] and inverse inertia coefficient [1/kg].
+
+    Returns
+    -------
+    numpy.ndarray
+        The critical step [s] of ``extended-taylor``, elementwise.
+    """
+    mk, ek, mc, ec, mA, eA = frexp_parts(k, c, A)
     with np.errstate(all="ignore"):
         spring = np.ldexp(2.0 * mc / mk, ec - ek)
         dashpot = np.ldexp(2.0 / (mc * mA), -(ec + eA))
@@ -42,17 +49,25 @@ def extended_taylor(k, c, A) -> np.ndarray:
 
 
 def adams_bashforth_2(k, c, A) -> np.ndarray:
-    """dt = 1/(cA) for zeta >= sqrt(3)/6, else (4c/k)/((tau - 4 zeta)(tau + 2 zeta)) (0 when c = 0)."""
-    mk, ek, mc, ec, mA, eA = _split(k, c, A)
-    e = ek + eA
-    odd = e & 1
-    w = np.sqrt(mk * mA * np.where(odd, 2.0, 1.0))  # omega = w 2^s
-    s = (e - odd) // 2
+    """Critical step of Adams-Bashforth 2: 1/(cA) for zeta >= sqrt(3)/6, else (4c/k)/((tau - 4 zeta)(tau + 2 zeta)).
+
+    Parameters
+    ----------
+    k, c, A : float or array_like
+        Stiffness [N/m], viscous damping coefficient [N s/m] and inverse inertia coefficient [1/kg].
+
+    Returns
+    -------
+    numpy.ndarray
+        The critical step [s] of ``adams-bashforth-2``, elementwise.
+    """
+    mk, ek, mc, ec, mA, eA = frexp_parts(k, c, A)
+    w, s = scaled_root(mk, ek, mA, eA)  # omega = w 2^s
     with np.errstate(all="ignore"):
         z = np.ldexp(mc * mA * 0.5, np.clip(ec + eA - s, -1100, 1100)) / w
         dashpot = np.ldexp(1.0 / (mc * mA), -(ec + eA))
         zs = np.where(z < _AB2_SWITCH, z, 0.25)
-        t = _gen._cubic_positive_root(-2.0 * zs, -8.0 * zs * zs, -8.0 * zs, False)
+        t = cubic_positive_root(-2.0 * zs, -8.0 * zs * zs, -8.0 * zs, False)
         lead = np.ldexp(4.0 * mc / mk, ec - ek)
         cubic = lead / ((t - 4.0 * zs) * (t + 2.0 * zs))
         out = np.where(z < _AB2_SWITCH, cubic, dashpot)
@@ -71,5 +86,18 @@ CAREFUL = {"extended-taylor": extended_taylor, "adams-bashforth-2": adams_bashfo
 
 
 def steps(integrator: str, k, c, A) -> np.ndarray:
-    """The careful exact step of one of ``SCHEMES`` for arrays of k, c, A."""
+    """The careful exact step of one of ``SCHEMES`` for arrays of k, c, A.
+
+    Parameters
+    ----------
+    integrator : str
+        One of ``SCHEMES``.
+    k, c, A : float or array_like
+        Stiffness [N/m], viscous damping coefficient [N s/m] and inverse inertia coefficient [1/kg].
+
+    Returns
+    -------
+    numpy.ndarray
+        The critical step [s], elementwise.
+    """
     return CAREFUL[integrator](k, c, A)

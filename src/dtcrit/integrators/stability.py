@@ -24,6 +24,7 @@ from dtcrit._generated import critical_steps as _gen
 from dtcrit.errors import InputError
 from dtcrit.integrators.engines import ENGINES, resolve_integrator
 from dtcrit.integrators.schemes import INTEGRATORS, NAMES, USER_INTEGRATORS
+from dtcrit.numerics.scaling import scaled_rates  # re-exported: omega, gamma on a power-of-two scale
 
 __all__ = ["CriticalStep", "critical_dt", "critical_dt_array", "dashpot_dt", "mode_dt", "paper_eq46", "scaled_rates", "INTEGRATORS"]
 
@@ -96,37 +97,6 @@ def _check_positive(key: str, value, allow_zero: bool = False) -> float:
     if v < 0 or (v == 0 and not allow_zero):
         raise InputError(key, f"must be {'non-negative' if allow_zero else 'positive'} (got {v})")
     return v
-
-
-def scaled_rates(k, c, A):
-    """(omega', gamma', s) with omega = omega' 2^s and gamma = gamma' 2^s, omega' in [0.7, 1.42).
-
-    Works elementwise on arrays; exact apart from the roundings of k*A, c*A and one square root.
-
-    Parameters
-    ----------
-    k : float or numpy.ndarray
-        Contact stiffness [N/m].
-    c : float or numpy.ndarray
-        Viscous damping [N s/m].
-    A : float or numpy.ndarray
-        Inverse inertia coefficient [1/kg].
-
-    Returns
-    -------
-    tuple
-        ``(omega', gamma', s)``: ``omega = sqrt(k A)`` and ``gamma = c A / 2`` scaled by the power of two
-        ``2^-s`` (``s`` integer).
-    """
-    mk, ek = np.frexp(np.asarray(k, dtype=float))
-    mA, eA = np.frexp(np.asarray(A, dtype=float))
-    mc, ec = np.frexp(np.asarray(c, dtype=float))
-    e = ek + eA
-    odd = e & 1
-    w = np.sqrt(mk * mA * np.where(odd, 2.0, 1.0))  # mk*mA in [1/4, 1): w in [1/2, 1.42)
-    s = (e - odd) // 2
-    g = np.ldexp(mc * mA * 0.5, ec + eA - s)
-    return w, g, s
 
 
 # no stable dt > 0 when c = 0: read from the generated boundaries (tau_crit(0) = 0)

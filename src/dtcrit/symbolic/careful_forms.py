@@ -43,37 +43,73 @@ from dtcrit.symbolic.stability_codegen import CUBIC_ROOT, kernel_expr
 
 
 class mantissa(sp.Function):
-    """m with x = m 2^e, 1/2 <= |m| < 1 (0 for x = 0): C ``frexp``, Fortran ``fraction``."""
+    """m with x = m 2^e, 1/2 <= |m| < 1 (0 for x = 0): C ``frexp``, Fortran ``fraction``.
+
+    Parameters
+    ----------
+    *args : sympy.Expr
+        ``x``, the number split.
+    """
 
     nargs = 1
 
 
 class exponent(sp.Function):
-    """e with x = m 2^e, as a float (0 for x = 0 or a non-finite x)."""
+    """e with x = m 2^e, as a float (0 for x = 0 or a non-finite x).
+
+    Parameters
+    ----------
+    *args : sympy.Expr
+        ``x``, the number split.
+    """
 
     nargs = 1
 
 
 class ldexp(sp.Function):
-    """x 2^e (e a whole number held in a float)."""
+    """x 2^e (e a whole number held in a float).
+
+    Parameters
+    ----------
+    *args : sympy.Expr
+        ``x`` and the whole number ``e``.
+    """
 
     nargs = 2
 
 
 class two_product_error(sp.Function):
-    """a b - fl(a b), exactly (Dekker)."""
+    """a b - fl(a b), exactly (Dekker).
+
+    Parameters
+    ----------
+    *args : sympy.Expr
+        The factors ``a`` and ``b``.
+    """
 
     nargs = 2
 
 
 class two_sum_error(sp.Function):
-    """a + b - fl(a + b), exactly (Knuth)."""
+    """a + b - fl(a + b), exactly (Knuth).
+
+    Parameters
+    ----------
+    *args : sympy.Expr
+        The addends ``a`` and ``b``.
+    """
 
     nargs = 2
 
 
 class is_nan(BooleanFunction):
-    """True where x is NaN (C ``isnan``, Fortran ``ieee_is_nan``, ``np.isnan``)."""
+    """True where x is NaN (C ``isnan``, Fortran ``ieee_is_nan``, ``np.isnan``).
+
+    Parameters
+    ----------
+    *args : sympy.Expr
+        ``x``, the value tested.
+    """
 
     nargs = 1
 
@@ -81,18 +117,45 @@ class is_nan(BooleanFunction):
 class is_negative(BooleanFunction):
     """x < 0, never decided by SymPy from a symbol's assumptions (an argument declared positive may
     still arrive negative in the emitted code).
+
+    Parameters
+    ----------
+    *args : sympy.Expr
+        ``x``, the value compared with 0.
     """
 
     nargs = 1
 
 
 def nan_min(*xs: sp.Expr) -> sp.Expr:
-    """min that is NaN when any argument is NaN (C ``fmin`` and Fortran ``min`` drop a NaN)."""
+    """Minimum that is NaN when any argument is NaN (C ``fmin`` and Fortran ``min`` drop a NaN).
+
+    Parameters
+    ----------
+    *xs : sympy.Expr
+        The arguments.
+
+    Returns
+    -------
+    sympy.Piecewise
+        NaN where an argument is NaN, else their minimum.
+    """
     return sp.Piecewise((sp.nan, sp.Or(*(is_nan(x) for x in xs))), (sp.Min(*xs), True))
 
 
 def nan_max(*xs: sp.Expr) -> sp.Expr:
-    """max that is NaN when any argument is NaN."""
+    """Maximum that is NaN when any argument is NaN.
+
+    Parameters
+    ----------
+    *xs : sympy.Expr
+        The arguments.
+
+    Returns
+    -------
+    sympy.Piecewise
+        NaN where an argument is NaN, else their maximum.
+    """
     return sp.Piecewise((sp.nan, sp.Or(*(is_nan(x) for x in xs))), (sp.Max(*xs), True))
 
 
@@ -106,7 +169,21 @@ ARGUMENTS = (
 
 @dataclass(frozen=True)
 class Chain:
-    """``result`` computed from ``args`` by ``steps`` (each ``(symbol, expression)`` uses earlier names only)."""
+    """``result`` computed from ``args`` by ``steps`` (each ``(symbol, expression)`` uses earlier names only).
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the integrator.
+    args : tuple of sympy.Symbol
+        The arguments, ``(k, c, A)`` or ``(k, A)``.
+    steps : tuple of (sympy.Symbol, sympy.Expr)
+        The assignments in order.
+    result : sympy.Symbol
+        The name of the step dt [s].
+    equations : tuple of str
+        The forms used, for the header of the emitted file.
+    """
 
     integrator: str
     args: tuple[sp.Symbol, ...]
@@ -126,7 +203,7 @@ def _split(steps: list, x: sp.Symbol, tag: str):
 
 
 def _omega_scaled(steps, mk, ek, mA, eA):
-    """omega = w 2^sw with w in [1/2, 1.42): sqrt of the mantissa product, the odd exponent folded in."""
+    """Rate omega = w 2^sw with w in [1/2, 1.42): sqrt of the mantissa product, the odd exponent folded in."""
     e, odd, sw, w = _r("e_kA"), _r("odd"), _r("s_omega"), _r("w")
     steps += [(e, ek + eA), (odd, e - 2 * sp.floor(e / 2)), (sw, (e - odd) / 2), (w, sp.sqrt(mk * mA * (1 + odd)))]
     return w, sw
@@ -135,6 +212,16 @@ def _omega_scaled(steps, mk, ek, mA, eA):
 def cubic_identity(cp) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
     """(P0, h, q0) with P(tau) = tau ((tau - h)^2 + q0) + P0 for the monic cubic P of a cubic piece,
     coefficients in zeta: the root satisfies tau* = -P0 / ((tau* - h)^2 + q0).
+
+    Parameters
+    ----------
+    cp : dtcrit.symbolic.closed_forms.ClosedPiece
+        A piece of kind ``"cubic"``.
+
+    Returns
+    -------
+    tuple of sympy.Expr
+        ``(P0, h, q0)`` as polynomials in zeta.
     """
     P = sp.expand(tau**3 + sum(c * tau ** (2 - i) for i, c in enumerate(cp.cubic)))
     P0 = P.subs(tau, 0)
@@ -155,6 +242,16 @@ def cubic_small_zeta(cp) -> tuple[sp.Expr, int] | None:
     delta = O(zeta^(j/3)) from the linearised correction delta ~ -(P(T0 u) - T0^3 u^3 + p1 u^3)/(3 T0^3 u^3),
     u = zeta^(1/3), T0 = p1^(1/3); E is the largest whole number with |delta| <= 2^-64 for zeta <= 2^E
     (a margin of 2^-11 ulp on the leading term).  Then dt = tau*/omega = (p1 c / (2 k^2 A))^(1/3).
+
+    Parameters
+    ----------
+    cp : dtcrit.symbolic.closed_forms.ClosedPiece
+        A piece of kind ``"cubic"``.
+
+    Returns
+    -------
+    tuple of (sympy.Expr, int) or None
+        ``(p1, E)``, or None when the undamped cubic is not ``tau^3``.
     """
     if cp.piece.zeta_lo != 0 or any(co.subs(zeta, 0) != 0 for co in cp.cubic):
         return None
@@ -172,7 +269,7 @@ def cubic_small_zeta(cp) -> tuple[sp.Expr, int] | None:
 
 
 def _scaled_closed_form(name, steps, mk, ek, mc, ec, mA, eA):
-    """dt = 2^-s kernel(omega 2^-s, gamma 2^-s), s from the larger rate (``precise.scaled_closed_form``)."""
+    """Step dt = 2^-s kernel(omega 2^-s, gamma 2^-s), s from the larger rate (``precise.scaled_closed_form``)."""
     w, sw = _omega_scaled(steps, mk, ek, mA, eA)
     gm, sg, s = _r("g"), _r("s_gamma"), _r("s")
     steps += [(gm, mc * mA / 2), (sg, ec + eA)]
@@ -276,6 +373,8 @@ def careful_chain(name: str, damped: bool = True) -> Chain:
             P0, h, q0 = cubic_identity(cp)
             z, t, d = _r("zeta_w"), _r("tau_root"), _r("d")
             steps += [(z, ldexp(gm, sg - sw) / w)]
+            if cp.cubic is None:  # pragma: no cover - a cubic piece carries its cubic
+                raise ValueError(f"'{name}': a cubic piece without its cubic")
             root = CUBIC_ROOT(*(co.subs(zeta, z) for co in cp.cubic), sp.false)
             steps += [(t, root), (d, t - h.subs(zeta, z))]
             # -P0/omega = (2 zeta)/omega = c/k for this cubic: checked in the tests

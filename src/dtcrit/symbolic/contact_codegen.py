@@ -5,7 +5,8 @@ and 5), never typed in here:
 
 * ``a_max``: Eq (26) as printed;
 * ``b_max``: Eq (54);
-* ``rotation_matrix``: Eq (7) (global -> local, the paper's ``M_L = R M_G``);
+* ``rotation_matrix``: Eq (7), body to world (``v_world = R(q) v_body``; the convention of
+  ``dtcrit.numerics.rotations``; the paper's Eq (5) matrix, world to body, is its transpose);
 * ``arm_term``: the rotational part one particle adds to the coefficient matrix of the contact
   force, in its local frame, from the general kinematics (Eqs 3-19 with the partner removed);
 * ``gyroscopic_coefficients``: torque-free Euler equations (Eqs 11-12 with ``M_L = 0``);
@@ -37,13 +38,25 @@ def ellipsoid_tip_values(d=(da, db, dc), inertia=(Ixx, Iyy, Izz)) -> list[sp.Exp
     ``d`` along the principal axes: ``d_i^2 / I_j`` for ``j != i`` (taken from the generated
     kinematics, not typed in).  Their maximum is the supremum over the whole ellipsoid (the
     proof is an inequality, written out in ``derivations/records/sec2_3_kinematics.md``).
+
+    Parameters
+    ----------
+    d : tuple of sympy.Expr
+        Semi-axes along the principal axes [m].
+    inertia : tuple of sympy.Expr
+        Principal moments ``(Ixx, Iyy, Izz)`` [kg m^2].
+
+    Returns
+    -------
+    list of sympy.Expr
+        The non-zero eigenvalues ``d_i^2 / I_j`` [1/kg].
     """
-    I = kin.inertia_tensor(*inertia)
+    inertia_matrix = kin.inertia_tensor(*inertia)
     values = []
     for i, di in enumerate(d):
         tip = [0, 0, 0]
         tip[i] = di
-        T = kin.arm_term(tip, I)
+        T = kin.arm_term(tip, inertia_matrix)
         for lam, mult in T.eigenvals().items():
             if lam != 0:
                 values.extend([sp.factor(lam)] * mult)
@@ -51,6 +64,14 @@ def ellipsoid_tip_values(d=(da, db, dc), inertia=(Ixx, Iyy, Izz)) -> list[sp.Exp
 
 
 def kernels() -> list[Kernel]:
+    """The contact kinematics kernels listed in the module docstring.
+
+    Returns
+    -------
+    list of Kernel
+        ``a_max``, ``b_max``, ``rotation_matrix``, ``arm_term``, ``gyroscopic_coefficients`` and
+        ``ellipsoid_arm_supremum``.
+    """
     inertia = [(Ixx, "principal moment about local x [kg m^2]"), (Iyy, "about local y [kg m^2]"),
                (Izz, "about local z [kg m^2]")]
     T = kin.arm_term((rx, ry, rz), kin.inertia_tensor(Ixx, Iyy, Izz))
@@ -79,7 +100,7 @@ def kernels() -> list[Kernel]:
             name="rotation_matrix",
             args=[(qw, "quaternion scalar part"), (qx, "x part"), (qy, "y part"), (qz, "z part")],
             expr=tuple(R),
-            doc="Peng et al. 2020, Eq. (7): rotation matrix of a unit quaternion, maps global to local components.",
+            doc="Peng et al. 2020, Eq. (7): rotation matrix of a unit quaternion, body to world (v_world = R v_body).",
             returns="(R00, R01, R02, R10, R11, R12, R20, R21, R22), row by row",
         ),
         Kernel(
@@ -110,6 +131,13 @@ def kernels() -> list[Kernel]:
 
 
 def generated_files() -> dict[str, str]:
+    """The files this producer writes under ``dtcrit/_generated`` (``dtcrit.symbolic.regenerate``).
+
+    Returns
+    -------
+    dict of str to str
+        ``{"contact.py": text}``.
+    """
     summary = (
         "Contact kinematics kernels (Peng et al. 2020, Eqs 7, 11-12, 17-19, 26, 54).\n"
         "Derived in dtcrit.symbolic.kinematics; used by dtcrit.bodies.contact."

@@ -23,6 +23,13 @@ PRODUCERS: tuple[str, ...] = (
 
 
 def all_generated_files() -> dict[str, str]:
+    """The text of every generated file, as the producers make it now.
+
+    Returns
+    -------
+    dict of str to str
+        Path relative to ``src/dtcrit/_generated`` -> full text, from every producer of ``PRODUCERS``.
+    """
     files: dict[str, str] = {}
     for name in PRODUCERS:
         produced = importlib.import_module(name).generated_files()
@@ -34,6 +41,13 @@ def all_generated_files() -> dict[str, str]:
 
 
 def main() -> int:
+    """Write every generated file whose text changed and report how many did.
+
+    Returns
+    -------
+    int
+        The exit status (0).
+    """
     changed = 0
     for rel, text in sorted(all_generated_files().items()):
         path = GENERATED_DIR / rel

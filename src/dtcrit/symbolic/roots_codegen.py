@@ -33,183 +33,46 @@ CSQRT = sp.Function("_csqrt")
 CCBRT = sp.Function("_ccbrt")
 DD_POLY = sp.Function("_dd_poly")
 
-PREAMBLE = '''
-_EPS = np.finfo(float).eps
-
-
-def _stack(*roots):
-    """Complex array of shape (number of roots,) + broadcast shape."""
-    return np.stack(np.broadcast_arrays(*(np.asarray(r, dtype=complex) for r in roots)))
-
-
-def _csqrt(x):
-    """Principal complex square root (a negative real gives +i sqrt(-x))."""
-    return np.sqrt(np.asarray(x, dtype=complex))
-
-
-def _ccbrt(x):
-    """Principal complex cube root, as a general-purpose complex power would take it."""
-    return np.power(np.asarray(x, dtype=complex), 1.0 / 3.0)
-
-
-_SPLITTER = 134217729.0  # 2^27 + 1, Dekker's splitting constant
-
-
-def _two_sum(a, b):
-    """s + e = a + b exactly (Knuth)."""
-    s = a + b
-    bb = s - a
-    return s, (a - (s - bb)) + (b - bb)
-
-
-def _two_prod(a, b):
-    """p + e = a * b exactly (Dekker; |a|, |b| well below 1e300)."""
-    p = a * b
-    c = _SPLITTER * a
-    ah = c - (c - a)
-    al = a - ah
-    c = _SPLITTER * b
-    bh = c - (c - b)
-    bl = b - bh
-    return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
-
-
-def _dd_poly(terms, tau, zeta):
-    """sum(c tau^i zeta^j for (c, i, j) in terms) in double-double arithmetic, rounded once.
-
-    The integer coefficients are exact; every product and sum keeps its rounding error, so the
-    result has a relative error of about 1e-16 even where the terms cancel to many digits (the
-    factors of a discriminant near a double root).
-    """
-    tau, zeta = np.broadcast_arrays(np.asarray(tau, dtype=float), np.asarray(zeta, dtype=float))
-    hi = np.zeros(tau.shape)
-    lo = np.zeros(tau.shape)
-    for c, i, j in terms:
-        th = np.full(tau.shape, float(c))
-        tl = np.zeros(tau.shape)
-        for x in (tau,) * i + (zeta,) * j:
-            p, e = _two_prod(th, x)
-            th, tl = _two_sum(p, e + tl * x)
-        s, e = _two_sum(hi, th)
-        hi, lo = _two_sum(s, e + lo + tl)
-    return hi + lo
-
-
-def _sgn(x):
-    """Sign with sgn(0) = +1."""
-    return np.where(x < 0, -1.0, 1.0)
-
-
-def _quadratic_roots(a, b, c, disc, sqrt_abs_disc):
-    """Both roots of a l^2 + b l + c (a > 0) without cancellation.
-
-    ``disc`` is the discriminant b^2 - 4ac evaluated from its factored form (only its sign is
-    used) and ``sqrt_abs_disc`` = sqrt(|disc|), also from the factors.  Real roots:
-    q = -(b + sgn(b) sqrt(D))/2, roots q/a and c/q; complex pair: -b/(2a) +- i sqrt(-D)/(2a).
-    """
-    a, b, c, disc, s = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (a, b, c, disc, sqrt_abs_disc)))
-    with np.errstate(all="ignore"):
-        q = -(b + _sgn(b) * s) / 2.0
-        big = q / a
-        small = np.where(q != 0, c / np.where(q != 0, q, 1.0), 0.0)
-        re = -b / (2.0 * a)
-        im = s / (2.0 * a)
-    real = disc >= 0
-    return _stack(np.where(real, big, re + 1j * im), np.where(real, small, re - 1j * im))
-
-
-def _cubic_roots(a2, a1, a0, p, q, disc, sqrt_abs_disc, disc_scale):
-    """The three roots of l^3 + a2 l^2 + a1 l + a0, the isolated real root first.
-
-    ``p``, ``q``: the depressed cubic t^3 + p t + q (l = t - a2/3), expanded symbolically and
-    evaluated in double-double; ``disc`` = -4p^3 - 27q^2 from its factored form (double-double
-    factors), ``sqrt_abs_disc`` = sqrt(|disc|), and ``disc_scale`` the same product with absolute
-    coefficients.  Near a triple root the factored value is below its rounding error
-    (~ eps^2 disc_scale); there -4p^3 - 27q^2 from the accurate p and q is used instead, whichever
-    has the smaller error bound.
-
-    1. The isolated real root t_r (the one farthest from the other two):
-       disc >= 0: Viete, t = 2 sqrt(-p/3) cos(theta/3 - 2 pi k/3), theta = atan2(sqrt(disc),
-       -3 sqrt(3) q), k = 0 if theta <= pi/2 else k = 2;
-       disc < 0: hyperbolic form, t = -sgn(q) (E - p/E)/sqrt(3), E = ((3 sqrt(3)|q| + sqrt(-disc))/2)^(1/3)
-       (= -2 sgn(q) sqrt(|p|/3) sinh or cosh of asinh/acosh(...)/3, written without 1/|p|).
-    2. Two Newton steps on the cubic for r = t_r - a2/3, each taken only where its rounding
-       error bound is below that of the closed form and it reduces |P|.
-    3. Deflation: sum and product of the other two from whichever of (-(a2 + r), a1 - r sigma) and
-       ((a1 - pi)/r, -a0/r) has the smaller error estimate (rounding plus the last Newton step).
-    4. The other two roots sigma/2 +- d, d = sqrt(|disc|) / (2 P'(r)), P'(r) = 3 t_r^2 + p > 0;
-       real: the larger from sigma/2 + sgn(sigma) d, the smaller as pi / larger.
-    """
-    a2, a1, a0, p, q, disc, sad, scale = np.broadcast_arrays(
-        *(np.asarray(v, dtype=float) for v in (a2, a1, a0, p, q, disc, sqrt_abs_disc, disc_scale))
-    )
-    with np.errstate(all="ignore"):
-        disc_pq = -4.0 * p**3 - 27.0 * q * q
-        use_pq = 8.0 * _EPS * (4.0 * np.abs(p) ** 3 + 27.0 * q * q) < 8.0 * _EPS * _EPS * scale
-        disc = np.where(use_pq, disc_pq, disc)
-        sad = np.where(use_pq, np.sqrt(np.abs(disc_pq)), sad)
-    three_real = disc >= 0
-    with np.errstate(all="ignore"):
-        # 1. isolated root of the depressed cubic
-        radius = 2.0 * np.sqrt(np.maximum(-p, 0.0) / 3.0)
-        theta = np.arctan2(sad, -3.0 * np.sqrt(3.0) * q)
-        t_trig = radius * np.cos(np.where(theta <= np.pi / 2, theta / 3.0, theta / 3.0 + 2.0 * np.pi / 3.0))
-        E = np.cbrt((3.0 * np.sqrt(3.0) * np.abs(q) + sad) / 2.0)
-        t_hyp = np.where(E > 0, -_sgn(q) * (E - p / np.where(E > 0, E, 1.0)) / np.sqrt(3.0), 0.0)
-        t = np.where(three_real, t_trig, t_hyp)
-        r = t - a2 / 3.0
-        # 2. Newton on the original cubic.  Its result is accurate to eps * S / |P'(r)| (S the sum
-        # of the absolute terms of P(r)), the closed form to eps * (t_size + |a2|/3) with t_size the
-        # size of the terms that make up t: polish only where the first is smaller (not near a
-        # multiple root) and the step reduces |P|.
-        t_size = np.where(three_real, radius, (E + np.abs(p) / np.where(E > 0, E, 1.0)) / np.sqrt(3.0))
-        dPt = 3.0 * t * t + p
-        last = np.zeros_like(r)
-        for _ in range(2):
-            P = ((r + a2) * r + a1) * r + a0
-            dP = (3.0 * r + 2.0 * a2) * r + a1
-            ar = np.abs(r)
-            noise = ((ar + np.abs(a2)) * ar + np.abs(a1)) * ar + np.abs(a0)
-            useful = noise < np.abs(dP) * (t_size + np.abs(a2) / 3.0)
-            step = np.where(dP != 0, P / np.where(dP != 0, dP, 1.0), 0.0)
-            r_new = r - step
-            P_new = ((r_new + a2) * r_new + a1) * r_new + a0
-            ok = useful & np.isfinite(r_new) & (np.abs(P_new) <= np.abs(P))
-            r = np.where(ok, r_new, r)
-            last = np.where(ok, np.abs(step), last)
-        # 3. deflation: sum sigma and product pi of the other two roots
-        nz = r != 0
-        rr = np.where(nz, r, 1.0)
-        rel_r = _EPS + last / np.abs(rr)
-        sigma_a = -(a2 + r)
-        err_sigma_a = _EPS * (np.abs(a2) + np.abs(r)) + last
-        pi_b = -a0 / rr
-        sigma_b = (a1 - pi_b) / rr
-        err_sigma_b = (np.abs(a1) + np.abs(pi_b)) / np.abs(rr) * (_EPS + 2.0 * rel_r)
-        use_b = nz & (err_sigma_b < err_sigma_a)
-        sigma = np.where(use_b, sigma_b, sigma_a)
-        pi_a = a1 - r * sigma
-        err_pi_a = _EPS * (np.abs(a1) + 2.0 * np.abs(r * sigma)) + last * np.abs(sigma)
-        err_pi_b = np.abs(pi_b) * rel_r
-        pi = np.where(nz & (err_pi_b < err_pi_a), pi_b, pi_a)
-        # 4. the pair, split by the discriminant
-        d = np.where(dPt > 0, sad / (2.0 * np.where(dPt > 0, dPt, 1.0)), 0.0)
-        # Fujiwara: every root of t^3 + p t + q has |t| <= 2 max(|p|^(1/2), |q/2|^(1/3))
-        d = np.minimum(d, 2.0 * np.maximum(np.sqrt(np.abs(p)), np.cbrt(np.abs(q) / 2.0)))
-        big = sigma / 2.0 + _sgn(sigma) * d
-        small = np.where(big != 0, pi / np.where(big != 0, big, 1.0), 0.0)
-        l2 = np.where(three_real, big, sigma / 2.0 + 1j * d)
-        l3 = np.where(three_real, small, sigma / 2.0 - 1j * d)
-    return _stack(r, l2, l3)
-'''
+# the kernels call the sound root forms and double-double polynomials of dtcrit.numerics
+PREAMBLE = """\
+from dtcrit.numerics.eft import dd_polynomial as _dd_poly
+from dtcrit.numerics.polynomial_roots import cubic_roots as _cubic_roots
+from dtcrit.numerics.polynomial_roots import principal_cbrt as _ccbrt
+from dtcrit.numerics.polynomial_roots import principal_sqrt as _csqrt
+from dtcrit.numerics.polynomial_roots import quadratic_roots as _quadratic_roots
+from dtcrit.numerics.polynomial_roots import stack_roots as _stack
+"""
 
 
 def py_name(integrator: str) -> str:
+    """Name of the emitted eigenvalue kernel of an integrator.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the integrator.
+
+    Returns
+    -------
+    str
+        ``eigenvalues_<name>`` with dashes as underscores.
+    """
     return "eigenvalues_" + integrator.replace("-", "_")
 
 
 def dd_factor(f: sp.Expr) -> sp.Expr:
-    """A polynomial factor of the discriminant, evaluated in double-double unless it is a monomial."""
+    """A polynomial factor of the discriminant, evaluated in double-double unless it is a monomial.
+
+    Parameters
+    ----------
+    f : sympy.Expr
+        A polynomial in tau and zeta.
+
+    Returns
+    -------
+    sympy.Expr
+        ``f`` itself (a monomial) or a call of ``_dd_poly`` (``dtcrit.numerics.eft.dd_polynomial``).
+    """
     poly = sp.Poly(f, tau, zeta)
     if len(poly.terms()) == 1:
         return f
@@ -220,14 +83,36 @@ def dd_factor(f: sp.Expr) -> sp.Expr:
 
 
 def dd_rational(f: sp.Expr) -> sp.Expr:
-    """A polynomial with rational coefficients as (integer polynomial in double-double) / denominator."""
+    """A polynomial with rational coefficients as (integer polynomial in double-double) / denominator.
+
+    Parameters
+    ----------
+    f : sympy.Expr
+        A polynomial in tau and zeta with rational coefficients.
+
+    Returns
+    -------
+    sympy.Expr
+        The double-double evaluation of the integer polynomial divided by the common denominator.
+    """
     poly = sp.Poly(f, tau, zeta)
     den = sp.ilcm(*[sp.Rational(c).q for c in poly.coeffs()])
     return dd_factor(sp.expand(f * den)) / den
 
 
 def discriminant_numeric(name: str) -> tuple[sp.Expr, sp.Expr]:
-    """(Disc, sqrt(|Disc|)) for the kernels: factor by factor, near-zero factors in double-double."""
+    """(Disc, sqrt(|Disc|)) for the kernels: factor by factor, near-zero factors in double-double.
+
+    Parameters
+    ----------
+    name : str
+        Name of the integrator.
+
+    Returns
+    -------
+    tuple of sympy.Expr
+        ``(Disc, sqrt(|Disc|))`` built from the factors.
+    """
     const, factors = R.discriminant_factors(name)
     disc = const
     sad = sp.sqrt(abs(const))
@@ -244,6 +129,16 @@ def discriminant_numeric(name: str) -> tuple[sp.Expr, sp.Expr]:
 def discriminant_scale(name: str) -> sp.Expr:
     """The discriminant with every coefficient replaced by its absolute value: the size of the terms
     that cancel in it, from which the kernel bounds the double-double rounding error.
+
+    Parameters
+    ----------
+    name : str
+        Name of the integrator.
+
+    Returns
+    -------
+    sympy.Expr
+        The discriminant with absolute coefficients.
     """
     const, factors = R.discriminant_factors(name)
     out = abs(const)
@@ -254,7 +149,18 @@ def discriminant_scale(name: str) -> sp.Expr:
 
 
 def kernel_expr(name: str) -> sp.Expr:
-    """The sound-form eigenvalue kernel of one integrator, as a call of a preamble helper."""
+    """The sound-form eigenvalue kernel of one integrator, as a call of a preamble helper.
+
+    Parameters
+    ----------
+    name : str
+        Name of the integrator.
+
+    Returns
+    -------
+    sympy.Expr
+        A call of ``_quadratic_roots`` or ``_cubic_roots`` (``dtcrit.numerics.polynomial_roots``).
+    """
     disc, sad = discriminant_numeric(name)
     if R.degree(name) == 2:
         a, b, c = R.coefficients(name)
@@ -269,7 +175,13 @@ def kernel_expr(name: str) -> sp.Expr:
 
 
 def cardano_paper_eq40_expr() -> sp.Expr:
-    """Eqs. (42)-(43) literally (complex principal roots), with C_j dt = -2 zeta tau, K_j dt^2 = -tau^2."""
+    """Eqs. (42)-(43) literally (complex principal roots), with C_j dt = -2 zeta tau, K_j dt^2 = -tau^2.
+
+    Returns
+    -------
+    sympy.Expr
+        A call of ``_stack`` on the three roots in tau and zeta.
+    """
     N = -9 * R.Cj * R.dt + 27 * R.Kj * R.dt**2 - 2
     M = 3 * R.Cj * R.dt + 1
     D = CCBRT(CSQRT(N**2 - 4 * M**3) + N)
@@ -284,6 +196,13 @@ ARGS = (
 
 
 def kernels() -> list[Kernel]:
+    """The eigenvalue kernels of every integrator and the paper's Cardano route (Eqs. (42)-(43)).
+
+    Returns
+    -------
+    list of Kernel
+        One eigenvalue kernel per integrator, then the paper's Cardano route.
+    """
     out = []
     for n in NAMES:
         deg = R.degree(n)
@@ -319,6 +238,13 @@ def kernels() -> list[Kernel]:
 
 
 def postamble() -> str:
+    """The tables and the spectral radius appended to ``eigenvalues.py``.
+
+    Returns
+    -------
+    str
+        ``EIGENVALUE_KERNELS``, ``STRUCTURAL_ZERO_EIGENVALUES`` and ``spectral_radius``.
+    """
     lines = ["EIGENVALUE_KERNELS = {"]
     lines += [f"    {n!r}: {py_name(n)}," for n in NAMES]
     lines += ["}", "", "# zero eigenvalues of the amplification matrix left out of its characteristic polynomial"]
@@ -335,6 +261,13 @@ def postamble() -> str:
 
 
 def generated_files() -> dict[str, str]:
+    """The files this producer writes under ``dtcrit/_generated`` (``dtcrit.symbolic.regenerate``).
+
+    Returns
+    -------
+    dict of str to str
+        ``{"eigenvalues.py": text}``.
+    """
     text = python_module(
         "dtcrit.symbolic.roots_codegen",
         "Eigenvalues of the integrators' amplification matrices (numerically sound closed forms) and the\n"

@@ -20,57 +20,46 @@ from dtcrit.symbolic.integrators import zeta
 
 CUBIC_ROOT = sp.Function("_cubic_positive_root")
 
-PREAMBLE = '''
-def _cubic_positive_root(a2, a1, a0, largest):
-    """Smallest (largest if ``largest``) positive real root of t^3 + a2 t^2 + a1 t + a0; 0.0 if none.
-
-    Viete's forms: trigonometric when the three roots are real, hyperbolic (no cancellation)
-    otherwise; then three Newton steps on the cubic polish the root to working precision.
-    """
-    a2, a1, a0 = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (a2, a1, a0)))
-    shift = a2 / 3.0
-    p = a1 - a2 * shift
-    q = (2.0 * shift * shift - a1) * shift + a0
-    with np.errstate(all="ignore"):
-        # three real roots (p < 0 and the discriminant is non-positive)
-        r = 2.0 * np.sqrt(np.maximum(-p, 0.0) / 3.0)
-        arg = np.clip(np.where(r > 0, 4.0 * q / np.where(r > 0, r, 1.0) ** 3, 0.0), -1.0, 1.0)
-        phi = np.arccos(-arg) / 3.0
-        trig = np.stack([r * np.cos(phi - 2.0 * np.pi * j / 3.0) - shift for j in range(3)])
-        # one real root: hyperbolic forms of Cardano's formula
-        sp3 = np.sqrt(np.abs(p) / 3.0)
-        pos = np.where(sp3 > 0, sp3, 1.0)
-        hyp_pos = -2.0 * sp3 * np.sinh(np.arcsinh(1.5 * q / (np.abs(p) * pos)) / 3.0)
-        hyp_neg = -2.0 * np.sign(q) * sp3 * np.cosh(np.arccosh(np.maximum(1.5 * np.abs(q) / (np.abs(p) * pos), 1.0)) / 3.0)
-        zero_p = -np.cbrt(q)
-        one = np.where(p > 0, hyp_pos, np.where(p < 0, hyp_neg, zero_p)) - shift
-        three_real = (p < 0) & (q * q / 4.0 + p * p * p / 27.0 <= 0)
-        cand = np.where(three_real, trig, np.stack([one, np.full_like(one, np.nan), np.full_like(one, np.nan)]))
-        if largest:
-            t = np.max(np.where(cand > 0, cand, -np.inf), axis=0)
-        else:
-            t = np.min(np.where(cand > 0, cand, np.inf), axis=0)
-        for _ in range(3):
-            g = ((t + a2) * t + a1) * t + a0
-            dg = (3.0 * t + 2.0 * a2) * t + a1
-            step = np.where(np.isfinite(t) & (dg != 0), g / np.where(dg != 0, dg, 1.0), 0.0)
-            t = t - step
-        t = np.where(np.isfinite(t), t, 0.0)
-    return t[()] if t.ndim == 0 else t
-'''
+# the generated kernels call the one cubic solver of dtcrit.numerics (imported, not embedded)
+PREAMBLE = "from dtcrit.numerics.cubic import cubic_positive_root as _cubic_positive_root\n"
 
 
 def py_name(integrator: str) -> str:
+    """Name of the emitted critical-step kernel of an integrator.
+
+    Parameters
+    ----------
+    integrator : str
+        Name of the integrator.
+
+    Returns
+    -------
+    str
+        ``dt_<name>`` with dashes as underscores.
+    """
     return "dt_" + integrator.replace("-", "_")
 
 
 def kernel_expr(name: str) -> sp.Expr:
-    """dt(omega, gamma) for one integrator, as a SymPy expression (Piecewise over zeta ranges)."""
+    """dt(omega, gamma) for one integrator, as a SymPy expression (Piecewise over zeta ranges).
+
+    Parameters
+    ----------
+    name : str
+        Name of the integrator.
+
+    Returns
+    -------
+    sympy.Expr
+        ``dt(omega, gamma)``, a Piecewise over the zeta ranges of the closed pieces.
+    """
     branches = []
     for cp in closed_pieces(name):
         if cp.kind == "root":
             e = cp.dt_expr
         else:
+            if cp.cubic is None or cp.cubic_large is None:  # pragma: no cover - a cubic piece carries both
+                raise ValueError(f"'{name}': a cubic piece without its cubics")
             # zeta <= 1: the cubic in tau; zeta > 1: the cubic in y = 1/(zeta tau), eps = (omega/gamma)^2
             a2, a1, a0 = (sp.simplify(c.subs(zeta, gamma / omega)) for c in cp.cubic)
             b2, b1, b0 = (sp.simplify(c.subs(eps, (omega / gamma) ** 2)) for c in cp.cubic_large)
@@ -92,6 +81,13 @@ RATE_ARGS = (
 
 
 def integrator_kernels() -> list[Kernel]:
+    """The exact critical-step kernels of every integrator.
+
+    Returns
+    -------
+    list of Kernel
+        ``dt_<name>(omega, gamma)`` for every integrator (Peng et al. 2020, Eqs. (29)-(30)).
+    """
     return [
         Kernel(
             py_name(n),
@@ -108,6 +104,13 @@ def integrator_kernels() -> list[Kernel]:
 
 
 def paper_kernels() -> list[Kernel]:
+    """The paper's labelled comparison formulas (``dtcrit.symbolic.paper_section4``).
+
+    Returns
+    -------
+    list of Kernel
+        Eqs. (34), (36), (37), (46), (58)-(60) as kernels.
+    """
     k, c, A, m, beta = p4.k, p4.c, p4.A, p4.m, p4.beta
     kcA = ((k, "contact stiffness [N/m]"), (c, "viscous damping coefficient [N s/m]"), (A, "inverse inertia coefficient [1/kg]"))
     return [
@@ -126,6 +129,13 @@ def _float_text(value: sp.Expr) -> str:
 
 
 def postamble() -> str:
+    """The tables appended to ``critical_steps.py``.
+
+    Returns
+    -------
+    str
+        ``DT_KERNELS``, ``FORMULAS``, ``SWITCH_POINTS`` and ``GOVERNING``.
+    """
     lines = ["DT_KERNELS = {"]
     lines += [f"    {n!r}: {py_name(n)}," for n in NAMES]
     lines += ["}", "", "FORMULAS = {"]
@@ -144,6 +154,13 @@ def postamble() -> str:
 
 
 def generated_files() -> dict[str, str]:
+    """The files this producer writes under ``dtcrit/_generated`` (``dtcrit.symbolic.regenerate``).
+
+    Returns
+    -------
+    dict of str to str
+        ``{"critical_steps.py": text}``.
+    """
     text = python_module(
         "dtcrit.symbolic.stability_codegen",
         "Exact critical time steps of explicit integrators and the paper's comparison formulas.",
