@@ -27,6 +27,7 @@ if TYPE_CHECKING:
     from dtcrit.packing.audit.snapshot import AuditReport
     from dtcrit.packing.conventions.engines import EngineConvention
     from dtcrit.packing.model import Contacts, Packing
+    from dtcrit.physics.estimate import RatedEstimate
 
 __all__ = ["DumpReadError", "Snapshot", "SnapshotAudit", "audit_snapshot", "read_snapshot"]
 
@@ -109,8 +110,8 @@ class SnapshotAudit:
         The share of the governing mode's energy the most energetic particles hold.
     dt_user : float or None
         The simulation's own step [s], rated against ``dt_crit``.
-    estimators : tuple of Mapping
-        The codes' estimators: ``name``, ``dt`` [s], ``ratio``, ``safe``, ``kind``, ``detail``.
+    estimators : tuple of RatedEstimate
+        The codes' estimators, each rated against ``dt_crit`` (:class:`dtcrit.physics.estimate.RatedEstimate`).
     notes : tuple of str
         Notes printed with the result.
     participation : float
@@ -142,7 +143,7 @@ class SnapshotAudit:
     limiting: tuple[int, ...]
     limiting_share: float
     dt_user: float | None
-    estimators: tuple[Mapping[str, Any], ...] = ()
+    estimators: tuple[RatedEstimate, ...] = ()
     notes: tuple[str, ...] = ()
     participation: float = math.nan
 
@@ -167,7 +168,7 @@ class SnapshotAudit:
         """
         values = {f.name: getattr(report, f.name) for f in fields(report)}
         values.update(limiting=tuple(report.limiting), notes=tuple(report.notes),
-                      estimators=tuple(MappingProxyType(dict(e)) for e in report.estimators))
+                      estimators=tuple(report.estimators))
         return cls(**values)
 
     def report(self) -> AuditReport:
@@ -182,7 +183,7 @@ class SnapshotAudit:
 
         values = {f.name: getattr(self, f.name) for f in fields(self)}
         values.update(limiting=list(self.limiting), notes=list(self.notes),
-                      estimators=[dict(e) for e in self.estimators])
+                      estimators=list(self.estimators))
         return AuditReport(**values)
 
     def to_json(self) -> dict:
