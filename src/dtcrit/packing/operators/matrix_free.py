@@ -1,24 +1,24 @@
 """Matrix-free mass-scaled stiffness and damping operators: ``A v`` straight from the contact list.
 
 ``A = M^(-1/2) K M^(-1/2)`` (or ``M^(-1/2) C M^(-1/2)``) is applied without forming ``K``: for each
-contact ``c`` between ``i`` and ``j`` (``dtcrit.packing.operators.assembly``, module docstring, for the
-element matrices), with ``q = M^(-1/2) v`` split into translations ``u`` and body rotations ``t``
+contact ``c`` between ``i`` and ``j`` (the element of ``dtcrit.packing.operators.contact_element``), with ``q = M^(-1/2) v`` split into translations ``u`` and body rotations ``t``
 (global rotation ``theta = R t``),
 
     delta = u_j - u_i + a_i x theta_i - a_j x theta_j        (= B_i q_i + B_j q_j)
-    f     = K_c delta = k_s delta + (k_n - k_s) (n . delta) n
+    f     = K_c delta = k_n (n . delta) n + k_s (delta - (n . delta) n)
     K q  += B_i^T f on i:  (-f, -R_i^T (a_i x f));   B_j^T f on j:  (f, R_j^T (a_j x f))
 
 plus, when the contacts carry them, the rolling/twisting springs on ``w = theta_j - theta_i``
-(moment ``m = k_r w + (k_tw - k_r)(n . w) n``: ``-R_i^T m`` on i, ``R_j^T m`` on j) and the
+(moment ``m = k_tw (n . w) n + k_r (w - (n . w) n)``: ``-R_i^T m`` on i, ``R_j^T m`` on j) and the
 pre-load geometric term on the centre displacement ``d = u_j - u_i`` (force
 ``p = -(F/r)(d - (n . d) n)``: ``-p`` on i, ``p`` on j).  A contact with its own periodic image
 (``i == j``) scatters both sides onto the same particle, which is ``(B_i + B_j)^T K_c (B_i + B_j)``,
 as assembled.  The dashpot operator ``C`` uses ``c_n, c_s`` (``c_r, c_tw``) in place of the springs
 and has no pre-load term.
 
-The product is one compiled loop over the contacts (``operator_kernels``, Numba) or, without
-Numba, vectorised NumPy in chunks of contacts scattered with ``numpy.add.at`` on flat indices
+The product is one compiled loop over the contacts (``matrix_free_kernels``, Numba) or, without
+Numba, vectorised NumPy in chunks; both evaluate ``contact_element.body_forces``, on scalars inlined
+in the loop or on arrays over a chunk's contacts, the chunks of contacts scattered with ``numpy.add.at`` on flat indices
 (measured faster than per-column ``numpy.bincount``).  Memory beyond the contact arrays is O(N)
 for the vectors (O(chunk) more on the NumPy path) plus one per-contact pre-load coefficient.
 
