@@ -5,6 +5,7 @@ Modules: ``suite`` (the named extreme cases and the random batch), ``reference``
 references), ``routes`` (every route as a callable over arrays of (k, c, A)), ``fused`` (fused,
 in-place closed forms), ``c_kernel`` (the closed forms emitted as C), ``paper_forms`` (the paper's
 printed forms in float64), ``bisection`` and ``amplification`` (the direct routes),
-``simulation_check`` (section 3), ``runner`` (``run_bench``) and ``report`` (Markdown, CSV, PNG).
+``simulation_check`` (section 3), ``config`` (the quick and full sizes), ``runner`` (``run_bench``)
+and ``report`` (Markdown, CSV, PNG).
 Nothing is imported here: the reference step needs SymPy, the command line must not.
 """

@@ -30,80 +30,25 @@ import statistics
 import sys
 import time
 from typing import Any
-from dataclasses import asdict, dataclass
+from dataclasses import asdict
 
 import mpmath as mp
 import numpy as np
 
 from dtcrit.bench import reference as ref
+from dtcrit.bench.config import FULL_RUN as FULL_RUN  # the command line imports both from here
+from dtcrit.bench.config import QUICK, BenchConfig
 from dtcrit.bench.paper_forms import PAPER_FORMS
 from dtcrit.bench.ratios import ratios as _ratios
 from dtcrit.bench.routes import EIG_SAMPLE, FULL, MP_SAMPLE, ROUTES
 from dtcrit.bench.suite import SUITE, random_batch
 from dtcrit.errors import InputError
 from tqdm import tqdm
-from dtcrit.integrators.schemes import NAMES
 
 ULP_OK = 4.0
 FLOAT_DIGITS = 15.95  # log10(2^53)
 
 
-@dataclass(frozen=True)
-class BenchConfig:
-    """Sizes and repeats of a bench run.
-
-    Parameters
-    ----------
-    quick : bool
-        The quick configuration.
-    n_batch : int
-        Scenes timed by the vectorised closed forms (and the floor kernel).
-    n_eig : int
-        Scenes timed by the per-scene and bisection routes.
-    n_ref : int
-        Reference sample: errors of every route but mpmath's.
-    n_mp : int
-        Scenes per integrator for the mpmath routes.
-    mp_suite_cases : tuple of str or None
-        Suite cases for the mpmath routes (None: all).
-    mp_integrators : tuple of str or None
-        Integrators for the mpmath routes (None: all).
-    sim_budget : int
-        Most steps of one simulation run.
-    repeats : int
-        Timing repeats (best is kept).
-    startup_repeats : int
-        Fresh-interpreter runs of ``dtcrit step`` per example scene.
-    integrators : tuple of str
-        Schemes benched.
-    seed : int
-        Seed of the random scenes.
-    """
-
-    quick: bool
-    n_batch: int  # scenes timed by the vectorised closed forms (and the floor kernel)
-    n_eig: int  # scenes timed by the per-scene and bisection routes
-    n_ref: int  # reference sample: errors of every route but mpmath's
-    n_mp: int  # scenes per integrator for the mpmath routes
-    mp_suite_cases: tuple[str, ...] | None  # suite cases for the mpmath routes (None: all)
-    mp_integrators: tuple[str, ...] | None  # integrators for the mpmath routes (None: all)
-    sim_budget: int  # most steps of one simulation run
-    repeats: int
-    startup_repeats: int = 5  # fresh-interpreter runs of `dtcrit step` per example scene
-    integrators: tuple[str, ...] = NAMES
-    seed: int = 20200501
-
-
-QUICK = BenchConfig(
-    quick=True, n_batch=20_000, n_eig=200, n_ref=120, n_mp=1,
-    mp_suite_cases=("steel-1mm", "critical-exact", "zeta-1e6", "kA-overflow"),
-    mp_integrators=("velocity-verlet", "forward-euler"),
-    sim_budget=8_192, repeats=3, startup_repeats=3,
-)
-FULL_RUN = BenchConfig(
-    quick=False, n_batch=1_000_000, n_eig=20_000, n_ref=2_000, n_mp=4,
-    mp_suite_cases=None, mp_integrators=None, sim_budget=400_000, repeats=5, startup_repeats=10,
-)
 
 
 # --- outcome of one value against its reference -------------------------------------------------

@@ -8,7 +8,8 @@ a ``write_figN(out, fine=...)`` that writes a PNG and the CSV of its data:
 * :mod:`.fig4_stiffness`, :mod:`.fig5_density` -- Figs. 4 and 5, the a=3, b=2, c=1 m ellipsoids
   (shared scene in :mod:`.ellipsoid_pair`);
 * :mod:`.fig6_aspect_ratio` -- Fig. 6, translation- and rotation-dominant steps over aspect ratios;
-* :mod:`.appendix_a` (+ :mod:`.appendix_a_plots`) -- the Appendix A search over admissible contacts.
+* :mod:`.appendix_a` (+ :mod:`.appendix_a_search`, :mod:`.appendix_a_contacts`, :mod:`.appendix_a_plots`) --
+  the Appendix A search over admissible contacts.
 
 :func:`make_figures` runs them; :mod:`.summary` builds the JSON summary of ``--json``.
 Matplotlib is needed only to draw (``pip install dtcrit[figures]``).

@@ -44,13 +44,12 @@ from dtcrit.figures._rotations import (
     rotation_about,
     unit_from_angles,
 )
+from dtcrit.figures.appendix_a_contacts import ContactConfig, _config
 from dtcrit.figures.appendix_a_search import (
     FORCE,
     GRIDS,
     PAPER_BASE_QUATERNION,
-    ContactConfig,
     PairSearch,
-    _config,
     coefficient_matrix_single,
     comparison_shapes,
 )
