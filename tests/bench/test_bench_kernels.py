@@ -13,7 +13,7 @@ import math
 import mpmath as mp
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from dtcrit.bench import reference as ref
@@ -42,8 +42,7 @@ def test_fused_within_4_ulp_or_refuses(name, log_k, log_A, zeta):
     """Across the float64 range (k A from 1e-600 to 1e600, never formed), zeta from 0 to 1e12 and
     within 1e-16 of critical: the fused form is within 4 ulp of the reference or refuses."""
     k, c, A = _inputs(log_k, log_A, zeta)
-    if not math.isfinite(c):
-        return
+    assume(math.isfinite(c))
     r = ref.dt_reference(name, k, c, A)
     representable = r == 0 or (ref.SUBNORMAL_ULP / 2 <= r and not ref.beyond_float64(r))
     try:
@@ -100,8 +99,7 @@ def test_emitted_c_equals_generated_numpy(name, log_k, log_A, zeta):
     if compiler() is None:
         pytest.skip("no C compiler")
     k, c, A = _inputs(log_k, log_A, zeta)
-    if not math.isfinite(c):
-        return
+    assume(math.isfinite(c))
     with np.errstate(all="ignore"):
         a = float(critical_dt_c(name, [k], [c], [A])[0])
         b = float(critical_dt_array(name, [k], [c], [A])[0])

@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import assume, given, settings, strategies as st
 
 from support.packing_scene import sphere_sizes_toml
 from support.multidof import spectral_radius
@@ -157,8 +157,7 @@ def test_dense_step_is_below_the_exact_step_of_random_clusters(seed, n, radii, k
     packing = _cluster(np.random.default_rng(seed), n, *radii)
     kn = 1.0e4
     contacts = find_sphere_contacts(packing)
-    if contacts.count == 0:
-        return
+    assume(contacts.count > 0)
     exact, z = _exact_dt(packing, kn, ks_ratio * kn)
     dense = critical_step(_scene_for(packing, kn, ks_ratio * kn, z)).dt_dense
     assert dense <= exact * (1 + 1e-12), (seed, n, radii, ks_ratio, dense, exact)
