@@ -34,18 +34,21 @@ def pair_system(m1, I1, R1, m2, I2, R2, k, c, n=NORMAL):
     return M, B.T @ element(n, *k) @ B, B.T @ element(n, *c) @ B
 
 
-def wall_system(m, I, R, k, c, n=NORMAL):
+def wall_system(m, inertia, R, k, c, n=NORMAL):
+    """M, K, C of a sphere at a wall: u = x + th x (-R n) at the contact point, phi = th."""
     e = np.eye(3)
     B = np.vstack([np.hstack([e, skew(R * n)]), np.hstack([0 * e, e])])
-    M = np.diag([m] * 3 + [I] * 3)
+    M = np.diag([m] * 3 + [inertia] * 3)
     return M, B.T @ element(n, *k) @ B, B.T @ element(n, *c) @ B
 
 
 def omega2_max(M, K):
+    """Largest eigenvalue of M^-1 K (M diagonal), from the symmetric M^-1/2 K M^-1/2."""
     d = 1.0 / np.sqrt(np.diag(M))
     return float(np.linalg.eigvalsh(d[:, None] * K * d[None, :])[-1])
 
 
 def sphere(r, rho):
+    """Mass and moment of inertia (2/5 m r^2) of a solid sphere of radius r and density rho."""
     m = rho * 4.0 / 3.0 * math.pi * r**3
     return m, 0.4 * m * r * r
