@@ -4,7 +4,7 @@
   ``dtcrit.integrators.precise`` -- the fused kernel and the emitted C) are within 4 ulp of the 50-digit reference on the
   batch sample and on the whole extreme-case suite, or refuse the input;
 * so is the emitted careful C step (``dtcrit.codegen.step``, compiled; a step outside float64 is refused
-  by the route; tests/test_kernels_extreme_suite.py checks the C, Fortran and NumPy steps themselves);
+  by the route; tests/codegen/test_kernels_extreme_suite.py checks the C, Fortran and NumPy steps themselves);
 * mpmath eigenvalues at 30 and 50 digits + bisection agree with the reference (an independent
   route: no closed form, no polynomial) to half an ulp;
 * the direct routes and the paper's forms lose digits where the analysis says they must;

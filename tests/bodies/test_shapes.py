@@ -33,6 +33,7 @@ from dtcrit.bodies import (
     Superquadric,
     shape_from_spec,
 )
+from support.strategies import axes
 
 
 # ----------------------------------------------------------------------------- references
@@ -203,17 +204,6 @@ def test_superquadric_slice_integrals_at_fifty_digits(eps1, eps2):
 
 
 # ----------------------------------------------------------------------------- across decades
-@st.composite
-def axes(draw):
-    """c in [1e-6, 1e3]; aspect ratios a/b, b/c with a/c <= 100 (log-uniform)."""
-    log_c = draw(st.floats(-6.0, 3.0))
-    up2 = draw(st.floats(0.0, 2.0))
-    up1 = draw(st.floats(0.0, 2.0 - up2))
-    c = 10.0**log_c
-    b = c * 10.0**up2
-    a = b * 10.0**up1
-    return a, max(b, c), c
-
 
 @given(axes(), st.floats(0.01, 2.0), st.floats(0.01, 2.0), st.floats(-3.0, 5.0))
 def test_superquadric_across_decades(abc, eps1, eps2, log_rho):

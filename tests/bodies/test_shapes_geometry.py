@@ -24,6 +24,7 @@ from scipy.optimize import minimize
 from scipy.spatial import ConvexHull, cKDTree
 
 from dtcrit.bodies import AssumptionWarning, Box, ConvexPolyhedron, Ellipsoid, Sphere, Superquadric
+from support.strategies import axes
 
 
 def quiet(make):
@@ -51,13 +52,8 @@ def inside_outside(p, a, b, c, e1, e2):
 
 @st.composite
 def superquadrics(draw, eps_lo=0.01):
-    log_c = draw(st.floats(-6.0, 3.0))
-    up2 = draw(st.floats(0.0, 2.0))
-    up1 = draw(st.floats(0.0, 2.0 - up2))
-    c = 10.0**log_c
-    b = c * 10.0**up2
-    a = b * 10.0**up1
-    return a, max(b, c), c, draw(st.floats(eps_lo, 2.0)), draw(st.floats(eps_lo, 2.0))
+    a, b, c = draw(axes())
+    return a, b, c, draw(st.floats(eps_lo, 2.0)), draw(st.floats(eps_lo, 2.0))
 
 
 # ----------------------------------------------------------------------------- max_arm

@@ -12,7 +12,7 @@ from support.paths import REPO_ROOT as ROOT
 SCHEMA = json.loads((ROOT / "src" / "dtcrit" / "schemas" / "dtcrit-codegen-1.json").read_text())
 REFUSED = {"bonded_pair.toml", "rolling_resistance.toml"}
 """Scenes with rotational springs or bonds, which the kernel does not carry: codegen refuses them
-(tests/test_codegen_cli.py::test_scenes_whose_springs_the_kernel_lacks_are_refused)."""
+(tests/codegen/test_codegen_cli.py::test_scenes_whose_springs_the_kernel_lacks_are_refused)."""
 EXAMPLES = sorted(p.name for p in (ROOT / "examples").glob("*.toml") if p.name not in REFUSED)
 
 

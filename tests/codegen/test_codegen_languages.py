@@ -16,8 +16,8 @@ from dtcrit.symbolic.closed_forms import dt_crit_mp, tau_crit_closed_mp
 
 from support.codegen import GFORTRAN, c_function, fortran_function, kernel_for, numpy_function
 from support.precision import ulps
+from support.strategies import log_uniform as decades
 
-decades = lambda lo, hi: st.floats(lo, hi).map(lambda e: 10.0**e)  # noqa: E731
 
 # every integrator in the general form; the specialised forms for two of them
 CASES = [(n, "general") for n in NAMES] + [

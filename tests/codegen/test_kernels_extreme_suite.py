@@ -10,11 +10,9 @@ system compiler, Fortran with gfortran, NumPy), on the whole extreme-case suite 
   and Fortran's ``min`` would drop it and return the other direction's step);
 * emitted files end with a newline.
 
-This replaces the strict xfail on the bare C kernel's limits that ``tests/test_bench.py`` carried.
+This replaces the strict xfail on the bare C kernel's limits that ``tests/bench/test_bench.py`` carried.
 """
 import ctypes
-import hashlib
-import importlib.util
 import math
 
 import numpy as np
@@ -28,7 +26,7 @@ from dtcrit.codegen import KernelStructure, general_structure, render
 from dtcrit.codegen.render import render_step
 from dtcrit.integrators.schemes import NAMES
 
-from support.codegen import _BUILD, CC, C_FLAGS, GFORTRAN, _build, fortran_library, kernel_for
+from support.codegen import CC, C_FLAGS, GFORTRAN, _build, fortran_library, import_emitted, kernel_for
 from support.precision import ulps
 
 NAME = "dtcrit_step"
@@ -50,15 +48,7 @@ def _fortran(integrator):
 
 
 def _numpy(integrator):
-    src = render_step(integrator, "numpy", NAME)
-    digest = hashlib.sha256(src.encode()).hexdigest()[:16]
-    path = _BUILD / f"step_{digest}.py"
-    path.write_text(src)
-    spec = importlib.util.spec_from_file_location(f"step_{digest}", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    f = getattr(module, NAME)
-    return lambda k, c, A: float(f(k, c, A))
+    return import_emitted(render_step(integrator, "numpy", NAME), NAME, prefix="step")
 
 
 LANGS = {"c": _c, "fortran": _fortran, "numpy": _numpy}
@@ -142,7 +132,7 @@ def test_numpy_step_is_elementwise_on_arrays():
 
 
 def _contact_functions(kernel):
-    from test_codegen_support import c_function, fortran_function, numpy_function
+    from support.codegen import c_function, fortran_function, numpy_function
 
     return [c_function(kernel), numpy_function(kernel)] + ([fortran_function(kernel)] if GFORTRAN else [])
 

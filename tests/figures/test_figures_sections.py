@@ -8,7 +8,7 @@ Independent routes used here (none calls the code under test for its expected va
   seed text and evaluated in mpmath;
 * each integrator's stability from the spectral radius of its amplification matrix, built from the
   update rule in ``dtcrit.integrators.schemes`` applied to unit vectors and solved by ``mpmath.eig`` at 50 digits
-  (``tests/_amplification.py``): rho <= 1 inside the step, rho > 1 just beyond it.
+  (``support.amplification``): rho <= 1 inside the step, rho > 1 just beyond it.
 """
 from __future__ import annotations
 

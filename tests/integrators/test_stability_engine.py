@@ -16,8 +16,8 @@ from dtcrit.integrators.stability import critical_dt, critical_dt_array
 from dtcrit.symbolic.closed_forms import dt_crit_mp
 
 from support.amplification import spectral_radius_mp, spectral_radius_np
+from support.strategies import log_uniform
 
-log_uniform = lambda lo, hi: st.floats(lo, hi).map(lambda e: 10.0**e)  # noqa: E731
 zetas = st.one_of(st.just(0.0), log_uniform(-6, 3))
 
 

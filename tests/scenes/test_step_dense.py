@@ -3,7 +3,7 @@
 References: the exact largest eigenvalue of the packing's 6-DOF M^-1 K (dtcrit.packing: sparse
 assembly, dense or Lanczos solve), an independent route from the per-particle block bound; and
 for damped, non-proportional packings the spectral radius of the whole packing's amplification
-matrix built from the integrator's update rule (tests/_multidof.py).  The ratios dense/exact are
+matrix built from the integrator's update rule (``support.multidof``).  The ratios dense/exact are
 in derivations/records/dense_bound.md.
 """
 from __future__ import annotations

@@ -15,7 +15,6 @@ from dtcrit.scenes.damping import damping_ratio_from_restitution
 from dtcrit.scenes.laws import hertz_max_overlap, resolve_pair
 from dtcrit.scenes.scene import parse_scene
 
-decades = lambda lo, hi: st.floats(lo, hi).map(lambda e: 10.0**e)  # noqa: E731
 
 
 def rayleigh_ratio_exact(nu):

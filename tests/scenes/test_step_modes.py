@@ -2,7 +2,7 @@
 
 References are independent of dtcrit's modes and closed forms: the amplification matrix of the
 whole 12-DOF two-sphere system (6-DOF sphere against a wall), built by applying each integrator's
-update rule to unit state vectors with the full matrices M, K, C (tests/_multidof.py), whose
+update rule to unit state vectors with the full matrices M, K, C (``support.multidof``), whose
 spectral radius must stay <= 1 at 0.99 x the printed step and exceed 1 at 1.01 x.
 """
 from __future__ import annotations

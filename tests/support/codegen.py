@@ -80,17 +80,36 @@ def fortran_function(kernel, name="dtcrit_dt_crit", extra_flags: tuple[str, ...]
     return _bind(lib, name, len(kernel.arguments))
 
 
-@functools.lru_cache(maxsize=None)
-def numpy_function(kernel, name="dtcrit_dt_crit"):
-    source = render(kernel, "numpy", name)
+def import_emitted(source: str, name: str, prefix: str = "k"):
+    """Import emitted NumPy source from a file in the build folder.
+
+    Parameters
+    ----------
+    source : str
+        The emitted module's text.
+    name : str
+        The function to return.
+    prefix : str
+        File-name prefix in the build folder (the digest of the source follows it).
+
+    Returns
+    -------
+    callable
+        The emitted function, its result converted to a Python float.
+    """
     digest = hashlib.sha256(source.encode()).hexdigest()[:16]
-    path = _BUILD / f"k_{digest}.py"
+    path = _BUILD / f"{prefix}_{digest}.py"
     path.write_text(source)
-    spec = importlib.util.spec_from_file_location(f"emitted_{digest}", path)
+    spec = importlib.util.spec_from_file_location(f"emitted_{prefix}_{digest}", path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     f = getattr(module, name)
     return lambda *args: float(f(*args))
+
+
+@functools.lru_cache(maxsize=None)
+def numpy_function(kernel, name="dtcrit_dt_crit"):
+    return import_emitted(render(kernel, "numpy", name), name)
 
 
 @functools.lru_cache(maxsize=None)

@@ -40,7 +40,8 @@ class Case:
     Parameters
     ----------
     name : str
-        File name under ``tests/golden`` (``codegen/<scene>.<ext>`` or ``step/<scene>.txt|.json``).
+        File name under ``tests/golden``: ``codegen/<scene>.<c|py|f90>.golden`` or
+        ``step/<scene>.<txt|json>.golden`` (the ``.golden`` suffix keeps linters and copy finders off them).
     argv : tuple of str
         Arguments of ``dtcrit`` (scene paths relative to the repository root).
     exact : bool
@@ -64,9 +65,9 @@ def cases() -> list[Case]:
     for scene in SCENES:
         stem, path = scene.removesuffix(".toml"), f"examples/{scene}"
         for lang, ext in LANGUAGES.items():
-            out.append(Case(f"codegen/{stem}.{ext}", ("codegen", path, "--lang", lang), True))
-        out.append(Case(f"step/{stem}.txt", ("step", path), False))
-        out.append(Case(f"step/{stem}.json", ("step", path, "--json"), False))
+            out.append(Case(f"codegen/{stem}.{ext}.golden", ("codegen", path, "--lang", lang), True))
+        out.append(Case(f"step/{stem}.txt.golden", ("step", path), False))
+        out.append(Case(f"step/{stem}.json.golden", ("step", path, "--json"), False))
     return out
 
 

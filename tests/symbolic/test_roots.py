@@ -2,7 +2,7 @@
 eigen-solves of the matrix built numerically from each integrator's update rule.
 
 References: ``mpmath.eig`` at 50 digits and ``numpy.linalg.eigvals`` of the matrix obtained by
-applying ``dtcrit.integrators.schemes`` to the unit state vectors (``tests/_amplification.py``): no polynomial,
+applying ``dtcrit.integrators.schemes`` to the unit state vectors (``support.amplification``): no polynomial,
 no closed form on that side.  Error measure: ``|lambda - lambda_ref| / max(1, |lambda_ref|)`` for
 the best matching of the roots (normwise, the scale of the polynomial's coefficients).
 """
@@ -26,12 +26,12 @@ from dtcrit.symbolic import roots as R
 from dtcrit.symbolic.integrators import tau, zeta
 
 from support.amplification import matrix_float, matrix_mp
+from support.strategies import log_uniform
 
 SOUND_TOL = 2e-15  # measured worst 4.1e-16 over 3000 random points and the edge cases below
 NUMPY_TOL = 1e-6  # eigvals loses half the digits next to a double eigenvalue (measured 3e-8)
 CARDANO_TOL_AWAY = 1e-7  # |1 - 6 tau zeta| >= 0.1: measured worst 3.5e-9 on a 1.5e6-point grid
 
-log_uniform = lambda lo, hi: st.floats(lo, hi).map(lambda e: 10.0**e)  # noqa: E731
 taus = log_uniform(-8, math.log10(4.0))
 zetas = st.one_of(st.just(0.0), log_uniform(-6, 3))
 

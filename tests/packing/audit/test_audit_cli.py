@@ -1,7 +1,7 @@
 """``dtcrit audit`` without an engine: the two-sphere answer, contact tables, which pairs count, the
 JSON schema, and bad input (one line ``FILE:LINE: reason`` or ``--flag: reason``, exit 2).
 
-The real-engine checks are in ``tests/test_audit_lammps.py`` (LAMMPS) and ``tests/test_engine_yade.py``.
+The real-engine checks are in ``tests/engines/test_audit_lammps.py`` (LAMMPS) and ``tests/engines/test_engine_yade.py``.
 """
 from __future__ import annotations
 

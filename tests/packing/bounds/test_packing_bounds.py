@@ -13,8 +13,8 @@ from dtcrit.packing.solvers.largest_mode import largest_mode
 from dtcrit.packing.model import HertzMindlinLaw, LinearLaw, Packing, apply_law
 from dtcrit.packing.generators.random_packing import random_packing
 from dtcrit.packing.report import analyse
+from support.strategies import log_uniform as decades
 
-decades = lambda lo, hi: st.floats(lo, hi).map(lambda e: 10.0**e)  # noqa: E731
 
 packings = st.builds(
     lambda n, cn, sizes, spread, radius, density, seed: random_packing(

@@ -12,8 +12,8 @@ from dtcrit.packing.solvers.largest_mode import rotational_fraction
 from dtcrit.packing.bounds.estimates import peng_a_max
 from dtcrit.packing.model import Box, HertzMindlinLaw, LinearLaw, Packing, apply_law
 from dtcrit.packing.report import analyse
+from support.strategies import log_uniform as decades
 
-decades = lambda lo, hi: st.floats(lo, hi).map(lambda e: 10.0**e)  # noqa: E731
 
 
 def _omega2_all(packing, contacts):
