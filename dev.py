@@ -4,6 +4,8 @@
     python3 dev.py demo       create .venv if missing, install dtcrit (runtime dependencies only), run the main job
     python3 dev.py test       the same set-up with the test extras (pytest, hypothesis, Jupyter, ...), then the suite
     python3 dev.py generate   regenerate the committed generated code and derivation records (test extras)
+    python3 dev.py golden     rewrite tests/golden (the outputs of ``dtcrit codegen`` and ``dtcrit step`` on every
+                              example) after an intended change of output (test extras); review with git diff
     python3 dev.py mpi-env    create .venv-mpi, the environment of ``dtcrit packing --backend slepc`` (below)
 
 Every task creates the virtual environment ``.venv`` beside this file when it is missing,
@@ -49,7 +51,7 @@ def run(*cmd: str | os.PathLike, env: dict | None = None) -> int:
     return subprocess.call([str(c) for c in cmd], cwd=ROOT, env=env)
 
 
-EXTRAS = {"demo": (), "test": ("test",), "generate": ("test",), "mpi-env": ()}
+EXTRAS = {"demo": (), "test": ("test",), "generate": ("test",), "mpi-env": (), "golden": ("test",)}
 """The optional dependency groups of pyproject.toml each task installs: the demo runs on the runtime
 dependencies alone; the tests (and the derivation scripts behind ``generate``) need the ``test`` extra."""
 
@@ -231,7 +233,12 @@ def generate() -> int:
     return run(PY, "-m", "dtcrit.symbolic.regenerate", env=env) or run(PY, "derivations/run_all.py", *sys.argv[2:], env=env)
 
 
-TASKS = {"demo": demo, "test": test, "generate": generate, "mpi-env": mpi_env}
+def golden() -> int:
+    """Rewrite the golden files of ``tests/test_golden.py`` from the current code (``tests/support/golden.py``)."""
+    return run(PY, "-m", "support.golden", env={**child_env(), "PYTHONPATH": str(ROOT / "tests")})
+
+
+TASKS = {"demo": demo, "test": test, "generate": generate, "mpi-env": mpi_env, "golden": golden}
 
 if __name__ == "__main__":
     if len(sys.argv) < 2 or sys.argv[1] not in TASKS:

@@ -13,8 +13,8 @@ import sys
 from pathlib import Path
 
 import pytest
+from support.paths import SRC
 
-SRC = Path(__file__).resolve().parents[1] / "src"
 PACKAGE = SRC / "dtcrit"
 
 # (prefix, rank): the longest matching prefix decides a module's layer

@@ -7,15 +7,14 @@ missing tool is a failure (the ``test`` extra pins both).
 from __future__ import annotations
 
 import importlib.util
-import os
 import shutil
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
+from support.ci import in_ci
+from support.paths import REPO_ROOT as ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
 
 pytestmark = pytest.mark.xfail(strict=False, reason="until all packages are clean")
 
@@ -28,7 +27,7 @@ def _command(tool: str) -> list[str]:
     if exe is not None:
         return [exe]
     message = f"{tool} is not installed (pip install -e '.[test]')"
-    if os.environ.get("CI", "").lower() == "true":
+    if in_ci():
         pytest.fail(message)
     pytest.skip(message)
 

@@ -20,8 +20,8 @@ import pytest
 
 import dtcrit
 from dtcrit.cli import main
+from support.paths import REPO_ROOT as ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
 SCENE = ROOT / "examples" / "paper_ellipsoids.toml"
 RUNTIME = {"numpy", "scipy", "sympy", "mpmath", "tqdm"}
 PACKAGE_DATA = ["dtcrit/py.typed", "dtcrit/schemas/dtcrit-step-1.json", "dtcrit/schemas/dtcrit-impact-1.json",

@@ -10,15 +10,14 @@ import dataclasses
 import json
 import subprocess
 import sys
-from pathlib import Path
 
 import mpmath
 import pytest
 
 import dtcrit
+from support.paths import REPO_ROOT as ROOT
 from dtcrit.cli import main
 
-ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
 DUMP = EXAMPLES / "packings" / "random_lognormal_60.dump"
 BODIES = EXAMPLES / "packings" / "ellipsoids.json"
