@@ -9,10 +9,14 @@ al. 2020, a Rayleigh quotient).
     >>> round(analyse(lattice("sc", 2, mass=1.0), LinearLaw(1.0, 1.0)).alpha, 4)
     0.4472
 
-Modules: ``model`` (Packing, Box, Contacts, contact laws), ``contacts`` (detection), ``assembly``
-(sparse M and K), ``eigen`` (largest mode), ``estimates``, ``damping`` (integrator bound via
-``dtcrit.integrators.stability``), ``report``, ``lattices``, ``random_packing``, ``dump_io`` (LAMMPS/LIGGGHTS
-dumps), ``study`` (alpha against CN_max), ``scaling`` (benchmark).
+Modules: ``model`` (Packing, Box, Contacts, the contact laws applied per contact), ``step``
+(``packing_step``, the analysis behind ``dtcrit packing``), ``step_input`` (its inputs: a dump, a
+bodies file or a generated packing), ``report`` (``analyse`` and the report); and the subpackages
+``readers`` (engine files), ``conventions`` (each engine's contact conventions), ``detection``
+(contacts from positions), ``operators`` (the contact element, ``K`` assembled or applied),
+``solvers`` (largest mode, damped step, certificate, memory), ``bounds`` (cheap estimates and
+rigorous lower bounds), ``distributed`` (PETSc/SLEPc under MPI), ``generators`` (lattices, random
+packings) and ``audit`` (an engine snapshot's step).
 """
 from dtcrit.packing.operators.assembly import mass_matrix, scale_symmetric, stiffness_matrix
 from dtcrit.packing.detection.overlaps import find_contacts, find_convex_contacts, find_sphere_contacts

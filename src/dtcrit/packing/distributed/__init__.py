@@ -1,5 +1,5 @@
 """The distributed back-end: PETSc matrices and SLEPc Krylov-Schur under MPI (``--backend slepc``).
 
-Modules: ``slepc_backend`` (the solve), ``slepc_result`` (what it reports), ``mpi_support`` (MPI through petsc4py), ``slab_contacts`` (the contacts one
+Modules: ``step`` (``distributed_packing_step``, the API), ``slepc_backend`` (the solve), ``slepc_result`` (what it reports), ``mpi_support`` (MPI through petsc4py), ``slab_contacts`` (the contacts one
 rank needs).
 """
