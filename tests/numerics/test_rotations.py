@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from dtcrit._generated import contact as generated
-from dtcrit.numerics.rotations import body_to_world_matrix, world_to_body_matrix
+from dtcrit.numerics.rotations import body_to_world_matrix, unit_body_to_world_matrix, world_to_body_matrix
 
 
 def _rodrigues_mp(axis, angle):
@@ -50,3 +50,13 @@ def test_vectorised_and_the_generated_eq7_kernel_agree():
 def test_refuses_a_non_quaternion():
     with pytest.raises(ValueError):
         body_to_world_matrix([1.0, 0.0, 0.0])
+
+
+@pytest.mark.parametrize("axis,angle", [((0, 0, 1), 0.5), ((1, 2, -3), 2.0), ((0.3, -0.1, 0.9), -1.2), ((1, 1, 1), 3.1)])
+def test_the_unit_form_is_the_same_rotation(axis, angle):
+    """The readers' form (1 - 2 (y^2 + z^2) ...) against Rodrigues at 50 digits, batched and single."""
+    n = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
+    q = np.concatenate([[np.cos(angle / 2)], np.sin(angle / 2) * n])
+    ref = np.array(_rodrigues_mp(axis, angle).tolist(), dtype=float)
+    assert np.max(np.abs(unit_body_to_world_matrix(q) - ref)) < 1e-15
+    assert np.array_equal(unit_body_to_world_matrix(np.stack([q, q]))[1], unit_body_to_world_matrix(q))

@@ -44,6 +44,35 @@ def body_to_world_matrix(q) -> np.ndarray:
     return np.stack([np.stack(row, axis=-1) for row in rows], axis=-2)
 
 
+def unit_body_to_world_matrix(q) -> np.ndarray:
+    """The body-to-world matrix of :func:`body_to_world_matrix` in the form valid for unit quaternions.
+
+    ``R00 = 1 - 2 (qy^2 + qz^2)``, ``R01 = 2 (qx qy - qw qz)``, ... (Eq. (7) with ``qw^2 + qx^2 + qy^2 +
+    qz^2 = 1``): the form the readers of engine files use on quaternions they have normalised, exactly
+    orthogonal up to rounding even when ``q`` is only near unit length.
+
+    Parameters
+    ----------
+    q : array_like
+        Unit quaternions, shape ``(..., 4)``, scalar part first.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``(..., 3, 3)``: ``R(q)`` with ``v_world = R(q) v_body``.
+    """
+    qa = np.asarray(q, dtype=float)
+    if qa.shape[-1:] != (4,):
+        raise ValueError(f"a quaternion has 4 components (got shape {qa.shape})")
+    w, x, y, z = np.moveaxis(qa, -1, 0)
+    rows = (
+        (1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)),
+        (2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)),
+        (2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)),
+    )
+    return np.stack([np.stack(row, axis=-1) for row in rows], axis=-2)
+
+
 def world_to_body_matrix(q) -> np.ndarray:
     """Peng et al. 2020, Eq. (5): the world-to-body matrix ``R(q)^T`` (``M_L = R M_G``).
 

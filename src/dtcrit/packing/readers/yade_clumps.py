@@ -58,6 +58,7 @@ from dtcrit.inputs.arrays import triple as _triple
 from dtcrit.inputs.text import show
 from dtcrit.inputs.values import finite as _finite
 from dtcrit.inputs.values import whole
+from dtcrit.numerics.rotations import unit_body_to_world_matrix
 from dtcrit.packing.model import Box, Contacts
 from dtcrit.packing.readers.limits import check_inertia, check_lengths, check_rates, contact_rates
 
@@ -88,10 +89,7 @@ def rotation_from_quaternion(where: str, wxyz) -> np.ndarray:
         raise InputError(where, "a zero quaternion is no orientation")
     if not math.isfinite(norm):
         raise InputError(where, "the quaternion's length overflows double precision; give [w, x, y, z] near unit length")
-    w, x, y, z = q / norm
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+    return unit_body_to_world_matrix(q / norm)
 
 
 @dataclass(frozen=True)
