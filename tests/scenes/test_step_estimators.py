@@ -147,7 +147,7 @@ def test_yade_stepper_as_it_runs():
     m = rho * 4 / 3 * math.pi * r**3
     s = parse_scene(f'integrator = "leapfrog"\n[[particle]]\nshape = "sphere"\nradius = {r!r}\ndensity = {rho!r}\n'
                     f'[contact]\nmodel = "linear"\nkn = {kn!r}\nks = {ks!r}\n')
-    got = {e.estimate.key: e.estimate.dt for e in critical_step(s).estimates}
+    got = {e.estimate.name: e.estimate.dt for e in critical_step(s).estimates}
     expect = 1.41044 * 0.8 * math.sqrt(min(m / max(kn, ks), 0.4 * m * r * r / (ks * r * r)))
     assert got["yade_gsts"] == pytest.approx(expect, rel=1e-14)
     assert got["yade_gsts"] / got["diagonal_stiffness"] == pytest.approx(1.41044 * 0.8 / math.sqrt(2), rel=1e-14)

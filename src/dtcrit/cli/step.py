@@ -170,15 +170,15 @@ def format_text(result) -> str:
     lines.append("")
     lines.append("estimates DEM codes use, against dt_crit (" + ("isolated contact" if result.basis == "isolated" else
                  "the packing step") + "; UNSAFE: larger than it):")
-    width = max(len(e.estimate.key) for e in result.estimates)
+    width = max(len(e.estimate.name) for e in result.estimates)
     missing: dict[str, list[str]] = {}
     for e in result.estimates:
         if e.estimate.dt is None:
-            missing.setdefault(e.estimate.note, []).append(e.estimate.key)
+            missing.setdefault(e.estimate.detail, []).append(e.estimate.name)
             continue
         ratio = e.estimate.dt / result.dt_crit if result.dt_crit > 0 else float("inf")
         flag = "UNSAFE" if e.unsafe else "ok"
-        lines.append(f"  {e.estimate.key:<{width}}  {e.estimate.dt:12.6g} s  {ratio_text(ratio):>8} x dt_crit  {flag:<6}  "
+        lines.append(f"  {e.estimate.name:<{width}}  {e.estimate.dt:12.6g} s  {ratio_text(ratio):>8} x dt_crit  {flag:<6}  "
                      f"{e.estimate.label}")
     for note, keys in missing.items():
         lines.append(f"  not applicable: {', '.join(keys)} ({note})")

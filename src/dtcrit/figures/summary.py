@@ -26,9 +26,10 @@ emitted (strict JSON).
 """
 from __future__ import annotations
 
-import math
 
 import numpy as np
+
+from dtcrit.physics.json_numbers import json_safe
 
 __all__ = ["JSON_SCHEMA", "JSON_UNITS", "document", "summary", "fig3_summary", "pair_summary", "aspect_ratio_summary"]
 
@@ -84,19 +85,12 @@ def document(summary_: dict) -> dict:
 
 
 def _clean(obj):
-    """Round-trip-safe JSON values: numpy scalars to Python, non-finite floats to None."""
+    """Round-trip-safe JSON values (``dtcrit.physics.json_numbers.json_safe``), keys as strings."""
     if isinstance(obj, dict):
         return {str(k): _clean(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
         return [_clean(v) for v in obj]
-    if isinstance(obj, (np.bool_, bool)):
-        return bool(obj)
-    if isinstance(obj, (np.integer, int)):
-        return int(obj)
-    if isinstance(obj, (np.floating, float)):
-        v = float(obj)
-        return v if math.isfinite(v) else None
-    return obj
+    return json_safe(obj)
 
 
 def fig3_summary() -> dict:

@@ -11,6 +11,7 @@ import numpy as np
 
 from dtcrit._generated import impact as _gen
 from dtcrit.errors import InputError
+from dtcrit.physics.json_numbers import json_safe
 
 STANDARD_ZETAS: tuple[float, ...] = (0.0, 0.05, 0.2)
 SWEEP_TOP = 2.2
@@ -178,9 +179,4 @@ def _scalar(kernel, *args) -> float:
 # report
 # ---------------------------------------------------------------------------------------------
 
-def _json_number(value):
-    if isinstance(value, (float, np.floating)):
-        return float(value) if math.isfinite(value) else None
-    if isinstance(value, np.integer):
-        return int(value)
-    return value
+_json_number = json_safe  # a report number: NumPy scalars as Python ones, non-finite as null

@@ -86,16 +86,6 @@ class Estimate:
         dt = float(2.0 / math.sqrt(omega2)) if omega2 > 0 else float("inf")
         return cls(name, dt, kind, detail, omega2=float(omega2))
 
-    @property
-    def key(self) -> str:
-        """The estimate's key in ``dtcrit step`` (its ``name``)."""
-        return self.name
-
-    @property
-    def note(self) -> str:
-        """Its note in ``dtcrit step`` (its ``detail``)."""
-        return self.detail
-
 
 @dataclass(frozen=True)
 class RatedEstimate:
