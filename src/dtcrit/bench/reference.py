@@ -4,7 +4,7 @@
   ``dps`` (>= 50) digits: the closed form of ``dtcrit.symbolic.closed_forms`` evaluated in
   mpmath, as ``dtcrit.symbolic.closed_forms.dt_crit_mp`` does, with the SymPy-to-mpmath
   functions built once per integrator instead of once per call (the bench needs thousands of
-  references).  ``tests/test_bench_kernels.py`` checks it against ``dt_crit_mp`` and against
+  references).  ``tests/bench/test_bench_kernels.py`` checks it against ``dt_crit_mp`` and against
   the exact Jury boundary ``dtcrit.symbolic.boundary.tau_crit_mp``.
 * ``paper_form_reference(form, scene)`` -- each printed formula of the paper (and the CFL note)
   evaluated in mpmath at ``dps`` digits, transcribed from the seed text; the float64 evaluation
@@ -91,7 +91,7 @@ def _cubic_tau(funcs, z, dps):
     y = 1/(zeta tau) for zeta >= 1, whose coefficients stay bounded), falling back to mpmath's
     ``polyroots``; polished by Newton at ``2 dps`` digits on the cubic in tau, and verified to be
     the *smallest* positive root by deflation.  Below zeta = 1e-6 the root is reached from the
-    cubic's two-term balances instead (``dtcrit.mp_roots.balance_roots``).  ``tests/test_bench_kernels.py`` checks it
+    cubic's two-term balances instead (``dtcrit.mp_roots.balance_roots``).  ``tests/bench/test_bench_kernels.py`` checks it
     against ``dtcrit.symbolic.closed_forms.dt_crit_mp``.
     """
     small, large = funcs

@@ -1,7 +1,7 @@
 """The helper functions emitted beside the kernels, per language, read from real source files.
 
 The sources are package data under ``dtcrit/codegen/helper_sources`` (each compiled on its own by
-``tests/test_codegen_helper_sources.py``: ``gcc -c``, ``gfortran -c``, Python ``compile``):
+``tests/codegen/test_helper_sources.py``: ``gcc -c``, ``gfortran -c``, Python ``compile``):
 
 * ``cubic_positive_root.{c,f90,py.txt}``: the cubic-root helper for the integrators whose boundary
   is a cubic (``paper-eq40``).  The algorithm of :func:`dtcrit.numerics.cubic.cubic_positive_root`:

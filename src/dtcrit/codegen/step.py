@@ -5,7 +5,7 @@ The assignment chain is ``dtcrit.symbolic.careful_forms.careful_chain`` (the for
 error-free residual, the cubic's identity, NaN for NaN or negative inputs).  The per-contact
 kernels call it once per direction (``dtcrit.codegen.kernel``); ``render_step`` emits it alone,
 with a header, as the bare kernel of a mode (the bench's compiled route and
-``tests/test_kernels_extreme_suite.py`` use it).
+``tests/codegen/test_kernels_extreme_suite.py`` use it).
 """
 from __future__ import annotations
 

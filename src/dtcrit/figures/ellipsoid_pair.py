@@ -70,7 +70,7 @@ def pair_coefficients(density: float, axes: tuple[float, float, float] = PAPER_A
     ``A_max`` is evaluated at ``density``.  ``a_bound`` is evaluated
     once at ``REFERENCE_DENSITY`` and scaled by ``REFERENCE_DENSITY / density``: mass and inertia are
     both proportional to the density, so every term of the coefficient matrix scales as 1/rho
-    exactly (checked against direct evaluations in tests/test_figures_sections.py).
+    exactly (checked against direct evaluations in tests/figures/test_figures_sections.py).
 
     Parameters
     ----------

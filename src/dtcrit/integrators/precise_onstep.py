@@ -14,7 +14,7 @@ zeta = gamma / omega:
   the computed root (the generated cubic solver) only in the denominator, where tau* - 4 zeta is
   at least (sqrt(3)/3) tau* (no cancellation).
 
-``tests/test_integrators_engines.py`` checks both against the 50-digit boundary and in ulps.
+``tests/integrators/test_integrators_engines.py`` checks both against the 50-digit boundary and in ulps.
 """
 from __future__ import annotations
 
@@ -74,7 +74,7 @@ def adams_bashforth_2(k, c, A) -> np.ndarray:
         # tiny zeta (down to zeta underflowing): the leading order of the same cubic, tau^3 = 8 zeta, i.e.
         # dt = (4 c / (k^2 A))^(1/3), from the mantissas and a whole multiple of 3 in the exponent;
         # below zeta = 2^-94 the neglected terms are under 2^-64 relative (symbolic.careful_forms'
-        # small-zeta branch, checked in tests/test_kernels_careful_forms.py)
+        # small-zeta branch, checked in tests/symbolic/test_kernels_careful_forms.py)
         big_e = ec - 2 * ek - eA
         q = np.floor_divide(big_e, 3)
         small = np.ldexp(np.cbrt(np.ldexp(4.0 * mc / (mk * mk * mA), big_e - 3 * q)), q)

@@ -6,7 +6,7 @@ matrix of the update rule (``dtcrit.integrators.amplification.matrix_mp``) is ev
 digits; tau is scanned on a geometric grid from 1e-12 to 1e4 (10 points a decade) for the first
 unstable point (rho > 1 + 1e-30), then bisected to 1e-20 relative.  Stability is taken from 0
 upwards, as ``dtcrit.symbolic.boundary.tau_crit_mp`` does: 0 when even tau = 1e-12 is unstable.
-``tests/test_user_rules.py`` checks it against the exact boundary roots of the built-in schemes.
+``tests/integrators/test_user_rules.py`` checks it against the exact boundary roots of the built-in schemes.
 """
 from __future__ import annotations
 

@@ -147,7 +147,7 @@ def refuse_unrepresentable(integrator: str, dt: np.ndarray, k, c, A) -> np.ndarr
 def critical_dt_array(integrator: str, k, c, A) -> np.ndarray:
     """Vectorised exact critical step [s] for arrays of k [N/m], c [N s/m], A [1/kg].
 
-    Within 4 ulp of the exact step for every float64 input (tests/test_stability_engine.py, the
+    Within 4 ulp of the exact step for every float64 input (tests/integrators/test_stability_engine.py, the
     bench's extreme-case suite); refuses (InputError) a step outside the float64 range.
 
     Parameters
@@ -251,7 +251,7 @@ def dashpot_dt(integrator: str, c, A) -> float:
     value at ``omega = 0`` is the k -> 0 limit: ``2/(c A)`` for the central-difference family and
     forward Euler, ``1/(c A)`` for ``velocity-verlet-predicted`` and ``paper-eq40``; ``inf`` (stable for
     every step) for ``leapfrog-centred``.  Checked against the spectral radius of the update rule with
-    ``K = 0`` in ``tests/test_mode_steps.py``.
+    ``K = 0`` in ``tests/scenes/test_step_modes.py``.
 
     Parameters
     ----------

@@ -16,7 +16,7 @@ physical units, ``x'' = -K x - C x'`` with ``K = k A`` [1/s^2] and ``C = c A`` [
 the step is refused (``InputError``) rather than printed.  A step of 0 (no stable step) is not a step
 anyone runs and is not checked; an unbounded step (stable up to omega dt = 1e4) is refused.  Cost:
 about 40 ms per contact mode, mostly the literal steps (the 50-digit boundary itself takes 0.4-2 s);
-``tests/test_user_rules_consistency.py`` bounds it.
+``tests/integrators/test_user_rules_consistency.py`` bounds it.
 """
 from __future__ import annotations
 

@@ -13,7 +13,7 @@ floating-point primitives, opaque to SymPy so that nothing is simplified away:
   both exact (Dekker's product with Veltkamp's splitting; Knuth's two-sum);
 * ``is_nan(x)``.
 
-The forms (each checked against the derived pieces in ``tests/test_kernels_careful_forms.py``):
+The forms (each checked against the derived pieces in ``tests/symbolic/test_kernels_careful_forms.py``):
 
 * every integrator but forward Euler: the kernel dt(omega, gamma) is homogeneous of degree -1,
   so ``dt = 2^-s dt(omega 2^-s, gamma 2^-s)`` with the power of two taken from the *larger* rate,

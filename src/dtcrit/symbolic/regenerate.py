@@ -1,7 +1,7 @@
 """Regenerate every committed file under ``dtcrit/_generated`` (``python3 dev.py generate``).
 
 Each producer module listed in ``PRODUCERS`` exposes ``generated_files() -> dict[str, str]`` mapping
-a path relative to ``src/dtcrit/_generated`` to its full text.  ``tests/test_generated_drift.py``
+a path relative to ``src/dtcrit/_generated`` to its full text.  ``tests/symbolic/test_generated_drift.py``
 calls the same function and fails on any difference from the committed files.
 """
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """How each DEM engine builds the contacts whose stiffness sets its step (``dtcrit audit --engine``).
 
 A snapshot's critical step depends on conventions that differ between engines, each checked here
-against the engine's own runs (``tests/test_audit_lammps.py``, ``tests/test_engine_yade.py``):
+against the engine's own runs (``tests/engines/test_audit_lammps.py``, ``tests/engines/test_engine_yade.py``):
 
 * **which pairs touch** -- LAMMPS and LIGGGHTS count a pair when ``r < R_i + R_j`` strictly
   (``pair_gran_hooke_history.cpp``: ``if (rsq >= radsum*radsum)`` no force); a pair at a gap of
@@ -21,7 +21,7 @@ against the engine's own runs (``tests/test_audit_lammps.py``, ``tests/test_engi
   ``alpha k_s``, is exact for two equal spheres and differs for unequal ones by
   ``delta (R_i - R_j)/(2 (R_i + R_j))`` relative in the arms (below 1e-4 at packing overlaps).  On a
   pair at 10 % overlap dtcrit's mid-overlap arm gives a step 2.6 % above YADE's threshold and the full
-  radius 1 % below; this equivalent lands within 5e-7 (``tests/test_engine_yade.py``).
+  radius 1 % below; this equivalent lands within 5e-7 (``tests/engines/test_engine_yade.py``).
 * **LAMMPS ``pair_style granular``** -- slip velocity with the full radius, torque with ``R - delta/2``
   (``dtcrit.packing.conventions.granular_style``): the symmetric equivalent has arms ``sqrt(R (R - delta/2))``
   (exact for two equal spheres, like YADE's below, with ``alpha = 1``).

@@ -20,7 +20,7 @@ the words of the ``pair_coeff`` line after ``* *`` (one coefficient set for ever
   ``eta_t a^2/2`` from the tangential spring and dashpot.
 
 Kinematics: the slip velocity uses the full radius, the torque the arm ``R - delta/2`` (checked in
-``tests/test_engine_lammps_pairs.py``); ``dtcrit.packing.conventions.engines`` uses their symmetric equivalent, arms
+``tests/engines/test_engine_lammps_pairs.py``); ``dtcrit.packing.conventions.engines`` uses their symmetric equivalent, arms
 ``sqrt(R (R - delta/2))``, exact for two equal spheres.  ``jkr`` (its stiffness follows the
 hysteretic JKR branch) is refused.
 """

@@ -13,7 +13,7 @@ small; the eigenvalues do not depend on the numbering).  Periodic boxes are sear
 ``contacts.find_sphere_contacts`` does (minimum image in a toroidal tree when the box is wider than
 twice the reach, every image in range otherwise), and the touching test, normals, arms and order
 are its own: in the packing's numbering the slabs' lists, concatenated in rank order, are the
-serial list (``tests/test_packing_slepc.py``).
+serial list (``tests/packing/distributed/test_packing_slepc.py``).
 """
 from __future__ import annotations
 

@@ -41,7 +41,7 @@ symmetric part of order ``(c/R)^2``: for ``delta/R = 1e-2`` and radii differing 
 also turns with the member arms (torque terms ``F ((n . d) 1 - d n^T)`` not carried by the
 assembly); those contacts enter without pre-load.  The terms dropped are of the relative size of
 the overlap strain ``delta/(R_1 + R_2)`` times ``(1 + |d|/R)^2``, and are not signed: on a YADE packing
-of 24 dumbbells at a mean overlap of 9e-4 R (``tests/test_engine_yade_clumps_springs_bonds.py``) the step lies
+of 24 dumbbells at a mean overlap of 9e-4 R (``tests/engines/test_engine_yade_clumps_springs_bonds.py``) the step lies
 2.1e-4 to 2.8e-4 *above* YADE's bisected threshold, while the clump pair, whose preload cancels
 the geometric stiffness, lands inside its 1.3e-3 bracket.  Until the assembly carries the clump
 pre-load, keep a safety factor of at least 0.99 on clump packings.
