@@ -84,8 +84,9 @@ def test_read_and_audit_a_snapshot_give_what_dtcrit_audit_prints(capsys):
 
 def test_audit_snapshot_refuses_read_options_with_a_snapshot_already_read():
     snapshot = dtcrit.read_snapshot(str(DUMP), pair_style=HOOKE)
-    with pytest.raises(TypeError, match="pair_style"):
+    with pytest.raises(dtcrit.MisuseError, match="pair_style") as exc:
         dtcrit.audit_snapshot(snapshot, pair_style=HOOKE)
+    assert isinstance(exc.value, TypeError) and isinstance(exc.value, dtcrit.DtcritError)
 
 
 def test_emit_code_is_the_source_dtcrit_codegen_prints(capsys):
@@ -112,6 +113,9 @@ def test_bad_input_is_an_input_error_naming_the_parameter():
     with pytest.raises(dtcrit.InputError) as exc:
         dtcrit.emit_code(str(EXAMPLES / "mixed_pair.toml"), "c", "for")
     assert exc.value.key == "name"
+    with pytest.raises(dtcrit.InputError) as exc:
+        dtcrit.emit_code(str(EXAMPLES / "mixed_pair.toml"), "rust")
+    assert exc.value.key == "lang"
 
 
 def test_the_paper_module_keeps_the_printed_formulas_beside_the_verified_ones():

@@ -14,7 +14,7 @@ import pytest
 import dtcrit
 
 WITHOUT_EXAMPLES = frozenset({
-    "AssumptionWarning", "Box", "ConvexPolyhedron", "Ellipsoid", "INTEGRATORS", "InputError", "NotConvergedError",
+    "AssumptionWarning", "Box", "ConvexPolyhedron", "DtcritError", "MisuseError", "Ellipsoid", "INTEGRATORS", "InputError", "NotConvergedError",
     "Sphere", "StepResult", "Superquadric", "a_bound", "a_max", "b_bound", "b_max", "coefficient_matrix",
     "critical_dt", "critical_dt_array", "critical_step", "exact_impact", "impact_report", "load_scene",
     "paper_eq46", "parse_scene", "shape_from_spec", "spectral_radius",

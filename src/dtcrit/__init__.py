@@ -15,7 +15,8 @@ commands return frozen results whose ``to_json()`` is what the command prints wi
 * the paper's printed formulas beside the verified ones: the module ``dtcrit.paper``.
 
 Bad input raises ``InputError`` (a ``ValueError`` whose ``key`` names the parameter), a solver that
-stops early ``NotConvergedError`` (with its bracket).
+stops early ``NotConvergedError`` (with its bracket), a call the API does not support ``MisuseError``
+(a ``TypeError``); all three are ``DtcritError``.
 """
 import importlib as _importlib
 
@@ -57,7 +58,9 @@ _API = {
     # the paper's printed formulas beside the verified ones (a module)
     "paper": "paper",
     # errors
+    "DtcritError": "errors",
     "InputError": "errors",
+    "MisuseError": "errors",
     "NotConvergedError": "errors",
     # stability engine (Peng et al. 2020, Section 4; CFL note)
     "critical_dt": "integrators.stability",

@@ -119,9 +119,8 @@ def emitted_code(scene: Scene | str | os.PathLike, lang: str, name: str = DEFAUL
     Raises
     ------
     InputError
-        A bad ``name`` (key ``name``), a scene the kernel does not carry (key ``contact``).
-    ValueError
-        An unknown language.
+        A bad ``name`` (key ``name``), a scene the kernel does not carry (key ``contact``), an
+        unknown language (key ``lang``).
 
     Examples
     --------
@@ -134,7 +133,7 @@ def emitted_code(scene: Scene | str | os.PathLike, lang: str, name: str = DEFAUL
     from dtcrit.codegen.names import check_name
 
     if lang not in LANGUAGES:
-        raise ValueError(f"emitted_code: unknown language {lang!r}; choose one of {', '.join(LANGUAGES)}")
+        raise InputError("lang", f"unknown language {lang!r}; choose one of {', '.join(LANGUAGES)}")
     check_name(name)
     scene = _scene(scene)
     refuse_what_the_kernel_leaves_out(scene)

@@ -21,7 +21,7 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, Mapping
 
-from dtcrit.errors import InputError
+from dtcrit.errors import InputError, MisuseError
 
 if TYPE_CHECKING:
     from dtcrit.packing.audit.snapshot import AuditReport
@@ -378,7 +378,7 @@ def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None =
 
     if isinstance(snapshot, Snapshot):
         if read:
-            raise TypeError(f"audit_snapshot: {', '.join(sorted(read))} apply to a file, not to a Snapshot already read")
+            raise MisuseError(f"audit_snapshot: {', '.join(sorted(read))} apply to a file, not to a Snapshot already read")
         given = snapshot
     else:
         _check_files(snapshot, read.get("local"), read.get("contact_table"))
