@@ -13,12 +13,7 @@ import pytest
 
 import dtcrit
 
-WITHOUT_EXAMPLES = frozenset({
-    "AssumptionWarning", "Box", "ConvexPolyhedron", "DtcritError", "MisuseError", "Ellipsoid", "INTEGRATORS", "InputError", "NotConvergedError",
-    "Sphere", "StepResult", "Superquadric", "a_bound", "a_max", "b_bound", "b_max", "coefficient_matrix",
-    "critical_dt", "critical_dt_array", "critical_step", "exact_impact", "impact_report", "load_scene",
-    "paper_eq46", "parse_scene", "shape_from_spec", "spectral_radius",
-})
+WITHOUT_EXAMPLES = frozenset({"StepResult", "critical_step"})
 """Names whose defining module's docstring has no ``Examples`` section yet."""
 
 
@@ -37,5 +32,7 @@ def _doctests(name: str) -> list[doctest.DocTest]:
     if n in WITHOUT_EXAMPLES else n for n in dtcrit.__all__])
 def test_every_public_name_has_examples(name):
     obj = getattr(dtcrit, name)
+    if not (callable(obj) or inspect.ismodule(obj)):
+        pytest.skip(f"{name} is data (its meaning is in its module's docstring), not a function, class or module")
     doc = inspect.getdoc(obj) or ""
     assert "\nExamples\n--------\n" in f"\n{doc}\n" and _doctests(name), f"{name}: no Examples section"

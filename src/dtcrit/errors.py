@@ -17,7 +17,14 @@ from dataclasses import dataclass
 
 
 class DtcritError(Exception):
-    """The base of every error dtcrit raises on purpose (bad input, no convergence, misuse)."""
+    """The base of every error dtcrit raises on purpose (bad input, no convergence, misuse).
+
+    Examples
+    --------
+    >>> from dtcrit import DtcritError, InputError, MisuseError, NotConvergedError
+    >>> all(issubclass(e, DtcritError) for e in (InputError, MisuseError, NotConvergedError))
+    True
+    """
 
 
 @dataclass(frozen=True)
@@ -79,6 +86,15 @@ class InputError(DtcritError, ValueError):
         nor a line, as callers that rename keys to command-line flags expect.
     reason : str
         What is wrong.
+
+    Examples
+    --------
+    >>> from dtcrit import InputError, parse_scene
+    >>> try:
+    ...     parse_scene("integrator = 'no-such-scheme'")
+    ... except InputError as exc:
+    ...     exc.key
+    'integrator'
     """
 
     def __init__(self, key: str | None, reason: str, *, source: object = None, line: int | None = None):
@@ -151,6 +167,13 @@ class NotConvergedError(DtcritError, ArithmeticError):
     ----------
     quantity, lower, upper, solver, reason
         The parameters as given (``lower`` and ``upper`` as floats).
+
+    Examples
+    --------
+    >>> from dtcrit import NotConvergedError
+    >>> exc = NotConvergedError("dt_crit", 1e-6, 2e-6, "bisection", "the budget ran out")
+    >>> exc.bracket
+    (1e-06, 2e-06)
     """
 
     def __init__(self, quantity: str, lower: float, upper: float, solver: str, reason: str):
@@ -172,4 +195,10 @@ class MisuseError(DtcritError, TypeError):
     """The API called in a way it does not support (a wrong type, an outdated calling convention).
 
     A programming error, not bad data: the message says how to call it instead.
+
+    Examples
+    --------
+    >>> from dtcrit import MisuseError
+    >>> issubclass(MisuseError, TypeError)
+    True
     """

@@ -32,7 +32,14 @@ _DEGENERATE_RTOL = 1e-9  # second moments this close (relative) share a principa
 
 
 class AssumptionWarning(UserWarning):
-    """A shape breaks Peng et al. (2020) Section 3 assumption 3 (a >= b >= c, I_zz >= I_yy >= I_xx)."""
+    """A shape breaks Peng et al. (2020) Section 3 assumption 3 (a >= b >= c, I_zz >= I_yy >= I_xx).
+
+    Examples
+    --------
+    >>> from dtcrit import AssumptionWarning
+    >>> issubclass(AssumptionWarning, UserWarning)
+    True
+    """
 
 
 def _real(key: str, value: Any) -> float:

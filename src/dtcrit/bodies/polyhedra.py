@@ -54,6 +54,13 @@ class Box(_PolyhedralShape):
         Density [kg/m^3] (give exactly one of ``density`` and ``mass``).
     mass : float, optional
         Mass [kg].
+
+    Examples
+    --------
+    >>> from dtcrit import Box
+    >>> b = Box(1.0, 0.5, 0.25, mass=2.0)   # half-lengths [m]
+    >>> round(b.max_arm, 6), [round(i, 6) for i in b.inertia]
+    (1.145644, [0.208333, 0.708333, 0.833333])
     """
 
     kind = "box"
@@ -124,6 +131,14 @@ class ConvexPolyhedron(_PolyhedralShape):
         Mass [kg].
     rtol : float
         Relative tolerance of the convexity and symmetry checks.
+
+    Examples
+    --------
+    >>> from dtcrit import ConvexPolyhedron
+    >>> corners = [(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]
+    >>> cube = ConvexPolyhedron(corners, density=1.0)   # the hull of the corners (Qhull)
+    >>> round(cube.volume, 12), round(cube.max_arm ** 2, 12)
+    (8.0, 3.0)
     """
 
     kind = "polyhedron"

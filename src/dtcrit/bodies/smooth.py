@@ -87,6 +87,13 @@ class Sphere(_SuperquadricFamily):
         Density [kg/m^3] (give exactly one of ``density`` and ``mass``).
     mass : float, optional
         Mass [kg].
+
+    Examples
+    --------
+    >>> from dtcrit import Sphere
+    >>> s = Sphere(0.5, density=2500.0)
+    >>> round(s.mass, 6), s.max_arm
+    (1308.996939, 0.5)
     """
 
     kind = "sphere"
@@ -127,6 +134,13 @@ class Ellipsoid(_SuperquadricFamily):
         Density [kg/m^3] (give exactly one of ``density`` and ``mass``).
     mass : float, optional
         Mass [kg].
+
+    Examples
+    --------
+    >>> from dtcrit import Ellipsoid
+    >>> e = Ellipsoid(3.0, 2.0, 1.0, density=1000.0)   # semi-axes [m], Peng et al. 2020, Section 6
+    >>> round(e.mass, 3), e.max_arm
+    (25132.741, 3.0)
     """
 
     kind = "ellipsoid"
@@ -160,6 +174,13 @@ class Superquadric(_SuperquadricFamily):
         Density [kg/m^3] (give exactly one of ``density`` and ``mass``).
     mass : float, optional
         Mass [kg].
+
+    Examples
+    --------
+    >>> from dtcrit import Superquadric, Ellipsoid
+    >>> q = Superquadric(3.0, 2.0, 1.0, 1.0, 1.0, density=1000.0)   # eps1 = eps2 = 1: the ellipsoid
+    >>> round(q.mass / Ellipsoid(3.0, 2.0, 1.0, density=1000.0).mass, 12)
+    1.0
     """
 
     kind = "superquadric"

@@ -80,6 +80,12 @@ def shape_from_spec(kind: str, **params: Any) -> _Shape:
     -------
     _Shape
         The shape.  Unknown or missing parameters raise ``InputError`` naming them.
+
+    Examples
+    --------
+    >>> from dtcrit import shape_from_spec
+    >>> shape_from_spec("ellipsoid", a=3.0, b=2.0, c=1.0, density=1000.0).kind
+    'ellipsoid'
     """
     if not isinstance(kind, str) or kind.lower() not in _KINDS:
         raise InputError("kind", f"must be one of {', '.join(_KINDS)} (got {kind!r})")

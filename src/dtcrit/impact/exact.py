@@ -88,6 +88,13 @@ def exact_impact(zeta) -> ExactImpact:
     -------
     ExactImpact
         Both separation conventions, from the generated closed forms of ``dtcrit.symbolic.impact``.
+
+    Examples
+    --------
+    >>> from dtcrit import exact_impact
+    >>> imp = exact_impact(0.0)   # undamped: half a period, the speed kept
+    >>> round(imp.exit_ratio, 12)
+    1.0
     """
     z = check_zeta(zeta)
     duration = _scalar(_gen.geometric_duration, z)

@@ -108,6 +108,13 @@ def impact_report(
     -------
     dict
         The report (see ``to_json`` for its public form).
+
+    Examples
+    --------
+    >>> from dtcrit import impact_report
+    >>> rep = impact_report("velocity-verlet", zeta=0.1, omega_dt=0.5)
+    >>> rep["integrator"], rep["critical_omega_dt"] > 0.5
+    ('velocity-verlet', True)
     """
     name = check_integrator(integrator)
     z = check_zeta(zeta)

@@ -60,6 +60,13 @@ def spectral_radius(integrator: str, tau, zeta) -> np.ndarray:
     -------
     float or numpy.ndarray
         The spectral radius, a scalar for scalar inputs; the scheme is stable where it is <= 1.
+
+    Examples
+    --------
+    >>> from dtcrit import spectral_radius
+    >>> rho = spectral_radius("velocity-verlet", [1.0, 2.5], 0.0)   # omega dt below and above 2
+    >>> bool(abs(rho[0] - 1.0) < 1e-12), bool(rho[1] > 1.0)
+    (True, True)
     """
     rho = np.max(np.abs(np.linalg.eigvals(matrices(integrator, tau, zeta))), axis=-1)
     return rho[()] if rho.ndim == 0 else rho

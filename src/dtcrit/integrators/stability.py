@@ -165,6 +165,14 @@ def critical_dt_array(integrator: str, k, c, A) -> np.ndarray:
     -------
     numpy.ndarray
         The critical steps [s], shape ``broadcast(k, c, A).shape``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from dtcrit import critical_dt_array
+    >>> dt = critical_dt_array("velocity-verlet", np.array([1.0, 4.0]), 0.0, 1.0)
+    >>> dt.round(12).tolist()
+    [2.0, 1.0]
     """
     name = check_integrator(integrator)
     k, c, A = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (k, c, A)))
@@ -213,6 +221,13 @@ def critical_dt(integrator: str, k, c, A) -> CriticalStep:
     -------
     CriticalStep
         The step [s] with its regime and formula.
+
+    Examples
+    --------
+    >>> from dtcrit import critical_dt
+    >>> step = critical_dt("velocity-verlet", k=1e6, c=0.0, A=2.0)   # omega = sqrt(k A)
+    >>> round(step.dt * (1e6 * 2.0) ** 0.5, 12)   # the undamped bound omega dt = 2
+    2.0
     """
     name = check_integrator(integrator)
     k = _check_positive("k", k)
@@ -336,6 +351,12 @@ def paper_eq46(k, c, A) -> float:
     -------
     float
         Eq. (46)'s step [s].
+
+    Examples
+    --------
+    >>> from dtcrit import paper_eq46
+    >>> round(paper_eq46(4.0, 0.0, 1.0), 12)   # undamped: 2/sqrt(k A)
+    1.0
     """
     k = _check_positive("k", k)
     c = _check_positive("c", c, allow_zero=True)

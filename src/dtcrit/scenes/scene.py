@@ -315,6 +315,23 @@ def parse_scene(text: str, source: str = "<scene>") -> Scene:
     -------
     Scene
         The validated scene; bad TOML raises ``InputError('toml', ...)``.
+
+    Examples
+    --------
+    >>> from dtcrit import parse_scene, critical_step
+    >>> scene = parse_scene('''
+    ... integrator = "velocity-verlet"
+    ... [[particle]]
+    ... shape = "sphere"
+    ... radius = 0.001
+    ... density = 2500.0
+    ... [contact]
+    ... model = "linear"
+    ... kn = 1e4
+    ... ks = 8e3
+    ... ''')
+    >>> round(critical_step(scene).dt_crit, 12) > 0
+    True
     """
     try:
         doc = tomllib.loads(text)
@@ -347,6 +364,13 @@ def load_scene(path: str | Path) -> Scene:
     -------
     Scene
         The validated scene; unreadable, too large or non-UTF-8 files raise ``InputError('file', ...)``.
+
+    Examples
+    --------
+    >>> from dtcrit import load_scene
+    >>> scene = load_scene("examples/paper_ellipsoids.toml")
+    >>> scene.integrator
+    'velocity-verlet'
     """
     try:
         data = read_bounded(path, MAX_SCENE_BYTES)  # never more: /dev/zero is not a scene
