@@ -8,6 +8,7 @@ import sympy as sp
 
 from .text import entry_verdict, latex
 
+from dtcrit.symbolic import coefficient_forms as cforms
 from dtcrit.symbolic import kinematics as kin
 from dtcrit.symbolic import printed_entries as printed
 from dtcrit.symbolic import quaternions as quat
@@ -54,8 +55,8 @@ def section_general() -> list[str]:
     r = sp.Matrix(sp.symbols("r_x r_y r_z", real=True))
     Ixx, Iyy, Izz, Ixy, Ixz, Iyz = sp.symbols("I_xx I_yy I_zz I_xy I_xz I_yz", real=True)
     general_I = kin.inertia_tensor(Ixx, Iyy, Izz, Ixy, Ixz, Iyz)
-    closed_general = kin.check_arm_term_closed_form(r, general_I)
-    closed_diag = kin.check_arm_term_closed_form(r, kin.inertia_tensor(Ixx, Iyy, Izz))
+    closed_general = cforms.check_arm_term_closed_form(r, general_I)
+    closed_diag = cforms.check_arm_term_closed_form(r, kin.inertia_tensor(Ixx, Iyy, Izz))
     v = sp.Matrix(sp.symbols("v_x v_y v_z", real=True))
     W = sp.diag(*sp.symbols("W_x W_y W_z", positive=True))
     T = quat.skew(r).T * W * quat.skew(r)
@@ -236,7 +237,7 @@ def section_eq26_configs() -> list[str]:
     out += ["", "So the inequality of Eq. (26) is **reproduced** for the three configurations it was stated for (they "
             "are diagonal, so the diagonal entries are the eigenvalues).  Section 5 shows it does not extend to "
             "every admissible contact.", ""]
-    sph = kin.sphere_pair_check()
+    sph = cforms.sphere_pair_check()
     k_n = sp.Symbol("k_n", positive=True)
     dt = sp.simplify(2 / sp.sqrt(k_n * sph["lambda_max"]))
     out += [
