@@ -17,7 +17,7 @@ from scipy.spatial.transform import Rotation
 from dtcrit._generated import contact as gen
 from dtcrit.symbolic import coefficient_forms as cforms
 from dtcrit.symbolic import kinematics as kin
-from dtcrit.symbolic import printed_entries as printed
+from dtcrit.symbolic import candidate_scores as scores
 from dtcrit.symbolic import quaternions as quat
 from dtcrit.symbolic import tip_configurations as tips
 
@@ -145,7 +145,7 @@ def test_nonnegativity_certificate_rejects_a_negative_quantity():
 def test_library_configurations_are_the_best_reconstructions():
     cands = tips.candidate_configurations()
     for label, cfg in tips.FIG2.items():
-        best = [cands[s.index] for s in printed.best_candidates(label)]
+        best = [cands[s.index] for s in scores.best_candidates(label)]
         assert any(c.arm1 == cfg.arm1 and c.arm2 == cfg.arm2 and sp.Matrix(c.R2) == sp.Matrix(cfg.R2) for c in best)
     assert not tips.FIG2["A"].normals_opposite()
     assert tips.FIG2["B"].normals_opposite() and tips.FIG2["C"].normals_opposite()

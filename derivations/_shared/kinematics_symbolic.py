@@ -10,6 +10,7 @@ from .text import entry_verdict, latex
 
 from dtcrit.symbolic import coefficient_forms as cforms
 from dtcrit.symbolic import kinematics as kin
+from dtcrit.symbolic import candidate_scores as cscores
 from dtcrit.symbolic import printed_entries as printed
 from dtcrit.symbolic import quaternions as quat
 from dtcrit.symbolic import tip_configurations as tips
@@ -104,7 +105,7 @@ def _printed_for(panel: str, e: printed.PrintedEntry, k: int | None) -> str:
 
 def section_fig2() -> tuple[list[str], dict]:
     cands = tips.candidate_configurations()
-    scores = printed.score_candidates()
+    scores = cscores.score_candidates()
     out = [
         "## 3. Figure 2 reconstructed: Eqs. (22)-(24) and the velocity terms",
         "",
@@ -142,7 +143,7 @@ def section_fig2() -> tuple[list[str], dict]:
     chosen = {}
     out += [""]
     for panel, (eqa, eqw) in printed.PANELS.items():
-        best = printed.best_candidates(panel)
+        best = cscores.best_candidates(panel)
         b = best[0]
         cand = cands[b.index]
         lib = tips.FIG2[panel]
