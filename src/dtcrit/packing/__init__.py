@@ -9,7 +9,7 @@ al. 2020, a Rayleigh quotient).
     >>> round(analyse(lattice("sc", 2, mass=1.0), LinearLaw(1.0, 1.0)).alpha, 4)
     0.4472
 
-Modules: ``model`` (Packing, Box, Contacts, contact laws), ``contacts`` (detection), ``assembly``
+Modules: ``model`` (Packing, Box, contact laws), ``contact_set`` (Contacts), ``contacts`` (detection), ``assembly``
 (sparse M and K), ``eigen`` (largest mode), ``estimates``, ``damping`` (integrator bound via
 ``dtcrit.integrators.stability``), ``report``, ``lattices``, ``random_packing``, ``dump_io`` (LAMMPS/LIGGGHTS
 dumps), ``study`` (alpha against CN_max), ``scaling`` (benchmark).
