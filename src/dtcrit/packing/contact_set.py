@@ -30,6 +30,31 @@ class Contacts:
     relative rotation ``theta_j - theta_i`` perpendicular to, and about, the normal), ``cr``/``ctw`` their
     dashpots [N m s/rad]; ``force_n``
     the normal force [N] a pre-loaded contact carries (compressive positive), for its geometric stiffness.
+
+    Parameters
+    ----------
+    i, j : numpy.ndarray
+        (C,) indices of the two particles of each contact.
+    normal : numpy.ndarray
+        (C, 3) unit normals from ``i`` to ``j``.
+    arm_i, arm_j : numpy.ndarray
+        (C, 3) contact arms [m] from each centre of mass to the contact point.
+    overlap : numpy.ndarray
+        (C,) overlaps [m], >= 0.
+    image : numpy.ndarray
+        (C, 3) integer periodic-image shift of ``j``.
+    radius_eff : numpy.ndarray
+        (C,) effective radius ``R*`` [m] of sphere contacts, NaN otherwise.
+    kn, ks : numpy.ndarray or None
+        (C,) normal and tangential spring stiffnesses [N/m].
+    cn, cs : numpy.ndarray or None
+        (C,) normal and tangential dashpot coefficients [N s/m].
+    kr, ktw : numpy.ndarray or None
+        (C,) rolling and twisting spring stiffnesses [N m/rad].
+    force_n : numpy.ndarray or None
+        (C,) normal force [N] of a pre-loaded contact, compressive positive.
+    cr, ctw : numpy.ndarray or None
+        (C,) rolling and twisting dashpot coefficients [N m s/rad].
     """
 
     i: np.ndarray
@@ -56,7 +81,18 @@ class Contacts:
         return int(self.i.shape[0])
 
     def coordination(self, n_particles: int) -> np.ndarray:
-        """Contacts per particle; a contact with one's own image counts twice (both sides)."""
+        """Contacts per particle; a contact with one's own image counts twice (both sides).
+
+        Parameters
+        ----------
+        n_particles : int
+            Number of particles of the packing.
+
+        Returns
+        -------
+        numpy.ndarray
+            (n_particles,) number of contacts of each particle.
+        """
         return (np.bincount(self.i, minlength=n_particles) + np.bincount(self.j, minlength=n_particles))
 
     def _per_contact(self, **values) -> dict:
@@ -72,18 +108,53 @@ class Contacts:
         return out
 
     def with_stiffness(self, kn, ks, kr=None, ktw=None) -> "Contacts":
-        """Per-contact springs: ``kn``, ``ks`` [N/m]; rolling ``kr`` and twisting ``ktw`` [N m/rad]."""
+        """Per-contact springs: ``kn``, ``ks`` [N/m]; rolling ``kr`` and twisting ``ktw`` [N m/rad].
+
+        Parameters
+        ----------
+        kn, ks : float or array_like
+            Normal and tangential stiffness [N/m], one value or one per contact (finite, >= 0).
+        kr, ktw : float or array_like or None
+            Rolling and twisting stiffness [N m/rad], or None for none.
+
+        Returns
+        -------
+        Contacts
+            A copy carrying the springs.
+        """
         return replace(self, **self._per_contact(kn=kn, ks=ks, kr=kr, ktw=ktw))
 
     def with_damping(self, cn, cs, cr=None, ctw=None) -> "Contacts":
         """Per-contact dashpots ``cn`` (normal), ``cs`` (tangential) [N s/m]; rolling ``cr`` and twisting
         ``ctw`` [N m s/rad] on the relative angular velocity.
+
+        Parameters
+        ----------
+        cn, cs : float or array_like or None
+            Normal and tangential dashpot coefficients [N s/m], one value or one per contact (finite, >= 0).
+        cr, ctw : float or array_like or None
+            Rolling and twisting dashpot coefficients [N m s/rad], or None for none.
+
+        Returns
+        -------
+        Contacts
+            A copy carrying the dashpots.
         """
         return replace(self, **self._per_contact(cn=cn, cs=cs, cr=cr, ctw=ctw))
 
     def with_normal_force(self, force_n) -> "Contacts":
         """The normal force [N] of each pre-loaded contact, compressive positive (a bond in tension is
         negative), for its geometric stiffness.
+
+        Parameters
+        ----------
+        force_n : float or array_like
+            Normal force [N], one value or one per contact (finite).
+
+        Returns
+        -------
+        Contacts
+            A copy carrying the forces.
         """
         arr = np.broadcast_to(np.asarray(force_n, dtype=float), self.i.shape).copy()
         if not np.all(np.isfinite(arr)):

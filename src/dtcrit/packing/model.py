@@ -23,7 +23,15 @@ from dtcrit.physics.contact_laws import hertz_normal_stiffness, mindlin_tangent_
 
 @dataclass(frozen=True)
 class Box:
-    """An axis-aligned simulation box ``[lo, hi)``; ``periodic[a]`` says whether axis ``a`` wraps."""
+    """An axis-aligned simulation box ``[lo, hi)``; ``periodic[a]`` says whether axis ``a`` wraps.
+
+    Parameters
+    ----------
+    lo, hi : array_like
+        Lower and upper bounds [m] along x, y, z (finite, ``hi > lo``).
+    periodic : tuple of bool
+        Whether each axis wraps.
+    """
 
     lo: np.ndarray
     hi: np.ndarray
@@ -75,6 +83,29 @@ class Packing:
     ``shapes`` one object per particle with ``.support(direction)`` for non-spheres, else ``None``;
     ``ids`` the engine's own particle ids (a dump's ``id`` column), else ``None`` (then particles are
     numbered from 1 in messages: ``particle_id``).
+
+    Parameters
+    ----------
+    positions : numpy.ndarray
+        (N, 3) centres of mass [m].
+    masses : numpy.ndarray
+        (N,) masses [kg].
+    inertia : numpy.ndarray
+        (N, 3) principal moments of inertia [kg m^2] (an (N,) array means equal moments).
+    radii : numpy.ndarray
+        (N,) sphere radii, or bounding-sphere radii of other shapes [m].
+    box : Box or None
+        The simulation box, or None for an open packing.
+    orientations : numpy.ndarray or None
+        (N, 3, 3) body-to-global rotation matrices, or None (identity).
+    shapes : sequence or None
+        One shape object per particle for non-spheres, else None.
+    half_lengths : numpy.ndarray or None
+        (N, 3) half-lengths [m] of each particle along its principal axes.
+    label : str
+        Name printed in reports.
+    ids : numpy.ndarray or None
+        (N,) the engine's distinct particle ids, or None.
     """
 
     positions: np.ndarray
@@ -141,7 +172,18 @@ class Packing:
         return self.positions.shape[0]
 
     def particle_id(self, index) -> int:
-        """The id of particle ``index`` as the user knows it: the engine's id, else ``index + 1``."""
+        """The id of particle ``index`` as the user knows it: the engine's id, else ``index + 1``.
+
+        Parameters
+        ----------
+        index : int
+            Zero-based particle index.
+
+        Returns
+        -------
+        int
+            The particle's id.
+        """
         return int(self.ids[index]) if self.ids is not None else int(index) + 1
 
     @property
@@ -222,7 +264,13 @@ class Packing:
 
 @dataclass(frozen=True)
 class LinearLaw:
-    """Linear spring contact: constant normal ``kn`` and tangential ``ks`` stiffness [N/m]."""
+    """Linear spring contact: constant normal ``kn`` and tangential ``ks`` stiffness [N/m].
+
+    Parameters
+    ----------
+    kn, ks : float
+        Normal and tangential stiffness [N/m] (finite, >= 0, not both zero).
+    """
 
     kn: float
     ks: float
@@ -269,6 +317,13 @@ class HertzMindlinLaw:
     ``kn = dF/d(delta) = 2 E* sqrt(R* delta)`` (from ``F = 4/3 E* sqrt(R*) delta^(3/2)``) and
     ``ks = 8 G* sqrt(R* delta)`` (Mindlin, no slip), one material for all particles:
     ``E* = E / (2 (1 - nu^2))``, ``G = E / (2 (1 + nu))``, ``G* = G / (2 (2 - nu))``.
+
+    Parameters
+    ----------
+    youngs : float
+        Young's modulus E [Pa] (positive).
+    poisson : float
+        Poisson's ratio nu, in (-1, 0.5).
     """
 
     youngs: float
@@ -312,6 +367,19 @@ class HertzMindlinLaw:
 
 
 def apply_law(contacts: Contacts, law) -> Contacts:
-    """Contacts with per-contact ``kn``/``ks`` from ``law`` (``LinearLaw`` or ``HertzMindlinLaw``)."""
+    """Contacts with per-contact ``kn``/``ks`` from ``law`` (``LinearLaw`` or ``HertzMindlinLaw``).
+
+    Parameters
+    ----------
+    contacts : Contacts
+        The contacts.
+    law : LinearLaw or HertzMindlinLaw
+        The contact law (any object with ``stiffness(contacts) -> (kn, ks)``).
+
+    Returns
+    -------
+    Contacts
+        A copy carrying the law's springs [N/m].
+    """
     kn, ks = law.stiffness(contacts)
     return contacts.with_stiffness(kn, ks)
