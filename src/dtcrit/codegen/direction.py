@@ -32,7 +32,18 @@ by omega (equal in exact arithmetic; fewer correlated roundings where dt ~ gamma
 
 @lru_cache(maxsize=None)
 def undamped_tau(integrator: str) -> sp.Expr:
-    """tau_crit(0) = omega dt_crit at zeta = 0 (a number)."""
+    """tau_crit(0) = omega dt_crit at zeta = 0 (Peng et al. 2020, Eq. (30) undamped; a number).
+
+    Parameters
+    ----------
+    integrator : str
+        Integrator name (``dtcrit.integrators.schemes``).
+
+    Returns
+    -------
+    sympy.Expr
+        The smallest positive root of the boundary cubic at zeta = 0 (0 if none), or the closed form at zeta = 0.
+    """
     cp = closed_pieces(integrator)[0]
     if cp.kind == "cubic":  # smallest positive real root of the cubic at zeta = 0, or 0 if none
         t = sp.Symbol("t")
@@ -41,6 +52,8 @@ def undamped_tau(integrator: str) -> sp.Expr:
         a2, a1, a0 = (c.subs(zeta_sym, 0) for c in cp.cubic)
         positive = [r for r in sp.Poly(t**3 + a2 * t**2 + a1 * t + a0, t).real_roots() if r > 0]
         return min(positive) if positive else sp.Integer(0)
+    if cp.tau_expr is None:  # pragma: no cover - a closed-form piece carries its tau
+        raise ValueError(f"'{integrator}': a closed-form piece without its tau")
     return sp.simplify(cp.tau_expr.subs(zeta_sym, 0))
 
 
@@ -54,6 +67,16 @@ def direction_kernel(integrator: str) -> sp.Expr:
     as k A itself; a cubic piece as the root of the cubic in tau (zeta <= 1) or in
     y = 1/(zeta tau) (zeta > 1), whose coefficients are polynomials in the *ratios* zeta and
     eps = 1/zeta^2, so nothing overflows for any k, c, A in the float range.
+
+    Parameters
+    ----------
+    integrator : str
+        Integrator name (``dtcrit.integrators.schemes``).
+
+    Returns
+    -------
+    sympy.Expr
+        dt [s] of one direction in the placeholders (a ``Piecewise`` over the boundary's pieces).
     """
     branches = []
     for cp in closed_pieces(integrator):
