@@ -30,6 +30,7 @@ import sympy as sp
 
 from dtcrit.codegen.functions import critical_step, critical_step_undamped, cubic_positive_root
 from dtcrit.codegen.direction import GAMMA, direction_kernel, undamped_tau
+from dtcrit.codegen.chain import cse_chain, dependency_order
 from dtcrit.codegen.structure import KernelStructure
 from dtcrit.errors import InputError
 from dtcrit.symbolic.closed_forms import formula_text
@@ -132,7 +133,7 @@ class ContactKernel:
             ``(temporaries, steps)``: temporaries ``x0, x1, ...`` first, then the named steps
             rewritten in terms of them; the last step defines ``result``.
         """
-        return _cse_chain(self.symbols, self.steps)
+        return cse_chain(self.symbols, self.steps)
 
     def statements(self) -> list[tuple[sp.Symbol, sp.Expr]]:
         """All assignments after CSE, each after everything it uses; the last defines ``result``.
@@ -165,7 +166,7 @@ class ContactKernel:
             kept = [(s, e) for s, e in items if s == self.result or s in used]
             if len(kept) != len(items):
                 items, changed = kept, True
-        return tuple(_dependency_order(self.symbols, items, self.result))
+        return tuple(dependency_order(self.symbols, items, self.result))
 
     def op_count(self) -> int:
         """Arithmetic and function operations after CSE (``sympy.count_ops``, each emitted statement,
@@ -193,41 +194,6 @@ class ContactKernel:
         for s, e in reversed(self.steps):
             expr = expr.xreplace({s: e})
         return expr
-
-
-def _cse_chain(args, steps):
-    names = [s for s, _ in steps]
-    exprs = [e for _, e in steps]
-    temps, reduced = sp.cse(exprs, symbols=sp.numbered_symbols("x", real=True), order="canonical")
-    # A shared reciprocal 1/y would turn every u/y into u*(1/y): two roundings instead of one.
-    # Such temporaries are put back, so divisions stay divisions.
-    inline = {}
-    kept = []
-    for sym, expr in temps:
-        expr = expr.xreplace(inline)
-        if expr.is_Pow and expr.exp == -1 and expr.base.is_Atom:
-            inline[sym] = expr
-        else:
-            kept.append((sym, expr))
-    reduced = [e.xreplace(inline) for e in reduced]
-    return kept, list(zip(names, reduced))
-
-
-def _dependency_order(args, items, result):
-    """Order assignments so each comes after the names it uses (stable: earliest ready first)."""
-    defined = set(args)
-    pending = list(items)
-    out = []
-    while pending:
-        for n, (sym, expr) in enumerate(pending):
-            if expr.free_symbols <= defined and (sym != result or len(pending) == 1):
-                out.append((sym, expr))
-                defined.add(sym)
-                del pending[n]
-                break
-        else:  # pragma: no cover - the chain is acyclic by construction
-            raise RuntimeError("cyclic assignment chain")
-    return out
 
 
 # ----------------------------------------------------------------------------------------------
