@@ -27,6 +27,7 @@ from dtcrit.bodies import Box, ConvexPolyhedron, Ellipsoid, Sphere, Superquadric
 from dtcrit.bodies import arm_supremum as asup
 from dtcrit.bodies import contact_search as cs
 from dtcrit.symbolic import contact_codegen as cc
+from dtcrit.symbolic import coefficient_forms as cforms
 from dtcrit.symbolic import kinematics as kin
 from dtcrit.symbolic import tip_configurations as tips
 
@@ -86,7 +87,7 @@ def _cube_counterexample() -> list[str]:
     p2 = kin.RigidParticle(m, I, sp.eye(3), -corner)
     A = kin.coefficient_matrix(p1, p2)
     eig = {sp.simplify(k): v for k, v in A.eigenvals().items()}
-    amax = kin.a_max_printed(m, I[0, 0], a, m, I[0, 0], a)
+    amax = cforms.a_max_printed(m, I[0, 0], a, m, I[0, 0], a)
     lam = max(eig, key=lambda e: float(e.subs(m, 1)))
     return [
         "**Counter-example (exact, from the general kinematics).**  Two axis-aligned cubes of half-length $a$, mass $m$ "

@@ -7,9 +7,9 @@ each integrator's update rule (``dtcrit.integrators.schemes`` applied to unit st
 values by ``mpmath.eig`` at 50 digits) -- no characteristic polynomial or closed form on that side.
 
 Library used: ``dtcrit.symbolic.integrators`` (amplification matrices, characteristic polynomials),
-``dtcrit.symbolic.roots`` (eigenvalue roots, the paper's Cardano route), ``dtcrit.symbolic.boundary``
-(exact critical step from the Jury conditions), ``dtcrit.symbolic.paper_section4`` (the labelled
-formulas), ``dtcrit.symbolic.closed_forms`` (closed forms of the critical step).
+``dtcrit.symbolic.roots`` (eigenvalue roots), ``dtcrit.symbolic.paper_cardano`` (the paper's Cardano route),
+``dtcrit.symbolic.boundary`` (exact critical step from the Jury conditions),
+``dtcrit.symbolic.paper_section4`` (the labelled formulas), ``dtcrit.symbolic.closed_forms`` (closed forms of the critical step).
 """
 from __future__ import annotations
 

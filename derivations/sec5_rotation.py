@@ -15,6 +15,7 @@ from _shared.text import entry_verdict, latex, num
 import dtcrit
 from dtcrit.bodies import contact
 from dtcrit.bodies import Box, Ellipsoid, Superquadric
+from dtcrit.symbolic import coefficient_forms as cforms
 from dtcrit.symbolic import kinematics as kin
 from dtcrit.symbolic import printed_entries as printed
 from dtcrit.symbolic import tip_configurations as tips
@@ -68,7 +69,7 @@ def section_eq53() -> list[str]:
     wj, wk = sp.symbols("omega_j omega_k", real=True)
     amgm = sp.expand((wj**2 + wk**2) - 2 * wj * wk - (wj - wk) ** 2) == 0
     c = tips.gyroscopic_coefficients(tips.P1.Ixx, tips.P1.Iyy, tips.P1.Izz)
-    bmax = kin.b_max_printed(tips.P1.Ixx, tips.P1.Iyy, tips.P1.Izz)
+    bmax = cforms.b_max_printed(tips.P1.Ixx, tips.P1.Iyy, tips.P1.Izz)
     same = sp.simplify(sp.Max(*[sp.Abs(x) for x in c]) - bmax) == 0
     e = Ellipsoid(3.0, 2.0, 1.0, density=1000.0)
     vals = {}

@@ -26,6 +26,7 @@ import numpy as np
 import sympy as sp
 import matplotlib.pyplot as plt
 
+from dtcrit.symbolic import coefficient_forms as cforms
 from dtcrit.symbolic import kinematics as K
 from dtcrit.symbolic import quaternions as quat
 from dtcrit.symbolic import tip_configurations as tips
@@ -66,7 +67,7 @@ A
 # $\Delta t = \frac{2}{\sqrt 7}\sqrt{m/k}$ (Eq. 49) for the undamped central-difference family.
 
 # %%
-sph = K.sphere_pair_check()
+sph = cforms.sphere_pair_check()
 print("residual A - closed form:", sph["residual"])
 print("largest eigenvalue:", sph["lambda_max"], "  Eq. (26):", sph["a_max_eq26"])
 assert sph["residual"] == sp.zeros(3, 3)

@@ -8,7 +8,9 @@ import sympy as sp
 
 from .text import entry_verdict, latex
 
+from dtcrit.symbolic import coefficient_forms as cforms
 from dtcrit.symbolic import kinematics as kin
+from dtcrit.symbolic import candidate_scores as cscores
 from dtcrit.symbolic import printed_entries as printed
 from dtcrit.symbolic import quaternions as quat
 from dtcrit.symbolic import tip_configurations as tips
@@ -54,8 +56,8 @@ def section_general() -> list[str]:
     r = sp.Matrix(sp.symbols("r_x r_y r_z", real=True))
     Ixx, Iyy, Izz, Ixy, Ixz, Iyz = sp.symbols("I_xx I_yy I_zz I_xy I_xz I_yz", real=True)
     general_I = kin.inertia_tensor(Ixx, Iyy, Izz, Ixy, Ixz, Iyz)
-    closed_general = kin.check_arm_term_closed_form(r, general_I)
-    closed_diag = kin.check_arm_term_closed_form(r, kin.inertia_tensor(Ixx, Iyy, Izz))
+    closed_general = cforms.check_arm_term_closed_form(r, general_I)
+    closed_diag = cforms.check_arm_term_closed_form(r, kin.inertia_tensor(Ixx, Iyy, Izz))
     v = sp.Matrix(sp.symbols("v_x v_y v_z", real=True))
     W = sp.diag(*sp.symbols("W_x W_y W_z", positive=True))
     T = quat.skew(r).T * W * quat.skew(r)
@@ -103,7 +105,7 @@ def _printed_for(panel: str, e: printed.PrintedEntry, k: int | None) -> str:
 
 def section_fig2() -> tuple[list[str], dict]:
     cands = tips.candidate_configurations()
-    scores = printed.score_candidates()
+    scores = cscores.score_candidates()
     out = [
         "## 3. Figure 2 reconstructed: Eqs. (22)-(24) and the velocity terms",
         "",
@@ -141,7 +143,7 @@ def section_fig2() -> tuple[list[str], dict]:
     chosen = {}
     out += [""]
     for panel, (eqa, eqw) in printed.PANELS.items():
-        best = printed.best_candidates(panel)
+        best = cscores.best_candidates(panel)
         b = best[0]
         cand = cands[b.index]
         lib = tips.FIG2[panel]
@@ -236,7 +238,7 @@ def section_eq26_configs() -> list[str]:
     out += ["", "So the inequality of Eq. (26) is **reproduced** for the three configurations it was stated for (they "
             "are diagonal, so the diagonal entries are the eigenvalues).  Section 5 shows it does not extend to "
             "every admissible contact.", ""]
-    sph = kin.sphere_pair_check()
+    sph = cforms.sphere_pair_check()
     k_n = sp.Symbol("k_n", positive=True)
     dt = sp.simplify(2 / sp.sqrt(k_n * sph["lambda_max"]))
     out += [

@@ -8,7 +8,7 @@ import sympy as sp
 from .stability_tools import DPS, ZETAS, A, _n, _verdict, _zero, beta, c, eigenvalues, k, m, mpz, rho, tau_eq46, tau_star
 
 from dtcrit.symbolic import paper_section4 as p4
-from dtcrit.symbolic import roots as R
+from dtcrit.symbolic import paper_cardano as PC
 from dtcrit.symbolic.boundary import boundary_factors
 from dtcrit.symbolic.integrators import C, K, amplification_matrix, h, lam, tau, zeta
 
@@ -95,13 +95,13 @@ def section_belytschko() -> list[str]:
 
 def section_scheme() -> list[str]:
     G_lib = amplification_matrix("paper-eq40", dimensionless=False)
-    G_printed = R.paper_eq40_matrix().subs({R.Kj: -K, R.Cj: -C, R.dt: h})
+    G_printed = PC.paper_eq40_matrix().subs({PC.Kj: -K, PC.Cj: -C, PC.dt: h})
     eq40_ok = (G_lib - G_printed).applyfunc(sp.simplify) == sp.zeros(3, 3)
     fe = amplification_matrix("forward-euler", dimensionless=False)
-    check = R.check_paper_cardano()
-    printed41 = R.paper_eq41_determinant()
+    check = PC.check_paper_cardano()
+    printed41 = PC.paper_eq41_determinant()
     # numeric check of the transcribed Eqs. (42)-(43) at 50 digits
-    f42 = sp.lambdify((tau, zeta, R.dt), [R.to_dimensionless(e) for e in R.paper_eq42_roots()], modules="mpmath")
+    f42 = sp.lambdify((tau, zeta, PC.dt), [PC.to_dimensionless(e) for e in PC.paper_eq42_roots()], modules="mpmath")
     pts = (("0.05", "0"), ("0.5", "0.3"), ("1.7", "2"), ("3.9", "0.01"), ("0.000001", "10"))
     rows = []
     worst = mp.mpf(0)
@@ -183,13 +183,13 @@ def section_minus_one() -> list[str]:
 
     lam_printed_plus = lam1_of(printed_plus[0])
     # Eq. (45): roots of p(-1) = 0 in dt
-    det = R.paper_eq41_determinant()
+    det = PC.paper_eq41_determinant()
     p_minus1 = sp.factor(det.subs(lam, -1))
     p_plus1 = sp.factor(det.subs(lam, 1))
-    roots45 = sp.solve(p_minus1, R.dt)
-    printed45 = [(R.Cj + sp.sqrt(R.Cj**2 - 4 * R.Kj)) / R.Kj, (R.Cj - sp.sqrt(R.Cj**2 - 4 * R.Kj)) / R.Kj]
+    roots45 = sp.solve(p_minus1, PC.dt)
+    printed45 = [(PC.Cj + sp.sqrt(PC.Cj**2 - 4 * PC.Kj)) / PC.Kj, (PC.Cj - sp.sqrt(PC.Cj**2 - 4 * PC.Kj)) / PC.Kj]
     eq45_ok = all(any(_zero(sp.radsimp(a - b)) for b in roots45) for a in printed45)
-    neg_root_sign = sp.simplify(printed45[0].subs({R.Cj: -c * A, R.Kj: -k * A}))
+    neg_root_sign = sp.simplify(printed45[0].subs({PC.Cj: -c * A, PC.Kj: -k * A}))
     # squaring step: (w^3 - N)^2 = N^2 - 4 M^3 with w one of the lambda = -1 D-solutions
     N = -9 * x + 27 * y - 2
     w = sp.cbrt(2) * (-5 + s_) / 2
@@ -199,12 +199,12 @@ def section_minus_one() -> list[str]:
     a_s, b_s = sp.Poly(other, s_).all_coeffs()  # other = a_s s + b_s
     spurious = sp.factor(sp.expand(a_s**2 * (21 - 12 * x) - b_s**2))
     # Eq. (46)
-    printed46_a = (R.Cj - sp.sqrt(R.Cj**2 - 4 * R.Kj)) / R.Kj
+    printed46_a = (PC.Cj - sp.sqrt(PC.Cj**2 - 4 * PC.Kj)) / PC.Kj
     printed46_b = (sp.sqrt(4 * k * A + c**2 * A**2) + c * A) / (k * A)
-    eq46_forms_ok = _zero(sp.simplify(printed46_a.subs({R.Cj: -c * A, R.Kj: -k * A}) - printed46_b))
+    eq46_forms_ok = _zero(sp.simplify(printed46_a.subs({PC.Cj: -c * A, PC.Kj: -k * A}) - printed46_b))
     eq46_lib_ok = _zero(sp.simplify(printed46_b - p4.eq46()))
-    printed47 = sp.sqrt(-4 / R.Kj)
-    eq47_ok = _zero(sp.simplify(printed47.subs(R.Kj, -k * A) - 2 / sp.sqrt(k * A))) and _zero(
+    printed47 = sp.sqrt(-4 / PC.Kj)
+    eq47_ok = _zero(sp.simplify(printed47.subs(PC.Kj, -k * A) - 2 / sp.sqrt(k * A))) and _zero(
         sp.simplify(p4.eq46().subs(c, 0) - 2 / sp.sqrt(k * A))
     )
     lam_factor = next(f for f in boundary_factors("paper-eq40") if f.condition.startswith("(-1)^n"))

@@ -10,7 +10,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from dtcrit.codegen import KernelStructure, evaluate_mp, general_structure
-from dtcrit.codegen.kernel import direction_kernel
+from dtcrit.codegen.direction import direction_kernel
 from dtcrit.integrators.schemes import NAMES
 from dtcrit.symbolic.closed_forms import dt_crit_mp, tau_crit_closed_mp
 
@@ -141,7 +141,7 @@ def test_forward_euler_near_critical_damping_is_as_accurate_as_its_conditioning_
 def test_direction_kernel_matches_the_stability_engine_reference(integrator, log_k, log_A, zeta):
     """The per-direction expression assembled here (hypot, k A for omega^2, ratio-form cubic
     coefficients) equals dtcrit.symbolic.closed_forms.dt_crit_mp, an independent 50-digit route."""
-    from dtcrit.codegen.kernel import EPS, GAMMA, KA, OMEGA, ZETA
+    from dtcrit.codegen.direction import EPS, GAMMA, KA, OMEGA, ZETA
     from dtcrit.codegen.kernel_mp import _MP_MODULES
     import sympy as sp
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from dtcrit.integrators import precise
+from dtcrit.integrators import precise, precise_eq40
 from dtcrit.integrators.stability import critical_dt_array
 from dtcrit.symbolic.closed_forms import closed_pieces, dt_crit_mp
 from dtcrit.symbolic.integrators import tau, zeta
@@ -64,13 +64,13 @@ def test_scaling_by_the_larger_rate_keeps_huge_damping_ratios():
 
 def test_paper_eq40_bounded_cubic_is_the_derived_cubic():
     """tau = zeta m r with w = 2 zeta^2/(1 + 2 zeta^2), m = 1 - w turns the derived cubic into a multiple
-    of the runtime's h(r) (``precise.eq40_bounded_cubic``), and dt = tau/omega = (c/2) r/(k + c^2 A/2)."""
+    of the runtime's h(r) (``precise_eq40.eq40_bounded_cubic``), and dt = tau/omega = (c/2) r/(k + c^2 A/2)."""
     (piece,) = closed_pieces("paper-eq40")
     g = tau**3 + sum(coef * tau ** (2 - i) for i, coef in enumerate(piece.cubic))
     w, r, d, cc = sp.symbols("w r delta c", positive=True)
     m = 1 - w
     s = w / (2 * m)  # zeta^2
-    c3, c2, c1, c0 = precise.eq40_bounded_cubic(w, m)
+    c3, c2, c1, c0 = precise_eq40.eq40_bounded_cubic(w, m)
     h = sp.nsimplify(sp.expand(c3 * d**3 + c2 * d**2 + c1 * d + c0)).subs(d, r - 1)
     zeta_pos = sp.sqrt(s)
     cubic_in_r = sp.expand(g.subs(tau, zeta_pos * m * r).subs(zeta, zeta_pos))
@@ -88,7 +88,7 @@ def test_paper_eq40_bounded_root_is_the_only_one_in_its_bracket():
     """h < 0 on [0, 1], h(3/2) > 0 and h' >= 1/4 on [1, 3/2] for every w in [0, 1]: the root in (1, 3/2)
     is the smallest positive root (tau = zeta m r is increasing in r)."""
     w, r = sp.symbols("w r", real=True)
-    c3, c2, c1, c0 = precise.eq40_bounded_cubic(w, 1 - w)
+    c3, c2, c1, c0 = precise_eq40.eq40_bounded_cubic(w, 1 - w)
     a, b = sp.nsimplify(sp.expand(w * (1 - w))), sp.nsimplify(sp.expand(w * (1 - w) ** 2 / 4))
     h = sp.expand(b * r**3 - a * r**2 + r - 1)
     assert sp.expand(sp.nsimplify(sp.expand(c3 * (r - 1) ** 3 + c2 * (r - 1) ** 2 + c1 * (r - 1) + c0)) - h) == 0

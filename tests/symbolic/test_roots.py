@@ -22,6 +22,7 @@ from hypothesis import strategies as st
 from dtcrit._generated import eigenvalues as gen
 from dtcrit.integrators.schemes import INTEGRATORS, NAMES
 from dtcrit.integrators.stability import critical_dt
+from dtcrit.symbolic import paper_cardano as PC
 from dtcrit.symbolic import roots as R
 from dtcrit.symbolic.integrators import tau, zeta
 
@@ -271,15 +272,15 @@ def test_paper_equations_41_to_43_are_cardano_for_eq40():
     """Eq. (41) is -det(lambda I - G) of Eq. (40) with K_j = -kA, C_j = -cA, and Eqs. (42)-(43) are
     Cardano's roots: u v = -p/3 and u^3 + v^3 = -q for u = D/(3 2^(1/3)), v = 2^(1/3)(3 C_j dt + 1)/(3D),
     shift 2/3 (symbolic identities)."""
-    check = R.check_paper_cardano()
+    check = PC.check_paper_cardano()
     assert check.eq41_equals_library and check.uv_product and check.u3_plus_v3 and check.shift_is_two_thirds
 
 
 @pytest.mark.parametrize("t,z", [(0.05, 0.0), (0.5, 0.3), (1.7, 2.0), (3.9, 0.01), (1e-6, 10.0)])
 def test_paper_eq42_numerically_at_50_digits(t, z):
     """The transcribed Eq. (42)-(43), at 50 digits, are the eigenvalues of the numeric Eq. (40) matrix."""
-    exprs = [R.to_dimensionless(e) for e in R.paper_eq42_roots()]
-    f = sp.lambdify((tau, zeta, R.dt), exprs, modules="mpmath")
+    exprs = [PC.to_dimensionless(e) for e in PC.paper_eq42_roots()]
+    f = sp.lambdify((tau, zeta, PC.dt), exprs, modules="mpmath")
     with mp.workdps(60):
         got = [mp.mpc(v) for v in f(mp.mpf(t), mp.mpf(z), mp.mpf(1))]
     assert match_error(got, eig_mp("paper-eq40", t, z, dps=60)) <= 1e-40

@@ -24,17 +24,18 @@ parameters.  :func:`dtcrit.codegen.kernel_mp.evaluate_mp` evaluates the same cha
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property, lru_cache
+from functools import cached_property
 
 import sympy as sp
 
 from dtcrit.codegen.functions import critical_step, critical_step_undamped, cubic_positive_root
+from dtcrit.codegen.direction import GAMMA, direction_kernel, undamped_tau
+from dtcrit.codegen.chain import cse_chain, dependency_order
 from dtcrit.codegen.structure import KernelStructure
 from dtcrit.errors import InputError
-from dtcrit.symbolic.closed_forms import closed_pieces, eps, formula_text, gamma, omega
+from dtcrit.symbolic.closed_forms import formula_text
 from dtcrit.symbolic.careful_forms import nan_max, nan_min
-from dtcrit.symbolic.emit import derivation_hash, rewrite_for_printing
-from dtcrit.symbolic.integrators import zeta as zeta_sym
+from dtcrit.symbolic.emit import derivation_hash
 
 
 def _pos(name: str) -> sp.Symbol:
@@ -132,7 +133,7 @@ class ContactKernel:
             ``(temporaries, steps)``: temporaries ``x0, x1, ...`` first, then the named steps
             rewritten in terms of them; the last step defines ``result``.
         """
-        return _cse_chain(self.symbols, self.steps)
+        return cse_chain(self.symbols, self.steps)
 
     def statements(self) -> list[tuple[sp.Symbol, sp.Expr]]:
         """All assignments after CSE, each after everything it uses; the last defines ``result``.
@@ -165,7 +166,7 @@ class ContactKernel:
             kept = [(s, e) for s, e in items if s == self.result or s in used]
             if len(kept) != len(items):
                 items, changed = kept, True
-        return tuple(_dependency_order(self.symbols, items, self.result))
+        return tuple(dependency_order(self.symbols, items, self.result))
 
     def op_count(self) -> int:
         """Arithmetic and function operations after CSE (``sympy.count_ops``, each emitted statement,
@@ -195,100 +196,9 @@ class ContactKernel:
         return expr
 
 
-def _cse_chain(args, steps):
-    names = [s for s, _ in steps]
-    exprs = [e for _, e in steps]
-    temps, reduced = sp.cse(exprs, symbols=sp.numbered_symbols("x", real=True), order="canonical")
-    # A shared reciprocal 1/y would turn every u/y into u*(1/y): two roundings instead of one.
-    # Such temporaries are put back, so divisions stay divisions.
-    inline = {}
-    kept = []
-    for sym, expr in temps:
-        expr = expr.xreplace(inline)
-        if expr.is_Pow and expr.exp == -1 and expr.base.is_Atom:
-            inline[sym] = expr
-        else:
-            kept.append((sym, expr))
-    reduced = [e.xreplace(inline) for e in reduced]
-    return kept, list(zip(names, reduced))
-
-
-def _dependency_order(args, items, result):
-    """Order assignments so each comes after the names it uses (stable: earliest ready first)."""
-    defined = set(args)
-    pending = list(items)
-    out = []
-    while pending:
-        for n, (sym, expr) in enumerate(pending):
-            if expr.free_symbols <= defined and (sym != result or len(pending) == 1):
-                out.append((sym, expr))
-                defined.add(sym)
-                del pending[n]
-                break
-        else:  # pragma: no cover - the chain is acyclic by construction
-            raise RuntimeError("cyclic assignment chain")
-    return out
-
-
 # ----------------------------------------------------------------------------------------------
 # Building blocks
 # ----------------------------------------------------------------------------------------------
-# placeholders of one direction's rates, replaced per direction
-OMEGA, GAMMA, KA, ZETA, EPS = (_pos(n) for n in ("OMEGA", "GAMMA", "KA", "ZETA", "EPS"))
-
-ZETA_SCALED = sp.Rational(1, 2)
-"""Below this damping ratio a cubic piece multiplies its root by omega/(k A) instead of dividing
-by omega (equal in exact arithmetic; fewer correlated roundings where dt ~ gamma/(k A))."""
-
-
-@lru_cache(maxsize=None)
-def undamped_tau(integrator: str) -> sp.Expr:
-    """tau_crit(0) = omega dt_crit at zeta = 0 (a number)."""
-    cp = closed_pieces(integrator)[0]
-    if cp.kind == "cubic":  # smallest positive real root of the cubic at zeta = 0, or 0 if none
-        t = sp.Symbol("t")
-        if cp.cubic is None:  # pragma: no cover - a cubic piece carries its cubic
-            raise ValueError(f"'{integrator}': a cubic piece without its cubic")
-        a2, a1, a0 = (c.subs(zeta_sym, 0) for c in cp.cubic)
-        positive = [r for r in sp.Poly(t**3 + a2 * t**2 + a1 * t + a0, t).real_roots() if r > 0]
-        return min(positive) if positive else sp.Integer(0)
-    return sp.simplify(cp.tau_expr.subs(zeta_sym, 0))
-
-
-@lru_cache(maxsize=None)
-def direction_kernel(integrator: str) -> sp.Expr:
-    """Step dt of one direction in the placeholders OMEGA = sqrt(k A), GAMMA = c A/2, KA = k A,
-    ZETA = GAMMA/OMEGA and EPS = 1/ZETA^2 (Peng et al. 2020, Eqs. (29)-(30)).
-
-    Built piece by piece from ``dtcrit.symbolic.closed_forms.closed_pieces`` (the exact boundary of
-    the integrator): closed-form pieces as derived, with sqrt(x^2 + y^2) as ``hypot`` and omega^2
-    as k A itself; a cubic piece as the root of the cubic in tau (zeta <= 1) or in
-    y = 1/(zeta tau) (zeta > 1), whose coefficients are polynomials in the *ratios* zeta and
-    eps = 1/zeta^2, so nothing overflows for any k, c, A in the float range.
-    """
-    branches = []
-    for cp in closed_pieces(integrator):
-        if cp.kind == "root":
-            e = rewrite_for_printing(cp.dt_expr).subs(omega**2, KA).xreplace({omega: OMEGA, gamma: GAMMA})
-        else:
-            if cp.cubic is None or cp.cubic_large is None:  # pragma: no cover - a cubic piece carries both
-                raise ValueError(f"'{integrator}': a cubic piece without its cubics")
-            a2, a1, a0 = (c.subs(zeta_sym, ZETA) for c in cp.cubic)
-            b2, b1, b0 = (c.subs(eps, EPS) for c in cp.cubic_large)
-            # zeta <= 1/2, where dt ~ tau(zeta)/omega ~ gamma/(k A): the factor 1/omega is taken as
-            # omega/(k A), whose rounding error cancels the one omega passes on through zeta
-            scale = sp.Piecewise((OMEGA / KA, sp.Le(ZETA, ZETA_SCALED)), (1 / OMEGA, True))
-            small = cubic_positive_root(a2, a1, a0, sp.false) * scale
-            large = 1 / (GAMMA * cubic_positive_root(b2, b1, b0, sp.true))
-            e = sp.Piecewise((small, sp.Le(GAMMA, OMEGA)), (large, True))
-        hi = cp.piece.zeta_hi
-        branches.append((e, sp.true if hi == sp.oo else sp.Le(GAMMA, hi * OMEGA)))
-    if len(branches) == 1:
-        return branches[0][0]
-    branches[-1] = (branches[-1][0], sp.true)
-    return sp.Piecewise(*branches)
-
-
 def _side_symbols(suffix: str, kind: str, rotation: bool) -> dict[str, sp.Symbol]:
     syms = {"m": _pos(f"m{suffix}")}
     if kind == "general":

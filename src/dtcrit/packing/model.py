@@ -1,4 +1,6 @@
-"""Data model of a packing: particles, an optional (periodic) box and the contact list.
+"""Data model of a packing: particles, an optional (periodic) box and the contact laws.
+
+The contact list is ``dtcrit.packing.contact_set.Contacts``.
 
 The global analysis (Otsubo, O'Sullivan & Shire 2017) gives every particle six degrees of freedom:
 three translations in the global frame and three small rotations about the particle's own
@@ -15,12 +17,21 @@ from typing import Any, Sequence
 import numpy as np
 
 from dtcrit.errors import InputError
+from dtcrit.packing.contact_set import Contacts
 from dtcrit.physics.contact_laws import hertz_normal_stiffness, mindlin_tangent_stiffness, same_material_moduli
 
 
 @dataclass(frozen=True)
 class Box:
-    """An axis-aligned simulation box ``[lo, hi)``; ``periodic[a]`` says whether axis ``a`` wraps."""
+    """An axis-aligned simulation box ``[lo, hi)``; ``periodic[a]`` says whether axis ``a`` wraps.
+
+    Parameters
+    ----------
+    lo, hi : array_like
+        Lower and upper bounds [m] along x, y, z (finite, ``hi > lo``).
+    periodic : tuple of bool
+        Whether each axis wraps.
+    """
 
     lo: np.ndarray
     hi: np.ndarray
@@ -72,6 +83,29 @@ class Packing:
     ``shapes`` one object per particle with ``.support(direction)`` for non-spheres, else ``None``;
     ``ids`` the engine's own particle ids (a dump's ``id`` column), else ``None`` (then particles are
     numbered from 1 in messages: ``particle_id``).
+
+    Parameters
+    ----------
+    positions : numpy.ndarray
+        (N, 3) centres of mass [m].
+    masses : numpy.ndarray
+        (N,) masses [kg].
+    inertia : numpy.ndarray
+        (N, 3) principal moments of inertia [kg m^2] (an (N,) array means equal moments).
+    radii : numpy.ndarray
+        (N,) sphere radii, or bounding-sphere radii of other shapes [m].
+    box : Box or None
+        The simulation box, or None for an open packing.
+    orientations : numpy.ndarray or None
+        (N, 3, 3) body-to-global rotation matrices, or None (identity).
+    shapes : sequence or None
+        One shape object per particle for non-spheres, else None.
+    half_lengths : numpy.ndarray or None
+        (N, 3) half-lengths [m] of each particle along its principal axes.
+    label : str
+        Name printed in reports.
+    ids : numpy.ndarray or None
+        (N,) the engine's distinct particle ids, or None.
     """
 
     positions: np.ndarray
@@ -138,7 +172,18 @@ class Packing:
         return self.positions.shape[0]
 
     def particle_id(self, index) -> int:
-        """The id of particle ``index`` as the user knows it: the engine's id, else ``index + 1``."""
+        """The id of particle ``index`` as the user knows it: the engine's id, else ``index + 1``.
+
+        Parameters
+        ----------
+        index : int
+            Zero-based particle index.
+
+        Returns
+        -------
+        int
+            The particle's id.
+        """
         return int(self.ids[index]) if self.ids is not None else int(index) + 1
 
     @property
@@ -218,129 +263,14 @@ class Packing:
 
 
 @dataclass(frozen=True)
-class Contacts:
-    """Contact list: pair ``(i[c], j[c])``, unit normal from ``i`` to ``j``, contact arms.
-
-    ``arm_i = x_c - x_i`` and ``arm_j = x_c - (x_j + shift)`` share one contact point ``x_c`` (Peng
-    et al. 2020, Eqs (1)-(2)), so rigid-body motions of the pair strain no spring.  ``image`` is
-    the integer periodic-image shift of ``j`` (``x_j + image * L``); ``i == j`` is a particle
-    touching its own periodic image.  ``overlap`` >= 0; ``radius_eff`` is the effective radius of
-    curvature ``R* = R_i R_j / (R_i + R_j)`` for spheres (Hertz), NaN otherwise.  ``kn``/``ks``
-    are the normal and tangential spring stiffnesses [N/m] once a contact law was applied.
-
-    Optional per-contact terms (``None`` when absent): ``cn``/``cs`` the normal and tangential
-    dashpot coefficients [N s/m] (force ``-c`` times the relative velocity of the contact points);
-    ``kr``/``ktw`` the rolling and twisting spring stiffnesses [N m/rad] (moment against the
-    relative rotation ``theta_j - theta_i`` perpendicular to, and about, the normal), ``cr``/``ctw`` their
-    dashpots [N m s/rad]; ``force_n``
-    the normal force [N] a pre-loaded contact carries (compressive positive), for its geometric stiffness.
-    """
-
-    i: np.ndarray
-    j: np.ndarray
-    normal: np.ndarray
-    arm_i: np.ndarray
-    arm_j: np.ndarray
-    overlap: np.ndarray
-    image: np.ndarray
-    radius_eff: np.ndarray
-    kn: np.ndarray | None = None
-    ks: np.ndarray | None = None
-    cn: np.ndarray | None = None
-    cs: np.ndarray | None = None
-    kr: np.ndarray | None = None
-    ktw: np.ndarray | None = None
-    force_n: np.ndarray | None = None
-    cr: np.ndarray | None = None
-    ctw: np.ndarray | None = None
-
-    @property
-    def count(self) -> int:
-        """Number of contacts."""
-        return int(self.i.shape[0])
-
-    def coordination(self, n_particles: int) -> np.ndarray:
-        """Contacts per particle; a contact with one's own image counts twice (both sides)."""
-        return (np.bincount(self.i, minlength=n_particles) + np.bincount(self.j, minlength=n_particles))
-
-    def _per_contact(self, **values) -> dict:
-        out: dict[str, np.ndarray | None] = {}
-        for key, value in values.items():
-            if value is None:
-                out[key] = None
-                continue
-            arr = np.broadcast_to(np.asarray(value, dtype=float), self.i.shape).copy()
-            if np.any(~np.isfinite(arr)) or np.any(arr < 0):
-                raise InputError(key, "every value must be a finite number >= 0")
-            out[key] = arr
-        return out
-
-    def with_stiffness(self, kn, ks, kr=None, ktw=None) -> "Contacts":
-        """Per-contact springs: ``kn``, ``ks`` [N/m]; rolling ``kr`` and twisting ``ktw`` [N m/rad]."""
-        return replace(self, **self._per_contact(kn=kn, ks=ks, kr=kr, ktw=ktw))
-
-    def with_damping(self, cn, cs, cr=None, ctw=None) -> "Contacts":
-        """Per-contact dashpots ``cn`` (normal), ``cs`` (tangential) [N s/m]; rolling ``cr`` and twisting
-        ``ctw`` [N m s/rad] on the relative angular velocity.
-        """
-        return replace(self, **self._per_contact(cn=cn, cs=cs, cr=cr, ctw=ctw))
-
-    def with_normal_force(self, force_n) -> "Contacts":
-        """The normal force [N] of each pre-loaded contact, compressive positive (a bond in tension is
-        negative), for its geometric stiffness.
-        """
-        arr = np.broadcast_to(np.asarray(force_n, dtype=float), self.i.shape).copy()
-        if not np.all(np.isfinite(arr)):
-            raise InputError("force_n", "every normal force must be a finite number")
-        return replace(self, force_n=arr)
-
-    @property
-    def damped(self) -> bool:
-        """Whether any contact carries a positive dashpot."""
-        return any(c is not None and np.any(c > 0) for c in (self.cn, self.cs, self.cr, self.ctw))
-
-    @property
-    def rotational_springs(self) -> bool:
-        """Whether any contact carries a positive rolling or twisting spring."""
-        return any(k is not None and np.any(k > 0) for k in (self.kr, self.ktw))
-
-    def subset(self, mask) -> "Contacts":
-        """The contacts selected by ``mask``.
-
-        Parameters
-        ----------
-        mask : numpy.ndarray
-            Boolean mask or index array over the contacts.
-
-        Returns
-        -------
-        Contacts
-            Those contacts with every per-contact term.
-        """
-        pick = lambda a: None if a is None else a[mask]  # noqa: E731
-        return Contacts(self.i[mask], self.j[mask], self.normal[mask], self.arm_i[mask], self.arm_j[mask],
-                        self.overlap[mask], self.image[mask], self.radius_eff[mask], pick(self.kn), pick(self.ks),
-                        pick(self.cn), pick(self.cs), pick(self.kr), pick(self.ktw), pick(self.force_n),
-                        pick(self.cr), pick(self.ctw))
-
-    @classmethod
-    def empty(cls) -> "Contacts":
-        """No contacts.
-
-        Returns
-        -------
-        Contacts
-            An empty contact list with zero springs.
-        """
-        z3 = np.zeros((0, 3))
-        zi = np.zeros(0, dtype=np.int64)
-        return cls(zi, zi.copy(), z3, z3.copy(), z3.copy(), np.zeros(0), np.zeros((0, 3), dtype=np.int64),
-                   np.zeros(0), np.zeros(0), np.zeros(0))
-
-
-@dataclass(frozen=True)
 class LinearLaw:
-    """Linear spring contact: constant normal ``kn`` and tangential ``ks`` stiffness [N/m]."""
+    """Linear spring contact: constant normal ``kn`` and tangential ``ks`` stiffness [N/m].
+
+    Parameters
+    ----------
+    kn, ks : float
+        Normal and tangential stiffness [N/m] (finite, >= 0, not both zero).
+    """
 
     kn: float
     ks: float
@@ -387,6 +317,13 @@ class HertzMindlinLaw:
     ``kn = dF/d(delta) = 2 E* sqrt(R* delta)`` (from ``F = 4/3 E* sqrt(R*) delta^(3/2)``) and
     ``ks = 8 G* sqrt(R* delta)`` (Mindlin, no slip), one material for all particles:
     ``E* = E / (2 (1 - nu^2))``, ``G = E / (2 (1 + nu))``, ``G* = G / (2 (2 - nu))``.
+
+    Parameters
+    ----------
+    youngs : float
+        Young's modulus E [Pa] (positive).
+    poisson : float
+        Poisson's ratio nu, in (-1, 0.5).
     """
 
     youngs: float
@@ -430,6 +367,19 @@ class HertzMindlinLaw:
 
 
 def apply_law(contacts: Contacts, law) -> Contacts:
-    """Contacts with per-contact ``kn``/``ks`` from ``law`` (``LinearLaw`` or ``HertzMindlinLaw``)."""
+    """Contacts with per-contact ``kn``/``ks`` from ``law`` (``LinearLaw`` or ``HertzMindlinLaw``).
+
+    Parameters
+    ----------
+    contacts : Contacts
+        The contacts.
+    law : LinearLaw or HertzMindlinLaw
+        The contact law (any object with ``stiffness(contacts) -> (kn, ks)``).
+
+    Returns
+    -------
+    Contacts
+        A copy carrying the law's springs [N/m].
+    """
     kn, ks = law.stiffness(contacts)
     return contacts.with_stiffness(kn, ks)

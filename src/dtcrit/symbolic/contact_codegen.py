@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from dtcrit.symbolic import coefficient_forms as cforms
 from dtcrit.symbolic import kinematics as kin
 from dtcrit.symbolic import quaternions as quat
 from dtcrit.symbolic import tip_configurations as tips
@@ -56,7 +57,7 @@ def ellipsoid_tip_values(d=(da, db, dc), inertia=(Ixx, Iyy, Izz)) -> list[sp.Exp
     for i, di in enumerate(d):
         tip = [0, 0, 0]
         tip[i] = di
-        T = kin.arm_term(tip, inertia_matrix)
+        T = cforms.arm_term(tip, inertia_matrix)
         for lam, mult in T.eigenvals().items():
             if lam != 0:
                 values.extend([sp.factor(lam)] * mult)
@@ -74,7 +75,7 @@ def kernels() -> list[Kernel]:
     """
     inertia = [(Ixx, "principal moment about local x [kg m^2]"), (Iyy, "about local y [kg m^2]"),
                (Izz, "about local z [kg m^2]")]
-    T = kin.arm_term((rx, ry, rz), kin.inertia_tensor(Ixx, Iyy, Izz))
+    T = cforms.arm_term((rx, ry, rz), kin.inertia_tensor(Ixx, Iyy, Izz))
     R = quat.quaternion_rotation_matrix((qw, qx, qy, qz))
     return [
         Kernel(
@@ -83,7 +84,7 @@ def kernels() -> list[Kernel]:
                   (a1, "largest half-length of particle 1 [m]"), (m2, "mass of particle 2 [kg]"),
                   (Ixx2, "smallest principal moment of particle 2 [kg m^2]"),
                   (a2, "largest half-length of particle 2 [m]")],
-            expr=kin.a_max_printed(m1, Ixx1, a1, m2, Ixx2, a2),
+            expr=cforms.a_max_printed(m1, Ixx1, a1, m2, Ixx2, a2),
             doc="Peng et al. 2020, Eq. (26) as printed: A_max = a1^2/Ixx1 + a2^2/Ixx2 + 1/m1 + 1/m2.",
             returns="A_max [1/kg]",
             cse=False,
@@ -91,7 +92,7 @@ def kernels() -> list[Kernel]:
         Kernel(
             name="b_max",
             args=inertia,
-            expr=kin.b_max_printed(Ixx, Iyy, Izz),
+            expr=cforms.b_max_printed(Ixx, Iyy, Izz),
             doc="Peng et al. 2020, Eq. (54): max(|Ixx-Iyy|/Izz, |Ixx-Izz|/Iyy, |Iyy-Izz|/Ixx).",
             returns="B_max [-]",
             cse=False,

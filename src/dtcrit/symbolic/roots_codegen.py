@@ -22,6 +22,7 @@ from __future__ import annotations
 import sympy as sp
 
 from dtcrit.integrators.schemes import NAMES
+from dtcrit.symbolic import paper_cardano as PC
 from dtcrit.symbolic import roots as R
 from dtcrit.symbolic.emit import Kernel, python_module
 from dtcrit.symbolic.integrators import tau, zeta
@@ -182,11 +183,11 @@ def cardano_paper_eq40_expr() -> sp.Expr:
     sympy.Expr
         A call of ``_stack`` on the three roots in tau and zeta.
     """
-    N = -9 * R.Cj * R.dt + 27 * R.Kj * R.dt**2 - 2
-    M = 3 * R.Cj * R.dt + 1
+    N = -9 * PC.Cj * PC.dt + 27 * PC.Kj * PC.dt**2 - 2
+    M = 3 * PC.Cj * PC.dt + 1
     D = CCBRT(CSQRT(N**2 - 4 * M**3) + N)
     # no expansion: the differences are evaluated as printed, cancellation included
-    return STACK(*[r.subs(R.PAPER_TO_DIMENSIONLESS) for r in R.paper_eq42_roots(D)])
+    return STACK(*[r.subs(PC.PAPER_TO_DIMENSIONLESS) for r in PC.paper_eq42_roots(D)])
 
 
 ARGS = (

@@ -9,9 +9,9 @@ from functools import lru_cache
 
 import sympy as sp
 
+from dtcrit.symbolic.coefficient_forms import a_max_printed
 from dtcrit.symbolic.kinematics import (
     RigidParticle,
-    a_max_printed,
     coefficient_matrix,
     euler_angular_acceleration,
     inertia_tensor,

@@ -2,7 +2,8 @@
 
 Modules: ``lammps_dump`` (text dumps: a snapshot as a packing, writing dumps) and ``dump_stream`` (a dump
 streamed one snapshot at a time, ``iter_dump``), ``contact_tables`` (``--contacts`` tables and ``--local``
-dumps), ``bodies_file`` and ``bodies_values`` (``dtcrit-bodies/1``; shapes by ``dtcrit.bodies.spec``),
+dumps), ``bodies_file``, ``bodies_array`` (its bodies as a packing) and ``bodies_values`` (``dtcrit-bodies/1``;
+shapes by ``dtcrit.bodies.spec``),
 ``yade_export`` and ``yade_clumps`` (``dtcrit-yade-export/1``), ``limits`` (the range of numbers a read
 packing may carry).  Values are checked by ``dtcrit.inputs``; errors carry their location (source, line, key).
 """

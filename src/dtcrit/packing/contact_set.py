@@ -1,0 +1,205 @@
+"""The contact list of a packing: pairs, normals, arms, overlaps and per-contact stiffness and damping.
+
+Each contact couples the six degrees of freedom of two particles (Otsubo, O'Sullivan & Shire 2017);
+the stiffness and damping are filled in per contact by a contact law
+(``dtcrit.packing.model.apply_law``).  Plain NumPy; nothing imports SymPy.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from dtcrit.errors import InputError
+
+
+@dataclass(frozen=True)
+class Contacts:
+    """Contact list: pair ``(i[c], j[c])``, unit normal from ``i`` to ``j``, contact arms.
+
+    ``arm_i = x_c - x_i`` and ``arm_j = x_c - (x_j + shift)`` share one contact point ``x_c`` (Peng
+    et al. 2020, Eqs (1)-(2)), so rigid-body motions of the pair strain no spring.  ``image`` is
+    the integer periodic-image shift of ``j`` (``x_j + image * L``); ``i == j`` is a particle
+    touching its own periodic image.  ``overlap`` >= 0; ``radius_eff`` is the effective radius of
+    curvature ``R* = R_i R_j / (R_i + R_j)`` for spheres (Hertz), NaN otherwise.  ``kn``/``ks``
+    are the normal and tangential spring stiffnesses [N/m] once a contact law was applied.
+
+    Optional per-contact terms (``None`` when absent): ``cn``/``cs`` the normal and tangential
+    dashpot coefficients [N s/m] (force ``-c`` times the relative velocity of the contact points);
+    ``kr``/``ktw`` the rolling and twisting spring stiffnesses [N m/rad] (moment against the
+    relative rotation ``theta_j - theta_i`` perpendicular to, and about, the normal), ``cr``/``ctw`` their
+    dashpots [N m s/rad]; ``force_n``
+    the normal force [N] a pre-loaded contact carries (compressive positive), for its geometric stiffness.
+
+    Parameters
+    ----------
+    i, j : numpy.ndarray
+        (C,) indices of the two particles of each contact.
+    normal : numpy.ndarray
+        (C, 3) unit normals from ``i`` to ``j``.
+    arm_i, arm_j : numpy.ndarray
+        (C, 3) contact arms [m] from each centre of mass to the contact point.
+    overlap : numpy.ndarray
+        (C,) overlaps [m], >= 0.
+    image : numpy.ndarray
+        (C, 3) integer periodic-image shift of ``j``.
+    radius_eff : numpy.ndarray
+        (C,) effective radius ``R*`` [m] of sphere contacts, NaN otherwise.
+    kn, ks : numpy.ndarray or None
+        (C,) normal and tangential spring stiffnesses [N/m].
+    cn, cs : numpy.ndarray or None
+        (C,) normal and tangential dashpot coefficients [N s/m].
+    kr, ktw : numpy.ndarray or None
+        (C,) rolling and twisting spring stiffnesses [N m/rad].
+    force_n : numpy.ndarray or None
+        (C,) normal force [N] of a pre-loaded contact, compressive positive.
+    cr, ctw : numpy.ndarray or None
+        (C,) rolling and twisting dashpot coefficients [N m s/rad].
+    """
+
+    i: np.ndarray
+    j: np.ndarray
+    normal: np.ndarray
+    arm_i: np.ndarray
+    arm_j: np.ndarray
+    overlap: np.ndarray
+    image: np.ndarray
+    radius_eff: np.ndarray
+    kn: np.ndarray | None = None
+    ks: np.ndarray | None = None
+    cn: np.ndarray | None = None
+    cs: np.ndarray | None = None
+    kr: np.ndarray | None = None
+    ktw: np.ndarray | None = None
+    force_n: np.ndarray | None = None
+    cr: np.ndarray | None = None
+    ctw: np.ndarray | None = None
+
+    @property
+    def count(self) -> int:
+        """Number of contacts."""
+        return int(self.i.shape[0])
+
+    def coordination(self, n_particles: int) -> np.ndarray:
+        """Contacts per particle; a contact with one's own image counts twice (both sides).
+
+        Parameters
+        ----------
+        n_particles : int
+            Number of particles of the packing.
+
+        Returns
+        -------
+        numpy.ndarray
+            (n_particles,) number of contacts of each particle.
+        """
+        return (np.bincount(self.i, minlength=n_particles) + np.bincount(self.j, minlength=n_particles))
+
+    def _per_contact(self, **values) -> dict:
+        out: dict[str, np.ndarray | None] = {}
+        for key, value in values.items():
+            if value is None:
+                out[key] = None
+                continue
+            arr = np.broadcast_to(np.asarray(value, dtype=float), self.i.shape).copy()
+            if np.any(~np.isfinite(arr)) or np.any(arr < 0):
+                raise InputError(key, "every value must be a finite number >= 0")
+            out[key] = arr
+        return out
+
+    def with_stiffness(self, kn, ks, kr=None, ktw=None) -> "Contacts":
+        """Per-contact springs: ``kn``, ``ks`` [N/m]; rolling ``kr`` and twisting ``ktw`` [N m/rad].
+
+        Parameters
+        ----------
+        kn, ks : float or array_like
+            Normal and tangential stiffness [N/m], one value or one per contact (finite, >= 0).
+        kr, ktw : float or array_like or None
+            Rolling and twisting stiffness [N m/rad], or None for none.
+
+        Returns
+        -------
+        Contacts
+            A copy carrying the springs.
+        """
+        return replace(self, **self._per_contact(kn=kn, ks=ks, kr=kr, ktw=ktw))
+
+    def with_damping(self, cn, cs, cr=None, ctw=None) -> "Contacts":
+        """Per-contact dashpots ``cn`` (normal), ``cs`` (tangential) [N s/m]; rolling ``cr`` and twisting
+        ``ctw`` [N m s/rad] on the relative angular velocity.
+
+        Parameters
+        ----------
+        cn, cs : float or array_like or None
+            Normal and tangential dashpot coefficients [N s/m], one value or one per contact (finite, >= 0).
+        cr, ctw : float or array_like or None
+            Rolling and twisting dashpot coefficients [N m s/rad], or None for none.
+
+        Returns
+        -------
+        Contacts
+            A copy carrying the dashpots.
+        """
+        return replace(self, **self._per_contact(cn=cn, cs=cs, cr=cr, ctw=ctw))
+
+    def with_normal_force(self, force_n) -> "Contacts":
+        """The normal force [N] of each pre-loaded contact, compressive positive (a bond in tension is
+        negative), for its geometric stiffness.
+
+        Parameters
+        ----------
+        force_n : float or array_like
+            Normal force [N], one value or one per contact (finite).
+
+        Returns
+        -------
+        Contacts
+            A copy carrying the forces.
+        """
+        arr = np.broadcast_to(np.asarray(force_n, dtype=float), self.i.shape).copy()
+        if not np.all(np.isfinite(arr)):
+            raise InputError("force_n", "every normal force must be a finite number")
+        return replace(self, force_n=arr)
+
+    @property
+    def damped(self) -> bool:
+        """Whether any contact carries a positive dashpot."""
+        return any(c is not None and np.any(c > 0) for c in (self.cn, self.cs, self.cr, self.ctw))
+
+    @property
+    def rotational_springs(self) -> bool:
+        """Whether any contact carries a positive rolling or twisting spring."""
+        return any(k is not None and np.any(k > 0) for k in (self.kr, self.ktw))
+
+    def subset(self, mask) -> "Contacts":
+        """The contacts selected by ``mask``.
+
+        Parameters
+        ----------
+        mask : numpy.ndarray
+            Boolean mask or index array over the contacts.
+
+        Returns
+        -------
+        Contacts
+            Those contacts with every per-contact term.
+        """
+        pick = lambda a: None if a is None else a[mask]  # noqa: E731
+        return Contacts(self.i[mask], self.j[mask], self.normal[mask], self.arm_i[mask], self.arm_j[mask],
+                        self.overlap[mask], self.image[mask], self.radius_eff[mask], pick(self.kn), pick(self.ks),
+                        pick(self.cn), pick(self.cs), pick(self.kr), pick(self.ktw), pick(self.force_n),
+                        pick(self.cr), pick(self.ctw))
+
+    @classmethod
+    def empty(cls) -> "Contacts":
+        """No contacts.
+
+        Returns
+        -------
+        Contacts
+            An empty contact list with zero springs.
+        """
+        z3 = np.zeros((0, 3))
+        zi = np.zeros(0, dtype=np.int64)
+        return cls(zi, zi.copy(), z3, z3.copy(), z3.copy(), np.zeros(0), np.zeros((0, 3), dtype=np.int64),
+                   np.zeros(0), np.zeros(0), np.zeros(0))
