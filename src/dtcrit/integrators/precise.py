@@ -15,7 +15,7 @@ here and used by ``dtcrit.integrators.stability``:
   ``(c / 2k) / (1 + (tau* - 2 zeta)^2 / 2)`` with the root entering only a correction
   (``paper_eq40_identity``).
 
-``tests/test_precise.py`` checks symbolically that these forms are the derived closed forms.
+``tests/integrators/test_precise.py`` checks symbolically that these forms are the derived closed forms.
 (First written for the bench's fused kernels; moved here so every route shares them.)
 
 ``fast_steps`` (used by ``critical_dt_array``) evaluates every scheme chunk by chunk in the unscaled

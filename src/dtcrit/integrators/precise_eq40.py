@@ -21,7 +21,7 @@ def eq40_bounded_cubic(w, m):
     smallest positive root of tau^3 - 4 zeta tau^2 + (4 zeta^2 + 2) tau - 2 zeta), the cubic is a
     multiple of h(r) = b r^3 - a r^2 + r - 1 with a = w m, b = a m/4, whose wanted root is its only
     root in (1, 3/2) for every zeta >= 0: h < 0 on [0, 1], h(3/2) > 0 and h' >= 1/4 on [1, 3/2]
-    (derived from ``dtcrit.symbolic.closed_forms`` in ``tests/test_precise.py``).  In delta = r - 1,
+    (derived from ``dtcrit.symbolic.closed_forms`` in ``tests/integrators/test_precise.py``).  In delta = r - 1,
     h = c3 delta^3 + c2 delta^2 + c1 delta + c0.  Plain arithmetic (the test calls it on symbols).
 
     Parameters
@@ -70,7 +70,7 @@ def _eq40_step(d, c3, c2, c1, c0, t1, t2, t3, t4, halley: bool):
 def _eq40_chunk(k, c, A, o, B) -> bool:
     """Step dt = L r, L = (c/2) / (k + c^2 A/2), on one chunk (tau = zeta m r, ``eq40_bounded_cubic``), r = 1 + delta
     by a Halley step from delta = 0, a Halley step and a Newton step (h' >= 1/4 on [1, 3/2]; the
-    three steps reach the root to about an ulp for every zeta, ``tests/test_precise.py``).  False when the chunk is outside the unscaled
+    three steps reach the root to about an ulp for every zeta, ``tests/integrators/test_precise.py``).  False when the chunk is outside the unscaled
     range (k + c^2 A/2 outside [2^-1000, 2^1000], A < 2^-511, or a NaN): inside it nothing
     overflows, and a c A or c^2 A that underflows is negligible against k.
     """

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from dtcrit.numerics.rotations import unit_body_to_world_matrix
 from dtcrit._generated import mass_properties as _mp
 from dtcrit.bodies.spec import shape_from_table
 from dtcrit.packing.detection.overlaps import wrap_positions
@@ -117,7 +118,7 @@ def _entries(path, bodies: list):
 
 def _rotations(path, quats: list) -> np.ndarray:
     """Body-to-world rotations of every body's unit quaternion ``[qw, qx, qy, qz]`` (module
-    docstring; the matrix of ``dtcrit.packing.readers.yade_clumps.rotation_from_quaternion``).
+    docstring; ``dtcrit.numerics.rotations.unit_body_to_world_matrix``).
     """
     q = _array(path, "orientation", quats, 4, [1.0, 0.0, 0.0, 0.0])
     with np.errstate(over="ignore"):  # |q| = inf is refused below
@@ -125,10 +126,7 @@ def _rotations(path, quats: list) -> np.ndarray:
     bad = np.flatnonzero(np.abs(norm - 1.0) > UNIT_TOLERANCE)
     if bad.size:
         _orientation(f"{path}: bodies[{bad[0]}].orientation", quats[bad[0]])
-    w, x, y, z = (q / norm[:, None]).T
-    return np.stack([np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)], -1),
-                     np.stack([2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)], -1),
-                     np.stack([2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)], -1)], -2)
+    return unit_body_to_world_matrix(q / norm[:, None])
 
 
 def _shapes(path, tables: list, sphere_rows: list):
