@@ -31,7 +31,20 @@ def derivation_hashes() -> dict[str, str]:
 
 
 def envelope(schema: str, units: dict[str, str]) -> dict:
-    """The leading keys of a JSON document of schema ``schema`` (e.g. ``"dtcrit-packing/1"``)."""
+    """The leading keys of a JSON document of a given schema (module docstring).
+
+    Parameters
+    ----------
+    schema : str
+        ``dtcrit-<command>/<major>``, e.g. ``"dtcrit-packing/1"``.
+    units : dict of str to str
+        Unit of every dimensional key of the document (SI), e.g. ``{"dt_crit": "s"}``.
+
+    Returns
+    -------
+    dict
+        ``schema``, ``dtcrit_version``, ``units`` (a copy) and ``derivation_hashes``.
+    """
     from dtcrit import __version__
 
     return {"schema": schema, "dtcrit_version": __version__, "units": dict(units),

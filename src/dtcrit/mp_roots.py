@@ -11,13 +11,26 @@ import mpmath as mp
 
 
 def balance_roots(coeffs, dps: int) -> list:
-    """Positive real roots of ``u^3 + a2 u^2 + a1 u + a0`` (``coeffs = [a2, a1, a0]``) reached from the
-    two-term balances ``|a_i| s^i = |a_j| s^j`` (each root's leading-order size, its Newton polygon).
+    """Positive real roots of ``u^3 + a2 u^2 + a1 u + a0`` reached from its two-term balances.
 
-    Newton runs on the cubic in ``w = u/s`` from ``w = 1``, where the roots are O(1): findroot's
-    tolerance is absolute, so in ``u`` it would accept a root near 1e-100 (adams-bashforth-2 at
-    zeta = 1e-300) after one step.  A root is kept when its residual is small against the cubic's
-    largest term there.  Call it at the working precision wanted (e.g. ``2 dps`` digits).
+    Each balance ``|a_i| s^i = |a_j| s^j`` gives a root's leading-order size ``s`` (its Newton
+    polygon).  Newton runs on the cubic in ``w = u/s`` from ``w = 1``, where the roots are O(1):
+    findroot's tolerance is absolute, so in ``u`` it would accept a root near 1e-100
+    (adams-bashforth-2 at zeta = 1e-300) after one step.  A root is kept when its residual is small
+    against the cubic's largest term there.  Call it at the working precision wanted (e.g. ``2 dps``
+    digits).
+
+    Parameters
+    ----------
+    coeffs : sequence
+        ``[a2, a1, a0]``, numbers or numeric strings (converted with ``mpmath.mpf``).
+    dps : int
+        Decimal digits the residual must meet (``10^(-dps)`` relative to the largest term).
+
+    Returns
+    -------
+    list of mpmath.mpf
+        The positive roots found, one per balance that converged (a root may repeat).
     """
     a = [mp.mpf(1)] + [mp.mpf(c) for c in coeffs]  # a[i] multiplies u^(3-i)
     found = []

@@ -47,7 +47,25 @@ and its factor fits in half the available memory: the default's cost stays a few
 
 
 def auto_certifies(dofs: int, coordination: float, eigen_seconds: float) -> bool:
-    """Whether ``certify="auto"`` factorises (``CERTIFY_BUDGET``)."""
+    """Whether ``certify="auto"`` factorises (``CERTIFY_BUDGET``, ``CERTIFY_FLOOR_SECONDS``).
+
+    True when ``dofs <= CERTIFY_AUTO_DOFS``, the factor fits in half the available memory and its
+    estimated time is at most ``max(CERTIFY_BUDGET * eigen_seconds, CERTIFY_FLOOR_SECONDS)``.
+
+    Parameters
+    ----------
+    dofs : int
+        Degrees of freedom of the packing.
+    coordination : float
+        Mean contacts per particle (scales the factor's fill).
+    eigen_seconds : float
+        Measured time of the eigen-solve [s].
+
+    Returns
+    -------
+    bool
+        Whether the certificate is computed.
+    """
     from dtcrit.packing.solvers.memory import available_bytes
 
     if dofs > CERTIFY_AUTO_DOFS:
@@ -70,9 +88,60 @@ number is dimensionless (counts, coordination, ``alpha``, ratios, residuals, fra
 
 @dataclass
 class PackingReport:
-    """Everything ``dtcrit packing`` prints: sizes, coordination, ``omega_max`` [rad/s], ``dt_crit``
-    [s], ``alpha``, the integrator's (damped) bound, the top mode's character, solver diagnostics and
-    the cheap estimates (``estimates.Estimate``) keyed by name.
+    """Everything ``dtcrit packing`` prints (schema ``dtcrit-packing/1``).
+
+    Parameters
+    ----------
+    label : str
+        Name of the packing.
+    law : str
+        The contact law in words.
+    n_particles : int
+        Number of particles.
+    dofs : int
+        Degrees of freedom (6 per particle).
+    n_contacts : int
+        Number of contacts.
+    cn_mean : float
+        Mean coordination number ``2 n_contacts / n_particles``.
+    cn_max : int
+        Largest number of contacts on one particle.
+    m_min : float
+        Smallest mass among particles that have a contact [kg].
+    k_max : float
+        Largest contact stiffness ``max(k_n, k_s)`` [N/m].
+    omega_max : float
+        Largest angular eigenfrequency of ``K phi = omega^2 M phi`` [rad/s].
+    dt_crit : float
+        ``2/omega_max`` [s] (Otsubo et al. 2017, Eq. (13)).
+    alpha : float
+        ``dt_crit / sqrt(m_min / k_max)`` (dimensionless).
+    integrator : str
+        The integrator whose step ``dt_integrator`` is.
+    damping_ratio : float
+        Modal damping ratio of the top mode.
+    dt_integrator : float
+        Critical step [s] of ``integrator`` on the top mode with ``damping_ratio``.
+    integrator_formula : str
+        How ``dt_integrator`` was obtained.
+    mode : str
+        Character of the top mode (``mode_character``).
+    rotational_fraction : float
+        Share of the top mode's kinetic energy in rotation.
+    solver : str
+        Eigen-solver used.
+    matvecs : int
+        Matrix-vector products spent.
+    relative_residual : float
+        ``|A v - theta v| / theta``.
+    estimates : dict of str to Estimate
+        The cheap estimates and bounds keyed by name (``dtcrit.packing.bounds.estimates``).
+    route : str
+        ``"assembled"`` or ``"matrix-free"``.
+    dt_safe : float
+        Larger of the Gershgorin and block-diagonal lower bounds [s] (NaN without estimates).
+    certificate : Certificate or None
+        The inertia certificate, when computed.
     """
 
     label: str
@@ -148,14 +217,47 @@ def _estimate_row(rated: RatedEstimate) -> dict:
 def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, integrator: str = DEFAULT_INTEGRATOR,
             damping_ratio: float = 0.0, method: str = "auto", tolerance: float = DEFAULT_TOL,
             with_estimates: bool = True, route: str = "auto", certify_step="auto") -> PackingReport:
-    """Global eigenmode analysis of ``packing`` (contacts found by overlap unless given).
+    """Global eigenmode analysis of a packing: ``dt_crit = 2/omega_max`` and the cheap estimates.
 
-    ``law`` (default linear ``k_n = k_s = 1``) sets each contact's stiffness unless ``contacts``
-    already carry one.  ``route``: ``"assembled"`` (sparse ``K``), ``"matrix-free"``
-    (``dtcrit.packing.operators.matrix_free``) or ``"auto"`` (matrix-free above ``OPERATOR_DOFS``).
-    ``certify_step``: ``True`` / ``False`` / ``"auto"`` (up to ``CERTIFY_AUTO_DOFS``) for the
-    certificate that no mode lies above ``omega_max^2 (1 + 1e-6)`` (``dtcrit.packing.solvers.certificate``).
-    Returns the :class:`PackingReport`.
+    Parameters
+    ----------
+    packing : Packing
+        The particles.
+    law : LinearLaw or HertzMindlinLaw or None
+        Sets each contact's stiffness unless ``contacts`` already carry one (default linear
+        ``k_n = k_s = 1`` N/m).
+    contacts : Contacts or None
+        The contacts; found by overlap (``find_contacts``) when ``None``.
+    integrator : str
+        Integrator of ``dt_integrator``.
+    damping_ratio : float
+        Modal damping ratio of the top mode (``integrator_dt``).
+    method : str
+        Eigen-solver of ``largest_mode``.
+    tolerance : float
+        Eigen-solver tolerance.
+    with_estimates : bool
+        Whether to compute the estimates and bounds (and so ``dt_safe``).
+    route : str
+        ``"assembled"`` (sparse ``K``), ``"matrix-free"`` (``dtcrit.packing.operators.matrix_free``)
+        or ``"auto"`` (matrix-free above ``OPERATOR_DOFS``, or ``NUMPY_OPERATOR_DOFS`` without Numba).
+    certify_step : bool or str
+        ``True`` / ``False`` / ``"auto"`` (up to ``CERTIFY_AUTO_DOFS``, ``auto_certifies``) for the
+        certificate that no mode lies above ``omega_max^2 (1 + 1e-6)``
+        (``dtcrit.packing.solvers.certificate``).
+
+    Returns
+    -------
+    PackingReport
+        The report.
+
+    Raises
+    ------
+    InputError
+        For an unknown route, a Hertz law on zero overlaps (``check_hertz_overlaps``) or bad inputs
+        found by the callees.
+    NotConvergedError
+        When the eigen-solver stops early, with its bracket on ``dt_crit`` (``dt_bracket_error``).
     """
     if contacts is None:
         contacts = find_contacts(packing)
@@ -237,8 +339,22 @@ spheres that only touch): a Hertz stiffness ``2 E* sqrt(R* delta)`` computed fro
 
 
 def check_hertz_overlaps(packing: Packing, contacts: Contacts) -> None:
-    """InputError (key ``youngs``) when every contact's overlap is zero or at the rounding level of the
-    coordinates: the Hertz tangent stiffness vanishes there (no vibrating mode) or is noise.
+    """Refuse a Hertz law on contacts whose overlaps are all zero or at rounding level.
+
+    The Hertz tangent stiffness ``2 E* sqrt(R* delta)`` vanishes at zero overlap (no vibrating mode)
+    and is noise when ``delta`` is at the rounding level of the coordinates (``ROUNDING_OVERLAP``).
+
+    Parameters
+    ----------
+    packing : Packing
+        The particles (positions and box give the coordinate scale).
+    contacts : Contacts
+        The contacts (overlaps [m]).
+
+    Raises
+    ------
+    InputError
+        With key ``youngs`` when the largest overlap is at or below the rounding level.
     """
     if not contacts.count:
         return
@@ -254,8 +370,25 @@ def check_hertz_overlaps(packing: Packing, contacts: Contacts) -> None:
 
 
 def dt_bracket_error(exc: NotConvergedError, a, md, packing: Packing) -> NotConvergedError:
-    """The eigen-solver's bracket on ``omega_max^2`` as one on ``dt_crit = 2/omega_max``, its lower end
-    raised to ``dt_safe`` (the Gershgorin and block-diagonal bounds) when that is larger.
+    """The eigen-solver's bracket on ``omega_max^2`` as one on ``dt_crit = 2/omega_max``.
+
+    The lower end is raised to ``dt_safe`` (the Gershgorin and block-diagonal bounds) when larger.
+
+    Parameters
+    ----------
+    exc : NotConvergedError
+        The solver's error, bracketing ``omega_max^2`` [1/s^2].
+    a : scipy.sparse matrix or LinearOperator
+        ``A = M^(-1/2) K M^(-1/2)`` [1/s^2].
+    md : numpy.ndarray
+        Diagonal of ``M`` (masses [kg], inertias [kg m^2]).
+    packing : Packing
+        The particles (names in the bounds' detail).
+
+    Returns
+    -------
+    NotConvergedError
+        The bracket on ``dt_crit [s]``.
     """
     bounds = [est.gershgorin(a, md).dt, est.block_diagonal(a, packing.particle_id).dt]
     lower = max([b for b in bounds if b is not None and math.isfinite(b)] + [2.0 / math.sqrt(exc.upper) if exc.upper > 0 else 0.0])
@@ -264,7 +397,18 @@ def dt_bracket_error(exc: NotConvergedError, a, md, packing: Packing) -> NotConv
 
 
 def format_report(r: PackingReport) -> str:
-    """Human-readable text of a report."""
+    """Human-readable text of a report (what ``dtcrit packing`` prints).
+
+    Parameters
+    ----------
+    r : PackingReport
+        The report.
+
+    Returns
+    -------
+    str
+        The text, one item a line.
+    """
     lines = [
         f"packing: {r.label or '(unnamed)'}",
         f"contact law: {r.law}",

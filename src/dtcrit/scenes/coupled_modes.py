@@ -54,7 +54,28 @@ class BlockStep:
 
 
 def scaled_block(a_ss: float, a_sr: float, a_rr: float, a_det: float, k: tuple[float, float], c: tuple[float, float]):
-    """``(K~, C~)`` of the module docstring; ``a_det = a_ss a_rr - a_sr^2`` given without cancellation."""
+    """The symmetric ``(K~, C~) = (L^T K L, L^T C L)`` of the block, ``A = L L^T`` (module docstring).
+
+    Parameters
+    ----------
+    a_ss : float
+        Shear-shear entry of the inverse-inertia matrix ``A`` [1/kg].
+    a_sr : float
+        Shear-rolling entry of ``A`` [1/(kg m)].
+    a_rr : float
+        Rolling-rolling entry of ``A`` [1/(kg m^2)].
+    a_det : float
+        ``a_ss a_rr - a_sr^2``, given without cancellation.
+    k : tuple of float
+        ``(k_s, k_r)``: shear [N/m] and rolling [N m/rad] springs.
+    c : tuple of float
+        ``(c_s, c_r)``: shear [N s/m] and rolling [N m s/rad] dashpots.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(K~, C~)``, each 2 x 2 and symmetric [1/s^2, 1/s].
+    """
     l11 = math.sqrt(a_ss)
     L = np.array([[l11, 0.0], [a_sr / l11, math.sqrt(a_det / a_ss)]])
     K = L.T @ np.diag(k) @ L
@@ -101,7 +122,30 @@ def _bisect(integrator: str, K: np.ndarray, C: np.ndarray, h_hi: float) -> float
 
 def block_step(integrator: str, a_ss: float, a_sr: float, a_rr: float, a_det: float, k: tuple[float, float],
                c: tuple[float, float]) -> BlockStep:
-    """The exact critical step of the coupled block (module docstring)."""
+    """The exact critical step of the coupled block ``e'' = -A (K e + C e')`` (module docstring).
+
+    Parameters
+    ----------
+    integrator : str
+        Integrator name (built-in or user-written scheme).
+    a_ss : float
+        Shear-shear entry of the inverse-inertia matrix ``A`` [1/kg].
+    a_sr : float
+        Shear-rolling entry of ``A`` [1/(kg m)].
+    a_rr : float
+        Rolling-rolling entry of ``A`` [1/(kg m^2)].
+    a_det : float
+        ``a_ss a_rr - a_sr^2``, given without cancellation.
+    k : tuple of float
+        ``(k_s, k_r)``: shear [N/m] and rolling [N m/rad] springs.
+    c : tuple of float
+        ``(c_s, c_r)``: shear [N s/m] and rolling [N m s/rad] dashpots.
+
+    Returns
+    -------
+    BlockStep
+        Step [s], largest ``omega^2`` [1/s^2], top mode's damping ratio and the route.
+    """
     K, C = scaled_block(a_ss, a_sr, a_rr, a_det, k, c)
     proportional = c[0] * k[1] == c[1] * k[0] and (k[0] > 0 or c[0] == 0) and (k[1] > 0 or c[1] == 0)
     if proportional:  # C = alpha K (undamped: alpha = 0): modes of K^1/2 A K^1/2, modal dashpots alpha omega^2

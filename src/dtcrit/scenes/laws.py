@@ -52,8 +52,35 @@ def _dashpots(conv, damping: str, cn, cs, zeta, kn: float, ks: float, m_eff: flo
 
 
 def resolve_pair(scene, i: int, j: int, r1: float | None = None, r2: float | None = None) -> PairContact:
-    """The contact of particle types ``i`` and ``j`` (counted from 1) at radii ``r1``, ``r2`` (spheres;
-    default: each type's smallest radius).
+    """The linearised contact of particle types ``i`` and ``j`` at given radii (module docstring).
+
+    Stiffness by the scene's law (``linear``/``bond`` as given, ``yade``, ``hertz`` at the largest
+    overlap of the impact), dashpots by its damping convention with the reduced mass
+    ``m* = m1 m2/(m1 + m2)``, and the rolling/twisting terms of the law (Peng et al. 2020, Eq. (29)).
+
+    Parameters
+    ----------
+    scene : Scene
+        The parsed scene (particle types, contact law).
+    i : int
+        First particle type, counted from 1.
+    j : int
+        Second particle type, counted from 1.
+    r1 : float or None
+        Radius of type ``i`` [m] (spheres; default: its smallest radius).
+    r2 : float or None
+        Radius of type ``j`` [m] (spheres; default: its smallest radius).
+
+    Returns
+    -------
+    PairContact
+        Reduced mass [kg], springs ``kn``, ``ks`` [N/m], dashpots ``cn``, ``cs`` [N s/m], damping ratios,
+        rotational terms and (Hertz) the overlap quantities.
+
+    Raises
+    ------
+    InputError
+        When the Hertz tangent stiffness leaves double precision.
     """
     p, q = scene.particle(i), scene.particle(j)
     r1 = p.radii[0] if r1 is None and p.radii else r1
@@ -102,15 +129,48 @@ def _rotational(law, kn, ks, cs, p_shape, q_shape, r1, r2, m1, m2, delta, label)
 
 
 def wall_convention(name: str | None, model: str):
-    """The convention of a (linear) wall contact: the scene's, or its model's default; EDEM, whose
-    law is Hertz-Mindlin only, maps to LIGGGHTS's linear (hooke) law.
+    """The damping convention of a (linear) wall contact.
+
+    The scene's, or its model's default; EDEM, whose law is Hertz-Mindlin only, maps to LIGGGHTS's
+    linear (hooke) law.
+
+    Parameters
+    ----------
+    name : str or None
+        Convention named by the scene (``None``: the model's default).
+    model : str
+        The scene's contact model (``linear``, ``bond``, ``yade``, ``hertz``).
+
+    Returns
+    -------
+    Convention
+        Entry of ``dtcrit.physics.damping_conventions.CONVENTIONS``.
     """
     chosen = name or DEFAULT_CONVENTION["linear" if model == "bond" else model]
     return CONVENTIONS["liggghts" if chosen == "edem" else chosen]
 
 
 def resolve_wall(scene, wall, i: int, r: float | None = None) -> PairContact:
-    """The contact of particle type ``i`` (radius ``r`` for spheres) with a fixed ``wall``."""
+    """The linear contact of particle type ``i`` with a fixed wall.
+
+    The wall's springs as given; its dashpots by the wall convention with mass ``wall_mass * m``.
+
+    Parameters
+    ----------
+    scene : Scene
+        The parsed scene.
+    wall : Wall
+        The wall (springs [N/m], damping input, rotational terms).
+    i : int
+        Particle type, counted from 1.
+    r : float or None
+        Radius of the particle [m] (spheres; default: the type's smallest radius).
+
+    Returns
+    -------
+    PairContact
+        The contact against the wall (type ``0`` on the wall's side).
+    """
     p = scene.particle(i)
     r = p.radii[0] if r is None and p.radii else r
     m = p.mass_at(r)
@@ -123,7 +183,20 @@ def resolve_wall(scene, wall, i: int, r: float | None = None) -> PairContact:
 
 
 def convention_of(scene, pc: PairContact):
-    """The damping convention that resolved contact ``pc`` (a particle pair's, or a wall's)."""
+    """The damping convention that resolved a contact (a particle pair's, or a wall's).
+
+    Parameters
+    ----------
+    scene : Scene
+        The parsed scene.
+    pc : PairContact
+        A contact resolved from ``scene``.
+
+    Returns
+    -------
+    Convention
+        Its convention (``dtcrit.physics.damping_conventions.Convention``).
+    """
     if pc.wall is not None:
         return wall_convention(scene.contact.damping_convention, scene.contact.model)
     return _convention(scene.contact)

@@ -60,7 +60,25 @@ OPTIONAL = {
 
 @dataclass(frozen=True)
 class RotationalLaw:
-    """The rotational part of ``[contact]`` after validation (``None``: not given)."""
+    """The rotational part of ``[contact]`` after validation (module docstring).
+
+    Parameters
+    ----------
+    kr : float or None
+        Rolling spring [N m/rad] given directly.
+    ktw : float or None
+        Twisting spring [N m/rad] given directly.
+    cr : float or None
+        Rolling dashpot [N m s/rad] given directly.
+    ctw : float or None
+        Twisting dashpot [N m s/rad] given directly.
+    rolling_model : str or None
+        A code's rolling model (``epsd``, ``epsd2``, ``epsd3``, ``sds``, ``yade``).
+    twisting_model : str or None
+        A code's twisting model (``marshall``, ``sds``).
+    params : tuple of (str, float)
+        The models' parameters by key (``rolling_friction``, ``k_roll``, ``alpha_kr``, ...).
+    """
 
     kr: float | None = None
     ktw: float | None = None
@@ -94,7 +112,28 @@ class RotationalLaw:
 
 
 def parse_rotational(prefix: str, table: dict) -> RotationalLaw:
-    """Validate the rotational keys of a ``[contact]`` table (``kr < 0`` and conflicts refused)."""
+    """Validate the rotational keys of a ``[contact]`` table.
+
+    Refuses negative values, a direct ``kr``/``cr`` (``ktw``/``ctw``) together with a model that
+    defines it, missing model parameters and keys the chosen models do not take.
+
+    Parameters
+    ----------
+    prefix : str
+        Key prefix for error messages (e.g. ``"contact."``).
+    table : dict
+        The ``[contact]`` table as read from the scene file.
+
+    Returns
+    -------
+    RotationalLaw
+        The validated rotational law (all ``None`` when no key is given).
+
+    Raises
+    ------
+    InputError
+        Naming the offending key.
+    """
     direct = {k: _number(prefix + k, table[k], allow_zero=True) for k in DIRECT_KEYS if k in table}
     rolling = _choice(prefix + "rolling_model", table["rolling_model"], ROLLING_MODELS, "rolling model") \
         if "rolling_model" in table else None
@@ -140,8 +179,40 @@ def _r_star(r1: float, r2: float | None) -> float:
 
 def resolve_rotational(law: RotationalLaw, kn: float, ks: float, cs: float, r1: float | None, r2: float | None,
                        m1: float, m2: float, delta: float | None, label: str) -> tuple[float, float, float, float]:
-    """``(k_r, k_tw, c_r, c_tw)`` of one particle pair (radii ``r1``, ``r2``; ``None`` for non-spheres),
-    each code's definition in the module docstring; ``delta`` the (Hertz) overlap when known.
+    """``(k_r, k_tw, c_r, c_tw)`` of one particle pair, each code's definition in the module docstring.
+
+    Parameters
+    ----------
+    law : RotationalLaw
+        The scene's rotational law.
+    kn : float
+        Normal spring of the contact [N/m].
+    ks : float
+        Tangential spring [N/m].
+    cs : float
+        Tangential dashpot [N s/m] (``marshall`` twisting).
+    r1 : float or None
+        Radius of particle 1 [m] (``None`` for non-spheres: only direct values allowed).
+    r2 : float or None
+        Radius of particle 2 [m].
+    m1 : float
+        Mass of particle 1 [kg].
+    m2 : float
+        Mass of particle 2 [kg].
+    delta : float or None
+        The (Hertz) overlap [m] when known, for the contact radius ``a = sqrt(R* delta)``.
+    label : str
+        Pair label for error messages (``"i-j"``).
+
+    Returns
+    -------
+    tuple of float
+        ``(k_r [N m/rad], k_tw [N m/rad], c_r [N m s/rad], c_tw [N m s/rad])``.
+
+    Raises
+    ------
+    InputError
+        For a code's model on non-spheres or a missing contact radius.
     """
     kr, ktw, cr, ctw = law.kr or 0.0, law.ktw or 0.0, law.cr or 0.0, law.ctw or 0.0
     if law.rolling_model is None and law.twisting_model is None:

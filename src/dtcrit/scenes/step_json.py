@@ -240,8 +240,20 @@ def step_json(result) -> dict:
 
 
 def order_of_accuracy_json(integrator: str) -> dict | None:
-    """The order of accuracy found for a user-written scheme (``dtcrit.integrators.user_consistency``:
-    its principal eigenvalues are e^{h lambda} + O(h^{p+1})), with and without damping; None for a built-in.
+    """The order of accuracy found for a user-written scheme, with and without damping.
+
+    From ``dtcrit.integrators.user_rules.order_of``: its principal eigenvalues are
+    ``e^{h lambda} + O(h^{p+1})`` (``dtcrit.integrators.user_consistency``).
+
+    Parameters
+    ----------
+    integrator : str
+        Integrator name.
+
+    Returns
+    -------
+    dict or None
+        ``{"damped": p, "undamped": p}``; ``None`` for a built-in scheme or when not found.
     """
     from dtcrit.integrators.schemes import USER_INTEGRATORS
     from dtcrit.integrators.user_rules import order_of

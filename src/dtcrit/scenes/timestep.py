@@ -44,40 +44,41 @@ BASIS_ANY, BASIS_COORDINATION, BASIS_ISOLATED = "any packing", "coordination_max
 
 @dataclass(frozen=True)
 class StepResult:
-    """The critical step of a scene and everything ``dtcrit step`` prints about it.
+    """The critical step of a scene and everything ``dtcrit step`` prints about it (module docstring).
 
-    Attributes
+    Parameters
     ----------
     scene : Scene
         The scene.
     pairs : tuple of PairStep
         Per pair of particle types (and per particle-wall pair): its governing size.
     dt_crit : float
-        The headline step [s].
+        The headline step [s]: ``dt_dense`` unless ``isolated = true``, then ``dt_isolated``.
     governing : str
-        ``translation``, ``contact rotation``, ``rotation`` or ``dense``.
+        ``translation``, ``contact rotation`` (a rotational spring's mode), ``rotation`` or ``dense``.
     bound : str
         Which bound governs, in words.
     translation : PairStep
         The contact whose isolated translation step is smallest.
     rotation : PairStep or None
-        The pair whose rotation step (Eq. (56)) is smallest.
+        The pair whose rotation step ``2/(omega_max (B_i + B_j))`` (Peng et al. 2020, Eq. (56)) is
+        smallest; ``None`` without a rotation bound.
     B_max : dict
-        Particle number -> Eq. (54).
+        Particle number -> ``B`` of Peng et al. 2020, Eq. (54).
     estimates : tuple of RatedEstimate
-        The codes' estimates rated against ``dt_crit``.
+        The codes' estimates, each rated against ``dt_crit``.
     dt_isolated : float
-        The isolated-contact step [s].
+        The isolated-contact step [s], ``min`` of translation and rotation.
     dense : DenseStep or None
-        The packing step (None with ``isolated = true``).
+        The dense-packing step (``None`` with ``isolated = true``).
     dense_factors : dict
-        ``z -> dt_dense(z)/dt_isolated`` (``isolated = true``).
+        ``z -> dt_dense(z) / dt_isolated`` for z = 4, 6, 12 (``isolated = true``).
     basis : str
-        What the headline holds for.
+        What the headline holds for: ``BASIS_ANY``, ``BASIS_COORDINATION`` or ``BASIS_ISOLATED``.
     coordination : Coordination or None
-        The geometric coordination bound.
+        The geometric coordination bound (``BASIS_ANY``).
     basis_note : str
-        Why the headline is not the packing step the scene asks for.
+        Why the headline is not the packing step the scene asks for (no packing bound), else empty.
     """
 
     scene: Scene
@@ -126,7 +127,13 @@ class StepResult:
                             "(50-digit spectral radius, bisection)")
 
     def to_json(self) -> dict:
-        """The documented JSON form (schema ``dtcrit-step/1``; see README.md, section Scene files)."""
+        """The documented JSON form (schema ``dtcrit-step/1``; see README.md, section Scene files).
+
+        Returns
+        -------
+        dict
+            The document of ``dtcrit.scenes.step_json.step_json``.
+        """
         return step_json(self)
 
 
@@ -225,7 +232,21 @@ def _governing_per_pair(steps: list[PairStep]) -> tuple[PairStep, ...]:
 
 
 def critical_step(scene: Scene) -> StepResult:
-    """The critical time step of ``scene`` (see the module docstring)."""
+    """The critical time step of a scene (module docstring).
+
+    Isolated contacts mode by mode, the rotation bound of Peng et al. 2020, Eqs (54)-(57), and the
+    dense-packing step, with the codes' estimates rated against the headline.
+
+    Parameters
+    ----------
+    scene : Scene
+        The parsed scene (particles, contact law, integrator, safety).
+
+    Returns
+    -------
+    StepResult
+        The headline ``dt_crit`` [s] and everything ``dtcrit step`` prints.
+    """
     from dtcrit.bodies import contact
 
     b_max = {p.number: float(contact.b_max(p.shape)) for p in scene.particles}

@@ -37,11 +37,15 @@ class DumpReadError(InputError):
 
     Parameters
     ----------
-    key : str
+    key : str or None
         The reader's key: ``snapshot_index``, ``density``, ``file``, or one that starts with the file's
         path (``PATH:LINE``).
     reason : str
         What is wrong.
+    source : str or os.PathLike or None
+        The dump file the value came from.
+    line : int or None
+        The 1-based line in ``source``.
     """
 
 

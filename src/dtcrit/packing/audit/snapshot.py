@@ -51,7 +51,53 @@ the governing mode's energy; below it the mode is spread out and its participati
 
 @dataclass
 class AuditReport:
-    """Everything ``dtcrit audit`` prints (module docstring); steps in seconds."""
+    """Everything ``dtcrit audit`` prints (module docstring); steps in seconds.
+
+    Parameters
+    ----------
+    source : str
+        Where the snapshot came from (file or engine run).
+    engine : str
+        The engine whose conventions were applied (``EngineConvention.name``).
+    engine_source : str
+        Where those conventions were read (engine source files).
+    integrator : str
+        The integrator whose critical step ``dt_crit`` is.
+    law : str
+        The contact law in words.
+    n_particles : int
+        Number of particles.
+    n_contacts : int
+        Number of contacts.
+    coordination_mean : float
+        Mean contacts per particle.
+    damped : bool
+        Whether the contacts carry dashpots.
+    preload : bool
+        Whether pre-loaded contacts' geometric stiffness is included.
+    dt_crit : float
+        Exact critical step of the packing for ``integrator`` [s] (``damped_critical_dt``).
+    dt_safe : float
+        Rigorous lower bound on ``dt_crit`` [s].
+    dt_undamped : float
+        ``2/omega_max`` of the springs alone [s].
+    method : str
+        How ``dt_crit`` was found.
+    limiting : list of int
+        Engine ids of the particles the governing mode sits on; empty when the mode is spread out.
+    limiting_share : float
+        Share of the governing mode's kinetic energy held by the ``LIMITING_COUNT`` most energetic
+        particles.
+    dt_user : float or None
+        The step the user runs with [s], if given.
+    estimators : list of RatedEstimate
+        The codes' own estimators and the per-body bounds, rated against ``dt_crit``.
+    notes : list of str
+        Remarks printed with the report.
+    participation : float
+        Participation ratio ``(sum e_p)^2 / (N sum e_p^2)`` of the governing mode's particle energies
+        (1: every particle alike; 1/N: one particle).
+    """
 
     source: str
     engine: str
@@ -159,8 +205,39 @@ def _estimators(packing: Packing, springs: Contacts, dt_crit: float, material=No
 def audit(packing: Packing, contacts: Contacts, convention: EngineConvention, *, law: str, source: str,
           integrator: str | None = None, dt_user: float | None = None, method: str = "auto",
           material: tuple[float, float] | None = None) -> AuditReport:
-    """The audit of a snapshot (module docstring); ``material`` (Young's modulus, Poisson's ratio), when
-    the contact law has one, adds the Rayleigh-time estimators.
+    """The audit of a snapshot: its exact critical step as its engine integrates it (module docstring).
+
+    Parameters
+    ----------
+    packing : Packing
+        The particles, with the engine's own ids.
+    contacts : Contacts
+        Contacts carrying every term the engine applies (springs [N/m, N m/rad], dashpots
+        [N s/m], normal force [N]).
+    convention : EngineConvention
+        The engine's conventions (integrator, name, source).
+    law : str
+        The contact law in words.
+    source : str
+        Where the snapshot came from.
+    integrator : str or None
+        Integrator to audit (default: the engine's).
+    dt_user : float or None
+        The step the user runs with [s], rated against ``dt_crit``.
+    method : str
+        Eigen-solver of ``largest_mode``.
+    material : tuple of float or None
+        ``(E [Pa], nu)`` when the contact law has a material: adds the Rayleigh-time estimators.
+
+    Returns
+    -------
+    AuditReport
+        The report.
+
+    Raises
+    ------
+    InputError
+        For contacts without stiffness, no contacts, or a non-positive ``dt_user``.
     """
     _check_terms(contacts)
     integrator = integrator or convention.integrator

@@ -61,7 +61,22 @@ def _abs_row_sums(a, weights=None, chunk: int = 1 << 18) -> np.ndarray:
 
 
 def gershgorin(a, mass_diag: np.ndarray) -> Estimate:
-    """Gershgorin row-sum bound on ``omega_max^2`` (lower bound on the critical step)."""
+    """Gershgorin row-sum bound on ``omega_max^2``: a rigorous lower bound on the critical step.
+
+    The smaller of ``max_i sum_j |A_ij|`` and the row sums of the similar ``M^-1 K`` (module docstring).
+
+    Parameters
+    ----------
+    a : scipy.sparse matrix or LinearOperator
+        Mass-scaled stiffness ``A = M^(-1/2) K M^(-1/2)`` [1/s^2].
+    mass_diag : numpy.ndarray
+        Diagonal of ``M`` (masses [kg] and principal inertias [kg m^2], 6 per particle).
+
+    Returns
+    -------
+    Estimate
+        ``omega2`` [1/s^2] and ``dt = 2/omega`` [s], with where it is attained.
+    """
     sym = _abs_row_sums(a).max(initial=0.0)
     root = np.sqrt(mass_diag)
     unsym = (_abs_row_sums(a, root) / root).max(initial=0.0)  # rows of M^-1 K
@@ -75,8 +90,22 @@ def _one_based(p: int) -> int:
 
 
 def diagonal_stiffness(a, particle_id=_one_based) -> Estimate:
-    """YADE / PFC per-body diagonal estimate ``omega^2 = 2 max_d K_dd / M_dd`` (heuristic).
-    ``particle_id`` names particle ``p`` in the detail (``Packing.particle_id``; default ``p + 1``).
+    """YADE / PFC per-body diagonal estimate ``omega^2 = 2 max_d A_dd`` (a heuristic, not a bound).
+
+    YADE's GlobalStiffnessTimeStepper and PFC: ``dt = sqrt(2) sqrt(M_dd/K_dd)`` minimised over DOFs.
+
+    Parameters
+    ----------
+    a : scipy.sparse matrix or LinearOperator
+        Mass-scaled stiffness ``A = M^(-1/2) K M^(-1/2)`` [1/s^2].
+    particle_id : callable
+        Maps a 0-based particle index to the name used in ``detail`` (``Packing.particle_id``;
+        default ``p + 1``).
+
+    Returns
+    -------
+    Estimate
+        ``omega2`` [1/s^2] and ``dt = 2/omega`` [s], with where it is attained.
     """
     d = np.asarray(a.diagonal())
     k = int(np.argmax(d))
@@ -86,7 +115,21 @@ def diagonal_stiffness(a, particle_id=_one_based) -> Estimate:
 
 
 def block_diagonal(a, particle_id=_one_based) -> Estimate:
-    """Rigorous per-body bound ``omega^2 <= 2 max_p lambda_max(A_pp)`` (module docstring)."""
+    """Rigorous per-body bound ``omega_max^2 <= 2 max_p lambda_max(A_pp)`` (module docstring).
+
+    Parameters
+    ----------
+    a : scipy.sparse matrix or LinearOperator
+        Mass-scaled stiffness ``A = M^(-1/2) K M^(-1/2)`` [1/s^2].
+    particle_id : callable
+        Maps a 0-based particle index to the name used in ``detail`` (``Packing.particle_id``;
+        default ``p + 1``).
+
+    Returns
+    -------
+    Estimate
+        ``omega2`` [1/s^2] and ``dt = 2/omega`` [s], with where it is attained.  A lower bound on ``dt``.
+    """
     n = a.shape[0] // 6
     if hasattr(a, "diagonal_blocks"):  # matrix-free operator (dtcrit.packing.operators.matrix_free)
         blocks = a.diagonal_blocks()
@@ -130,9 +173,27 @@ def _sqrt_contact_stiffness(contacts: Contacts, sl) -> np.ndarray:
 
 def single_contact_frequencies(packing: Packing, contacts: Contacts, chunk: int = 1 << 17,
                                compiled: bool | None = None) -> np.ndarray:
-    """``omega_c^2`` of every contact alone between its two free bodies (real arms): the compiled
-    loop of ``estimate_kernels`` when Numba is installed (``compiled``, default), else batched
-    ``numpy.linalg.eigvalsh`` of ``K_c^(1/2) W K_c^(1/2)`` in chunks.
+    """``omega_c^2`` of every contact alone between its two free bodies, with its real arms.
+
+    ``omega_c^2 = lambda_max(K_c^(1/2) W K_c^(1/2))``, ``W`` the contact compliance (module docstring):
+    the compiled loop of ``estimate_kernels`` when Numba is installed, else batched
+    ``numpy.linalg.eigvalsh`` in chunks.
+
+    Parameters
+    ----------
+    packing : Packing
+        Particles (masses, principal inertias, orientations, radii or half-lengths).
+    contacts : Contacts
+        Contacts with their springs ``kn``, ``ks`` [N/m] and geometry.
+    chunk : int
+        Contacts per NumPy batch.
+    compiled : bool or None
+        Use the compiled loop (``None``: when available).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``omega_c^2`` [1/s^2] per contact.
     """
     import dtcrit.packing.bounds.estimate_kernels as estimate_kernels
 
@@ -148,10 +209,22 @@ def single_contact_frequencies(packing: Packing, contacts: Contacts, chunk: int 
 
 
 def peng_a_max(packing: Packing, contacts: Contacts) -> np.ndarray:
-    """Peng et al. 2020, Eq. (26) per contact: ``1/m_i + 1/m_j + a_i^2/I_xx,i + a_j^2/I_xx,j``.
+    """Peng et al. 2020, Eq. (26) per contact: ``A_max = 1/m_i + 1/m_j + a_i^2/I_xx,i + a_j^2/I_xx,j``.
 
     ``a`` is the particle's largest half-length (``half_lengths``; the bounding radius when absent)
     and ``I_xx`` its smallest principal moment.  Two equal spheres of mass ``m`` give ``7/m``.
+
+    Parameters
+    ----------
+    packing : Packing
+        Particles (masses, principal inertias, orientations, radii or half-lengths).
+    contacts : Contacts
+        Contacts with their springs ``kn``, ``ks`` [N/m] and geometry.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``A_max`` [1/kg] per contact.
     """
     a = packing.half_lengths.max(axis=1) if packing.half_lengths is not None else packing.radii
     per = 1.0 / packing.masses + a**2 / packing.inertia.min(axis=1)
@@ -159,7 +232,22 @@ def peng_a_max(packing: Packing, contacts: Contacts) -> np.ndarray:
 
 
 def two_particle_amax(packing: Packing, contacts: Contacts) -> Estimate:
-    """Peng et al. 2020, Eq. (48) with ``k = max(k_n, k_s)``, the most demanding contact."""
+    """Peng et al. 2020, Eq. (48): ``omega^2 = k A_max`` with ``k = max(k_n, k_s)``, most demanding contact.
+
+    A heuristic (``dt = 2/sqrt(k A_max)``); ``A_max`` from ``peng_a_max``.
+
+    Parameters
+    ----------
+    packing : Packing
+        Particles (masses, principal inertias, orientations, radii or half-lengths).
+    contacts : Contacts
+        Contacts with their springs ``kn``, ``ks`` [N/m] and geometry.
+
+    Returns
+    -------
+    Estimate
+        ``omega2`` [1/s^2] and ``dt = 2/omega`` [s], with where it is attained.
+    """
     if contacts.count == 0:
         return Estimate.from_omega2("two_particle_amax", 0.0, "heuristic", "no contacts")
     assert contacts.kn is not None and contacts.ks is not None  # contacts with their springs
@@ -171,7 +259,22 @@ def two_particle_amax(packing: Packing, contacts: Contacts) -> Estimate:
 
 
 def two_particle_exact(packing: Packing, contacts: Contacts, omega2_c: np.ndarray | None = None) -> Estimate:
-    """Most demanding single contact with its real arms (upper bound on the packing's ``dt``)."""
+    """Most demanding single contact with its real arms: an upper bound on the packing's ``dt``.
+
+    Parameters
+    ----------
+    packing : Packing
+        Particles (masses, principal inertias, orientations, radii or half-lengths).
+    contacts : Contacts
+        Contacts with their springs ``kn``, ``ks`` [N/m] and geometry.
+    omega2_c : numpy.ndarray or None
+        Precomputed ``single_contact_frequencies`` [1/s^2] (computed when ``None``).
+
+    Returns
+    -------
+    Estimate
+        ``omega2`` [1/s^2] and ``dt = 2/omega`` [s], with where it is attained.
+    """
     if contacts.count == 0:
         return Estimate.from_omega2("two_particle_exact", 0.0, "upper bound on dt", "no contacts")
     w = single_contact_frequencies(packing, contacts) if omega2_c is None else omega2_c
@@ -181,7 +284,22 @@ def two_particle_exact(packing: Packing, contacts: Contacts, omega2_c: np.ndarra
 
 
 def contact_mode(packing: Packing, contacts: Contacts, c: int) -> np.ndarray:
-    """Mass-scaled global vector of contact ``c``'s own highest mode (zero away from its pair)."""
+    """Mass-scaled global vector of contact ``c``'s own highest mode (zero away from its pair).
+
+    Parameters
+    ----------
+    packing : Packing
+        Particles (masses, principal inertias, orientations, radii or half-lengths).
+    contacts : Contacts
+        Contacts with their springs ``kn``, ``ks`` [N/m] and geometry.
+    c : int
+        Index of the contact.
+
+    Returns
+    -------
+    numpy.ndarray
+        The vector, 6 entries per particle of the packing.
+    """
     return contact_modes(packing, contacts, c, rtol=0.0)[0]
 
 
@@ -192,6 +310,22 @@ def contact_modes(packing: Packing, contacts: Contacts, c: int, rtol: float = 1e
     of the largest, embedded as in :func:`contact_mode`.  Two spheres' tangential pair is exactly
     degenerate, and which member of that plane LAPACK returns depends on the last bits of the
     input; the *span* does not, so :func:`rayleigh` uses the best quotient over the span.
+
+    Parameters
+    ----------
+    packing : Packing
+        Particles (masses, principal inertias, orientations, radii or half-lengths).
+    contacts : Contacts
+        Contacts with their springs ``kn``, ``ks`` [N/m] and geometry.
+    c : int
+        Index of the contact.
+    rtol : float
+        Relative distance from the largest eigenvalue within which eigenvectors are kept.
+
+    Returns
+    -------
+    list of numpy.ndarray
+        The vectors, 6 entries per particle of the packing, largest eigenvalue first.
     """
     sl = slice(c, c + 1)
     root = _sqrt_contact_stiffness(contacts, sl)[0]
@@ -238,7 +372,22 @@ def _span_quotient(a, vectors: list[np.ndarray]) -> float:
 
 
 def co_rotation(packing: Packing, axis: int) -> np.ndarray:
-    """Mass-scaled vector of every particle rotating by the same small angle about a global axis."""
+    """Mass-scaled vector of every particle rotating by the same small angle about a global axis.
+
+    The rotation entries are ``M^(1/2)`` times the axis in each body frame (``R^T e``).
+
+    Parameters
+    ----------
+    packing : Packing
+        Particles (principal inertias and orientations).
+    axis : int
+        Global axis: 0, 1 or 2 for x, y, z.
+
+    Returns
+    -------
+    numpy.ndarray
+        The trial vector, 6 entries per particle.
+    """
     e = np.zeros(3)
     e[axis] = 1.0
     body = np.repeat(e[None, :], packing.n, axis=0)
@@ -268,7 +417,26 @@ def _stiffest(w: np.ndarray, k: int) -> np.ndarray:
 
 def rayleigh(a, packing: Packing, contacts: Contacts, omega2_c: np.ndarray | None = None,
              n_contacts: int = 8) -> Estimate:
-    """Best Rayleigh quotient over the trial modes of the module docstring (upper bound on ``dt``)."""
+    """Best Rayleigh quotient over the trial modes of the module docstring: an upper bound on ``dt``.
+
+    Parameters
+    ----------
+    a : scipy.sparse matrix or LinearOperator
+        Mass-scaled stiffness ``A = M^(-1/2) K M^(-1/2)`` [1/s^2].
+    packing : Packing
+        Particles (masses, principal inertias, orientations, radii or half-lengths).
+    contacts : Contacts
+        Contacts with their springs ``kn``, ``ks`` [N/m] and geometry.
+    omega2_c : numpy.ndarray or None
+        Precomputed ``single_contact_frequencies`` [1/s^2] (computed when ``None``).
+    n_contacts : int
+        Number of stiffest contacts whose modes are tried.
+
+    Returns
+    -------
+    Estimate
+        ``omega2`` [1/s^2] and ``dt = 2/omega`` [s], with where it is attained.  ``detail`` names the best trial.
+    """
     def trials():  # one at a time: at 1e7 particles each trial vector is 480 MB
         for k in range(3):
             yield f"co-rotation about {'xyz'[k]}", co_rotation(packing, k)

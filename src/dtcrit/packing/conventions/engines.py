@@ -47,22 +47,24 @@ from dtcrit.packing.model import Contacts, Packing
 
 @dataclass(frozen=True)
 class EngineConvention:
-    """How one engine builds its contacts.
+    """How one engine builds the contacts whose stiffness sets its step (module docstring).
 
-    Attributes
+    Parameters
     ----------
     name : str
         The engine (``lammps``, ``liggghts``, ``yade``).
     integrator : str
-        Its integrator.
+        Its integrator (``dtcrit.integrators.schemes`` name, e.g. ``velocity-verlet`` for LAMMPS
+        ``fix nve/sphere``, ``leapfrog`` for YADE's ``NewtonIntegrator``).
     arm : str
-        Its contact-arm convention (``radius``, ``mid-overlap``, ``yade``).
+        Its contact-arm convention (``radius``, ``mid-overlap``, ``yade``, ``granular``; see
+        ``with_arms``).
     preload : bool
-        Whether the normal force's geometric stiffness is included.
+        Whether the normal force's geometric stiffness ``-(F/r)(1 - n n^T)`` is included.
     contacts : str
-        Which pairs it counts as contacts.
+        Which pairs it counts as contacts (e.g. ``r < R_i + R_j`` strictly for LAMMPS).
     source : str
-        Where the conventions were read.
+        Where the conventions were read (engine source files).
     """
 
     name: str
@@ -106,9 +108,30 @@ def engine_convention(name: str) -> EngineConvention:
 
 
 def with_arms(packing: Packing, contacts: Contacts, arm: str) -> Contacts:
-    """Contacts whose arms follow ``arm``: ``"radius"`` (``R_i n``, ``-R_j n``), ``"mid-overlap"``, or
-    ``"yade"`` (the symmetric equivalent of YADE's kinematics, module docstring; it also scales ``ks``,
-    so apply it to contacts that already carry their stiffness).
+    """Contacts whose arms follow an engine's convention (module docstring).
+
+    Parameters
+    ----------
+    packing : Packing
+        Spheres (radii).
+    contacts : Contacts
+        The sphere contacts (normals, overlaps ``delta`` [m]).
+    arm : str
+        ``"radius"`` (``R_i n``, ``-R_j n``: LAMMPS ``gran/*``, LIGGGHTS), ``"mid-overlap"``
+        (``R - delta/2``: Peng et al. 2020, Eqs (1)-(2)), ``"granular"`` (LAMMPS ``pair_style
+        granular``: ``sqrt(R (R - delta/2))``) or ``"yade"`` (the symmetric equivalent of YADE's
+        kinematics, ``sqrt((R - delta/2) R / alpha)``; it also scales ``ks`` by ``alpha``, so apply it
+        to contacts that already carry their stiffness).
+
+    Returns
+    -------
+    Contacts
+        Copy with ``arm_i``, ``arm_j`` [m] (and for ``"yade"`` ``ks`` [N/m]) replaced.
+
+    Raises
+    ------
+    InputError
+        For an unknown ``arm``, or ``"yade"`` on contacts without shear stiffness.
     """
     r = packing.radii
     if arm == "yade":
@@ -136,14 +159,50 @@ def with_arms(packing: Packing, contacts: Contacts, arm: str) -> Contacts:
 
 
 def engine_sphere_contacts(packing: Packing, convention: EngineConvention) -> Contacts:
-    """The contacts the engine itself computes forces for, with its arms."""
+    """The contacts the engine itself computes forces for, with its arms.
+
+    Pairs with a strictly positive overlap (LAMMPS ``if (rsq >= radsum*radsum)`` no force).
+
+    Parameters
+    ----------
+    packing : Packing
+        Spheres.
+    convention : EngineConvention
+        The engine's conventions (its ``arm`` is applied).
+
+    Returns
+    -------
+    Contacts
+        The overlapping pairs with the engine's arms.
+    """
     found = find_sphere_contacts(packing, tolerance=0.0)
     return with_arms(packing, found.subset(found.overlap > 0), convention.arm)
 
 
 def overlaps_of_pairs(packing: Packing, i: np.ndarray, j: np.ndarray) -> Contacts:
-    """Contacts for the given pairs (a contact table or the engine's own list), nearest periodic
-    image, with normals from ``i`` to ``j`` and the overlaps of the positions (may be zero).
+    """Contacts for given pairs (a contact table or the engine's own list), nearest periodic image.
+
+    Normals point from ``i`` to ``j``; overlaps ``max(R_i + R_j - d, 0)`` come from the positions (may
+    be zero); arms are the full radii.
+
+    Parameters
+    ----------
+    packing : Packing
+        Spheres (positions, radii, box).
+    i : numpy.ndarray
+        First particle of each pair (0-based index).
+    j : numpy.ndarray
+        Second particle of each pair (0-based index).
+
+    Returns
+    -------
+    Contacts
+        One contact per pair.
+
+    Raises
+    ------
+    InputError
+        When two paired particles have coincident centres.
     """
     x = packing.positions
     sep = x[j] - x[i]

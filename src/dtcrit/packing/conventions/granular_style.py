@@ -51,16 +51,22 @@ DAMPING = ("velocity", "mass_velocity", "viscoelastic", "tsuji")
 class GranularStyle:
     """A parsed LAMMPS ``pair_style granular`` coefficient set (module docstring).
 
-    Attributes
+    Parameters
     ----------
-    normal, tangential, damping : str
-        The normal, tangential and damping models.
-    normal_args, tangential_args : dict
-        Their coefficients.
+    normal : str
+        Normal model (``hooke``, ``hertz``, ``hertz/material``, ...).
+    normal_args : dict
+        Its coefficients by name (e.g. ``k``, ``damp``; ``E``, ``nu`` for material models).
+    tangential : str
+        Tangential model (``linear_history``, ...).
+    tangential_args : dict
+        Its coefficients by name.
+    damping : str
+        Damping model (``velocity``, ``mass_velocity``, ``viscoelastic``, ``tsuji``).
     rolling : dict or None
-        ``rolling sds`` coefficients.
+        ``rolling sds`` coefficients, ``None`` without rolling.
     twisting : tuple or None
-        ``(model, coefficients)`` of the twisting model.
+        ``(model, coefficients)`` of the twisting model, ``None`` without twisting.
     text : str
         The ``pair_coeff`` words.
     """
@@ -86,7 +92,13 @@ class GranularStyle:
         return f"LAMMPS pair_style granular, pair_coeff * * {self.text}"
 
     def material(self) -> tuple[float, float] | None:
-        """(Young's modulus, Poisson's ratio) of a material normal model, else None."""
+        """Young's modulus and Poisson's ratio of a material normal model.
+
+        Returns
+        -------
+        tuple of float or None
+            ``(E [Pa], nu)`` when the normal model takes them, else ``None``.
+        """
         return (self.normal_args["E"], self.normal_args["nu"]) if "E" in self.normal_args else None
 
     def _material(self) -> tuple[float, float]:
@@ -157,7 +169,24 @@ def _take(words: list[str], k: int, names: tuple[str, ...], what: str, *, nullab
 
 
 def parse_granular(words: list[str]) -> GranularStyle:
-    """The ``pair_coeff`` words of ``pair_style granular`` (module docstring)."""
+    """Parse the ``pair_coeff`` words of ``pair_style granular`` (module docstring).
+
+    Parameters
+    ----------
+    words : list of str
+        The words after ``pair_coeff`` (a leading ``* *`` is skipped), e.g.
+        ``hooke 1e4 0.5 tangential linear_history 1e4 1 0.5 damping mass_velocity``.
+
+    Returns
+    -------
+    GranularStyle
+        The parsed models and coefficients.
+
+    Raises
+    ------
+    InputError
+        For an unknown or unsupported model (``jkr``) or a malformed coefficient.
+    """
     if words[:2] == ["*", "*"]:
         words = words[2:]
     if not words:

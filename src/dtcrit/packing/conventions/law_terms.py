@@ -15,8 +15,28 @@ FLAG = "--pair-style"
 
 @dataclass(frozen=True)
 class ContactTerms:
-    """Per-contact springs [N/m], dashpots [N s/m], the normal force [N] (compressive positive) and,
-    when the law has them, rolling and twisting springs [N m/rad] and dashpots [N m s/rad].
+    """Per-contact springs, dashpots and normal force of a contact law, one entry per contact.
+
+    Parameters
+    ----------
+    kn : numpy.ndarray
+        Normal tangent stiffness [N/m].
+    ks : numpy.ndarray
+        Tangential stiffness [N/m].
+    cn : numpy.ndarray
+        Normal dashpot [N s/m].
+    cs : numpy.ndarray
+        Tangential dashpot [N s/m].
+    force_n : numpy.ndarray
+        Normal force [N], compressive positive (gives the geometric stiffness with a pre-load).
+    kr : numpy.ndarray or None
+        Rolling spring [N m/rad], when the law has one.
+    ktw : numpy.ndarray or None
+        Twisting spring [N m/rad], when the law has one.
+    cr : numpy.ndarray or None
+        Rolling dashpot [N m s/rad], when the law has one.
+    ctw : numpy.ndarray or None
+        Twisting dashpot [N m s/rad], when the law has one.
     """
 
     kn: np.ndarray

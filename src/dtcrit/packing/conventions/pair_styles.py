@@ -36,7 +36,27 @@ GRAN_STYLES = ("gran/hooke", "gran/hooke/history", "gran/hertz/history")
 
 @dataclass(frozen=True)
 class GranPairStyle:
-    """A parsed ``pair_style gran/*`` line (module docstring)."""
+    """A parsed ``pair_style gran/*`` line (module docstring).
+
+    Parameters
+    ----------
+    style : str
+        ``gran/hooke``, ``gran/hooke/history`` or ``gran/hertz/history`` (``/omp``, ``/kk`` stripped).
+    kn : float
+        ``Kn``: [N/m] for Hooke; [N/m^2] for Hertz (multiplied by ``sqrt(R* delta)``).
+    kt : float
+        ``Kt`` in the units of ``kn`` (``NULL`` -> ``2/7 Kn``).
+    gamma_n : float
+        Normal damping ``gamma_n`` [1/s] (times ``m_eff``; for Hertz also ``sqrt(R* delta)`` [1/(s m)]).
+    gamma_t : float
+        Tangential damping ``gamma_t`` in the units of ``gamma_n`` (``NULL`` -> ``gamma_n / 2``).
+    xmu : float
+        Friction coefficient; 0 means no tangential force at all.
+    dampflag : int
+        0: no tangential dashpot; 1: tangential dashpot on.
+    text : str
+        The style line as given.
+    """
 
     style: str
     kn: float
@@ -99,8 +119,24 @@ class GranPairStyle:
 
 
 def parse_pair_style(text: str):
-    """The law of the pair style line (without the leading ``pair_style``): a ``GranPairStyle``, or for
-    ``granular`` a ``dtcrit.packing.conventions.granular_style.GranularStyle`` from the ``pair_coeff`` words after it.
+    """The contact law of a ``pair_style`` line, as given in the input script.
+
+    Parameters
+    ----------
+    text : str
+        The line (a leading ``pair_style`` is dropped), e.g. ``gran/hooke/history 1e4 NULL 0 NULL 0.5 0``;
+        for ``granular`` the ``pair_coeff`` words follow the style name.
+
+    Returns
+    -------
+    GranPairStyle or GranularStyle
+        A ``GranPairStyle`` for ``gran/*``, a
+        ``dtcrit.packing.conventions.granular_style.GranularStyle`` for ``granular``.
+
+    Raises
+    ------
+    InputError
+        For an empty line, an unknown style or malformed arguments.
     """
     words = str(text).split()
     if words and words[0] == "pair_style":
@@ -135,7 +171,22 @@ def parse_pair_style(text: str):
 
 
 def apply_terms(contacts: Contacts, terms: ContactTerms, *, preload: bool) -> Contacts:
-    """Contacts carrying the terms (the normal force only with ``preload``: geometric stiffness)."""
+    """Contacts carrying a law's springs, dashpots and (with ``preload``) normal force.
+
+    Parameters
+    ----------
+    contacts : Contacts
+        The sphere contacts.
+    terms : ContactTerms
+        Per-contact springs [N/m, N m/rad], dashpots [N s/m, N m s/rad] and normal force [N].
+    preload : bool
+        Whether to attach the normal force (its geometric stiffness enters ``K``).
+
+    Returns
+    -------
+    Contacts
+        Copy with the stiffness, damping and, if ``preload``, the normal force set.
+    """
     out = contacts.with_stiffness(terms.kn, terms.ks, terms.kr, terms.ktw)
     out = out.with_damping(terms.cn, terms.cs, terms.cr, terms.ctw)
     return out.with_normal_force(terms.force_n) if preload else out

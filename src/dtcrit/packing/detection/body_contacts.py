@@ -30,8 +30,21 @@ PROGRESS_AFTER = 2.0
 
 
 class Progress:
-    """``done/total`` of a long loop on standard error, rewritten in place, only when standard error
-    is a terminal and the loop has run for ``after`` seconds; :meth:`close` ends the line.
+    """``done/total`` of a long loop on standard error, rewritten in place.
+
+    Drawn only when the stream is a terminal and the loop has run for ``after`` seconds (then every
+    ``after`` seconds); :meth:`close` ends the line.
+
+    Parameters
+    ----------
+    what : str
+        Name of the loop, printed before the count.
+    total : int
+        Number of items the loop runs over.
+    after : float
+        Seconds before the first and between later updates (``PROGRESS_AFTER``).
+    stream : file-like or None
+        Where to write (``None``: ``sys.stderr``).
     """
 
     def __init__(self, what: str, total: int, after: float = PROGRESS_AFTER, stream=None):
@@ -45,6 +58,13 @@ class Progress:
             self.live = False
 
     def update(self, done: int) -> None:
+        """Show ``done/total`` and the elapsed seconds if ``after`` seconds passed since the last update.
+
+        Parameters
+        ----------
+        done : int
+            Items finished so far.
+        """
         if not self.live:
             return
         now = time.monotonic()
@@ -54,6 +74,7 @@ class Progress:
             self.stream.flush()
 
     def close(self) -> None:
+        """End the progress line (a newline) if anything was drawn."""
         if self.shown:
             self.stream.write("\n")
             self.stream.flush()
@@ -125,9 +146,23 @@ def _convex_pairs(parts, radius, rot, a, b, sep, bound, tolerance):
 
 
 def find_body_contacts(packing: Packing, tolerance: float = 1e-9) -> Contacts:
-    """Contacts of a packing of convex bodies and clumps (module docstring), arms from each body's
-    centre of mass; ``radius_eff = R_1 R_2 / (R_1 + R_2)`` where two spheres (or clump members) meet,
-    NaN otherwise.
+    """Contacts of a packing of convex bodies and clumps (module docstring).
+
+    Arms point from each body's centre of mass to the contact point; a packing of spheres only goes
+    to ``find_sphere_contacts``.
+
+    Parameters
+    ----------
+    packing : Packing
+        Convex bodies and clumps (shapes, orientations, centres of mass).
+    tolerance : float
+        Relative gap (a fraction of the summed bounding radii) up to which a pair still counts.
+
+    Returns
+    -------
+    Contacts
+        The contacts; ``radius_eff = R_1 R_2 / (R_1 + R_2)`` [m] where two spheres (or clump
+        members) meet, NaN otherwise.
     """
     if packing.is_spheres:
         return find_sphere_contacts(packing, tolerance)

@@ -22,7 +22,20 @@ from dtcrit.packing.model import Box, Contacts, Packing
 
 
 def wrap_positions(positions: np.ndarray, box: Box | None) -> np.ndarray:
-    """Positions mapped into ``[lo, hi)`` along the periodic axes of ``box``."""
+    """Positions mapped into ``[lo, hi)`` along the periodic axes of ``box``.
+
+    Parameters
+    ----------
+    positions : numpy.ndarray
+        Centres, shape ``(n, 3)`` [m] (not modified).
+    box : Box or None
+        The simulation box; ``None`` or non-periodic axes leave the coordinates as they are.
+
+    Returns
+    -------
+    numpy.ndarray
+        Wrapped copy of ``positions``.
+    """
     x = np.array(positions, dtype=float, copy=True)
     if box is None:
         return x
@@ -84,9 +97,20 @@ AXES = "xyz"
 
 
 def check_box_holds_particles(packing: Packing) -> None:
-    """InputError (key ``box``) when a periodic length is shorter than the widest particle's diameter:
-    that particle overlaps its own periodic image (it touching its image, length = diameter, is kept),
-    which is not a packing; the image search of such a box also grows as ``(diameter / length)^3``.
+    """Refuse a periodic box shorter than the widest particle's diameter.
+
+    Such a particle overlaps its own periodic image (touching it, length = diameter, is kept), which is
+    not a packing; the image search of such a box also grows as ``(diameter / length)^3``.
+
+    Parameters
+    ----------
+    packing : Packing
+        Particles (radii) and their box.
+
+    Raises
+    ------
+    InputError
+        With key ``box`` when a periodic length is too short.
     """
     box = packing.box
     if box is None or not any(box.periodic) or packing.n == 0:
@@ -181,10 +205,32 @@ def _joined(parts: list[dict]) -> Contacts:
 
 
 def find_sphere_contacts(packing: Packing, tolerance: float = 1e-9, chunk: int = DETECT_CHUNK) -> Contacts:
-    """Every touching or overlapping pair of spheres of ``packing`` (periodic images included),
-    sorted by ``(i, j, image)``.  Without periodic axes, or with a unique minimum image, the search
-    runs over chunks of ``chunk`` particles against one ``cKDTree`` of all (toroidal along periodic
-    axes: ``boxsize``), so its temporaries stay O(chunk); narrower periodic boxes search every image.
+    """Every touching or overlapping pair of spheres, periodic images included.
+
+    A pair is a contact when ``d <= (R_i + R_j) (1 + tolerance)``; normals point from ``i`` to ``j``, arms
+    are at the middle of the overlap, ``(R - delta/2) n`` (Peng et al. 2020, Eqs (1)-(2)).  Without
+    periodic axes, or with a unique minimum image, the search runs over chunks of ``chunk`` particles
+    against one ``cKDTree`` of all (toroidal along periodic axes: ``boxsize``), so its temporaries stay
+    O(chunk); narrower periodic boxes search every image.
+
+    Parameters
+    ----------
+    packing : Packing
+        A sphere packing.
+    tolerance : float
+        Relative gap up to which a pair still counts (dimensionless, finite, ``>= 0``).
+    chunk : int
+        Particles queried per batch.
+
+    Returns
+    -------
+    Contacts
+        Sorted by ``(i, j, image)``, with overlaps ``delta`` [m] (zero for touching pairs).
+
+    Raises
+    ------
+    InputError
+        For a packing that is not of spheres, a bad ``tolerance`` or a too-short periodic box.
     """
     if not packing.is_spheres:
         raise InputError("packing", "find_sphere_contacts needs a sphere packing; use find_convex_contacts")
@@ -223,8 +269,33 @@ def convex_penetration(shape_i, rot_i, shape_j, rot_j, separation, n0=None):
     ``s`` the support functions; the penetration depth is its minimum over ``n`` (the minimum
     translation that separates the bodies) and the minimiser is the contact normal.  By Danskin's
     theorem ``grad h = p_i(n) - p_j(-n) - separation`` (the support points), which drives a BFGS
-    search over ``v`` with ``n = v / |v|``.  Returns ``(depth, normal, point_i, point_j)``: the two
-    support points relative to their centres.
+    search over ``v`` with ``n = v / |v|``.
+
+    Parameters
+    ----------
+    shape_i : object
+        Convex shape of body ``i`` (``dtcrit.packing.model`` shape, body frame).
+    rot_i : numpy.ndarray
+        Rotation matrix body ``i`` -> world, ``(3, 3)``.
+    shape_j : object
+        Convex shape of body ``j``.
+    rot_j : numpy.ndarray
+        Rotation matrix body ``j`` -> world.
+    separation : numpy.ndarray
+        ``x_j - x_i`` [m].
+    n0 : numpy.ndarray or None
+        Starting direction (default: along ``separation``).
+
+    Returns
+    -------
+    depth : float
+        Penetration depth [m] (negative: a gap).
+    normal : numpy.ndarray
+        Unit contact normal from ``i`` to ``j``.
+    point_i : numpy.ndarray
+        Deepest support point of ``i``, relative to its centre [m].
+    point_j : numpy.ndarray
+        Deepest support point of ``j``, relative to its centre [m].
     """
     from scipy.optimize import minimize
 
@@ -255,6 +326,19 @@ def find_convex_contacts(packing: Packing, tolerance: float = 1e-9) -> Contacts:
     from :func:`convex_penetration`; the contact point is the middle of the two deepest support
     points and both arms point from the centres to it.  Suited to small packings (one
     optimisation per candidate pair).
+
+    Parameters
+    ----------
+    packing : Packing
+        Convex bodies (``shapes``, orientations); a packing without shapes goes to
+        ``find_sphere_contacts``.
+    tolerance : float
+        Relative gap (a fraction of the summed bounding radii) up to which a pair still counts.
+
+    Returns
+    -------
+    Contacts
+        The contacts with normals, arms [m] and depths [m].
     """
     if packing.shapes is None:
         return find_sphere_contacts(packing, tolerance)
@@ -288,5 +372,18 @@ def find_convex_contacts(packing: Packing, tolerance: float = 1e-9) -> Contacts:
 
 
 def find_contacts(packing: Packing, tolerance: float = 1e-9) -> Contacts:
-    """Sphere or convex-shape contacts, whichever the packing holds."""
+    """Sphere or convex-shape contacts, whichever the packing holds.
+
+    Parameters
+    ----------
+    packing : Packing
+        Spheres (``find_sphere_contacts``) or convex shapes (``find_convex_contacts``).
+    tolerance : float
+        Relative gap (a fraction of the summed bounding radii) up to which a pair still counts.
+
+    Returns
+    -------
+    Contacts
+        The contacts.
+    """
     return find_sphere_contacts(packing, tolerance) if packing.is_spheres else find_convex_contacts(packing, tolerance)

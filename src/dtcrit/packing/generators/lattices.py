@@ -34,7 +34,29 @@ def _cells(cells) -> np.ndarray:
 
 
 def lattice_positions(name: str, cells, radius: float = 1.0) -> tuple[np.ndarray, Box]:
-    """Centres of every sphere and the periodic box of ``cells`` repeats of lattice ``name``."""
+    """Centres of every sphere and the periodic box of ``cells`` repeats of a lattice (module docstring).
+
+    Parameters
+    ----------
+    name : str
+        ``sc``, ``bcc``, ``fcc`` or ``hcp`` (case-insensitive).
+    cells : int or sequence of int
+        Repeats of the cell along each axis (one number or three).
+    radius : float
+        Sphere radius ``R`` [m]; nearest neighbours touch.
+
+    Returns
+    -------
+    positions : numpy.ndarray
+        Centres, shape ``(n, 3)`` [m].
+    box : Box
+        The fully periodic box.
+
+    Raises
+    ------
+    InputError
+        For an unknown lattice, a non-positive radius or bad ``cells``.
+    """
     key = str(name).lower()
     if key not in _BASIS:
         raise InputError("lattice", f"unknown lattice {name!r}; choose one of {', '.join(LATTICES)}")
@@ -51,7 +73,26 @@ def lattice_positions(name: str, cells, radius: float = 1.0) -> tuple[np.ndarray
 
 def lattice(name: str, cells, *, radius: float = 1.0, density: float | None = None,
             mass: float | None = None) -> Packing:
-    """A periodic sphere lattice as a :class:`Packing` (give ``density`` or ``mass``)."""
+    """A periodic sphere lattice as a :class:`Packing` (module docstring).
+
+    Parameters
+    ----------
+    name : str
+        ``sc``, ``bcc``, ``fcc`` or ``hcp``.
+    cells : int or sequence of int
+        Repeats of the cell along each axis.
+    radius : float
+        Sphere radius [m].
+    density : float or None
+        Density [kg/m^3] (1 when neither it nor ``mass`` is given).
+    mass : float or None
+        Mass of each sphere [kg], instead of ``density``.
+
+    Returns
+    -------
+    Packing
+        The spheres, labelled with the lattice and cell counts.
+    """
     if density is None and mass is None:
         density = 1.0
     x, box = lattice_positions(name, cells, radius)

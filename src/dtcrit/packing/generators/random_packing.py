@@ -41,16 +41,43 @@ PROGRESS_SPHERES = 20_000  # from this size on, the relaxation draws a tqdm bar 
 
 
 def generation_seconds(n: int, max_steps: int = 250) -> float:
-    """Estimated wall time [s] of ``random_packing(n)``: the FIRE relaxation dominates (at most
-    ``max_steps`` steps, each linear in ``n``).
+    """Estimated wall time of ``random_packing(n)``.
+
+    The FIRE relaxation dominates: ``SECONDS_PER_SPHERE_STEP * n * max_steps`` (at most ``max_steps``
+    steps, each linear in ``n``).
+
+    Parameters
+    ----------
+    n : int
+        Number of spheres.
+    max_steps : int
+        FIRE step limit.
+
+    Returns
+    -------
+    float
+        Estimated time [s].
     """
     return SECONDS_PER_SPHERE_STEP * float(n) * float(max_steps)
 
 
 def spatial_order(x: np.ndarray, cell: float) -> np.ndarray:
-    """Rows of ``x`` sorted along a space-filling order of cells of side ``cell`` (cache locality:
-    neighbours end up close in memory, which makes the gathers of large packings several times
-    faster).
+    """Rows of ``x`` sorted along a snake order of cells of side ``cell``.
+
+    Cache locality: neighbours end up close in memory, which makes the gathers of large packings
+    several times faster.
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        Centres, shape ``(n, 3)`` [m].
+    cell : float
+        Cell side [m].
+
+    Returns
+    -------
+    numpy.ndarray
+        The same rows, reordered.
     """
     c = np.floor((x - x.min(axis=0)) / cell).astype(np.int64)
     # snake (boustrophedon) order over z, y, x keeps consecutive cells adjacent
@@ -60,7 +87,32 @@ def spatial_order(x: np.ndarray, cell: float) -> np.ndarray:
 
 
 def sample_radii(n: int, distribution: str, radius: float, spread: float, rng) -> np.ndarray:
-    """``n`` radii from the named distribution (module docstring, step 1)."""
+    """``n`` radii from a named distribution (module docstring, step 1).
+
+    Parameters
+    ----------
+    n : int
+        Number of radii.
+    distribution : str
+        ``"mono"``, ``"uniform"`` (``radius * U(1 - spread, 1 + spread)``) or ``"lognormal"``
+        (``ln R ~ N(ln radius, spread^2)``, truncated at three standard deviations).
+    radius : float
+        Mean (mono: exact; lognormal: median) radius [m].
+    spread : float
+        Relative half-width (uniform, ``< 1``) or ``sigma`` of ``ln R`` (lognormal, ``<= 1.5``).
+    rng : numpy.random.Generator
+        Random source.
+
+    Returns
+    -------
+    numpy.ndarray
+        The radii [m].
+
+    Raises
+    ------
+    InputError
+        For an unknown distribution or a ``spread`` out of range.
+    """
     if distribution == "mono":
         return np.full(n, radius)
     if distribution == "uniform":
@@ -81,6 +133,18 @@ def sample_radii(n: int, distribution: str, radius: float, spread: float, rng) -
 
 @dataclass
 class RelaxationStats:
+    """How the FIRE overlap relaxation ended.
+
+    Parameters
+    ----------
+    steps : int
+        FIRE steps taken.
+    max_force : float
+        Largest residual overlap force (harmonic overlap energy, units of length).
+    max_overlap : float
+        Largest remaining overlap ``R_i + R_j - d`` [m].
+    """
+
     steps: int
     max_force: float
     max_overlap: float
@@ -108,7 +172,28 @@ def _overlap_forces(xt, i, j, offset, sum_r):
 
 
 def relax_overlaps(x, r, box: Box, *, force_tol: float = 1e-3, max_steps: int = 250) -> tuple[np.ndarray, RelaxationStats]:
-    """FIRE minimisation of the harmonic overlap energy (module docstring, step 3)."""
+    """FIRE minimisation of the harmonic overlap energy ``sum 1/2 (R_i + R_j - d_ij)^2`` (module docstring, step 3).
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        Starting centres, shape ``(n, 3)`` [m].
+    r : numpy.ndarray
+        Radii [m].
+    box : Box
+        The periodic box.
+    force_tol : float
+        Stop when the largest force is below ``force_tol`` times the mean radius.
+    max_steps : int
+        Most FIRE steps.
+
+    Returns
+    -------
+    x : numpy.ndarray
+        Relaxed centres, wrapped into the box [m].
+    stats : RelaxationStats
+        Steps taken, largest residual force and overlap.
+    """
     x = wrap_positions(x, box)
     lengths = box.lengths
     scale = float(np.mean(r))
@@ -171,7 +256,34 @@ def relax_overlaps(x, r, box: Box, *, force_tol: float = 1e-3, max_steps: int = 
 
 
 def scale_to_coordination(x, r, box: Box, cn: float) -> tuple[float, int]:
-    """Radius factor ``s`` giving mean coordination ``cn`` and the resulting contact count."""
+    """Radius factor ``s`` giving mean coordination ``cn`` (module docstring, step 4).
+
+    ``s`` lies midway between the ``t``-th and ``(t+1)``-th smallest ratio ``d_ij / (R_i + R_j)``,
+    ``t = round(cn n / 2)``.
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        Centres, shape ``(n, 3)`` [m].
+    r : numpy.ndarray
+        Radii [m].
+    box : Box
+        The periodic box.
+    cn : float
+        Target mean coordination number.
+
+    Returns
+    -------
+    s : float
+        Factor to multiply every radius by.
+    contacts : int
+        Number of contacts ``t`` after scaling.
+
+    Raises
+    ------
+    InputError
+        For ``cn < 0`` or a coordination out of reach.
+    """
     n = x.shape[0]
     target = int(round(cn * n / 2.0))
     if target < 0:
@@ -200,7 +312,41 @@ def _smallest_ratio(x, r, box) -> float:
 def random_packing(n: int, *, cn: float = 6.0, sizes: str = "mono", radius: float = 1.0, spread: float = 0.0,
                    density: float = 1.0, fraction: float = 0.66, seed: int = 0, force_tol: float = 1e-3,
                    max_steps: int = 250) -> Packing:
-    """A random periodic sphere packing with mean coordination ``cn`` (module docstring)."""
+    """A random periodic sphere packing with mean coordination ``cn`` (module docstring).
+
+    Parameters
+    ----------
+    n : int
+        Number of spheres (at least 2).
+    cn : float
+        Target mean coordination number, in ``[0, 14]`` (matched within ``1/n``).
+    sizes : str
+        Size distribution: ``"mono"``, ``"uniform"`` or ``"lognormal"``.
+    radius : float
+        Radius scale [m] before the coordination scaling (see ``sample_radii``).
+    spread : float
+        Width of the size distribution (see ``sample_radii``).
+    density : float
+        Density [kg/m^3].
+    fraction : float
+        Volume fraction of the random placement, below 0.74.
+    seed : int
+        Seed of ``numpy.random.default_rng`` (whole number ``>= 0``).
+    force_tol : float
+        FIRE force tolerance relative to the mean radius.
+    max_steps : int
+        Most FIRE steps.
+
+    Returns
+    -------
+    Packing
+        The spheres in a periodic cube, labelled with the parameters.
+
+    Raises
+    ------
+    InputError
+        For any argument out of range.
+    """
     n = int(n)
     if n < 2:
         raise InputError("n", f"a random packing needs at least 2 spheres, got {n}")

@@ -73,8 +73,23 @@ def _effective_dofs(n: int, coordination: float) -> float:
 
 
 def factor_seconds(n: int, coordination: float = 12.0) -> float:
-    """Estimated time [s] of the certificate on ``n`` DOFs (``FACTOR_*``; the dense route below
-    ``DENSE_DOFS`` costs well under a second).
+    """Estimated wall time of the certificate's factorisation on ``n`` DOFs.
+
+    Above ``DENSE_DOFS`` the sparse route's measured cost model ``FACTOR_REF_SECONDS *
+    (n_eff / FACTOR_REF_DOFS)^FACTOR_TIME_EXPONENT`` (``n_eff = n (1 + coordination) / 13``); below it
+    the dense route, ``1e-7 n^2`` (well under a second).
+
+    Parameters
+    ----------
+    n : int
+        Number of degrees of freedom (6 per sphere).
+    coordination : float
+        Mean contacts per particle; scales the nonzeros per row of ``sigma I - A`` (12: FCC).
+
+    Returns
+    -------
+    float
+        Estimated time [s].
     """
     if n <= DENSE_DOFS:
         return 1e-7 * n ** 2
@@ -82,8 +97,23 @@ def factor_seconds(n: int, coordination: float = 12.0) -> float:
 
 
 def factor_bytes(n: int, coordination: float = 12.0) -> float:
-    """Estimated memory [bytes] of the certificate's factorisation on ``n`` DOFs (dense: ``n^2``
-    doubles for the matrix, its factor and the pivot work).
+    """Estimated memory of the certificate's factorisation on ``n`` DOFs.
+
+    Sparse route: ``BYTES_PER_FACTOR_ENTRY`` times the fill ``FACTOR_REF_ENTRIES * (n_eff /
+    FACTOR_REF_DOFS)^FACTOR_FILL_EXPONENT`` (cost model above); dense route: three ``n x n`` double
+    arrays (the matrix, its factor and the pivot work).
+
+    Parameters
+    ----------
+    n : int
+        Number of degrees of freedom (6 per sphere).
+    coordination : float
+        Mean contacts per particle (12: FCC).
+
+    Returns
+    -------
+    float
+        Estimated peak memory [bytes].
     """
     if n <= DENSE_DOFS:
         return 3.0 * 8.0 * n * n
@@ -93,9 +123,21 @@ def factor_bytes(n: int, coordination: float = 12.0) -> float:
 
 @dataclass(frozen=True)
 class Certificate:
-    """``certified``: no eigenvalue of ``A`` lies above ``sigma`` [1/s^2] (so ``dt >= 2/sqrt(sigma)``);
-    ``method`` how that was decided; ``above`` the number of eigenvalues above ``sigma`` when the
-    route counts them (dense LDL^T), else ``None``; ``detail`` one line for people.
+    """Outcome of the inertia test of ``sigma I - A`` (module docstring).
+
+    Parameters
+    ----------
+    certified : bool
+        True when no eigenvalue of ``A`` lies above ``sigma``, so ``dt_crit >= 2/sqrt(sigma)``.
+    method : str
+        How that was decided (dense Bunch-Kaufman ``LDL^T``, sparse SuperLU ``LDL^T``, or ``"none..."``).
+    sigma : float
+        The shift ``theta (1 + tol)`` [1/s^2] tested.
+    above : int or None
+        Number of eigenvalues of ``A`` above ``sigma`` when the route counts them (dense ``LDL^T``,
+        and 0 for a certified sparse factorisation), else ``None``.
+    detail : str
+        One line for people (pivot counts, why no certificate).
     """
 
     certified: bool
@@ -110,6 +152,14 @@ class Certificate:
         return 2.0 / math.sqrt(self.sigma) if self.certified and self.sigma > 0 else None
 
     def to_dict(self) -> dict:
+        """The certificate as a JSON-ready mapping.
+
+        Returns
+        -------
+        dict
+            ``certified``, ``method``, ``sigma`` [1/s^2], ``above``, ``dt_lower`` [s] (``None`` if not
+            certified) and ``detail``.
+        """
         return {"certified": bool(self.certified), "method": self.method, "sigma": float(self.sigma),
                 "above": self.above, "dt_lower": self.dt_lower, "detail": self.detail}
 
@@ -127,7 +177,30 @@ def _shifted(a, sigma: float) -> sps.csc_matrix:
 
 def certify(a, theta: float, tol: float = DEFAULT_TOL, *, dense_dofs: int = DENSE_DOFS,
             sparse_dofs: int = SPARSE_DOFS) -> Certificate:
-    """Certificate that ``A`` has no eigenvalue above ``sigma = theta (1 + tol)`` (module docstring)."""
+    """Certificate that ``A`` has no eigenvalue above ``sigma = theta (1 + tol)`` (module docstring).
+
+    Sylvester's law of inertia on an ``LDL^T`` congruence of ``sigma I - A``: dense Bunch-Kaufman
+    (LAPACK ``dsytrf``) up to ``dense_dofs``, SuperLU without pivoting up to ``sparse_dofs``, none above.
+
+    Parameters
+    ----------
+    a : array_like, scipy.sparse matrix or LinearOperator
+        The mass-scaled stiffness ``A = M^(-1/2) K M^(-1/2)`` [1/s^2]; a matrix-free operator must offer
+        ``assembled()``.
+    theta : float
+        Ritz value of the eigen-solver (``<= lambda_max``) [1/s^2].
+    tol : float
+        Relative margin of the shift above ``theta``.
+    dense_dofs : int
+        Largest size factorised densely.
+    sparse_dofs : int
+        Largest size factorised sparsely; above it no certificate is attempted (fill-in).
+
+    Returns
+    -------
+    Certificate
+        ``certified`` True only when the factorisation proves ``sigma I - A`` positive definite.
+    """
     if not (math.isfinite(theta) and theta > 0):
         return Certificate(False, "none", float(theta), None, "no positive eigenvalue to certify")
     sigma = float(theta) * (1.0 + float(tol))
@@ -204,8 +277,16 @@ def _negative_inertia(d: np.ndarray) -> int:
 
 @dataclass(frozen=True)
 class Bracket:
-    """``lower <= dt_crit_true <= upper`` [s]: ``upper = 2/sqrt(theta)`` (a Rayleigh quotient),
-    ``lower`` the certified ``2/sqrt(sigma)`` or else ``dt_safe``; ``lower_from`` says which.
+    """A rigorous bracket ``lower <= dt_crit_true <= upper`` of the critical step.
+
+    Parameters
+    ----------
+    lower : float
+        Lower end [s]: the certified ``2/sqrt(sigma)`` or else ``dt_safe``.
+    upper : float
+        Upper end [s]: ``2/sqrt(theta)``, ``theta`` a Rayleigh quotient (``inf`` if ``theta <= 0``).
+    lower_from : str
+        Which lower bound was used: ``"certificate"`` or ``"dt_safe"``.
     """
 
     lower: float
@@ -213,11 +294,33 @@ class Bracket:
     lower_from: str
 
     def to_dict(self) -> dict:
+        """The bracket as a JSON-ready mapping.
+
+        Returns
+        -------
+        dict
+            ``lower`` [s], ``upper`` [s] and ``lower_from``.
+        """
         return {"lower": self.lower, "upper": self.upper, "lower_from": self.lower_from}
 
 
 def bracket(theta: float, dt_safe: float, cert: Certificate | None) -> Bracket:
-    """The bracket of the module docstring (the larger valid lower bound is kept)."""
+    """The bracket of the module docstring, keeping the larger valid lower bound.
+
+    Parameters
+    ----------
+    theta : float
+        Ritz value of the eigen-solver [1/s^2]; gives the upper end ``2/sqrt(theta)``.
+    dt_safe : float
+        Rigorous lower bound [s] (larger of the block-diagonal and Gershgorin steps).
+    cert : Certificate or None
+        Result of ``certify``; its ``dt_lower`` replaces ``dt_safe`` when certified and larger.
+
+    Returns
+    -------
+    Bracket
+        ``[lower, upper]`` [s] and the origin of ``lower``.
+    """
     upper = 2.0 / math.sqrt(theta) if theta > 0 else math.inf
     if cert is not None and cert.dt_lower is not None and cert.dt_lower >= dt_safe:
         return Bracket(cert.dt_lower, upper, "certificate")

@@ -68,10 +68,23 @@ NEWTON_RTOL = 1e-10
 
 @dataclass(frozen=True)
 class DampedStep:
-    """Critical step ``dt`` of the damped packing, a rigorous lower bound ``dt_lower``, the undamped
-    step ``dt_undamped = 2/omega_max``, the governing mode ``vector`` (mass-scaled coordinates, the
-    null vector of ``4M - 2hC - h^2 K`` at ``dt``; ``None`` for the spectral route), the route taken,
-    and the number of eigen-solves.
+    """Critical step of the packing with its contact dashpots (module docstring).
+
+    Parameters
+    ----------
+    dt : float
+        Critical step [s] of the integrator.
+    dt_lower : float
+        Rigorous lower bound [s], ``4/(beta + sqrt(beta^2 + 4 alpha))`` (0 on the spectral route).
+    dt_undamped : float
+        Undamped step ``2/omega_max`` [s].
+    method : str
+        Route taken (closed condition, Newton root, or spectral-radius bisection).
+    vector : numpy.ndarray or None
+        Governing mode in mass-scaled coordinates, the null vector of ``4M - 2hC - h^2 K`` at ``dt``
+        (``None`` for the spectral route).
+    solves : int
+        Number of eigen-solves spent.
     """
 
     dt: float
@@ -83,8 +96,25 @@ class DampedStep:
 
 
 def use_operator(packing: Packing, route: str = "auto") -> bool:
-    """Whether ``route`` (``"auto"``, ``"assembled"``, ``"matrix-free"``) means matrix-free here: ``"auto"``
-    follows ``dtcrit.packing.report``'s measured threshold.
+    """Whether ``route`` means the matrix-free operators for this packing.
+
+    Parameters
+    ----------
+    packing : Packing
+        The packing (its DOF count decides ``"auto"``).
+    route : str
+        ``"auto"`` (``dtcrit.packing.report``'s measured ``OPERATOR_DOFS`` / ``NUMPY_OPERATOR_DOFS``
+        threshold), ``"assembled"`` or ``"matrix-free"``.
+
+    Returns
+    -------
+    bool
+        True for matrix-free.
+
+    Raises
+    ------
+    InputError
+        For an unknown ``route``.
     """
     import dtcrit.packing.operators.matrix_free_kernels as operator_kernels
     from dtcrit.packing.report import NUMPY_OPERATOR_DOFS, OPERATOR_DOFS
@@ -97,8 +127,22 @@ def use_operator(packing: Packing, route: str = "auto") -> bool:
 
 
 def scaled_matrices(packing: Packing, contacts: Contacts, route: str = "assembled"):
-    """``(K~, C~)`` in the symmetric mass-scaled form (module docstring), assembled or, with
-    ``route="matrix-free"`` (or ``"auto"`` above the threshold), as ``dtcrit.packing.operators.matrix_free``s.
+    """Mass-scaled stiffness and damping ``K~ = M^(-1/2) K M^(-1/2)``, ``C~ = M^(-1/2) C M^(-1/2)``.
+
+    Parameters
+    ----------
+    packing : Packing
+        Particles (masses and inertias give ``M``).
+    contacts : Contacts
+        Contact springs [N/m, N m/rad] and dashpots [N s/m, N m s/rad].
+    route : str
+        ``"assembled"`` (sparse matrices), ``"matrix-free"`` (``dtcrit.packing.operators.matrix_free``
+        operators) or ``"auto"`` (see ``use_operator``).
+
+    Returns
+    -------
+    tuple
+        ``(K~, C~)`` [1/s^2, 1/s], sparse matrices or linear operators.
     """
     d = mass_diagonal(packing)
     if use_operator(packing, route):
@@ -113,8 +157,23 @@ def _upper_bound(a, d_ones) -> float:
 
 
 def lagged_lower_bound(k, c) -> float:
-    """Rigorous lower bound on the lagged central difference's step (module docstring); ``k`` must be
-    positive semi-definite element by element (springs only: no pre-load term).
+    """Rigorous lower bound on the lagged central difference's critical step (module docstring).
+
+    ``h = 4/(beta + sqrt(beta^2 + 4 alpha))`` with ``alpha``, ``beta`` the smaller of the
+    block-diagonal and Gershgorin upper bounds of ``lambda_max(K~)`` and ``lambda_max(C~)``.
+
+    Parameters
+    ----------
+    k : scipy.sparse matrix or LinearOperator
+        ``K~`` [1/s^2]; must be positive semi-definite element by element (springs only, no
+        compressive pre-load term).
+    c : scipy.sparse matrix or LinearOperator
+        ``C~`` [1/s].
+
+    Returns
+    -------
+    float
+        Stable step [s] (``inf`` without stiffness).
     """
     ones = np.ones(k.shape[0])
     alpha = _upper_bound(k, ones)
@@ -156,8 +215,37 @@ def _lagged_root(k, c, omega2: float, method: str):
 
 def damped_critical_dt(packing: Packing, contacts: Contacts, integrator: str = "velocity-verlet", *,
                        method: str = "auto", route: str = "auto") -> DampedStep:
-    """The exact critical step of ``integrator`` on the packing with its contact dashpots (``route``:
-    assembled or matrix-free ``K~``, ``C~``, see ``scaled_matrices``).
+    """Exact critical step of ``integrator`` on the packing with its contact dashpots.
+
+    Lagged schemes: Newton root of ``lambda_max(2h C~ + h^2 K~) = 4``; ``leapfrog-centred`` and
+    undamped lagged schemes: ``2/omega_max``; every other scheme: bisection on the spectral radius of
+    its amplification operator (module docstring).
+
+    Parameters
+    ----------
+    packing : Packing
+        Particles.
+    contacts : Contacts
+        Contact springs, dashpots and optional normal pre-loads ``force_n`` [N].
+    integrator : str
+        Integrator name of ``dtcrit.integrators.schemes``.
+    method : str
+        Eigen-solver of ``largest_mode``.
+    route : str
+        ``"auto"``, ``"assembled"`` or ``"matrix-free"`` ``K~``, ``C~`` (see ``scaled_matrices``).
+
+    Returns
+    -------
+    DampedStep
+        Step, lower bound, undamped step, route, governing mode and solve count.
+
+    Raises
+    ------
+    InputError
+        Unknown integrator, no stiffness, forward Euler without dashpots, or a statically unstable
+        pre-loaded packing on the spectral route.
+    NotConvergedError
+        When an eigen-solve stops early (with the bracket reached).
     """
     if integrator not in INTEGRATORS:
         raise InputError("integrator", f"unknown integrator {integrator!r}")
@@ -206,8 +294,26 @@ def damped_critical_dt(packing: Packing, contacts: Contacts, integrator: str = "
 
 
 def amplification_operator(k, c, integrator: str, h: float) -> spla.LinearOperator:
-    """One step of ``integrator``'s update rule on the mass-scaled packing, ``y'' = -K~ y - C~ y'``,
-    as a linear operator on the stacked state (two or three blocks of ``n``).
+    """One step of ``integrator``'s update rule on the mass-scaled packing ``y'' = -K~ y - C~ y'``.
+
+    Built from the scheme's own ``step`` (``dtcrit.integrators.schemes``), so its spectrum is exactly
+    the scheme's amplification.
+
+    Parameters
+    ----------
+    k : scipy.sparse matrix or LinearOperator
+        ``K~`` [1/s^2].
+    c : scipy.sparse matrix or LinearOperator
+        ``C~`` [1/s].
+    integrator : str
+        Integrator name (not ``leapfrog-centred``, whose step is ``2/omega_max``).
+    h : float
+        Time step [s].
+
+    Returns
+    -------
+    scipy.sparse.linalg.LinearOperator
+        The map on the stacked state (two or three blocks of ``n``).
     """
     scheme = INTEGRATORS[integrator]
     if integrator in CENTRED:
@@ -246,7 +352,27 @@ propagates to ``critical_by_spectral_radius``, which reports its bracket."""
 
 
 def spectral_radius(k, c, integrator: str, h: float) -> float:
-    """Largest ``|lambda|`` of the amplification operator (``DENSE_STATES``, ``FALLBACK_STATES``)."""
+    """Largest ``|lambda|`` of the amplification operator at step ``h``.
+
+    Dense ``geev`` up to ``DENSE_STATES`` states, else ARPACK ``eigs`` (``which="LM"``), falling back
+    to dense up to ``FALLBACK_STATES`` when ARPACK does not converge.
+
+    Parameters
+    ----------
+    k : scipy.sparse matrix or LinearOperator
+        ``K~`` [1/s^2].
+    c : scipy.sparse matrix or LinearOperator
+        ``C~`` [1/s].
+    integrator : str
+        Integrator name.
+    h : float
+        Time step [s].
+
+    Returns
+    -------
+    float
+        Spectral radius (dimensionless; ``<= 1`` up to rounding means stable).
+    """
     op = amplification_operator(k, c, integrator, h)
     size = op.shape[0]
     if size > DENSE_STATES:
@@ -262,11 +388,23 @@ def spectral_radius(k, c, integrator: str, h: float) -> float:
 
 
 def physical_growth(k) -> float:
-    """``sqrt(max(-lambda_min(K~), 0))`` [1/s]: the fastest exponential growth rate of the exact motion
-    ``y'' = -K~ y - C~ y'`` (``C~`` positive semi-definite: a real root ``s`` of ``s^2 + c s + k = 0``
-    with Rayleigh quotients ``c >= 0``, ``k >= lambda_min`` is at most ``sqrt(-k)``).  Compressive
-    pre-loads can make ``K~`` indefinite (a statically unstable packing): that growth is physics, not
-    the integrator's instability, and ``damped_critical_dt`` refuses it on the spectral-radius route.
+    """Fastest exponential growth rate of the exact motion, ``sqrt(max(-lambda_min(K~), 0))``.
+
+    For ``y'' = -K~ y - C~ y'`` with ``C~`` positive semi-definite a real root ``s`` of
+    ``s^2 + c s + k = 0`` (Rayleigh quotients ``c >= 0``, ``k >= lambda_min``) is at most ``sqrt(-k)``.
+    Compressive pre-loads can make ``K~`` indefinite (a statically unstable packing): that growth is
+    physics, not the integrator's instability, and ``damped_critical_dt`` refuses it on the
+    spectral-radius route.
+
+    Parameters
+    ----------
+    k : scipy.sparse matrix or LinearOperator
+        ``K~`` [1/s^2].
+
+    Returns
+    -------
+    float
+        Growth rate [1/s] (0 when ``K~`` is positive semi-definite).
     """
     n = k.shape[0]
     if n <= FALLBACK_STATES:
@@ -284,12 +422,39 @@ def physical_growth(k) -> float:
 
 def critical_by_spectral_radius(k, c, integrator: str, h_hi: float, *, rtol: float = 1e-7,
                                 slack: float = 1e-6) -> tuple[float, int]:
-    """Bisection for the largest ``h`` with spectral radius ``<= 1 + slack``, searched below ``h_hi``
-    (doubled while stable; a statically unstable packing is refused before, ``STATIC_INSTABILITY``).  The
-    slack covers rounding: undamped modes of a stable step sit on the unit circle, and the rigid-body
-    modes of a packing are Jordan blocks at ``+1``, which rounding spreads by about ``sqrt(eps)``; a
-    mode growing by less than ``1e-6`` a step is taken as stable.  An ARPACK failure raises
-    ``NotConvergedError`` with the bracket ``[lo, hi]`` reached so far.
+    """Largest step with spectral radius ``<= 1 + slack``, by doubling then bisection.
+
+    Searched from ``h_hi`` (doubled while stable; a statically unstable packing is refused before,
+    ``STATIC_INSTABILITY``).  The slack covers rounding: undamped modes of a stable step sit on the
+    unit circle, and the rigid-body modes of a packing are Jordan blocks at ``+1``, which rounding
+    spreads by about ``sqrt(eps)``; a mode growing by less than ``1e-6`` a step is taken as stable.
+
+    Parameters
+    ----------
+    k : scipy.sparse matrix or LinearOperator
+        ``K~`` [1/s^2].
+    c : scipy.sparse matrix or LinearOperator
+        ``C~`` [1/s].
+    integrator : str
+        Integrator name.
+    h_hi : float
+        Starting upper step [s] (the undamped ``2/omega_max``).
+    rtol : float
+        Relative width at which the bisection stops.
+    slack : float
+        Allowed growth of the spectral radius above 1.
+
+    Returns
+    -------
+    h : float
+        Largest stable step found [s] (``inf`` if stable beyond ``1e6 h_hi``).
+    solves : int
+        Spectral-radius evaluations spent.
+
+    Raises
+    ------
+    NotConvergedError
+        On an ARPACK failure, with the bracket ``[lo, hi]`` reached so far.
     """
     solves = 0
     lo, hi = 0.0, h_hi  # lo: the largest step known stable; hi: unstable once the doubling is over

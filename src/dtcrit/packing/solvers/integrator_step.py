@@ -20,7 +20,28 @@ DEFAULT_INTEGRATOR = "velocity-verlet"
 
 
 def integrator_dt(omega: float, integrator: str = DEFAULT_INTEGRATOR, damping_ratio: float = 0.0) -> tuple[float, str]:
-    """``(dt, how)``: the critical step of ``integrator`` for the highest mode (module docstring)."""
+    """Critical step of ``integrator`` for the highest mode treated as a damped 1-DOF oscillator.
+
+    Solves ``x'' = -omega^2 x - 2 zeta omega x'`` with ``dtcrit.integrators.stability.critical_dt``
+    (``k = omega^2``, ``c = 2 zeta omega``, mass 1; module docstring).  Without that module, the
+    undamped central-difference family falls back to ``2/omega``.
+
+    Parameters
+    ----------
+    omega : float
+        Highest angular eigenfrequency ``omega_max`` [rad/s].
+    integrator : str
+        Integrator name of ``dtcrit.integrators.schemes`` (e.g. ``"velocity-verlet"``).
+    damping_ratio : float
+        Modal damping ratio ``zeta >= 0`` of the top mode (dimensionless).
+
+    Returns
+    -------
+    dt : float
+        Critical step [s] (``inf`` when ``omega <= 0``; 0 for undamped forward Euler).
+    how : str
+        The formula or reason reported by the stability engine.
+    """
     if not math.isfinite(damping_ratio) or damping_ratio < 0:
         raise InputError("damping_ratio", f"must be a finite number >= 0, got {damping_ratio}")
     if omega <= 0:

@@ -45,12 +45,25 @@ METHODS = ("auto", "dense", "eigsh", "lobpcg")
 
 @dataclass(frozen=True)
 class TopMode:
-    """Largest eigenpair of ``A``: ``value = omega_max^2`` [1/s^2], unit vector ``vector`` (in the
-    mass-scaled coordinates ``v = M^(1/2) phi``), the solver used, its matrix-vector products and
-    the residual norm ``|A v - value v|``.  ``space`` is an orthonormal basis of the top eigenspace
-    (dense: eigenvalues within ``DEGENERATE_RTOL`` of the top one; ``eigsh`` up to
-    ``ITERATIVE_SPACE_LIMIT`` DOFs: its Ritz vectors within ``ITERATIVE_DEGENERATE_RTOL``), ``None`` if
-    not computed: in a degenerate eigenspace ``vector`` is an arbitrary member.
+    """Largest eigenpair of ``A = M^(-1/2) K M^(-1/2)`` and how it was found.
+
+    Parameters
+    ----------
+    value : float
+        ``omega_max^2`` [1/s^2] (a Ritz value, ``<= lambda_max``, for the iterative solvers).
+    vector : numpy.ndarray
+        Unit eigenvector in the mass-scaled coordinates ``v = M^(1/2) phi`` (6 entries per particle).
+    method : str
+        Solver used: ``"dense"``, ``"eigsh"`` or ``"lobpcg"``.
+    matvecs : int
+        Matrix-vector products spent (0 for the dense solver).
+    residual : float
+        ``|A v - value v|`` [1/s^2]; bounds the distance from ``value`` to an eigenvalue of ``A``.
+    space : numpy.ndarray or None
+        Orthonormal basis of the top eigenspace (dense: eigenvalues within ``DEGENERATE_RTOL`` of the
+        top one; ``eigsh`` up to ``ITERATIVE_SPACE_LIMIT`` DOFs: Ritz vectors within
+        ``ITERATIVE_DEGENERATE_RTOL``), ``None`` if not computed.  In a degenerate eigenspace ``vector``
+        is an arbitrary member.
     """
 
     value: float
@@ -62,6 +75,7 @@ class TopMode:
 
     @property
     def omega(self) -> float:
+        """``omega_max = sqrt(max(value, 0))`` [rad/s], the largest angular eigenfrequency."""
         return float(np.sqrt(max(self.value, 0.0)))
 
 
@@ -93,10 +107,38 @@ def largest_mode(a, method: str = "auto", *, tol: float = DEFAULT_TOL, maxiter: 
                  hint: np.ndarray | None = None) -> TopMode:
     """Largest eigenvalue and eigenvector of the symmetric positive semi-definite matrix ``a``.
 
-    ``hint`` (optional) is a vector believed rich in the top mode (e.g. all particles co-rotating),
-    or a function returning it (then only the solver holds it);
-    the iterative solvers start from the fixed random vector plus the normalised hint, which
-    measured ~40 % fewer matrix-vector products on large lattices and never more on random packings.
+    The standard form of ``K phi = omega^2 M phi`` (Otsubo et al. 2017, Eq. (13)); methods in the
+    module docstring.  ``"auto"``: dense up to ``DENSE_LIMIT`` DOFs, else ``eigsh`` on a matrix and
+    ``OPERATOR_METHOD`` (LOBPCG from a Chebyshev start) on a matrix-free operator, ARPACK with
+    ``LEAN_NCV`` vectors above ``LEAN_DOFS``.
+
+    Parameters
+    ----------
+    a : array_like, scipy.sparse matrix or LinearOperator
+        ``A = M^(-1/2) K M^(-1/2)`` [1/s^2].
+    method : str
+        One of ``METHODS``.
+    tol : float
+        ARPACK residual tolerance (LOBPCG and the lean route stop at ``10 tol`` relative).
+    maxiter : int or None
+        Iteration cap of the iterative solvers (``None``: their default; LOBPCG 500).
+    hint : numpy.ndarray or callable or None
+        A vector believed rich in the top mode (e.g. all particles co-rotating), or a function
+        returning it (then only the solver holds it); the iterative solvers start from the fixed
+        random vector plus the normalised hint, measured ~40 % fewer products on large lattices
+        and never more on random packings.
+
+    Returns
+    -------
+    TopMode
+        The eigenpair, solver, product count, residual and (when computed) top eigenspace.
+
+    Raises
+    ------
+    InputError
+        For an unknown ``method``.
+    NotConvergedError
+        When ARPACK stops early; it carries the bracket of Rayleigh quotient and row-sum bound.
     """
     if method not in METHODS:
         raise InputError("method", f"unknown eigen-solver {method!r}; choose one of {', '.join(METHODS)}")
@@ -183,8 +225,17 @@ def largest_mode(a, method: str = "auto", *, tol: float = DEFAULT_TOL, maxiter: 
 
 
 def row_sum_bound(a) -> float:
-    """``max_i sum_j |a_ij|`` (Gershgorin): an upper bound on every eigenvalue of the symmetric ``a``;
-    ``inf`` for a matrix-free operator (not known here).
+    """Gershgorin bound ``max_i sum_j |a_ij|`` on every eigenvalue of the symmetric ``a``.
+
+    Parameters
+    ----------
+    a : array_like, scipy.sparse matrix or LinearOperator
+        The symmetric matrix.
+
+    Returns
+    -------
+    float
+        The bound (units of ``a``); ``inf`` for a matrix-free operator (not known here).
     """
     if isinstance(a, spla.LinearOperator):
         return math.inf
@@ -216,8 +267,8 @@ three vector updates where a LOBPCG iteration costs dozens (whose fresh arrays d
 
 def chebyshev_start(product, v: np.ndarray, degree: int = FILTER_DEGREE, stop: float = FILTER_STOP,
                     stages: int = FILTER_STAGES) -> np.ndarray:
-    """A start vector rich in the top eigenvectors of a symmetric positive semi-definite ``A``,
-    given as ``product(x, out)`` writing ``A x`` into ``out`` and returning it (or as a matrix):
+    """A start vector rich in the top eigenvectors of a symmetric positive semi-definite ``A``.
+
     ``v`` filtered by ``T_m(2A/theta - 1)``, ``T_m`` the Chebyshev polynomial of degree ``m`` and
     ``theta`` the current Rayleigh quotient (Zhou & Saad 2007, Chebyshev-filtered subspace
     iteration, with one vector).  ``theta <= lambda_max`` always, so ``|T_m| <= 1`` on the
@@ -225,6 +276,24 @@ def chebyshev_start(product, v: np.ndarray, degree: int = FILTER_DEGREE, stop: f
     repeated, the filter is an accelerated power method.  It only chooses where LOBPCG starts; the
     answer and its residual are LOBPCG's.  The three-term recurrence is renormalised at each
     degree (no overflow).
+
+    Parameters
+    ----------
+    product : callable or matrix or LinearOperator
+        ``product(x, out)`` writing ``A x`` into ``out`` and returning it, or ``A`` itself.
+    v : numpy.ndarray
+        Initial vector (copied, not modified).
+    degree : int
+        Degree ``m`` of each filter stage.
+    stop : float
+        Stop when the Rayleigh quotient moves by less than this (relative) in a stage.
+    stages : int
+        Most filter stages.
+
+    Returns
+    -------
+    numpy.ndarray
+        The filtered unit vector (``v`` normalised if ``A v`` has no positive Rayleigh quotient).
     """
     if hasattr(product, "shape"):  # a matrix or LinearOperator (the latter is also callable)
         matrix = product
@@ -264,19 +333,46 @@ def chebyshev_start(product, v: np.ndarray, degree: int = FILTER_DEGREE, stop: f
 
 
 def rotational_fraction(vector: np.ndarray) -> float:
-    """Share of a mode's kinetic energy in the rotational DOFs (mass-scaled mode ``v``)."""
+    """Share of a mode's kinetic energy in the rotational DOFs.
+
+    In mass-scaled coordinates the kinetic energy of DOF ``i`` is proportional to ``v_i^2``; the
+    rotational DOFs are entries 3-5 of each particle's six.
+
+    Parameters
+    ----------
+    vector : numpy.ndarray
+        Mass-scaled mode ``v = M^(1/2) phi``, 6 entries per particle.
+
+    Returns
+    -------
+    float
+        Rotational share in ``[0, 1]`` (0 for a zero vector).
+    """
     v2 = np.asarray(vector).reshape(-1, 6) ** 2
     total = v2.sum()
     return float(v2[:, 3:].sum() / total) if total > 0 else 0.0
 
 
 def mode_character(vector: np.ndarray, space: np.ndarray | None = None) -> str:
-    """``"rotational"`` when most of the mode's kinetic energy is rotational, else ``"translational"``.
+    """Whether a mode (or its degenerate eigenspace) is rotational or translational.
 
     With ``space`` (orthonormal columns spanning a degenerate top eigenspace) the answer is about the
     eigenspace, not the arbitrary member ``vector``: the rotational energy share over unit members
     ranges over the eigenvalues of ``B^T P_rot B``; when that range straddles 1/2 the eigenspace holds
-    both kinds of mode and the answer is ``"degenerate: translational and rotational"``.
+    both kinds of mode.
+
+    Parameters
+    ----------
+    vector : numpy.ndarray
+        Mass-scaled mode, 6 entries per particle.
+    space : numpy.ndarray or None
+        Orthonormal basis ``B`` of the top eigenspace (used when it has more than one column).
+
+    Returns
+    -------
+    str
+        ``"rotational"`` when most kinetic energy is rotational, ``"translational"``, or
+        ``"degenerate: translational and rotational"``.
     """
     if space is not None and space.shape[1] > 1:
         rot = space.reshape(-1, 6, space.shape[1])[:, 3:, :].reshape(-1, space.shape[1])

@@ -109,16 +109,38 @@ def _cgroup_room(root: Path = Path("/sys/fs/cgroup")) -> float | None:
 
 
 def available_bytes() -> float | None:
-    """The least of MemAvailable, the ``RLIMIT_AS`` room and the cgroup room (module docstring);
-    None when none is known (then no check).
+    """Memory this process may still use: the least of the known limits (module docstring).
+
+    Returns
+    -------
+    float or None
+        The smallest of ``MemAvailable``, the ``RLIMIT_AS`` room and the cgroup room [bytes]; ``None``
+        when none is known (then no check is made).
     """
     known = [v for v in (_meminfo(), _rlimit_as(), _cgroup_room()) if v is not None]
     return min(known) if known else None
 
 
 def estimated_bytes(n_spheres: int, coordination: float, route: str = "auto", extra: float = 0.0) -> float:
-    """Estimated peak [bytes] of ``dtcrit packing`` on ``n_spheres`` (module docstring); ``extra`` is
-    added before the margin (the certificate's factor).
+    """Estimated peak memory of ``dtcrit packing`` on ``n_spheres`` spheres (module docstring).
+
+    ``MARGIN * (FIXED_BYTES + BYTES_PER_SPHERE[route] * n_spheres * max(coordination, 1) / 12 + extra)``.
+
+    Parameters
+    ----------
+    n_spheres : int
+        Number of spheres (6 DOFs each).
+    coordination : float
+        Mean contacts per sphere; the measured per-sphere cost is at coordination 12.
+    route : str
+        ``"assembled"``, ``"matrix-free"`` or ``"auto"`` (matrix-free above ``MATRIX_FREE_DOFS`` DOFs).
+    extra : float
+        Further cost [bytes] added before the margin (the certificate's factor).
+
+    Returns
+    -------
+    float
+        Estimated peak [bytes].
     """
     if route == "auto":
         route = "matrix-free" if 6 * n_spheres > MATRIX_FREE_DOFS else "assembled"
@@ -127,8 +149,29 @@ def estimated_bytes(n_spheres: int, coordination: float, route: str = "auto", ex
 
 def check_fits(n_spheres: int, coordination: float, route: str = "auto", key: str = "packing",
                available: float | None = None, extra: float = 0.0, what: str = "") -> None:
-    """InputError when the estimated peak exceeds the available memory (module docstring).
-    ``extra`` [bytes] is a further cost (``what`` names it in the message).
+    """Refuse a packing whose estimated peak memory exceeds what this process may use.
+
+    Parameters
+    ----------
+    n_spheres : int
+        Number of spheres.
+    coordination : float
+        Mean contacts per sphere.
+    route : str
+        ``"assembled"``, ``"matrix-free"`` or ``"auto"`` (see ``estimated_bytes``).
+    key : str
+        Input key named in the error message.
+    available : float or None
+        Available memory [bytes]; ``None`` measures it with ``available_bytes``.
+    extra : float
+        Further cost [bytes] (the certificate's factor).
+    what : str
+        Name of ``extra`` in the message.
+
+    Raises
+    ------
+    InputError
+        When the estimate exceeds the available memory.
     """
     have = available_bytes() if available is None else available
     need = estimated_bytes(n_spheres, coordination, route, extra)
