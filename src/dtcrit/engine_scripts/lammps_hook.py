@@ -135,6 +135,20 @@ class DumpAudit:
         self.history: list[dict] = []
 
     def command(self, dump: str, local: str | None = None) -> list[str]:
+        """The ``dtcrit audit`` command line for one snapshot.
+
+        Parameters
+        ----------
+        dump : str
+            The snapshot's dump file.
+        local : str, optional
+            The engine's own contact list (a ``dump local`` file), passed as ``--local``.
+
+        Returns
+        -------
+        list of str
+            The arguments, ``--json`` output asked for.
+        """
         cmd = [*self.dtcrit, "audit", os.fspath(dump), "--pair-style", self.pair_style, "--json"]
         if local is not None:
             cmd += ["--local", os.fspath(local)]
