@@ -15,6 +15,16 @@ BODY_TO_WORLD = "body-to-world"
 """The name of the one convention: ``v_world = R(q) v_body`` with ``R(q)`` the matrix of Eq. (7)."""
 
 
+def _matrix(w, x, y, z, diagonal) -> np.ndarray:
+    """Eq. (7) from its off-diagonal terms and the given ``diagonal`` (the two forms differ only there)."""
+    rows = (
+        (diagonal[0], 2 * (x * y - w * z), 2 * (x * z + w * y)),
+        (2 * (x * y + w * z), diagonal[1], 2 * (y * z - w * x)),
+        (2 * (x * z - w * y), 2 * (y * z + w * x), diagonal[2]),
+    )
+    return np.stack([np.stack(row, axis=-1) for row in rows], axis=-2)
+
+
 def body_to_world_matrix(q) -> np.ndarray:
     """Peng et al. 2020, Eq. (7): the body-to-world matrix of unit quaternions ``(qw, qx, qy, qz)``.
 
@@ -36,12 +46,8 @@ def body_to_world_matrix(q) -> np.ndarray:
     if qa.shape[-1:] != (4,):
         raise ValueError(f"a quaternion has 4 components (got shape {qa.shape})")
     w, x, y, z = np.moveaxis(qa, -1, 0)
-    rows = (
-        (w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)),
-        (2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x)),
-        (2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z),
-    )
-    return np.stack([np.stack(row, axis=-1) for row in rows], axis=-2)
+    return _matrix(w, x, y, z, (w * w + x * x - y * y - z * z, w * w - x * x + y * y - z * z,
+                                w * w - x * x - y * y + z * z))
 
 
 def unit_body_to_world_matrix(q) -> np.ndarray:
@@ -65,12 +71,7 @@ def unit_body_to_world_matrix(q) -> np.ndarray:
     if qa.shape[-1:] != (4,):
         raise ValueError(f"a quaternion has 4 components (got shape {qa.shape})")
     w, x, y, z = np.moveaxis(qa, -1, 0)
-    rows = (
-        (1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)),
-        (2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)),
-        (2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)),
-    )
-    return np.stack([np.stack(row, axis=-1) for row in rows], axis=-2)
+    return _matrix(w, x, y, z, (1 - 2 * (y * y + z * z), 1 - 2 * (x * x + z * z), 1 - 2 * (x * x + y * y)))
 
 
 def world_to_body_matrix(q) -> np.ndarray:
