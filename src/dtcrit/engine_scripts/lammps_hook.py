@@ -135,6 +135,20 @@ class DumpAudit:
         self.history: list[dict] = []
 
     def command(self, dump: str, local: str | None = None) -> list[str]:
+        """The ``dtcrit audit`` command line for one LAMMPS dump.
+
+        Parameters
+        ----------
+        dump : str
+            Path of the LAMMPS particle dump.
+        local : str or None
+            Path of the matching ``dump local`` of contacts, if any.
+
+        Returns
+        -------
+        list of str
+            The argument vector (``--json`` output).
+        """
         cmd = [*self.dtcrit, "audit", os.fspath(dump), "--pair-style", self.pair_style, "--json"]
         if local is not None:
             cmd += ["--local", os.fspath(local)]

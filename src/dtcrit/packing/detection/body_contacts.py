@@ -45,6 +45,7 @@ class Progress:
             self.live = False
 
     def update(self, done: int) -> None:
+        """Show ``done`` of ``total`` on a live terminal, at most once every ``after`` seconds."""
         if not self.live:
             return
         now = time.monotonic()
@@ -54,6 +55,7 @@ class Progress:
             self.stream.flush()
 
     def close(self) -> None:
+        """End the progress line if one was shown."""
         if self.shown:
             self.stream.write("\n")
             self.stream.flush()
@@ -66,9 +68,14 @@ def _parts(packing: Packing):
     """
     from dtcrit.bodies import Clump, Sphere
 
-    owner, offset, parts, radius = [], [], [], []
+    owner: list[int] = []
+    offset: list[np.ndarray] = []
+    parts: list[object] = []
+    radius: list[float] = []
+    assert packing.shapes is not None  # only called for packings of shaped bodies
     for b, shape in enumerate(packing.shapes):
         if isinstance(shape, Clump):
+            assert packing.orientations is not None  # a clump packing carries orientations
             for cx, cy, cz, r in shape.spheres:
                 owner.append(b)
                 offset.append(packing.orientations[b] @ np.array([cx, cy, cz]))

@@ -81,6 +81,18 @@ def sample_radii(n: int, distribution: str, radius: float, spread: float, rng) -
 
 @dataclass
 class RelaxationStats:
+    """How the overlap relaxation of a random packing ended.
+
+    Attributes
+    ----------
+    steps : int
+        Relaxation steps taken.
+    max_force : float
+        Largest overlap force on a particle at the end (relaxation units).
+    max_overlap : float
+        Largest remaining overlap at the end (length units of the packing).
+    """
+
     steps: int
     max_force: float
     max_overlap: float

@@ -38,7 +38,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg as sla
 import scipy.sparse as sps
 import scipy.sparse.linalg as spla
 
@@ -110,6 +109,7 @@ class Certificate:
         return 2.0 / math.sqrt(self.sigma) if self.certified and self.sigma > 0 else None
 
     def to_dict(self) -> dict:
+        """The certificate as a JSON-ready mapping (its fields and ``dt_lower``)."""
         return {"certified": bool(self.certified), "method": self.method, "sigma": float(self.sigma),
                 "above": self.above, "dt_lower": self.dt_lower, "detail": self.detail}
 
@@ -213,6 +213,7 @@ class Bracket:
     lower_from: str
 
     def to_dict(self) -> dict:
+        """The bracket as a JSON-ready mapping (``lower``, ``upper`` [s], ``lower_from``)."""
         return {"lower": self.lower, "upper": self.upper, "lower_from": self.lower_from}
 
 

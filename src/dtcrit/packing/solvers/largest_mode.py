@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -62,6 +63,7 @@ class TopMode:
 
     @property
     def omega(self) -> float:
+        """The top angular frequency ``sqrt(max(lambda, 0))`` [rad/s]."""
         return float(np.sqrt(max(self.value, 0.0)))
 
 
@@ -90,7 +92,7 @@ ITERATIVE_DEGENERATE_RTOL = 1e-7  # Ritz values this close to the top one count 
 
 
 def largest_mode(a, method: str = "auto", *, tol: float = DEFAULT_TOL, maxiter: int | None = None,
-                 hint: np.ndarray | None = None) -> TopMode:
+                 hint: np.ndarray | Callable[[], np.ndarray] | None = None) -> TopMode:
     """Largest eigenvalue and eigenvector of the symmetric positive semi-definite matrix ``a``.
 
     ``hint`` (optional) is a vector believed rich in the top mode (e.g. all particles co-rotating),
@@ -228,7 +230,12 @@ def chebyshev_start(product, v: np.ndarray, degree: int = FILTER_DEGREE, stop: f
     """
     if hasattr(product, "shape"):  # a matrix or LinearOperator (the latter is also callable)
         matrix = product
-        product = lambda x, out: np.copyto(out, matrix @ x) or out  # noqa: E731
+
+        def matrix_product(x, out):
+            np.copyto(out, matrix @ x)
+            return out
+
+        product = matrix_product
     v = np.array(v, dtype=float, copy=True)
     v /= np.linalg.norm(v)
     av = product(v, np.empty_like(v))
