@@ -57,7 +57,9 @@ class StudyRow:
         float
             The ratio (at most 1 for a safe estimate).
         """
-        return self.report.estimates[name].dt / self.report.dt_crit
+        dt = self.report.estimates[name].dt
+        assert dt is not None, f"estimate {name} has no step"
+        return dt / self.report.dt_crit
 
 
 def study_packings(n: int = RANDOM_N):

@@ -128,7 +128,7 @@ def run_one(n: int, packing_kind: str = "fcc", method: str = "auto", dense_check
     def hint():  # all particles co-rotating: built inside the solver, released after its start
         return est.co_rotation(packing, 0) + est.co_rotation(packing, 1) + est.co_rotation(packing, 2)
 
-    top = largest_mode(a, method, hint=hint)  # type: ignore[arg-type]  # the solver also takes a callable hint
+    top = largest_mode(a, method, hint=hint)
     t3 = time.perf_counter()
     w_c = est.single_contact_frequencies(packing, contacts)
     estimates = (est.gershgorin(a, md), est.block_diagonal(a), est.diagonal_stiffness(a), est.two_particle_amax(packing, contacts),

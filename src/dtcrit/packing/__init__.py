@@ -18,14 +18,42 @@ bodies file or a generated packing), ``report`` (``analyse`` and the report); an
 rigorous lower bounds), ``distributed`` (PETSc/SLEPc under MPI), ``generators`` (lattices, random
 packings) and ``audit`` (an engine snapshot's step).
 """
-from dtcrit.packing.operators.assembly import mass_matrix, scale_symmetric, stiffness_matrix
-from dtcrit.packing.detection.overlaps import find_contacts, find_convex_contacts, find_sphere_contacts
-from dtcrit.packing.readers.lammps_dump import read_dump, write_dump
-from dtcrit.packing.solvers.largest_mode import largest_mode
-from dtcrit.packing.generators.lattices import LATTICES, lattice
-from dtcrit.packing.model import Box, Contacts, HertzMindlinLaw, LinearLaw, Packing, apply_law
-from dtcrit.packing.generators.random_packing import random_packing
-from dtcrit.packing.report import PackingReport, analyse, format_report
+import importlib as _importlib
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # the names' types for the checkers; at run time they load on first use (below)
+    from dtcrit.packing.operators.assembly import mass_matrix, scale_symmetric, stiffness_matrix
+    from dtcrit.packing.detection.overlaps import find_contacts, find_convex_contacts, find_sphere_contacts
+    from dtcrit.packing.readers.lammps_dump import read_dump, write_dump
+    from dtcrit.packing.solvers.largest_mode import largest_mode
+    from dtcrit.packing.generators.lattices import LATTICES, lattice
+    from dtcrit.packing.model import Box, Contacts, HertzMindlinLaw, LinearLaw, Packing, apply_law
+    from dtcrit.packing.generators.random_packing import random_packing
+    from dtcrit.packing.report import PackingReport, analyse, format_report
+
+# Loaded on first use (PEP 562), so that ``dtcrit`` commands that only need a constant of a packing
+# module (``dtcrit step`` builds every subcommand's parser) do not import SciPy at start-up.
+_HOMES = {
+    "mass_matrix": "operators.assembly", "scale_symmetric": "operators.assembly",
+    "stiffness_matrix": "operators.assembly", "find_contacts": "detection.overlaps",
+    "find_convex_contacts": "detection.overlaps", "find_sphere_contacts": "detection.overlaps",
+    "read_dump": "readers.lammps_dump", "write_dump": "readers.lammps_dump",
+    "largest_mode": "solvers.largest_mode", "LATTICES": "generators.lattices", "lattice": "generators.lattices",
+    "Box": "model", "Contacts": "model", "HertzMindlinLaw": "model", "LinearLaw": "model", "Packing": "model",
+    "apply_law": "model", "random_packing": "generators.random_packing", "PackingReport": "report",
+    "analyse": "report", "format_report": "report",
+}
+
+
+def __getattr__(name: str):
+    """The public name ``name``, imported from its home module on first use."""
+    home = _HOMES.get(name)
+    if home is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(_importlib.import_module(f"{__name__}.{home}"), name)
+    globals()[name] = value
+    return value
+
 
 __all__ = [
     "Box", "Contacts", "HertzMindlinLaw", "LATTICES", "LinearLaw", "Packing", "PackingReport", "analyse",

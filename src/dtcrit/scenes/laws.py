@@ -31,7 +31,11 @@ def _hertz(scene, p, q, m_star: float, r1: float | None, r2: float | None, label
     law = scene.contact
     e_star = cl.effective_youngs_modulus(p.youngs_modulus, p.poisson_ratio, q.youngs_modulus, q.poisson_ratio)
     g_star = cl.effective_shear_modulus(p.youngs_modulus, p.poisson_ratio, q.youngs_modulus, q.poisson_ratio)
-    r_star = law.curvature_radius if law.curvature_radius is not None else _harmonic(r1, r2)
+    if law.curvature_radius is not None:
+        r_star = law.curvature_radius
+    else:
+        assert r1 is not None and r2 is not None  # resolve_pair gives both radii to a sphere pair
+        r_star = _harmonic(r1, r2)
     delta = hertz_max_overlap(m_star, e_star, r_star, law.velocity)
     root = math.sqrt(r_star * delta)
     kn, ks = cl.hertz_normal_stiffness(e_star, root), cl.mindlin_tangent_stiffness(g_star, root)

@@ -236,7 +236,9 @@ def resolve_rotational(law: RotationalLaw, kn: float, ks: float, cs: float, r1: 
         if p("alpha_ktw") is not None:
             ktw, ctw = rs_.yade_rotational_stiffness(p("alpha_ktw"), ks, r1, r2), 0.0
     if law.twisting_model == "sds":
-        ktw, ctw = p("k_twist"), p("gamma_twist", 0.0)
+        k_twist, c_twist = p("k_twist"), p("gamma_twist", 0.0)
+        assert k_twist is not None and c_twist is not None  # parse_rotational requires k_twist for sds
+        ktw, ctw = k_twist, c_twist
     elif law.twisting_model == "marshall":
         a = p("contact_radius")
         if a is None:

@@ -113,7 +113,9 @@ class StepResult:
         if self.basis == BASIS_ISOLATED:
             return "an isolated contact"
         if self.basis == BASIS_COORDINATION:
+            assert self.dense is not None  # a coordination basis always carries its dense step
             return f"any packing with at most {self.dense.coordination} contacts per particle"
+        assert self.dense is not None  # so does the any-packing basis
         return (f"any packing of these particles: at most {self.dense.coordination} contacts per particle, "
                 "the most their shapes and sizes allow")
 
@@ -231,6 +233,11 @@ def _governing_per_pair(steps: list[PairStep]) -> tuple[PairStep, ...]:
     return tuple(best.values())
 
 
+def _rotation_step(p: PairStep) -> float:
+    """The rotation step of a pair that has one (``inf`` otherwise, never reached by the callers)."""
+    return math.inf if p.dt_rotation is None else p.dt_rotation
+
+
 def critical_step(scene: Scene) -> StepResult:
     """The critical time step of a scene (module docstring).
 
@@ -254,12 +261,15 @@ def critical_step(scene: Scene) -> StepResult:
     pairs = _governing_per_pair(steps)
     t = min(pairs, key=lambda p: p.dt_translation)
     with_rot = [p for p in pairs if p.dt_rotation is not None]
-    r = min(with_rot, key=lambda p: p.dt_rotation) if with_rot else None
+    r = min(with_rot, key=_rotation_step) if with_rot else None
     g = t.governing_direction
-    dt_rot = math.inf if r is None else r.dt_rotation
+    dt_rot = math.inf if r is None else _rotation_step(r)
     dt_isolated = min(t.dt_translation, dt_rot)
     terms = block_terms(scene, steps)
-    dense, factors, basis, coordination, note = None, {}, BASIS_ISOLATED, None, ""
+    dense: DenseStep | None = None
+    factors: dict[int, float | None] = {}
+    coordination: Coordination | None = None
+    basis, note = BASIS_ISOLATED, ""
     if not scene.isolated:
         z = scene.coordination_max
         if z is None:
@@ -268,23 +278,26 @@ def critical_step(scene: Scene) -> StepResult:
         particle_steps = [s for s in steps if s.contact.wall is None]
         spheres = (sphere_bound(scene, particle_steps, z) if scene.coordination_max is not None
                    else sphere_bound(scene, particle_steps, z, *DEFAULT_SPHERE_GRID))
-        dense = dense_step(scene.integrator, terms, z, spheres, scene.overlap_max)
+        packing = dense_step(scene.integrator, terms, z, spheres, scene.overlap_max)
         basis = BASIS_ANY if scene.coordination_max is None else BASIS_COORDINATION
-        if dense.dt is None and scene.coordination_max is not None:
-            raise InputError("coordination_max", dense.reason + "; remove coordination_max for the isolated-contact step")
-        if dense.dt is None:
-            dense, basis, note = None, BASIS_ISOLATED, dense.reason
+        if packing.dt is None and scene.coordination_max is not None:
+            raise InputError("coordination_max", packing.reason + "; remove coordination_max for the isolated-contact step")
+        if packing.dt is None:
+            basis, note = BASIS_ISOLATED, packing.reason
+        else:
+            dense = packing
     if dense is None:
         for z in FACTOR_COORDINATIONS:
             d = dense_step(scene.integrator, terms, z)
             factors[z] = None if d.dt is None or not dt_isolated > 0 else min(d.dt, dt_rot) / dt_isolated
-    dt_translation = t.dt_translation if dense is None else dense.dt
-    if dense is not None and dense.dt <= dt_rot:
-        governing, dt = "dense", dense.dt
+    dt_dense = None if dense is None else dense.dt  # not None when dense is set (see above)
+    dt_translation = t.dt_translation if dt_dense is None else dt_dense
+    if dense is not None and dt_dense is not None and dt_dense <= dt_rot:
+        governing, dt = "dense", dt_dense
         what = "coordination_max" if basis == BASIS_COORDINATION else "the most contacts the shapes and sizes allow"
         bound = f"dense packing (z = {dense.coordination}, {what}): {dense.reason}"
-    elif r is not None and r.dt_rotation < dt_translation:
-        governing, dt = "rotation", r.dt_rotation
+    elif r is not None and dt_rot < dt_translation:
+        governing, dt = "rotation", dt_rot
         bound = (f"rotation-dominant, pair {r.label}: dt = 2/(omega_max (B_i + B_j)) "
                  f"= 2/({scene.omega_max:g} x {r.B_sum:.6g}) (Peng et al. 2020, Eqs. (54), (56))")
     else:

@@ -87,9 +87,14 @@ def _parts(packing: Packing):
     """
     from dtcrit.bodies import Clump, Sphere
 
-    owner, offset, parts, radius = [], [], [], []
+    owner: list[int] = []
+    offset: list[np.ndarray] = []
+    parts: list[object] = []
+    radius: list[float] = []
+    assert packing.shapes is not None  # only called for packings of shaped bodies
     for b, shape in enumerate(packing.shapes):
         if isinstance(shape, Clump):
+            assert packing.orientations is not None  # a clump packing carries orientations
             for cx, cy, cz, r in shape.spheres:
                 owner.append(b)
                 offset.append(packing.orientations[b] @ np.array([cx, cy, cz]))

@@ -58,7 +58,9 @@ def _search_frame(x: np.ndarray, cutoff: float, box: Box | None):
     wide to wrap; ``(x, None)`` without periodic axes.  ``None`` as ``y`` when some periodic axis is
     narrower than twice the cutoff (no unique minimum image).
     """
-    periodic = np.zeros(3, bool) if box is None else np.array(box.periodic)
+    if box is None:
+        return x, None
+    periodic = np.array(box.periodic)
     if not periodic.any():
         return x, None
     lengths = box.lengths
@@ -133,6 +135,7 @@ def _widths_along(packing: Packing, axis: int) -> np.ndarray:
     e = np.zeros(3)
     e[axis] = 1.0
     rot = packing.orientations if packing.orientations is not None else np.repeat(np.eye(3)[None], packing.n, 0)
+    assert packing.shapes is not None  # only called for packings of shaped bodies
     return np.array([2.0 * abs(_support_point(shape, r, e)[axis]) for shape, r in zip(packing.shapes, rot)])
 
 
@@ -145,12 +148,12 @@ def _narrow_box_pairs(x: np.ndarray, cutoff: float, box: Box):
     reach = [int(np.ceil(cutoff / lengths[a])) if periodic[a] else 0 for a in range(3)]
     tree = cKDTree(x)
     out_i, out_j, out_s = [], [], []
-    for s in itertools.product(*(range(-r, r + 1) for r in reach)):
-        s = np.array(s, dtype=np.int64)
+    for offset in itertools.product(*(range(-r, r + 1) for r in reach)):
+        s = np.array(offset, dtype=np.int64)
         other = cKDTree(x + s * lengths)
         sdm = tree.sparse_distance_matrix(other, cutoff, output_type="ndarray")
         i, j = sdm["i"].astype(np.int64), sdm["j"].astype(np.int64)
-        positive = tuple(s) > (0, 0, 0)
+        positive = offset > (0, 0, 0)
         keep = (i < j) | ((i == j) & positive)  # (i, j, s) and (j, i, -s) are one contact
         out_i.append(i[keep])
         out_j.append(j[keep])
@@ -164,6 +167,7 @@ def _candidate_pairs(x: np.ndarray, cutoff: float, box: Box | None, chunk: int =
     """
     y, size = _search_frame(x, cutoff, box)
     if y is None:
+        assert box is not None  # no search frame only for a periodic box
         return _narrow_box_pairs(x, cutoff, box)
     tree = cKDTree(y, boxsize=size)
     pairs = [_chunk_pairs(tree, y, size, lo, min(lo + chunk, len(x)), cutoff) for lo in range(0, len(x), chunk)]
@@ -242,6 +246,7 @@ def find_sphere_contacts(packing: Packing, tolerance: float = 1e-9, chunk: int =
     cutoff = 2.0 * packing.radii.max() * (1.0 + tolerance)
     y, size = _search_frame(x, cutoff, box)
     if y is None:
+        assert box is not None  # no search frame only for a periodic box
         i, j, image = _narrow_box_pairs(x, cutoff, box)
         order = np.lexsort((image[:, 2], image[:, 1], image[:, 0], j, i))
         return _joined([_touching(packing, x, i[order], j[order], image[order], tolerance)])

@@ -153,7 +153,9 @@ def scaled_matrices(packing: Packing, contacts: Contacts, route: str = "assemble
 
 
 def _upper_bound(a, d_ones) -> float:
-    return min(block_diagonal(a).omega2, gershgorin(a, d_ones).omega2)
+    block, rows = block_diagonal(a).omega2, gershgorin(a, d_ones).omega2
+    assert block is not None and rows is not None  # both are built from omega^2 (Estimate.from_omega2)
+    return min(block, rows)
 
 
 def lagged_lower_bound(k, c) -> float:

@@ -10,6 +10,7 @@ non-proportional contact dashpots the modes couple and it is an approximation.
 from __future__ import annotations
 
 import math
+from types import ModuleType
 
 from dtcrit.errors import InputError
 
@@ -46,6 +47,7 @@ def integrator_dt(omega: float, integrator: str = DEFAULT_INTEGRATOR, damping_ra
         raise InputError("damping_ratio", f"must be a finite number >= 0, got {damping_ratio}")
     if omega <= 0:
         return math.inf, "no vibrating mode"
+    stability: ModuleType | None
     try:
         from dtcrit.integrators import stability
     except ImportError:

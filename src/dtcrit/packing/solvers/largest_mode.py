@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -104,7 +105,7 @@ ITERATIVE_DEGENERATE_RTOL = 1e-7  # Ritz values this close to the top one count 
 
 
 def largest_mode(a, method: str = "auto", *, tol: float = DEFAULT_TOL, maxiter: int | None = None,
-                 hint: np.ndarray | None = None) -> TopMode:
+                 hint: np.ndarray | Callable[[], np.ndarray] | None = None) -> TopMode:
     """Largest eigenvalue and eigenvector of the symmetric positive semi-definite matrix ``a``.
 
     The standard form of ``K phi = omega^2 M phi`` (Otsubo et al. 2017, Eq. (13)); methods in the
@@ -297,7 +298,12 @@ def chebyshev_start(product, v: np.ndarray, degree: int = FILTER_DEGREE, stop: f
     """
     if hasattr(product, "shape"):  # a matrix or LinearOperator (the latter is also callable)
         matrix = product
-        product = lambda x, out: np.copyto(out, matrix @ x) or out  # noqa: E731
+
+        def matrix_product(x, out):
+            np.copyto(out, matrix @ x)
+            return out
+
+        product = matrix_product
     v = np.array(v, dtype=float, copy=True)
     v /= np.linalg.norm(v)
     av = product(v, np.empty_like(v))

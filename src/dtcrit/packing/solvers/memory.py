@@ -75,7 +75,7 @@ def _read_number(path: Path) -> float | None:
 
 def _cgroup_dirs(root: Path = Path("/sys/fs/cgroup")) -> list[tuple[str, Path]]:
     """``(version, directory)`` of this process's memory cgroups (v2 unified and v1 ``memory``)."""
-    out = []
+    out: list[tuple[str, Path]] = []
     try:
         lines = Path("/proc/self/cgroup").read_text(encoding="ascii").splitlines()
     except (OSError, UnicodeDecodeError):
