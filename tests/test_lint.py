@@ -16,7 +16,6 @@ from support.ci import in_ci
 from support.paths import REPO_ROOT as ROOT
 
 
-pytestmark = pytest.mark.xfail(strict=False, reason="until all packages are clean")
 
 
 def _command(tool: str) -> list[str]:

@@ -15,7 +15,8 @@ import scipy.linalg as sla
 from dtcrit.bodies import Ellipsoid, Superquadric
 from dtcrit.packing.operators.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
 from dtcrit.packing.detection.overlaps import find_sphere_contacts
-from dtcrit.packing.bounds.estimates import _span_quotient, _stiffest, contact_modes, rayleigh, single_contact_frequencies
+from dtcrit.packing.bounds.estimates import single_contact_frequencies
+from dtcrit.packing.bounds.rayleigh_trials import _span_quotient, _stiffest, contact_modes, rayleigh
 from dtcrit.packing.generators.lattices import lattice
 from dtcrit.packing.model import LinearLaw, apply_law
 from dtcrit.packing.generators.random_packing import random_packing

@@ -107,6 +107,7 @@ def run_one(n: int, packing_kind: str = "fcc", method: str = "auto", dense_check
     from dtcrit.packing.detection.overlaps import find_sphere_contacts
     from dtcrit.packing.solvers.largest_mode import largest_mode
     from dtcrit.packing.bounds import estimates as est
+    from dtcrit.packing.bounds import rayleigh_trials as trials
     from dtcrit.packing.model import LinearLaw, apply_law
     from dtcrit.packing.generators.random_packing import random_packing
 
@@ -126,13 +127,13 @@ def run_one(n: int, packing_kind: str = "fcc", method: str = "auto", dense_check
         a = scale_symmetric(stiffness_matrix(packing, contacts), md, inplace=True)
     t2 = time.perf_counter()
     def hint():  # all particles co-rotating: built inside the solver, released after its start
-        return est.co_rotation(packing, 0) + est.co_rotation(packing, 1) + est.co_rotation(packing, 2)
+        return trials.co_rotation(packing, 0) + trials.co_rotation(packing, 1) + trials.co_rotation(packing, 2)
 
     top = largest_mode(a, method, hint=hint)
     t3 = time.perf_counter()
     w_c = est.single_contact_frequencies(packing, contacts)
     estimates = (est.gershgorin(a, md), est.block_diagonal(a), est.diagonal_stiffness(a), est.two_particle_amax(packing, contacts),
-                 est.two_particle_exact(packing, contacts, w_c), est.rayleigh(a, packing, contacts, w_c))
+                 est.two_particle_exact(packing, contacts, w_c), trials.rayleigh(a, packing, contacts, w_c))
     t4 = time.perf_counter()
     out.update(
         route=route, n=packing.n, dofs=packing.dofs, contacts=contacts.count, nnz=int(getattr(a, "nnz", 0)),

@@ -11,7 +11,7 @@ al. 2020, a Rayleigh quotient).
 
 Modules: ``model`` (Packing, Box, the contact laws applied per contact), ``contact_set`` (Contacts), ``step``
 (``packing_step``, the analysis behind ``dtcrit packing``), ``step_input`` (its inputs: a dump, a
-bodies file or a generated packing), ``report`` (``analyse`` and the report); and the subpackages
+bodies file or a generated packing), ``report`` (``analyse`` and the report), ``report_text`` (its text); and the subpackages
 ``readers`` (engine files), ``conventions`` (each engine's contact conventions), ``detection``
 (contacts from positions), ``operators`` (the contact element, ``K`` assembled or applied),
 ``solvers`` (largest mode, damped step, certificate, memory), ``bounds`` (cheap estimates and
@@ -29,7 +29,8 @@ if TYPE_CHECKING:  # the names' types for the checkers; at run time they load on
     from dtcrit.packing.generators.lattices import LATTICES, lattice
     from dtcrit.packing.model import Box, Contacts, HertzMindlinLaw, LinearLaw, Packing, apply_law
     from dtcrit.packing.generators.random_packing import random_packing
-    from dtcrit.packing.report import PackingReport, analyse, format_report
+    from dtcrit.packing.report import PackingReport, analyse
+    from dtcrit.packing.report_text import format_report
 
 # Loaded on first use (PEP 562), so that ``dtcrit`` commands that only need a constant of a packing
 # module (``dtcrit step`` builds every subcommand's parser) do not import SciPy at start-up.
@@ -41,7 +42,7 @@ _HOMES = {
     "largest_mode": "solvers.largest_mode", "LATTICES": "generators.lattices", "lattice": "generators.lattices",
     "Box": "model", "Contacts": "model", "HertzMindlinLaw": "model", "LinearLaw": "model", "Packing": "model",
     "apply_law": "model", "random_packing": "generators.random_packing", "PackingReport": "report",
-    "analyse": "report", "format_report": "report",
+    "analyse": "report", "format_report": "report_text",
 }
 
 

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 import dtcrit.packing.bounds.estimates as est
+import dtcrit.packing.bounds.rayleigh_trials as trials
 import dtcrit.packing.operators.matrix_free_kernels as operator_kernels
 from dtcrit.packing.operators.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
 from dtcrit.packing.solvers.certificate import SPARSE_DOFS, Certificate, bracket, certify, factor_bytes, factor_seconds
@@ -280,7 +281,7 @@ def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, int
     else:
         a = scale_symmetric(stiffness_matrix(packing, contacts), md, inplace=True)
     def hint():  # all particles co-rotating: built inside the solver, released after its start
-        return est.co_rotation(packing, 0) + est.co_rotation(packing, 1) + est.co_rotation(packing, 2)
+        return trials.co_rotation(packing, 0) + trials.co_rotation(packing, 1) + trials.co_rotation(packing, 2)
 
     clock = time.perf_counter()
     try:
@@ -307,7 +308,7 @@ def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, int
         for e in (est.gershgorin(a, md), est.block_diagonal(a, packing.particle_id),
                   est.diagonal_stiffness(a, packing.particle_id),
                   est.two_particle_amax(packing, contacts),
-                  est.two_particle_exact(packing, contacts, w_c), est.rayleigh(a, packing, contacts, w_c)):
+                  est.two_particle_exact(packing, contacts, w_c), trials.rayleigh(a, packing, contacts, w_c)):
             estimates[e.name] = e
     bounds = [estimates[k] for k in ("gershgorin", "block_diagonal") if k in estimates]
     dt_safe = max((e.dt for e in bounds if e.dt is not None), default=math.nan)
@@ -394,46 +395,3 @@ def dt_bracket_error(exc: NotConvergedError, a, md, packing: Packing) -> NotConv
     lower = max([b for b in bounds if b is not None and math.isfinite(b)] + [2.0 / math.sqrt(exc.upper) if exc.upper > 0 else 0.0])
     upper = 2.0 / math.sqrt(exc.lower) if exc.lower > 0 else math.inf
     return NotConvergedError("dt_crit [s]", lower, upper, exc.solver, exc.reason)
-
-
-def format_report(r: PackingReport) -> str:
-    """Human-readable text of a report (what ``dtcrit packing`` prints).
-
-    Parameters
-    ----------
-    r : PackingReport
-        The report.
-
-    Returns
-    -------
-    str
-        The text, one item a line.
-    """
-    lines = [
-        f"packing: {r.label or '(unnamed)'}",
-        f"contact law: {r.law}",
-        f"particles {r.n_particles}, DOFs {r.dofs}, contacts {r.n_contacts}, "
-        f"coordination mean {r.cn_mean:.4g} max {r.cn_max}",
-        f"omega_max = {r.omega_max:.6g} rad/s  ({r.solver}, relative residual {r.relative_residual:.2g}"
-        f"{f', {r.matvecs} matrix-vector products' if r.matvecs else ''})",
-        f"dt_crit = 2/omega_max = {r.dt_crit:.6g} s   alpha = dt_crit / sqrt(m_min/K_max) = {r.alpha:.5g}"
-        f"   (m_min {r.m_min:.4g} kg, K_max {r.k_max:.4g} N/m)",
-        f"highest mode: {r.mode} ({100 * r.rotational_fraction:.1f} % of its kinetic energy in rotation)",
-        f"{r.integrator}, modal damping ratio {r.damping_ratio:g}: dt = {r.dt_integrator:.6g} s"
-        + ("  (no step is stable)" if r.dt_integrator == 0 else ""),
-    ]
-    b = r.bracket
-    lines.append(f"bracket: {b.lower:.6g} s <= dt_crit <= {b.upper:.6g} s (lower end from {b.lower_from}; "
-                 f"{r.route} route)")
-    if r.certificate is not None:
-        c = r.certificate
-        lines.append(f"certificate: {'yes' if c.certified else 'no'}, sigma = {c.sigma:.9g} 1/s^2, {c.method}"
-                     + (f"; {c.detail}" if c.detail else ""))
-    if r.estimates:
-        lines.append("")
-        lines.append(f"{'estimate':<20}{'dt [s]':>14}{'dt / dt_crit':>14}  {'safe':<5} kind")
-        for row in r.estimate_table():
-            lines.append(f"{row['name']:<20}{row['dt']:>14.6g}{row['ratio']:>14.5f}  {'yes' if row['safe'] else 'NO':<5} "
-                         f"{row['kind']}; {row['detail']}")
-    return "\n".join(lines)
-

@@ -181,7 +181,7 @@ class PackingStep:
         str
             The report without a final newline.
         """
-        from dtcrit.packing.report import format_report
+        from dtcrit.packing.report_text import format_report
 
         return format_report(self.report())
 

@@ -79,6 +79,13 @@ class StepResult:
         The geometric coordination bound (``BASIS_ANY``).
     basis_note : str
         Why the headline is not the packing step the scene asks for (no packing bound), else empty.
+
+    Examples
+    --------
+    >>> from dtcrit import load_scene, critical_step
+    >>> result = critical_step(load_scene("examples/mixed_pair.toml"))
+    >>> len(result.pairs), result.governing   # three pairs of particle types; a dense packing governs
+    (3, 'dense')
     """
 
     scene: Scene
@@ -253,6 +260,13 @@ def critical_step(scene: Scene) -> StepResult:
     -------
     StepResult
         The headline ``dt_crit`` [s] and everything ``dtcrit step`` prints.
+
+    Examples
+    --------
+    >>> from dtcrit import load_scene, critical_step
+    >>> result = critical_step(load_scene("examples/glass_spheres_hertz.toml"))
+    >>> result.dt_crit > 0, result.to_json()["schema"]
+    (True, 'dtcrit-step/1')
     """
     from dtcrit.bodies import contact
 

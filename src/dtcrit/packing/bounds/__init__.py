@@ -1,5 +1,5 @@
 """Cheap estimates and rigorous bounds on the critical step of a packing, rated against the exact step.
 
 Modules: ``estimates`` (Gershgorin, block and diagonal bounds, Rayleigh trials, the two-particle bound),
-``estimate_kernels`` (compiled single-contact frequencies).
+``rayleigh_trials`` (Rayleigh-quotient trials: a lower bound on the top eigenvalue), ``estimate_kernels`` (compiled single-contact frequencies).
 """
