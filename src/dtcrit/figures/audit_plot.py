@@ -1,6 +1,6 @@
 """``dtcrit audit --plot FILE.png``: what governs the step, drawn.
 
-Left: the packing's particles (3-D scatter, marker area by radius) coloured by their share of the
+Left: the packing's particles (seen along z, discs of their radii) coloured by their share of the
 governing mode's kinetic energy (logarithmic colour bar).  Right: the top of the spectrum as steps
 ``2/omega_k`` of the largest eigenvalues (and, with dashpots, each mode's step with its own modal
 damping), with ``dt_crit``, ``dt_safe`` and the estimators as labelled horizontal lines.  The data
@@ -24,6 +24,8 @@ __all__ = ["check_plot_path", "draw_audit_plot", "label_positions", "write_audit
 
 SHARE_FLOOR = 1e-6
 """Shares below this fraction of the largest are drawn at the bottom of the colour scale."""
+LABELLED = 6
+"""How many of the most energetic particles are labelled with their ids."""
 LABEL_GAP = 0.045
 """Smallest vertical distance between two mark labels, in axes fractions."""
 STYLES = {"dt_crit": ("black", "-", 1.8), "dt_safe": ("tab:green", "--", 1.4),
@@ -65,22 +67,30 @@ def check_plot_path(path: str | os.PathLike) -> Path:
 
 
 def _particles(ax, fig, d: AuditFigureData) -> None:
+    """The x-y projection (seen along z), discs of the particles' radii, the most energetic on top."""
+    from matplotlib.collections import EllipseCollection
     from matplotlib.colors import LogNorm
 
     share = np.maximum(d.share, SHARE_FLOOR * float(np.max(d.share)))
-    span = float(np.ptp(d.positions, axis=0).max()) or float(2 * d.radii.max())
-    area = (d.radii / span * 170.0) ** 2  # about the marker's size on a ~3.5 in wide axis
-    order = np.argsort(share)  # the most energetic drawn last, on top
-    p = d.positions[order]
-    sc = ax.scatter(p[:, 0], p[:, 1], p[:, 2], s=area[order], c=share[order], cmap="viridis",
-                    norm=LogNorm(vmin=float(share.min()), vmax=float(share.max())), depthshade=False,
-                    edgecolors="k", linewidths=0.2, alpha=0.9)
-    bar = fig.colorbar(sc, ax=ax, shrink=0.7, pad=0.16)
+    order = np.argsort(share, kind="stable")  # the most energetic drawn last, on top
+    xy, diameter = d.positions[order, :2], 2.0 * d.radii[order]
+    discs = EllipseCollection(diameter, diameter, np.zeros(order.size), units="xy", offsets=xy,
+                              offset_transform=ax.transData, cmap="viridis", edgecolors="k", linewidths=0.3,
+                              norm=LogNorm(vmin=float(share.min()), vmax=float(share.max())))
+    discs.set_array(share[order])
+    ax.add_collection(discs)
+    pad = float(d.radii.max())
+    ax.set_xlim(float(xy[:, 0].min()) - pad, float(xy[:, 0].max()) + pad)
+    ax.set_ylim(float(xy[:, 1].min()) - pad, float(xy[:, 1].max()) + pad)
+    ax.set_aspect("equal")
+    for p in order[::-1][:LABELLED]:
+        ax.annotate(str(d.ids[p]), d.positions[p, :2], ha="center", va="center", fontsize=7, color="red")
+    bar = fig.colorbar(discs, ax=ax, shrink=0.8)
     bar.set_label(f"share of the {d.mode}'s kinetic energy")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
-    ax.set_zlabel("z [m]")
-    ax.set_title(f"particles: their share of the {d.mode}", fontsize=10)
+    ax.set_title(f"particles (seen along z) by their share of the {d.mode};\n"
+                 f"red: ids of the {LABELLED} with the most", fontsize=9)
 
 
 def _merged(marks) -> list[tuple[str, float]]:
@@ -161,11 +171,11 @@ def draw_audit_plot(data: AuditFigureData):
         The figure (close it when done).
     """
     plt = pyplot()
-    fig = plt.figure(figsize=(12.5, 5.2))
-    _particles(fig.add_subplot(1, 2, 1, projection="3d"), fig, data)
+    fig = plt.figure(figsize=(12.5, 5.4))
+    _particles(fig.add_subplot(1, 2, 1), fig, data)
     _spectrum(fig.add_subplot(1, 2, 2), data)
     fig.suptitle(data.title, fontsize=9)
-    fig.subplots_adjust(left=0.03, right=0.78, wspace=0.3)
+    fig.subplots_adjust(left=0.06, right=0.8, wspace=0.35)
     return fig
 
 
