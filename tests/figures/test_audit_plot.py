@@ -1,9 +1,12 @@
 """``dtcrit audit --plot FILE.png``: a valid PNG whose drawn data are those of a direct ``eigh`` of the
 hand-assembled dense ``K``, ``M`` (``support.dense_packing``); a bad path is one line and exit 2; a
-failed write leaves no file behind."""
+failed write leaves no file behind.
+"""
 from __future__ import annotations
 
+import importlib.util
 import math
+import shlex
 
 import numpy as np
 import pytest
@@ -13,6 +16,7 @@ from dtcrit.cli import main
 from dtcrit.errors import InputError
 from dtcrit.figures import audit_plot
 from support.dense_packing import DensePacking
+from support.paths import REPO_ROOT as ROOT
 
 RHO = 2500.0
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
@@ -41,7 +45,8 @@ def _files(tmp_path, dense):
 
 def test_the_plot_is_a_png_of_the_direct_eigen_solve(tmp_path):
     """The ten largest omega^2 and their steps 2/omega_k are eigh's; each particle's share is the top
-    eigenvector's phi^T M phi on it; dt_crit and dt_safe are marked at the audit's values."""
+    eigenvector's phi^T M phi on it; dt_crit and dt_safe are marked at the audit's values.
+    """
     dense = _chain()
     dump, table = _files(tmp_path, dense)
     audit = audit_snapshot(dump, contact_table=table, dt=1e-7)
@@ -68,7 +73,8 @@ def test_the_plot_is_a_png_of_the_direct_eigen_solve(tmp_path):
 
 def test_with_dashpots_each_mode_carries_its_modal_damped_step(tmp_path):
     """With dashpots the lagged scheme's step of mode k alone, 4/(c_k + sqrt(c_k^2 + 4 omega_k^2)),
-    lies below 2/omega_k; the undamped 2/omega_max is marked too."""
+    lies below 2/omega_k; the undamped 2/omega_max is marked too.
+    """
     dense = _chain()
     dump, _ = _files(tmp_path, dense)
     audit = audit_snapshot(dump, pair_style="gran/hooke/history 1e4 NULL 3e4 NULL 0.5 1")
@@ -80,6 +86,7 @@ def test_with_dashpots_each_mode_carries_its_modal_damped_step(tmp_path):
 
 @pytest.mark.parametrize("name, reason", [("no/such/folder/a.png", "does not exist"), ("a.jpg", "does not end in .png")])
 def test_a_bad_plot_path_is_one_line_and_exit_2(tmp_path, capsys, monkeypatch, name, reason):
+    """Checked before the audit runs: one line naming --plot, exit 2, nothing on standard output."""
     dense = _chain()
     dump, table = _files(tmp_path, dense)
     monkeypatch.chdir(tmp_path)
@@ -107,5 +114,29 @@ def test_a_failed_write_leaves_nothing(tmp_path, monkeypatch):
 
 
 def test_labels_are_pushed_apart_and_kept_in_order():
+    """Crowded labels end at least the gap apart, in their order, and below the top of the axes."""
     y = audit_plot.label_positions([0.1, 0.1, 0.11, 0.5, 0.99, 1.0], gap=0.05)
     assert np.all(np.diff(y) >= 0.05 - 1e-12) and y[-1] <= 1.0 + 1e-12
+
+
+def test_the_readme_figure_is_made_by_the_dev_py_command():
+    """README shows the command ``python3 dev.py audit-figure`` runs, the committed PNG it writes, and the
+    governing mode's figures the audit gives today.
+    """
+    spec = importlib.util.spec_from_file_location("dev_tasks", ROOT / "dev.py")
+    assert spec is not None and spec.loader is not None
+    dev = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(dev)
+    readme = (ROOT / "README.md").read_text()
+    args = dev.AUDIT_FIGURE
+    assert "$ dtcrit " + " ".join(shlex.quote(a) for a in args) + "\n" in readme
+    png = args[args.index("--plot") + 1]
+    assert f"]({png})" in readme and (ROOT / png).read_bytes()[:8] == PNG_SIGNATURE
+    audit = audit_snapshot(ROOT / args[1], pair_style=args[args.index("--pair-style") + 1])
+    g = audit.governing_mode
+    assert g is not None
+    described = readme.split("![dtcrit audit --plot", 1)[1].split("###", 1)[0]
+    for text in (f"{100 * g.normal:.3g} % of its strain energy in the normal", f"ratio {g.participation_ratio:.3g}",
+                 f"{100 * g.rotational_kinetic:.1g} % of its kinetic energy", f"{100 * audit.limiting_share:.3g} %",
+                 ", ".join(str(i) for i in audit.limiting)):
+        assert text in described

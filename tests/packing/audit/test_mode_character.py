@@ -1,6 +1,7 @@
 """The governing mode's character (``dtcrit.packing.audit.mode_character``) against answers known by
 construction and against a direct ``numpy.linalg.eigh`` of dense ``K``, ``M`` assembled by hand
-(``support.dense_packing``), through ``dtcrit audit --json`` and its text."""
+(``support.dense_packing``), through ``dtcrit audit --json`` and its text.
+"""
 from __future__ import annotations
 
 import json
@@ -58,7 +59,7 @@ def _top_mode(dense: DensePacking) -> tuple[np.ndarray, np.ndarray, dict]:
 
 
 def test_a_pair_with_only_normal_springs_is_all_normal(tmp_path, capsys):
-    """ks = 0: the only straining mode stretches the normal spring, every particle alike, no rotation."""
+    """With ks = 0 the only straining mode stretches the normal spring, every particle alike, no rotation."""
     doc, text = _audit(tmp_path, capsys, _pair(1e4, 0.0, 0.0, 0.0))
     g = doc["governing_mode"]
     assert g["normal"] == pytest.approx(1.0, abs=1e-12)
@@ -72,7 +73,8 @@ def test_a_pair_with_only_normal_springs_is_all_normal(tmp_path, capsys):
 def test_a_twisting_spring_stiffer_than_the_rest_gives_a_rotational_mode(tmp_path, capsys):
     """The twist about the normal strains only the twisting spring (the arms lie along the normal), at
     omega^2 = 2 ktw / I; with ktw the stiffest term it is the top mode: all twisting, all rotation.  The
-    dense eigh confirms it is the top mode and isolated."""
+    dense eigh confirms it is the top mode and isolated.
+    """
     dense = _pair(1e4, 5e3, 1e-3, 5e-2)
     values, phi, terms = _top_mode(dense)
     assert values[0] == pytest.approx(2 * 5e-2 / (0.4 * MASS * R**2), rel=1e-9) and values[1] < 0.9 * values[0]
@@ -84,7 +86,8 @@ def test_a_twisting_spring_stiffer_than_the_rest_gives_a_rotational_mode(tmp_pat
 
 def test_the_shares_are_those_of_a_direct_eigen_solve(tmp_path, capsys):
     """On an unequal cluster the shares equal phi^T K_term phi / phi^T K phi of the top eigenvector of the
-    hand-assembled dense matrices, the kinetic shares those of phi^T M phi, and they sum to 1."""
+    hand-assembled dense matrices, the kinetic shares those of phi^T M phi, and they sum to 1.
+    """
     dense = _cluster()
     values, phi, terms = _top_mode(dense)
     assert values[1] < (1 - 1e-3) * values[0]  # an isolated top mode: its vector is defined
@@ -108,7 +111,8 @@ def test_the_shares_are_those_of_a_direct_eigen_solve(tmp_path, capsys):
 
 def test_the_example_packing_shares_sum_to_one_with_its_preload_apart(capsys):
     """The README example (Hertz, pre-loaded): four spring shares in [0, 1] summing to 1, the pre-load's
-    signed fraction apart (negative: compressive forces soften)."""
+    signed fraction apart (negative: compressive forces soften).
+    """
     assert main(["audit", str(ROOT / "examples/packings/random_lognormal_60.dump"), "--pair-style",
                  "gran/hertz/history 1e9 NULL 0 NULL 0.5 0", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)

@@ -199,9 +199,10 @@ def mode_character(packing: Packing, contacts: Contacts, vector: np.ndarray | No
     if kinetic <= 0 or springs <= 0:
         return None
     rotational = float(np.sum(v.reshape(-1, 6)[:, 3:] ** 2)) / kinetic
-    return ModeCharacter(*(terms[k] / springs for k in SPRINGS), rotational_kinetic=rotational,
-                         participation_ratio=participation_ratio(e_p), preload=terms["preload"] / springs,
-                         particle_share=e_p / kinetic)
+    return ModeCharacter(normal=terms["normal"] / springs, tangential=terms["tangential"] / springs,
+                         rolling=terms["rolling"] / springs, twisting=terms["twisting"] / springs,
+                         rotational_kinetic=rotational, participation_ratio=participation_ratio(e_p),
+                         preload=terms["preload"] / springs, particle_share=e_p / kinetic)
 
 
 def _pct(x: float) -> str:
