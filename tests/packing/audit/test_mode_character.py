@@ -129,3 +129,25 @@ def test_dt_crit_and_dt_safe_print_seven_significant_digits(tmp_path, capsys):
     lines = {line.split(" = ")[0]: line for line in text.splitlines() if line.startswith(("dt_crit =", "dt_safe ="))}
     assert lines["dt_crit"].startswith(f"dt_crit = {doc['dt_crit']:.7g} s")
     assert lines["dt_safe"].startswith(f"dt_safe = {doc['dt_safe']:.7g} s")
+
+
+def test_the_terms_add_up_to_the_assembled_stiffness_on_oriented_bodies():
+    """On turned ellipsoids in a periodic box (body-axis rotation DOFs, image contacts) with every spring
+    and a pre-load, the contact terms of ``contact_energies`` add up to phi^T K phi of the assembled
+    stiffness (built from the element's force law, ``contact_element.body_forces``) for random phi."""
+    from dtcrit.packing.audit.mode_character import contact_energies
+    from dtcrit.packing.operators.assembly import stiffness_matrix
+    from dtcrit.packing.readers.bodies_file import read_bodies_file
+
+    bodies = read_bodies_file(ROOT / "examples/packings/ellipsoids.json")
+    rng = np.random.default_rng(7)
+    nc = bodies.contacts.count
+    contacts = bodies.contacts.with_stiffness(rng.uniform(1e4, 2e4, nc), rng.uniform(5e3, 1e4, nc),
+                                              rng.uniform(1e-3, 2e-3, nc), rng.uniform(1e-3, 2e-3, nc))
+    contacts = contacts.with_normal_force(rng.uniform(0.0, 1e-2, nc))
+    k = stiffness_matrix(bodies.packing, contacts).toarray()
+    for _ in range(3):
+        phi = rng.normal(size=6 * bodies.packing.n)
+        terms = contact_energies(bodies.packing, contacts, phi)
+        assert sum(float(e.sum()) for e in terms.values()) == pytest.approx(phi @ k @ phi, rel=1e-10)
+        assert all(np.all(terms[s] >= 0) for s in SPRINGS) and np.all(terms["preload"] <= 0)
