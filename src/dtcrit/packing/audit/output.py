@@ -109,8 +109,8 @@ def format_audit(r: AuditReport) -> str:
         lines.append(f"governing mode: spread out, participation ratio {r.participation:.3g} (about "
                      f"{r.participating:.3g} of {r.n_particles} particles share its energy; the {len_top(r)} with the "
                      f"most hold {100 * r.limiting_share:.3g} %): no few particles limit the step")
-    if r.governing_mode is not None:
-        lines.append(describe(r.governing_mode))
+    lines.append(describe(r.governing_mode) if r.governing_mode is not None else
+                 "governing mode: not resolved (this integrator's route gives no mode vector)")
     if r.dt_user is not None:
         ratio = r.dt_user / r.dt_crit  # AuditReport.ratio
         verdict = "stable" if ratio < 1.0 else "UNSTABLE"
