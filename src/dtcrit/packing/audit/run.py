@@ -120,6 +120,9 @@ class SnapshotAudit:
         Notes printed with the result.
     participation : float
         Participation ratio of the governing mode's particle energies.
+    local_damping : Mapping or None
+        Local (Cundall) damping applied to ``dt_crit`` and ``dt_safe`` (``alpha``, ``law``, ``status``;
+        :mod:`dtcrit.packing.audit.local_damping`), None without it.
 
     Examples
     --------
@@ -150,6 +153,7 @@ class SnapshotAudit:
     estimators: tuple[RatedEstimate, ...] = ()
     notes: tuple[str, ...] = ()
     participation: float = math.nan
+    local_damping: Mapping[str, Any] | None = None
 
     @property
     def ratio(self) -> float | None:
@@ -339,7 +343,8 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
 
 
 def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None = None,
-                   integrator: str | None = None, **read: Any) -> SnapshotAudit:
+                   integrator: str | None = None, local_damping: float | None = None,
+                   local_damping_law: str | None = None, **read: Any) -> SnapshotAudit:
     """The critical step of a simulation snapshot as its engine integrates it.
 
     ``dt_crit`` is the exact critical step of the whole packing for the engine's integrator (with
@@ -354,6 +359,11 @@ def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None =
         The simulation's own step [s], rated against ``dt_crit`` (default: a YADE export's own).
     integrator : str, optional
         Override the engine's integrator (a name of ``dtcrit.INTEGRATORS``).
+    local_damping : float, optional
+        Local (Cundall) damping coefficient in [0, 1) (default: a YADE export's ``newton_damping``):
+        ``dt_crit`` and ``dt_safe`` times ``1/sqrt(1 + alpha)`` (:mod:`dtcrit.packing.audit.local_damping`).
+    local_damping_law : {'yade', 'pfc'}, optional
+        Its law (``yade`` for a YADE export; required with ``local_damping`` otherwise).
     **read
         The keyword arguments of :func:`read_snapshot` (``engine``, ``pair_style``, ``local``,
         ``contact_table``, ``density``, ``snapshot_index``) for a file.
@@ -378,6 +388,7 @@ def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None =
     >>> a.engine, a.dt_safe <= a.dt_crit, a.ratio < 1
     ('lammps', True, True)
     """
+    from dtcrit.packing.audit import local_damping as damping
     from dtcrit.packing.audit import snapshot as analysis
 
     if isinstance(snapshot, Snapshot):
@@ -389,7 +400,8 @@ def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None =
         if dt is not None and not (math.isfinite(dt) and dt > 0):
             raise InputError("dt", f"must be a positive finite number, got {dt}")
         given = read_snapshot(snapshot, **read)
+    local = damping.resolve(given.meta, given.source, local_damping, local_damping_law)
     report = analysis.audit(given.packing, given.contacts, given.convention, law=given.law, source=given.source,
                             integrator=integrator, dt_user=dt if dt is not None else given.meta.get("dt"),
                             material=given.meta.get("material"))
-    return SnapshotAudit.from_report(report)
+    return SnapshotAudit.from_report(damping.apply(report, local))

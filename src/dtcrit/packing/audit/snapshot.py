@@ -97,6 +97,9 @@ class AuditReport:
     participation : float
         Participation ratio ``(sum e_p)^2 / (N sum e_p^2)`` of the governing mode's particle energies
         (1: every particle alike; 1/N: one particle).
+    local_damping : dict or None
+        Local (Cundall) damping applied to ``dt_crit`` (``alpha``, ``law``, ``status``, ...;
+        :mod:`dtcrit.packing.audit.local_damping`), None without it.
     """
 
     source: str
@@ -119,6 +122,7 @@ class AuditReport:
     estimators: list[RatedEstimate] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     participation: float = math.nan  # (sum e_p)^2 / (N sum e_p^2) of the governing mode's particle energies
+    local_damping: dict | None = None  # packing.audit.local_damping: alpha, law, status
 
     @property
     def participating(self) -> float:
