@@ -120,7 +120,7 @@ def resolve(meta: Mapping[str, Any], source: str, alpha: float | None, law: str 
         if law not in (None, "yade"):
             raise InputError("local_damping_law", f"{law!r}: the export's newton_damping is YADE's law (yade)")
         alpha, law, key = exported, "yade", f"{source}: newton_damping"
-    elif "newton_damping" in meta:
+    elif "newton_damping" in meta and alpha is not None:
         law = law or "yade"  # a YADE export without a NewtonIntegrator: the flag is YADE's damping
     if alpha is None:
         if law is not None:
