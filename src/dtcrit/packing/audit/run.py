@@ -121,8 +121,7 @@ class SnapshotAudit:
     participation : float
         Participation ratio of the governing mode's particle energies.
     local_damping : Mapping or None
-        Local (Cundall) damping applied to ``dt_crit`` and ``dt_safe`` (``alpha``, ``law``, ``status``;
-        :mod:`dtcrit.packing.audit.local_damping`), None without it.
+        Local damping applied to the steps (:mod:`dtcrit.packing.audit.local_damping`), None without it.
 
     Examples
     --------
@@ -359,11 +358,9 @@ def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None =
         The simulation's own step [s], rated against ``dt_crit`` (default: a YADE export's own).
     integrator : str, optional
         Override the engine's integrator (a name of ``dtcrit.INTEGRATORS``).
-    local_damping : float, optional
-        Local (Cundall) damping coefficient in [0, 1) (default: a YADE export's ``newton_damping``):
-        ``dt_crit`` and ``dt_safe`` times ``1/sqrt(1 + alpha)`` (:mod:`dtcrit.packing.audit.local_damping`).
-    local_damping_law : {'yade', 'pfc'}, optional
-        Its law (``yade`` for a YADE export; required with ``local_damping`` otherwise).
+    local_damping, local_damping_law : float and {'yade', 'pfc'}, optional
+        Local (Cundall) damping in [0, 1) and its law (default: a YADE export's ``newton_damping``, law
+        ``yade``): the steps times ``1/sqrt(1 + alpha)`` (:mod:`dtcrit.packing.audit.local_damping`).
     **read
         The keyword arguments of :func:`read_snapshot` (``engine``, ``pair_style``, ``local``,
         ``contact_table``, ``density``, ``snapshot_index``) for a file.
