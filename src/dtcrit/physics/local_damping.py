@@ -36,9 +36,14 @@ STATEMENT = {
            "every step above it grows (proved for a linear network in leapfrog)",
     "yade": "YADE's law (sign of the power at the on-step velocity estimate): every step above "
             "2/(omega_max sqrt(1+alpha)) grows from the top mode (proved); below it the runs stayed bounded "
-            "(by simulation, not proved); above it stability comes in windows, never an interval",
+            "(by simulation, not proved; at alpha 0.8-0.9 some starts on a 5-mass chain grew at 0.93-0.95 of it); "
+            "above it stability comes in windows, never an interval",
 }
 """One sentence per law: what is known about the step ``2/(omega_max sqrt(1 + alpha))``."""
+
+YADE_MARGIN_ALPHA = 0.8
+"""From this coefficient on, runs with YADE's law grew below the onset (0.93-0.95 of it on a 5-mass chain,
+``derivations/records/local_damping.md``): the onset is then no safe step."""
 
 
 def check_alpha(alpha: float, key: str = "local_damping") -> float:

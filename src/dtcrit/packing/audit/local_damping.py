@@ -198,6 +198,9 @@ def text_lines(report: AuditReport) -> list[str]:
     what = ("proved: every step below it is stable, every step above it grows" if ld["status"] == "proved" else
             "the onset of instability: every step above it grows from the top mode; above it stability "
             "comes in windows, never an interval")
-    return [f"local damping alpha = {ld['alpha']:g} ({_LAW_WORDS[ld['law']]}): dt_crit = 2/(omega_max sqrt(1 + alpha)) = "
-            f"{ld['factor']:.6g} x undamped 2/omega_max = {report.dt_undamped:.6g} s",
-            f"  dt_crit is {what}"]
+    lines = [f"local damping alpha = {ld['alpha']:g} ({_LAW_WORDS[ld['law']]}): dt_crit = 2/(omega_max sqrt(1 + alpha)) "
+             f"= {ld['factor']:.6g} x undamped 2/omega_max = {report.dt_undamped:.6g} s", f"  dt_crit is {what}"]
+    if ld["law"] == "yade" and ld["alpha"] >= phys.YADE_MARGIN_ALPHA:
+        lines.append(f"  warning: at alpha >= {phys.YADE_MARGIN_ALPHA:g} runs with YADE's law grew at 0.93-0.95 x this onset "
+                     "on a 5-mass chain (derivations/records/local_damping.md): keep a margin below it")
+    return lines
