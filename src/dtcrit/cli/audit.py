@@ -3,7 +3,7 @@
     dtcrit audit DUMP --pair-style 'gran/hooke/history 1e4 NULL 0 NULL 0.5 0' [--local CONTACTS.local]
     dtcrit audit DUMP --contacts TABLE [--engine liggghts]
     dtcrit audit EXPORT.json --engine yade          (written by dtcrit/engine_scripts/yade_export.py)
-    ... [--dt DT] [--json] [--plot FILE.png]
+    ... [--dt DT] [--local-damping ALPHA --local-damping-law yade|pfc] [--json] [--plot FILE.png]
 
 The engine's conventions (``dtcrit.packing.conventions.engines``) decide which pairs touch, the contact arms,
 the pre-load and the integrator; the dashpots enter the damping matrix contact by contact.
@@ -38,6 +38,12 @@ def add_parser(subparsers) -> None:
     p.add_argument("--density", type=float, help="particle density [kg/m^3] for a dump without a mass column")
     p.add_argument("--snapshot-index", type=int, default=-1, help="snapshot in the dump (default: the last)")
     p.add_argument("--dt", type=float, help="the simulation's own step [s], rated against dt_crit")
+    p.add_argument("--local-damping", type=float, metavar="ALPHA",
+                   help="local (Cundall) damping coefficient in [0, 1): dt_crit and dt_safe times 1/sqrt(1+ALPHA) "
+                        "(default: a YADE export's newton_damping)")
+    p.add_argument("--local-damping-law", choices=("yade", "pfc"),
+                   help="its law: yade (sign of the power at the on-step velocity estimate) or pfc (sign of F.v at "
+                        "the half step); yade for a YADE export")
     p.add_argument("--integrator", help="override the engine's integrator (see dtcrit step's integrators)")
     p.add_argument("--json", action="store_true", help="print the result as JSON (schema dtcrit-audit/1)")
     p.add_argument("--plot", metavar="FILE.png", help="also draw the particles by their share of the governing mode "
@@ -75,7 +81,8 @@ def flag_of(key: str, args) -> str | None:
         return f"{args.snapshot}:{key}"
     return {"integrator": "--integrator", "density": "--density", "dt": "--dt", "engine": "--engine",
             "snapshot": "SNAPSHOT", "local": "--local", "contact_table": "--contacts",
-            "pair_style": "--pair-style", "plot": "--plot"}.get(key)
+            "pair_style": "--pair-style", "plot": "--plot", "local_damping": "--local-damping",
+            "local_damping_law": "--local-damping-law"}.get(key)
 
 
 def run_command(args) -> int:
@@ -110,7 +117,9 @@ def _run(args) -> int:
 
         check_plot_path(args.plot)  # before the work: a bad path is one line at once
     try:
-        result = audit_snapshot(args.snapshot, dt=args.dt, integrator=args.integrator, engine=args.engine,
+        result = audit_snapshot(args.snapshot, dt=args.dt, integrator=args.integrator,
+                                local_damping=args.local_damping, local_damping_law=args.local_damping_law,
+                                engine=args.engine,
                                 pair_style=args.pair_style, local=args.local, contact_table=args.contacts,
                                 density=args.density, snapshot_index=args.snapshot_index)
     except DumpReadError as exc:  # the dump reader's key as the flag that set it

@@ -8,6 +8,7 @@ from dtcrit.physics.estimate import RatedEstimate
 from dtcrit.physics.json_numbers import finite_or_none as _finite
 
 from dtcrit.packing.audit.mode_character import describe
+from dtcrit.packing.audit.local_damping import text_lines as local_damping_lines
 from dtcrit.packing.audit.snapshot import AuditReport
 
 JSON_SCHEMA = "dtcrit-audit/1"
@@ -40,6 +41,7 @@ def audit_json(r: AuditReport) -> dict:
         "stable": None if r.ratio is None else bool(r.ratio < 1.0),
         "estimators": {e.estimate.name: _estimate_json(e) for e in r.estimators},
         "notes": list(r.notes),
+        "local_damping": None if r.local_damping is None else dict(r.local_damping),
     })
     return out
 
@@ -102,6 +104,7 @@ def format_audit(r: AuditReport) -> str:
     ]
     if r.damped:
         lines.append(f"undamped 2/omega_max = {r.dt_undamped:.7g} s")
+    lines += local_damping_lines(r)
     if r.limiting:
         lines.append(f"limiting particles (ids): {' '.join(str(i) for i in r.limiting)}  "
                      f"({100 * r.limiting_share:.3g} % of the governing mode's energy)")

@@ -125,6 +125,8 @@ class SnapshotAudit:
         Which springs hold the governing mode's energy (``dtcrit.packing.audit.mode_character``).
     snapshot : Snapshot or None
         The snapshot audited (its packing and contacts; for ``dtcrit.packing.audit.plot_data``).
+    local_damping : Mapping or None
+        Local damping applied to the steps (:mod:`dtcrit.packing.audit.local_damping`), None without it.
 
     Examples
     --------
@@ -157,6 +159,7 @@ class SnapshotAudit:
     participation: float = math.nan
     governing_mode: ModeCharacter | None = None
     snapshot: Snapshot | None = field(default=None, repr=False, compare=False)
+    local_damping: Mapping[str, Any] | None = None
 
     @property
     def ratio(self) -> float | None:
@@ -346,7 +349,8 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
 
 
 def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None = None,
-                   integrator: str | None = None, **read: Any) -> SnapshotAudit:
+                   integrator: str | None = None, local_damping: float | None = None,
+                   local_damping_law: str | None = None, **read: Any) -> SnapshotAudit:
     """The critical step of a simulation snapshot as its engine integrates it.
 
     ``dt_crit`` is the exact critical step of the whole packing for the engine's integrator (with
@@ -361,6 +365,9 @@ def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None =
         The simulation's own step [s], rated against ``dt_crit`` (default: a YADE export's own).
     integrator : str, optional
         Override the engine's integrator (a name of ``dtcrit.INTEGRATORS``).
+    local_damping, local_damping_law : float and {'yade', 'pfc'}, optional
+        Local (Cundall) damping in [0, 1) and its law (default: a YADE export's ``newton_damping``, law
+        ``yade``): the steps times ``1/sqrt(1 + alpha)`` (:mod:`dtcrit.packing.audit.local_damping`).
     **read
         The keyword arguments of :func:`read_snapshot` (``engine``, ``pair_style``, ``local``,
         ``contact_table``, ``density``, ``snapshot_index``) for a file.
@@ -385,6 +392,7 @@ def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None =
     >>> a.engine, a.dt_safe <= a.dt_crit, a.ratio < 1
     ('lammps', True, True)
     """
+    from dtcrit.packing.audit import local_damping as damping
     from dtcrit.packing.audit import snapshot as analysis
 
     if isinstance(snapshot, Snapshot):
@@ -396,7 +404,8 @@ def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None =
         if dt is not None and not (math.isfinite(dt) and dt > 0):
             raise InputError("dt", f"must be a positive finite number, got {dt}")
         given = read_snapshot(snapshot, **read)
+    local = damping.resolve(given.meta, given.source, local_damping, local_damping_law)
     report = analysis.audit(given.packing, given.contacts, given.convention, law=given.law, source=given.source,
                             integrator=integrator, dt_user=dt if dt is not None else given.meta.get("dt"),
                             material=given.meta.get("material"))
-    return replace(SnapshotAudit.from_report(report), snapshot=given)
+    return replace(SnapshotAudit.from_report(damping.apply(report, local)), snapshot=given)

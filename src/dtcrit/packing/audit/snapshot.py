@@ -101,6 +101,9 @@ class AuditReport:
     governing_mode : ModeCharacter or None
         Which springs hold the governing mode's energy (``dtcrit.packing.audit.mode_character``);
         ``None`` on the spectral-radius route (no mode vector).
+    local_damping : dict or None
+        Local (Cundall) damping applied to ``dt_crit`` (``alpha``, ``law``, ``status``, ...;
+        :mod:`dtcrit.packing.audit.local_damping`), None without it.
     """
 
     source: str
@@ -124,6 +127,7 @@ class AuditReport:
     notes: list[str] = field(default_factory=list)
     participation: float = math.nan  # (sum e_p)^2 / (N sum e_p^2) of the governing mode's particle energies
     governing_mode: ModeCharacter | None = None
+    local_damping: dict | None = None  # packing.audit.local_damping: alpha, law, status
 
     @property
     def participating(self) -> float:
