@@ -91,6 +91,7 @@ def _threshold(dump: str, e: float, lo: float, hi: float, steps: int) -> float:
 
 @pytest.mark.parametrize("e, steps", [(0.5, 20000), (1.0, 3000)])
 def test_liggghts_input_reads_the_lammps_equivalent_step(e, steps, relaxed, capsys, tmp_path):
+    """Same step as the LAMMPS equivalent; within [0.999, 1] of LAMMPS's bisected threshold."""
     dump = tmp_path / "packing.dump"
     dump.write_text(relaxed)
     liggghts = _audit(capsys, str(dump), "--engine", "liggghts", "--liggghts-input",

@@ -112,6 +112,7 @@ def _check(snapshot, expected):
 
 
 def test_hertz_history_mixing_and_dashpots(tmp_path):
+    """Two types: Y*, G*, beta mixed per pair; S_n, S_t, both dashpots and the force per contact."""
     s = read_snapshot(_dump(tmp_path), engine="liggghts",
                       liggghts_input=_input(tmp_path, "gran model hertz tangential history"))
     _check(s, _expected("hertz"))
@@ -127,6 +128,7 @@ def test_hertz_mid_overlap_arms(tmp_path):
 
 
 def test_tangential_damping_off_and_no_history(tmp_path):
+    """``tangential_damping off`` drops gamma_t; ``no_history`` keeps the dashpot only."""
     off = read_snapshot(_dump(tmp_path), liggghts_input=_input(
         tmp_path, "gran model hertz tangential history tangential_damping off"))
     exp = _expected("hertz")
@@ -139,6 +141,7 @@ def test_tangential_damping_off_and_no_history(tmp_path):
 
 @pytest.mark.parametrize("kt_user", [False, True])
 def test_hooke(tmp_path, kt_user):
+    """``model hooke``: the characteristic-velocity spring, k_t = k_n (or 0.285714286 k_n), gamma_t = gamma_n."""
     style = "gran model hooke tangential history" + (" ktToKnUser on" if kt_user else "")
     s = read_snapshot(_dump(tmp_path), liggghts_input=_input(
         tmp_path, style, "fix cv all property/global characteristicVelocity scalar 1.5"))
@@ -147,6 +150,7 @@ def test_hooke(tmp_path, kt_user):
 
 @pytest.mark.parametrize("model, torsion", [("epsd", False), ("epsd2", False), ("epsd3", True)])
 def test_rolling_models(tmp_path, model, torsion):
+    """EPSD, EPSD2, EPSD3 rolling springs and dashpots per type pair (``torsionTorque on``: also twisting)."""
     style = f"gran model hertz tangential history rolling_friction {model}" + (" torsionTorque on" if torsion else "")
     extra = [_pair("coefficientRollingFriction", MUR), _pair("coefficientRollingViscousDamping", ETAR),
              "fix rs all property/global rollingStiffness scalar 1.7"]
@@ -155,6 +159,7 @@ def test_rolling_models(tmp_path, model, torsion):
 
 
 def test_cdt_adds_no_spring_and_says_so(tmp_path):
+    """``cdt`` is a constant-size moment: no spring or dashpot, named in the law."""
     s = read_snapshot(_dump(tmp_path), liggghts_input=_input(
         tmp_path, "gran model hertz tangential history rolling_friction cdt", _pair("coefficientRollingFriction", MUR)))
     _check(s, _expected("hertz"))
@@ -183,6 +188,7 @@ REFUSED = [
 
 @pytest.mark.parametrize("style, extra, message", REFUSED)
 def test_refusals_name_the_line(tmp_path, capsys, style, extra, message):
+    """Every term that is not modelled is refused in one line naming FILE:LINE."""
     path = _input(tmp_path, style, *extra)
     assert main(["audit", str(_dump(tmp_path)), "--liggghts-input", str(path)]) == 2
     err = capsys.readouterr().err.strip()
@@ -190,6 +196,7 @@ def test_refusals_name_the_line(tmp_path, capsys, style, extra, message):
 
 
 def test_a_type_without_materials_is_refused(tmp_path, capsys):
+    """A dump type beyond the materials' types is refused at the property's line."""
     rows = [*ROWS, (11, 3, 0.02, 0.02, 0.02, RA, MA)]
     path = _input(tmp_path, "gran model hertz tangential history")
     assert main(["audit", str(_dump(tmp_path, rows)), "--liggghts-input", str(path)]) == 2
@@ -199,6 +206,7 @@ def test_a_type_without_materials_is_refused(tmp_path, capsys):
 
 @pytest.mark.parametrize("flag", [["--pair-style", "gran/hooke/history 1e4 NULL 0 NULL 0.5 0"], ["--contacts", "T"]])
 def test_exclusive_with_pair_style_and_contacts(tmp_path, capsys, flag):
+    """The LIGGGHTS input is the law: with --pair-style or --contacts it is refused."""
     (tmp_path / "T").write_text("id1 id2 kn ks\n2 5 1 1\n")
     flag = [flag[0], str(tmp_path / "T")] if flag[0] == "--contacts" else flag
     path = _input(tmp_path, "gran model hertz tangential history")
@@ -208,6 +216,7 @@ def test_exclusive_with_pair_style_and_contacts(tmp_path, capsys, flag):
 
 
 def test_undefined_variable_and_missing_pair_style(tmp_path, capsys):
+    """An undefined ``${VAR}`` and a missing ``pair_style gran`` are refused."""
     bad = tmp_path / "bad.in"
     bad.write_text("fix m1 all property/global youngsModulus peratomtype ${Y}\npair_style gran model hertz\n")
     assert main(["audit", str(_dump(tmp_path)), "--liggghts-input", str(bad)]) == 2

@@ -48,6 +48,7 @@ pair_style gran model hertz tangential history
 
 @pytest.mark.parametrize("e", [1.0, 0.5, 0.9])
 def test_frictionless_liggghts_equals_lammps_granular_tsuji(tmp_path, e):
+    """Frictionless: the LIGGGHTS input and LAMMPS granular tsuji give one step (1e-12)."""
     lig = audit_snapshot(DUMP, engine="liggghts", liggghts_input=_liggghts(tmp_path, e, 0.0))
     eta = "0" if e == 1.0 else tsuji_restitution(e)
     damping = "velocity" if e == 1.0 else "tsuji"
@@ -85,6 +86,7 @@ def _mp_rows(packing, contacts, e):
 
 
 def test_frictional_damped_liggghts_equals_its_terms_with_liggghts_arms(tmp_path):
+    """Frictional, damped: the same step as contacts built here with LIGGGHTS's arms and terms."""
     e = 0.5
     read = read_snapshot(DUMP, engine="liggghts", liggghts_input=_liggghts(tmp_path, e, 0.5))
     packing = read.packing

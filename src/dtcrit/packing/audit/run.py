@@ -274,8 +274,7 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
     snapshot_index : int
         The snapshot in the dump (-1: the last).
     liggghts_input : str or os.PathLike, optional
-        A LIGGGHTS input script (``pair_style gran model ...`` and its ``fix property/global``
-        materials per atom type, ``dtcrit.packing.conventions.liggghts_input``): the contact law.
+        A LIGGGHTS input: the law per atom type (``dtcrit.packing.conventions.liggghts_input``).
 
     Returns
     -------
@@ -299,6 +298,7 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
     """
     from dtcrit.packing.conventions.engines import engine_convention, engine_sphere_contacts, overlaps_of_pairs
     from dtcrit.packing.conventions.engines import with_arms
+    from dtcrit.packing.conventions.liggghts_law import read_liggghts_law
     from dtcrit.packing.conventions.pair_styles import apply_terms, parse_pair_style
     from dtcrit.packing.readers.contact_tables import read_local_dump
     from dtcrit.packing.readers.yade_export import check_schema, read_yade_audit
@@ -314,8 +314,8 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
                                    f"which does not go with --engine {convention.name}")
     if yade_file:
         if pair_style or local or contact_table or liggghts_input:
-            raise InputError("engine", "a YADE export carries its own contacts; --pair-style, --local and --contacts "
-                                       "do not apply")
+            raise InputError("engine", "a YADE export carries its own contacts; --pair-style, --local, --contacts "
+                                       "and --liggghts-input do not apply")
         packing, contacts, meta = read_yade_audit(path)  # YADE's kinematics (clumps too) applied on reading
         return Snapshot(source, packing, contacts, convention, "YADE's per-contact kn, ks (export)",
                         MappingProxyType(dict(meta)))
@@ -333,8 +333,6 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
         contacts, law = _table_contacts(packing, convention, contact_table)
         return Snapshot(source, packing, contacts, convention, law)
     if liggghts_input:
-        from dtcrit.packing.conventions.liggghts_law import read_liggghts_law
-
         style = read_liggghts_law(liggghts_input, path, snapshot_index, packing)
     assert style is not None
     if local:

@@ -28,7 +28,7 @@ and ``computeDissipatedEnergy`` only record energies.  Anything else that change
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from types import MappingProxyType
 from typing import Mapping
@@ -103,7 +103,6 @@ class LiggghtsInput:
     properties: Mapping[str, Property]
     pair_style: str
     where: str
-    required: tuple[str, ...] = field(default=())
 
     def value(self, name: str) -> np.ndarray:
         """A property's values.
@@ -337,7 +336,7 @@ def parse_liggghts_input(text: str, source: str = "input") -> LiggghtsInput:
     _check_values(props)
     return LiggghtsInput(chosen["model"], chosen["tangential"], chosen["rolling_friction"],
                          MappingProxyType(settings), MappingProxyType({n: props[n] for n in need}),
-                         " ".join(words), where, need)
+                         " ".join(words), where)
 
 
 def read_liggghts_input(path) -> LiggghtsInput:
