@@ -224,3 +224,29 @@ def test_undefined_variable_and_missing_pair_style(tmp_path, capsys):
     bad.write_text("fix m1 all property/global youngsModulus peratomtype 1e8\n")
     assert main(["audit", str(_dump(tmp_path)), "--liggghts-input", str(bad)]) == 2
     assert f"{bad}: no 'pair_style gran model ...' line" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("line, message", [
+    ("fix w all wall/gran model hertz tangential history primitive type 1 zplane 0.0", "fix wall/gran is not modelled"),
+    ("fix v all viscous 0.1", "fix viscous is not modelled"),
+    ("fix ms all multisphere", "fix multisphere is not modelled"),
+    ("dimension 2", "'dimension 2' is not modelled"),
+    ("include walls.in", "'include walls.in' is not modelled"),
+])
+def test_commands_that_change_the_dynamics_are_refused(tmp_path, capsys, line, message):
+    """Walls, other forces and integrators, 2-D and included files are refused at their line."""
+    path = _input(tmp_path, "gran model hertz tangential history", line)
+    assert main(["audit", str(_dump(tmp_path)), "--liggghts-input", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert f"{path}:9: {message}" in err and "to audit the contacts alone" in err and len(err.splitlines()) == 1
+
+
+def test_bookkeeping_commands_are_skipped(tmp_path):
+    """Integrator, gravity, insertion, meshes and averages do not change the contact law: read through."""
+    lines = ["fix integr all nve/sphere", "fix gr all gravity 9.81 vector 0 0 -1",
+             "fix pts all particletemplate/sphere 15485863 atom_type 1 density constant 2500 radius constant 1e-3",
+             "fix ins all insert/pack seed 32452843 distributiontemplate pdd1 insert_every once",
+             "fix cad all mesh/surface file meshes/cad.stl type 1", "fix at all ave/time 1 1 1 c_x",
+             "dimension 3", "atom_style granular"]
+    s = read_snapshot(_dump(tmp_path), liggghts_input=_input(tmp_path, "gran model hertz tangential history", *lines))
+    _check(s, _expected("hertz"))

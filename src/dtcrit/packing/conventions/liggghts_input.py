@@ -15,8 +15,12 @@
 
 (``contact_models.cpp``: the model keywords in this order; ``fix_property_global.cpp``: one property
 per fix).  Comments (``#``), ``&`` continuations and ``variable NAME equal|index|string VALUE`` with
-``${NAME}``/``$N`` substitution are understood; every other command is skipped, as it does not set
-the contact law.  The per-contact law is :mod:`dtcrit.packing.conventions.liggghts_law`.
+``${NAME}``/``$N`` substitution are understood.  Other commands are skipped when they do not change
+the dynamics (``fix nve/sphere``, ``gravity``, ``insert/*``, ``mesh/surface``, ``ave/*``, ...); a fix
+that does (``wall/gran``, ``viscous``, ``freeze``, ``multisphere``, any fix not known here), ``dimension 2``,
+a non-spherical ``atom_style``, bonds and ``include`` are refused, naming the line: a file with just the
+``pair_style`` and ``fix property/global`` lines audits the contacts alone.  The per-contact law is
+:mod:`dtcrit.packing.conventions.liggghts_law`.
 
 Settings (``settings.h``; each model's ``registerSettings``): ``tangential_damping`` and
 ``ktToKnUser`` (hooke) and ``torsionTorque`` (rolling) are modelled; ``computeElasticPotential``
@@ -53,6 +57,10 @@ PER_TYPE = ("youngsModulus", "poissonsRatio")
 PER_PAIR = ("coefficientRestitution", "coefficientFriction", "coefficientRollingFriction",
             "coefficientRollingViscousDamping")
 SCALARS = ("characteristicVelocity", "rollingStiffness")
+FIXES_KEPT = ("property/global", "custom_property/global", "property/atom", "nve/sphere", "gravity",
+              "check/timestep/gran", "mesh/surface", "mesh/surface/stress", "move/mesh", "print", "store/state")
+FIX_FAMILIES_KEPT = ("insert/", "particletemplate/", "particledistribution/", "ave/")
+ALONE = "give a file with just the pair_style and fix property/global lines to audit the contacts alone"
 
 
 @dataclass(frozen=True)
@@ -120,10 +128,6 @@ class LiggghtsInput:
         return self.properties[name].values
 
 
-def _at(where: str, reason: str) -> InputError:
-    return InputError(where, reason)
-
-
 def _logical_lines(text: str, source: str):
     """``(FILE:LINE, words)`` of each command: comments dropped, ``&`` continuations joined."""
     pending: list[str] = []
@@ -148,10 +152,10 @@ _VAR = re.compile(r"\$\{([^}]*)\}|\$\((.*?)\)|\$(.)")
 def _substitute(words: list[str], variables: dict, where: str) -> list[str]:
     def one(m: re.Match) -> str:
         if m.group(2) is not None:
-            raise _at(where, f"immediate expression $({m.group(2)}) is not evaluated here: write its value")
+            raise InputError(where, f"immediate expression $({m.group(2)}) is not evaluated here: write its value")
         name = m.group(1) if m.group(1) is not None else m.group(3)
         if name not in variables:
-            raise _at(where, f"variable {name!r} is not defined by a 'variable NAME equal|index|string VALUE' line")
+            raise InputError(where, f"variable {name!r} is not defined by a 'variable NAME equal|index|string VALUE' line")
         return variables[name]
     return " ".join(_VAR.sub(one, w) for w in words).split()
 
@@ -172,41 +176,57 @@ def _numbers(words: list[str], what: str, where: str) -> np.ndarray:
     out = []
     for w in words:
         if w.startswith("\0"):
-            raise _at(where, f"{what}: the equal-style expression {w[1:]!r} is not evaluated here: write its value")
+            raise InputError(where, f"{what}: the equal-style expression {w[1:]!r} is not evaluated here: write its value")
         try:
             out.append(float(w))
         except ValueError:
-            raise _at(where, f"{what} must be numbers, found {w!r}") from None
+            raise InputError(where, f"{what} must be numbers, found {w!r}") from None
     values = np.array(out, dtype=float)
     if not np.all(np.isfinite(values)) or np.any(values < 0):
-        raise _at(where, f"{what} must be finite numbers >= 0")
+        raise InputError(where, f"{what} must be finite numbers >= 0")
     return values
 
 
 def _property(words: list[str], where: str) -> Property | None:
     """The material of a ``fix ID group property/global NAME STYLE values`` line (None for other names)."""
     if len(words) < 7:
-        raise _at(where, "fix property/global needs NAME STYLE VALUES (fix_property_global.cpp)")
+        raise InputError(where, "fix property/global needs NAME STYLE VALUES (fix_property_global.cpp)")
     name, style, rest = words[4], words[5], words[6:]
     if name not in PER_TYPE + PER_PAIR + SCALARS:
         return None
     if name in PER_TYPE:
         if style not in ("peratomtype", "atomtype"):
-            raise _at(where, f"{name} must be given 'peratomtype' (one value per atom type), found {style!r}")
+            raise InputError(where, f"{name} must be given 'peratomtype' (one value per atom type), found {style!r}")
         return Property(name, _numbers(rest, name, where), where)
     if name in SCALARS:
         if style != "scalar" or len(rest) != 1:
-            raise _at(where, f"{name} must be given 'scalar VALUE'")
+            raise InputError(where, f"{name} must be given 'scalar VALUE'")
         return Property(name, _numbers(rest, name, where).reshape(()), where)
     if style not in ("peratomtypepair", "atomtypepair"):
-        raise _at(where, f"{name} must be given 'peratomtypepair N v11 v12 ... vNN', found {style!r}")
+        raise InputError(where, f"{name} must be given 'peratomtypepair N v11 v12 ... vNN', found {style!r}")
     n = _numbers(rest[:1], f"{name} N", where)[0]
     if n != int(n) or n < 1 or len(rest) - 1 != int(n) ** 2:
-        raise _at(where, f"{name} peratomtypepair {rest[0]} needs {rest[0]} x {rest[0]} values, found {len(rest) - 1}")
+        raise InputError(where, f"{name} peratomtypepair {rest[0]} needs {rest[0]} x {rest[0]} values, found {len(rest) - 1}")
     matrix = _numbers(rest[1:], name, where).reshape(int(n), int(n))
     if not np.array_equal(matrix, matrix.T):
-        raise _at(where, f"{name}: the per-atomtype-pair matrix must be symmetric (LIGGGHTS refuses it too)")
+        raise InputError(where, f"{name}: the per-atomtype-pair matrix must be symmetric (LIGGGHTS refuses it too)")
     return Property(name, matrix, where)
+
+
+def _check_command(words: list[str], where: str) -> None:
+    """Refuse a command that changes the dynamics beyond the pair style: a fix other than the integrator
+    ``nve/sphere``, gravity, insertion, meshes without walls and bookkeeping (``wall/gran``, ``viscous``,
+    ``freeze``, ``multisphere``, ...), a 2-D or non-spherical model, bonds, an ``include`` not followed.
+    """
+    cmd = words[0]
+    if cmd == "fix" and len(words) > 3:
+        style = words[3]
+        if style not in FIXES_KEPT and not style.startswith(FIX_FAMILIES_KEPT):
+            raise InputError(where, f"fix {style} is not modelled by the audit (walls, forces and integrators other than "
+                             f"nve/sphere change the dynamics): {ALONE}")
+    elif ((cmd == "dimension" and words[1:] != ["3"]) or (cmd == "atom_style" and words[1:2] not in (["granular"], ["sphere"]))
+          or (cmd == "run_style" and words[1:2] != ["verlet"]) or cmd in ("bond_style", "include")):
+        raise InputError(where, f"'{' '.join(words)}' is not modelled by the audit: {ALONE}")
 
 
 def _models(words: list[str], where: str) -> tuple[dict, list[str]]:
@@ -219,13 +239,13 @@ def _models(words: list[str], where: str) -> tuple[dict, list[str]]:
         chosen[key] = value
         k += 2
     if "model" not in chosen:
-        raise _at(where, "pair_style gran must start with 'model hertz|hooke' (LIGGGHTS 3 syntax); the LAMMPS-style "
+        raise InputError(where, "pair_style gran must start with 'model hertz|hooke' (LIGGGHTS 3 syntax); the LAMMPS-style "
                          "gran/* arguments go to --pair-style")
     allowed = {"model": NORMAL, "tangential": TANGENTIAL, "cohesion": ("off",), "rolling_friction": ROLLING,
                "surface": ("default",)}
     for key in MODEL_KEYS:
         if chosen[key] not in allowed[key]:
-            raise _at(where, f"{key} {chosen[key]} is not modelled (dtcrit reads {key} {'|'.join(allowed[key])}): "
+            raise InputError(where, f"{key} {chosen[key]} is not modelled (dtcrit reads {key} {'|'.join(allowed[key])}): "
                              "its forces change the dynamics")
     return chosen, words[k:]
 
@@ -233,20 +253,20 @@ def _models(words: list[str], where: str) -> tuple[dict, list[str]]:
 def _settings(words: list[str], where: str) -> dict:
     settings = dict(SETTING_DEFAULTS)
     if len(words) % 2:
-        raise _at(where, f"pair_style gran: keyword {words[-1]!r} has no value (or a model keyword is out of the "
+        raise InputError(where, f"pair_style gran: keyword {words[-1]!r} has no value (or a model keyword is out of the "
                          f"order {' '.join(MODEL_KEYS)})")
     for key, value in zip(words[::2], words[1::2]):
         if key in MODEL_KEYS:
-            raise _at(where, f"pair_style gran: '{key}' is out of the order {' '.join(MODEL_KEYS)} (contact_models.cpp)")
+            raise InputError(where, f"pair_style gran: '{key}' is out of the order {' '.join(MODEL_KEYS)} (contact_models.cpp)")
         if value not in ("on", "off"):
-            raise _at(where, f"pair_style gran: {key} must be on or off, found {value!r}")
+            raise InputError(where, f"pair_style gran: {key} must be on or off, found {value!r}")
         if key in MODELLED:
             settings[key] = value == "on"
         elif key in REFUSED_ON:
             if value == "on":
-                raise _at(where, f"{key} on is not modelled ({REFUSED_ON[key]}): it changes the dynamics")
+                raise InputError(where, f"{key} on is not modelled ({REFUSED_ON[key]}): it changes the dynamics")
         elif key not in RECORD_ONLY:
-            raise _at(where, f"pair_style gran: unknown keyword {key!r}: not modelled")
+            raise InputError(where, f"pair_style gran: unknown keyword {key!r}: not modelled")
     return settings
 
 
@@ -273,9 +293,9 @@ def _check_values(props: dict) -> None:
             v = props[name].values
             bad = (v < lo) | (v > hi) | ((v <= lo) if name == "coefficientRestitution" else False)
             if np.any(bad):
-                raise _at(props[name].where, f"{what} required (global_properties.cpp), found {v[bad].flat[0]:g}")
+                raise InputError(props[name].where, f"{what} required (global_properties.cpp), found {v[bad].flat[0]:g}")
     if "youngsModulus" in props and np.any(props["youngsModulus"].values <= 0):
-        raise _at(props["youngsModulus"].where, "youngsModulus must be positive")
+        raise InputError(props["youngsModulus"].where, "youngsModulus must be positive")
 
 
 def parse_liggghts_input(text: str, source: str = "input") -> LiggghtsInput:
@@ -306,22 +326,23 @@ def parse_liggghts_input(text: str, source: str = "input") -> LiggghtsInput:
         if words[0] == "variable":
             _variable(words, variables, where)
             continue
+        _check_command(words, where)
         if words[0] not in ("pair_style", "fix"):
             continue
         words = _substitute(words, variables, where)
         if words[0] == "pair_style":
             if style is not None:
-                raise _at(where, f"a second pair_style (the first at {style[0]}): give the input of the run the dump "
+                raise InputError(where, f"a second pair_style (the first at {style[0]}): give the input of the run the dump "
                                  "comes from")
             if words[1:2] != ["gran"]:
-                raise _at(where, f"pair_style {' '.join(words[1:2])} is not LIGGGHTS's 'gran': give a LAMMPS style "
+                raise InputError(where, f"pair_style {' '.join(words[1:2])} is not LIGGGHTS's 'gran': give a LAMMPS style "
                                  "with --pair-style")
             style = (where, words)
         elif len(words) > 3 and words[3] in ("property/global", "custom_property/global"):
             prop = _property(words, where)
             if prop is not None:
                 if prop.name in props:
-                    raise _at(where, f"{prop.name} is given twice (first at {props[prop.name].where})")
+                    raise InputError(where, f"{prop.name} is given twice (first at {props[prop.name].where})")
                 props[prop.name] = prop
     if style is None:
         raise InputError(source, "no 'pair_style gran model ...' line")
