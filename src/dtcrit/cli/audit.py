@@ -31,7 +31,8 @@ def add_parser(subparsers) -> None:
     p.add_argument("snapshot", help="LAMMPS/LIGGGHTS text dump (ITEM: ATOMS id type x y z radius|diameter "
                                     "[mass]) or a YADE export (JSON, dtcrit-yade-export/1)")
     p.add_argument("--engine", choices=("lammps", "liggghts", "yade"),
-                   help="whose conventions to apply (default: yade for a YADE export, else lammps)")
+                   help="whose conventions to apply (default: yade for a YADE export, liggghts with "
+                        "--liggghts-input, else lammps)")
     p.add_argument("--pair-style", metavar="'STYLE ARGS'",
                    help="the input script's pair style, e.g. 'gran/hooke/history 1e4 NULL 0 NULL 0.5 0'")
     p.add_argument("--liggghts-input", metavar="FILE",

@@ -250,3 +250,9 @@ def test_bookkeeping_commands_are_skipped(tmp_path):
              "dimension 3", "atom_style granular"]
     s = read_snapshot(_dump(tmp_path), liggghts_input=_input(tmp_path, "gran model hertz tangential history", *lines))
     _check(s, _expected("hertz"))
+
+
+def test_the_engine_defaults_to_liggghts(tmp_path):
+    """Without --engine, a LIGGGHTS input applies LIGGGHTS's conventions (velocity Verlet, pre-load)."""
+    s = read_snapshot(_dump(tmp_path), liggghts_input=_input(tmp_path, "gran model hertz tangential history"))
+    assert s.convention.name == "liggghts" and s.convention.integrator == "velocity-verlet"

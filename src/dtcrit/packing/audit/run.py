@@ -262,7 +262,7 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
         A LAMMPS/LIGGGHTS text dump (``ITEM: ATOMS id type x y z radius|diameter [mass]``) or a YADE
         export (JSON, ``dtcrit-yade-export/1``, written by ``dtcrit/engine_scripts/yade_export.py``).
     engine : {'lammps', 'liggghts', 'yade'}, optional
-        Whose conventions to apply (default: yade for a YADE export, else lammps).
+        Whose conventions to apply (default: yade for a YADE export, liggghts with ``liggghts_input``, else lammps).
     pair_style : str, optional
         The input script's pair style, e.g. ``'gran/hooke/history 1e4 NULL 0 NULL 0.5 0'``.
     local : str or os.PathLike, optional
@@ -308,7 +308,7 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
     yade_file = _is_yade_export(path)
     if yade_file:
         check_schema(path)  # a JSON file of another format is not "a YADE export"
-    convention = engine_convention(engine or ("yade" if yade_file else "lammps"))
+    convention = engine_convention(engine or ("yade" if yade_file else "liggghts" if liggghts_input else "lammps"))
     if yade_file != (convention.name == "yade"):
         raise InputError("engine", f"{source} is {'a YADE export' if yade_file else 'a dump'}, "
                                    f"which does not go with --engine {convention.name}")
