@@ -379,9 +379,10 @@ def read_liggghts_input(path) -> LiggghtsInput:
         ``--liggghts-input`` for an unreadable file; ``FILE:LINE`` for its content.
     """
     try:
-        if not Path(path).is_file():
-            raise InputError(FLAG, f"{path} is not a readable file")
-        text = Path(path).read_text(encoding="utf-8", errors="replace")
+        readable = Path(path).is_file()
+        text = Path(path).read_text(encoding="utf-8", errors="replace") if readable else ""
     except (OSError, ValueError) as exc:  # ValueError: a NUL in the path
         raise InputError(FLAG, f"{path}: {getattr(exc, 'strerror', None) or exc}") from None
+    if not readable:
+        raise InputError(FLAG, f"{path} is not a readable file")
     return parse_liggghts_input(text, str(path))
