@@ -106,3 +106,8 @@ def test_with_friction_the_lammps_arms_differ(tmp_path):
     lmp = audit_snapshot(DUMP, pair_style=f"granular hertz/material {YOUNG!r} 0 {NU!r} tangential mindlin NULL 0 0.5 "
                                           "damping velocity")
     assert 1e-3 < lig.dt_crit / lmp.dt_crit - 1 < 0.05
+
+
+def test_the_engine_tests_lammps_restitution_is_this_root():
+    """``tests/engines/test_engine_liggghts_input.py`` writes e_L for e = 0.5 as a literal: it is this root."""
+    assert tsuji_restitution(0.5) == "0.36665136156871792"
