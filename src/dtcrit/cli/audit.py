@@ -2,6 +2,7 @@
 
     dtcrit audit DUMP --pair-style 'gran/hooke/history 1e4 NULL 0 NULL 0.5 0' [--local CONTACTS.local]
     dtcrit audit DUMP --contacts TABLE [--engine liggghts]
+    dtcrit audit DUMP --liggghts-input in.file --engine liggghts
     dtcrit audit EXPORT.json --engine yade          (written by dtcrit/engine_scripts/yade_export.py)
     ... [--dt DT] [--local-damping ALPHA --local-damping-law yade|pfc] [--json] [--plot FILE.png]
 
@@ -30,9 +31,13 @@ def add_parser(subparsers) -> None:
     p.add_argument("snapshot", help="LAMMPS/LIGGGHTS text dump (ITEM: ATOMS id type x y z radius|diameter "
                                     "[mass]) or a YADE export (JSON, dtcrit-yade-export/1)")
     p.add_argument("--engine", choices=("lammps", "liggghts", "yade"),
-                   help="whose conventions to apply (default: yade for a YADE export, else lammps)")
+                   help="whose conventions to apply (default: yade for a YADE export, liggghts with "
+                        "--liggghts-input, else lammps)")
     p.add_argument("--pair-style", metavar="'STYLE ARGS'",
                    help="the input script's pair style, e.g. 'gran/hooke/history 1e4 NULL 0 NULL 0.5 0'")
+    p.add_argument("--liggghts-input", metavar="FILE",
+                   help="LIGGGHTS input script: 'pair_style gran model hertz|hooke ...' and its 'fix property/global' "
+                        "materials per atom type (the dump's type column)")
     p.add_argument("--local", metavar="FILE", help="LAMMPS dump local of the engine's contact list (patom1 patom2)")
     p.add_argument("--contacts", metavar="TABLE", help="contact table with the columns id1 id2 kn ks [cn cs kr ktw fn]")
     p.add_argument("--density", type=float, help="particle density [kg/m^3] for a dump without a mass column")
@@ -76,13 +81,15 @@ def flag_of(key: str, args) -> str | None:
     if key.startswith("-") or ":" in key:
         return None
     if key in ("stiffness", "damping", "youngs", "kn", "ks"):
+        if getattr(args, "liggghts_input", None):
+            return "--liggghts-input"
         return "--contacts" if args.contacts else "--pair-style" if args.pair_style else f"{args.snapshot}:contacts"
     if key in ("box", "positions", "mass", "radius"):
         return f"{args.snapshot}:{key}"
     return {"integrator": "--integrator", "density": "--density", "dt": "--dt", "engine": "--engine",
             "snapshot": "SNAPSHOT", "local": "--local", "contact_table": "--contacts",
             "pair_style": "--pair-style", "plot": "--plot", "local_damping": "--local-damping",
-            "local_damping_law": "--local-damping-law"}.get(key)
+            "local_damping_law": "--local-damping-law", "liggghts_input": "--liggghts-input"}.get(key)
 
 
 def run_command(args) -> int:
@@ -121,7 +128,8 @@ def _run(args) -> int:
                                 local_damping=args.local_damping, local_damping_law=args.local_damping_law,
                                 engine=args.engine,
                                 pair_style=args.pair_style, local=args.local, contact_table=args.contacts,
-                                density=args.density, snapshot_index=args.snapshot_index)
+                                density=args.density, snapshot_index=args.snapshot_index,
+                                liggghts_input=args.liggghts_input)
     except DumpReadError as exc:  # the dump reader's key as the flag that set it
         raise InputError(_dump_flag(exc, args.snapshot), exc.reason) from None
     if args.plot:

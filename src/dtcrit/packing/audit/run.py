@@ -262,7 +262,8 @@ def _table_contacts(packing: Packing, convention: EngineConvention, path) -> tup
 
 def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_style: str | None = None,
                   local: str | os.PathLike | None = None, contact_table: str | os.PathLike | None = None,
-                  density: float | None = None, snapshot_index: int = -1) -> Snapshot:
+                  density: float | None = None, snapshot_index: int = -1,
+                  liggghts_input: str | os.PathLike | None = None) -> Snapshot:
     """Read a snapshot with its engine's conventions: the packing and its contacts with every term.
 
     Parameters
@@ -271,7 +272,7 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
         A LAMMPS/LIGGGHTS text dump (``ITEM: ATOMS id type x y z radius|diameter [mass]``) or a YADE
         export (JSON, ``dtcrit-yade-export/1``, written by ``dtcrit/engine_scripts/yade_export.py``).
     engine : {'lammps', 'liggghts', 'yade'}, optional
-        Whose conventions to apply (default: yade for a YADE export, else lammps).
+        Whose conventions to apply (default: yade for a YADE export, liggghts with ``liggghts_input``, else lammps).
     pair_style : str, optional
         The input script's pair style, e.g. ``'gran/hooke/history 1e4 NULL 0 NULL 0.5 0'``.
     local : str or os.PathLike, optional
@@ -282,6 +283,8 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
         Particle density [kg/m^3] for a dump without a mass column.
     snapshot_index : int
         The snapshot in the dump (-1: the last).
+    liggghts_input : str or os.PathLike, optional
+        A LIGGGHTS input: the law per atom type (``dtcrit.packing.conventions.liggghts_input``).
 
     Returns
     -------
@@ -305,6 +308,7 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
     """
     from dtcrit.packing.conventions.engines import engine_convention, engine_sphere_contacts, overlaps_of_pairs
     from dtcrit.packing.conventions.engines import with_arms
+    from dtcrit.packing.conventions.liggghts_law import read_liggghts_law
     from dtcrit.packing.conventions.pair_styles import apply_terms, parse_pair_style
     from dtcrit.packing.readers.contact_tables import read_local_dump
     from dtcrit.packing.readers.yade_export import check_schema, read_yade_audit
@@ -314,27 +318,32 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
     yade_file = _is_yade_export(path)
     if yade_file:
         check_schema(path)  # a JSON file of another format is not "a YADE export"
-    convention = engine_convention(engine or ("yade" if yade_file else "lammps"))
+    convention = engine_convention(engine or ("yade" if yade_file else "liggghts" if liggghts_input else "lammps"))
     if yade_file != (convention.name == "yade"):
         raise InputError("engine", f"{source} is {'a YADE export' if yade_file else 'a dump'}, "
                                    f"which does not go with --engine {convention.name}")
     if yade_file:
-        if pair_style or local or contact_table:
-            raise InputError("engine", "a YADE export carries its own contacts; --pair-style, --local and --contacts "
-                                       "do not apply")
+        if pair_style or local or contact_table or liggghts_input:
+            raise InputError("engine", "a YADE export carries its own contacts; --pair-style, --local, --contacts "
+                                       "and --liggghts-input do not apply")
         packing, contacts, meta = read_yade_audit(path)  # YADE's kinematics (clumps too) applied on reading
         return Snapshot(source, packing, contacts, convention, "YADE's per-contact kn, ks (export)",
                         MappingProxyType(dict(meta)))
+    if liggghts_input and (pair_style or contact_table):
+        raise InputError("liggghts_input", "a LIGGGHTS input gives the contact law: do not combine it with "
+                                           "--pair-style or --contacts")
     style = parse_pair_style(pair_style) if pair_style else None
     if contact_table and (style or local):
         raise InputError("contact_table", "a contact table already gives each contact's stiffness; "
                                           "do not combine it with --pair-style or --local")
-    if not contact_table and style is None:
+    if not contact_table and style is None and not liggghts_input:
         raise InputError("pair_style", "give the contact law (the input script's pair style) or a --contacts table")
     packing = _read_dump(path, density, snapshot_index)
     if contact_table:
         contacts, law = _table_contacts(packing, convention, contact_table)
         return Snapshot(source, packing, contacts, convention, law)
+    if liggghts_input:
+        style = read_liggghts_law(liggghts_input, path, snapshot_index, packing)
     assert style is not None
     if local:
         i, j = read_local_dump(local, packing)
@@ -370,7 +379,7 @@ def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None =
         ``yade``): the steps times ``1/sqrt(1 + alpha)`` (:mod:`dtcrit.packing.audit.local_damping`).
     **read
         The keyword arguments of :func:`read_snapshot` (``engine``, ``pair_style``, ``local``,
-        ``contact_table``, ``density``, ``snapshot_index``) for a file.
+        ``contact_table``, ``density``, ``snapshot_index``, ``liggghts_input``) for a file.
 
     Returns
     -------
