@@ -379,6 +379,7 @@ def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None =
     ('lammps', True, True)
     """
     from dtcrit.packing.audit import snapshot as analysis
+    from dtcrit.packing.bounds.yade_stepper_export import from_snapshot
 
     if isinstance(snapshot, Snapshot):
         if read:
@@ -391,5 +392,5 @@ def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None =
         given = read_snapshot(snapshot, **read)
     report = analysis.audit(given.packing, given.contacts, given.convention, law=given.law, source=given.source,
                             integrator=integrator, dt_user=dt if dt is not None else given.meta.get("dt"),
-                            material=given.meta.get("material"))
+                            material=given.meta.get("material"), yade_stepper=from_snapshot(given))
     return SnapshotAudit.from_report(report)
