@@ -44,7 +44,7 @@ if TYPE_CHECKING:
     from dtcrit.packing.model import Contacts, Packing
 
 __all__ = ["StepperInput", "StepperStep", "contact_diagonals", "body_diagonals", "squared_periods",
-           "yade_stepper", "viscous_steps", "from_contacts", "estimator_rows", "ROTATIONAL_PHYSICS"]
+           "yade_stepper", "single_contact_step", "viscous_steps", "from_contacts", "estimator_rows", "ROTATIONAL_PHYSICS"]
 
 ROTATIONAL_PHYSICS = frozenset({"RotStiffFrictPhys", "CohFrictPhys", "InelastCohFrictPhys", "MindlinPhys",
                                 "MindlinPhysCDM", "MindlinCapillaryPhys", "CapillaryMindlinPhysDelaunay"})
@@ -252,6 +252,41 @@ def yade_stepper(inp: StepperInput, safety: float = rot.YADE_GSTS_SAFETY) -> Ste
     col = int(np.argmin(both[body]))
     term = "translation" if col == 0 else f"rotation about body axis {'xyz'[col - 1]}"
     return StepperStep(float(per_body[body]), safety, body, term, per_body)
+
+
+def single_contact_step(mass: float, inertia, kn: float, ks: float, kr: float, ktw: float, radius: float,
+                        safety: float = rot.YADE_GSTS_SAFETY) -> float:
+    """The stepper's step of a body with one contact, its normal along the worst direction.
+
+    ``dtcrit step`` scenes give no contact directions.  The body's squared periods are
+    ``m / max_a K_a`` and ``I_a / K_rot,a``, each ``K`` linear in the ``n_a^2`` (which sum to 1), so
+    the smallest over all directions is at a normal along an axis: the smaller of ``m / max(kn, ks)``
+    and ``I_min / max(ks R^2 + kr, ktw)``, found here with :func:`contact_diagonals` on the three axes.
+
+    Parameters
+    ----------
+    mass : float
+        Body mass [kg].
+    inertia : array_like
+        Its three principal moments [kg m^2].
+    kn, ks : float
+        Normal and shear springs [N/m].
+    kr, ktw : float
+        Rolling and twisting springs [N m/rad] (``getRotStiffness`` ``(ktw, kr, kr)``).
+    radius : float
+        The touching sphere's radius [m] (for a clump, its member's).
+    safety : float
+        ``timestepSafetyCoefficient``.
+
+    Returns
+    -------
+    float
+        ``1.41044 x safety x sqrt(min over the three normals)`` [s].
+    """
+    axes = np.eye(3)
+    k, k_rot = contact_diagonals(axes, np.full(3, kn), np.full(3, ks), np.tile([ktw, kr, kr], (3, 1)), np.full(3, radius))
+    t, r = squared_periods(np.full(3, mass), np.tile(np.asarray(inertia, float), (3, 1)), k, k_rot)
+    return rot.YADE_GSTS_CONSTANT * safety * math.sqrt(float(min(t.min(), r.min())))
 
 
 def viscous_steps(masses, inertia, c, c_rot, safety: float = rot.YADE_GSTS_SAFETY) -> np.ndarray:
