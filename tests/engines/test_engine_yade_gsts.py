@@ -70,6 +70,7 @@ CASES = {
     "clump cloud": CloudCase(n=20, clump_members=3, fixed=1, grow=1.3),
     "dumbbell cloud": CloudCase(n=20, clump_members=2, grow=1.7, r_fuzz=0.1, seed=5),
 }
+NO_MOMENT_LAW = CloudCase(n=30, moment_law=True, moment_rotation=False, seed=4)
 
 
 @pytest.fixture(scope="module")
@@ -84,10 +85,10 @@ def stepped(yade, tmp_path_factory):
     from dtcrit.packing.audit.run import audit_snapshot
 
     tmp = tmp_path_factory.mktemp("yade_gsts")
-    paths = [tmp / f"{k}.json" for k in range(len(CASES))]
-    dts = stepper_dt(list(CASES.values()), paths, SAFETIES, yade=yade)
+    paths = [tmp / f"{k}.json" for k in range(len(CASES) + 1)]
+    dts = stepper_dt([*CASES.values(), NO_MOMENT_LAW], paths, SAFETIES, yade=yade)
     out = {}
-    for key, path, dt in zip(CASES, paths, dts):
+    for key, path, dt in zip([*CASES, "no moment law"], paths, dts):
         audit = audit_snapshot(path)
         out[key] = {"yade": dt, "audit": audit, "rows": {e.estimate.name: e for e in audit.estimators}, "path": path}
     return out
@@ -103,6 +104,28 @@ def test_audit_row_is_yade_stepper_dt(stepped, key):
           f"YADE/dt_crit = {yade08 / c['audit'].dt_crit:.4f}")
     assert row.dt == pytest.approx(yade08, rel=1e-12, abs=0)
     assert unscaled.dt == pytest.approx(yade08 / 0.8, rel=1e-12, abs=0)
+
+
+def test_cohfrictphys_without_its_moment_law_has_no_row(stepped):
+    """CohFrictMat with ``momentRotationLaw`` off: YADE's stepper still adds CohFrictPhys's kr, ktw
+    (its ``O.dt`` is below the step without them), which the export leaves out: no row, the reason named."""
+    import json
+
+    from dtcrit.packing.bounds.yade_stepper import yade_stepper
+    from dtcrit.packing.bounds.yade_stepper_export import from_export
+    from dtcrit.packing.readers.yade_export import read_yade_audit
+
+    c = stepped["no moment law"]
+    row = c["rows"]["yade_gsts"].estimate
+    assert row.dt is None and "kr, ktw" in row.detail
+    doc = json.loads(c["path"].read_text())
+    assert {it["phys"] for it in doc["interactions"]} == {"CohFrictPhys"}
+    assert all(it["kr"] is None for it in doc["interactions"])
+    for it in doc["interactions"]:
+        it["phys"] = "FrictPhys"  # the same contacts without moment springs
+    packing, _, _ = read_yade_audit(c["path"])
+    without = yade_stepper(from_export(doc, packing)).dt
+    assert c["yade"][0.8] < without * (1 - 1e-3)
 
 
 @pytest.mark.parametrize("key", list(CASES))

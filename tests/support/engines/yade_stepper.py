@@ -16,7 +16,8 @@ Cases besides ``yade_bodies``' ``ClumpPairCase``:
   random axis inside it (``O.bodies.appendClumped``: YADE's own mass, principal inertia and frame);
   ``fixed`` bodies (the first ones) are made non-dynamic.  FrictMat, or with ``moment_law``
   CohFrictMat bonded at the first pass (``setCohesionNow``) with its moment law
-  (``kr = alphaKr ks R1 R2``, ``ktw = alphaKtw ks R1 R2``).
+  (``kr = alphaKr ks R1 R2``, ``ktw = alphaKtw ks R1 R2``), or with ``moment_rotation`` false the same
+  physics without it (CohFrictPhys still holds ``kr``, ``ktw``).
 """
 from __future__ import annotations
 
@@ -51,6 +52,7 @@ class CloudCase:
     poisson: float = 0.3
     density: float = 2500.0
     moment_law: bool = False
+    moment_rotation: bool = True  # with moment_law: CohFrictMat.momentRotationLaw
     seed: int = 3
     label: str = ""
     kind: str = field(default="cloud", init=False)
@@ -70,7 +72,8 @@ def build_cloud(c):
     if c["moment_law"]:
         mat = O.materials.append(CohFrictMat(young=c["young"], poisson=c["poisson"], density=c["density"],
                                              frictionAngle=0.5, isCohesive=True, normalCohesion=1e30,
-                                             shearCohesion=1e30, momentRotationLaw=True, alphaKr=2.0, alphaKtw=1.5))
+                                             shearCohesion=1e30, momentRotationLaw=c["moment_rotation"],
+                                             alphaKr=2.0, alphaKtw=1.5))
         loop = coh_loop()
     else:
         mat = O.materials.append(FrictMat(young=c["young"], poisson=c["poisson"], density=c["density"],
