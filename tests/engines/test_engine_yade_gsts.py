@@ -108,7 +108,8 @@ def test_audit_row_is_yade_stepper_dt(stepped, key):
 
 def test_cohfrictphys_without_its_moment_law_has_no_row(stepped):
     """CohFrictMat with ``momentRotationLaw`` off: YADE's stepper still adds CohFrictPhys's kr, ktw
-    (its ``O.dt`` is below the step without them), which the export leaves out: no row, the reason named."""
+    (its ``O.dt`` is below the step without them), which the export leaves out: no row, the reason named.
+    """
     import json
 
     from dtcrit.packing.bounds.yade_stepper import yade_stepper
