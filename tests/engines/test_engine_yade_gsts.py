@@ -24,6 +24,7 @@ import numpy as np
 import pytest
 
 from support.engines import require_engine
+from support.paths import SRC
 from support.engines.yade import Run
 from support.engines.yade_bodies import ClumpPairCase, run_batch
 from support.engines.yade_stepper import CloudCase, stepper_dt
@@ -108,9 +109,12 @@ def test_audit_row_is_yade_stepper_dt(stepped, key):
 
 def test_cohfrictphys_without_its_moment_law_has_no_row(stepped):
     """CohFrictMat with ``momentRotationLaw`` off: YADE's stepper still adds CohFrictPhys's kr, ktw
-    (its ``O.dt`` is below the step without them), which the export leaves out: no row, the reason named.
+    (its ``O.dt`` is below the step without them), which the export leaves out: no row, the reason named
+    in the text and in the JSON (``dt``, ``ratio``, ``safe`` null).
     """
     import json
+
+    import jsonschema
 
     from dtcrit.packing.bounds.yade_stepper import yade_stepper
     from dtcrit.packing.bounds.yade_stepper_export import from_export
@@ -122,6 +126,9 @@ def test_cohfrictphys_without_its_moment_law_has_no_row(stepped):
     doc = json.loads(c["path"].read_text())
     assert {it["phys"] for it in doc["interactions"]} == {"CohFrictPhys"}
     assert all(it["kr"] is None for it in doc["interactions"])
+    text_row = next(line for line in c["audit"].to_text().splitlines() if line.startswith("yade_gsts "))
+    assert "n/a" in text_row and "kr, ktw" in text_row
+    jsonschema.validate(c["audit"].to_json(), json.loads((SRC / "dtcrit" / "schemas" / "dtcrit-audit-1.json").read_text()))
     for it in doc["interactions"]:
         it["phys"] = "FrictPhys"  # the same contacts without moment springs
     packing, _, _ = read_yade_audit(c["path"])
