@@ -232,7 +232,7 @@ def yade_stepper(inp: StepperInput, safety: float = rot.YADE_GSTS_SAFETY) -> Ste
     >>> inp = StepperInput(np.ones(2), np.full((2, 3), 0.4), np.ones(2, bool), np.arange(2), np.array([0]),
     ...                    np.array([1]), np.array([[1.0, 0, 0]]), np.array([1.0]), np.array([0.5]),
     ...                    np.zeros((1, 3)), np.ones(1), np.ones(1), np.ones(1, bool), (1, 2))
-    >>> round(yade_stepper(inp).dt / (1.41044 * 0.8 * np.sqrt(0.4 / 0.5)), 12)
+    >>> round(yade_stepper(inp).dt / (1.41044 * 0.8 * math.sqrt(0.4 / 0.5)), 12)
     1.0
     """
     n = inp.masses.shape[0]
