@@ -3,7 +3,7 @@
     dtcrit audit DUMP --pair-style 'gran/hooke/history 1e4 NULL 0 NULL 0.5 0' [--local CONTACTS.local]
     dtcrit audit DUMP --contacts TABLE [--engine liggghts]
     dtcrit audit EXPORT.json --engine yade          (written by dtcrit/engine_scripts/yade_export.py)
-    ... [--dt DT] [--json]
+    ... [--dt DT] [--json] [--plot FILE.png]
 
 The engine's conventions (``dtcrit.packing.conventions.engines``) decide which pairs touch, the contact arms,
 the pre-load and the integrator; the dashpots enter the damping matrix contact by contact.
@@ -40,6 +40,8 @@ def add_parser(subparsers) -> None:
     p.add_argument("--dt", type=float, help="the simulation's own step [s], rated against dt_crit")
     p.add_argument("--integrator", help="override the engine's integrator (see dtcrit step's integrators)")
     p.add_argument("--json", action="store_true", help="print the result as JSON (schema dtcrit-audit/1)")
+    p.add_argument("--plot", metavar="FILE.png", help="also draw the particles by their share of the governing mode "
+                                                      "and the top of the spectrum with dt_crit, dt_safe and the estimators")
     p.set_defaults(run=run_command)
 
 
@@ -73,7 +75,7 @@ def flag_of(key: str, args) -> str | None:
         return f"{args.snapshot}:{key}"
     return {"integrator": "--integrator", "density": "--density", "dt": "--dt", "engine": "--engine",
             "snapshot": "SNAPSHOT", "local": "--local", "contact_table": "--contacts",
-            "pair_style": "--pair-style"}.get(key)
+            "pair_style": "--pair-style", "plot": "--plot"}.get(key)
 
 
 def run_command(args) -> int:
@@ -103,12 +105,18 @@ def _run(args) -> int:
     from dtcrit.packing.audit.run import DumpReadError, audit_snapshot
 
     args.source_label = None
+    if args.plot:
+        from dtcrit.figures.audit_plot import check_plot_path, write_audit_plot
+
+        check_plot_path(args.plot)  # before the work: a bad path is one line at once
     try:
         result = audit_snapshot(args.snapshot, dt=args.dt, integrator=args.integrator, engine=args.engine,
                                 pair_style=args.pair_style, local=args.local, contact_table=args.contacts,
                                 density=args.density, snapshot_index=args.snapshot_index)
     except DumpReadError as exc:  # the dump reader's key as the flag that set it
         raise InputError(_dump_flag(exc, args.snapshot), exc.reason) from None
+    if args.plot:
+        write_audit_plot(result, args.plot)
     if args.json:
         json.dump(result.to_json(), sys.stdout, indent=2, sort_keys=True)
         sys.stdout.write("\n")

@@ -33,7 +33,8 @@ def _by_hand(n, kn, ks, kr, ktw, mass, inertia, radius, safety=0.8):
     for a in range(3):
         k = ks * (1.0 - n[a] ** 2) * radius**2 + (ktw - kr) * n[a] ** 2 + kr
         if k != 0:
-            rots.append(inertia[a] / k)
+            with np.errstate(over="ignore"):  # a subnormal spring: an infinite period, as in the source
+                rots.append(inertia[a] / k)
     return 1.41044 * safety * math.sqrt(min([mass / trans] + rots))
 
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 import os
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, Mapping
@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, Any, Mapping
 from dtcrit.errors import InputError, MisuseError
 
 if TYPE_CHECKING:
+    from dtcrit.packing.audit.mode_character import ModeCharacter
     from dtcrit.packing.audit.snapshot import AuditReport
     from dtcrit.packing.conventions.engines import EngineConvention
     from dtcrit.packing.model import Contacts, Packing
@@ -120,6 +121,10 @@ class SnapshotAudit:
         Notes printed with the result.
     participation : float
         Participation ratio of the governing mode's particle energies.
+    governing_mode : ModeCharacter or None
+        Which springs hold the governing mode's energy (``dtcrit.packing.audit.mode_character``).
+    snapshot : Snapshot or None
+        The snapshot audited (its packing and contacts; for ``dtcrit.packing.audit.plot_data``).
 
     Examples
     --------
@@ -150,6 +155,8 @@ class SnapshotAudit:
     estimators: tuple[RatedEstimate, ...] = ()
     notes: tuple[str, ...] = ()
     participation: float = math.nan
+    governing_mode: ModeCharacter | None = None
+    snapshot: Snapshot | None = field(default=None, repr=False, compare=False)
 
     @property
     def ratio(self) -> float | None:
@@ -185,7 +192,7 @@ class SnapshotAudit:
         """
         from dtcrit.packing.audit.snapshot import AuditReport
 
-        values = {f.name: getattr(self, f.name) for f in fields(self)}
+        values = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "snapshot"}
         values.update(limiting=list(self.limiting), notes=list(self.notes),
                       estimators=list(self.estimators))
         return AuditReport(**values)
@@ -393,4 +400,4 @@ def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None =
     report = analysis.audit(given.packing, given.contacts, given.convention, law=given.law, source=given.source,
                             integrator=integrator, dt_user=dt if dt is not None else given.meta.get("dt"),
                             material=given.meta.get("material"), yade_stepper=from_snapshot(given))
-    return SnapshotAudit.from_report(report)
+    return replace(SnapshotAudit.from_report(report), snapshot=given)

@@ -37,6 +37,7 @@ from dtcrit.physics import rules_of_thumb as rot
 from dtcrit.physics.contact_laws import reduced
 from dtcrit.physics.estimate import Estimate, RatedEstimate
 
+from dtcrit.packing.audit.mode_character import ModeCharacter, mode_character, participation_ratio, particle_energies
 from dtcrit.packing.bounds.yade_stepper import StepperInput, estimator_rows, from_contacts
 from dtcrit.packing.operators.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
 from dtcrit.packing.solvers.damped_step import damped_critical_dt
@@ -99,6 +100,9 @@ class AuditReport:
     participation : float
         Participation ratio ``(sum e_p)^2 / (N sum e_p^2)`` of the governing mode's particle energies
         (1: every particle alike; 1/N: one particle).
+    governing_mode : ModeCharacter or None
+        Which springs hold the governing mode's energy (``dtcrit.packing.audit.mode_character``);
+        ``None`` on the spectral-radius route (no mode vector).
     """
 
     source: str
@@ -121,6 +125,7 @@ class AuditReport:
     estimators: list[RatedEstimate] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     participation: float = math.nan  # (sum e_p)^2 / (N sum e_p^2) of the governing mode's particle energies
+    governing_mode: ModeCharacter | None = None
 
     @property
     def participating(self) -> float:
@@ -146,13 +151,13 @@ def _limiting(packing: Packing, vector: np.ndarray | None) -> tuple[list[int], f
     """``(ids, share of the top LIMITING_COUNT, participation ratio)``; no ids when the mode is spread out."""
     if vector is None:
         return [], 0.0, math.nan
-    share = (np.asarray(vector).reshape(-1, 6) ** 2).sum(axis=1)
+    share = particle_energies(vector)
     total = share.sum()
     if total <= 0:
         return [], 0.0, math.nan
     top = np.argsort(-share, kind="stable")[:LIMITING_COUNT]
     held = float(share[top].sum() / total)
-    participation = float(total**2 / (len(share) * np.sum(share**2)))
+    participation = participation_ratio(share)
     ids = [packing.particle_id(p) for p in top] if held >= LOCALISED_SHARE else []
     return ids, held, participation
 
@@ -255,5 +260,5 @@ def audit(packing: Packing, contacts: Contacts, convention: EngineConvention, *,
         damped=contacts.damped, preload=bool(notes), dt_crit=step.dt, dt_safe=dt_safe,
         dt_undamped=step.dt_undamped, method=step.method, limiting=limiting, limiting_share=share,
         dt_user=dt_user, estimators=_estimators(packing, springs, step.dt, material, contacts.damped, stepper), notes=notes,
-        participation=participation,
+        participation=participation, governing_mode=mode_character(packing, contacts, step.vector),
     )
