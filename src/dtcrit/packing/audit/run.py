@@ -403,6 +403,7 @@ def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None =
     """
     from dtcrit.packing.audit import local_damping as damping
     from dtcrit.packing.audit import snapshot as analysis
+    from dtcrit.packing.bounds.yade_stepper_export import from_snapshot
 
     if isinstance(snapshot, Snapshot):
         if read:
@@ -416,5 +417,5 @@ def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None =
     local = damping.resolve(given.meta, given.source, local_damping, local_damping_law)
     report = analysis.audit(given.packing, given.contacts, given.convention, law=given.law, source=given.source,
                             integrator=integrator, dt_user=dt if dt is not None else given.meta.get("dt"),
-                            material=given.meta.get("material"))
+                            material=given.meta.get("material"), yade_stepper=from_snapshot(given))
     return replace(SnapshotAudit.from_report(damping.apply(report, local)), snapshot=given)
