@@ -29,6 +29,7 @@ from dtcrit.errors import InputError
 from dtcrit.packing.conventions.engines import overlaps_of_pairs
 from dtcrit.packing.model import Box, Contacts, Packing
 from dtcrit.packing.readers.limits import check_inertia, check_lengths
+from dtcrit.packing.readers.yade_terms import check_export_terms
 from dtcrit.inputs.arrays import triple as _triple
 from dtcrit.inputs.files import line_of, located_in
 from dtcrit.inputs.text import show
@@ -107,6 +108,7 @@ def _load(path: Path) -> tuple[dict, list, list]:
         raise InputError(f"{path}: bodies", f"the export needs a non-empty 'bodies' list, found {show(bodies)}")
     if not isinstance(inters, list):
         raise InputError(f"{path}: interactions", f"the export needs an 'interactions' list, found {show(inters)}")
+    check_export_terms(doc, path)  # every setting the audit does not model, refused naming it
     return doc, bodies, inters
 
 
