@@ -237,17 +237,14 @@ def _is_yade_export(path) -> bool:
 
 
 def _table_contacts(packing: Packing, convention: EngineConvention, path) -> tuple[Contacts, str]:
-    """The contacts of a per-contact table (``id1 id2 kn ks [cn cs kr ktw fn]``) and the law's words."""
-    from dtcrit.packing.conventions.engines import overlaps_of_pairs, with_arms
-    from dtcrit.packing.readers.contact_tables import read_contact_table
+    """The contacts of a per-contact table (``id1 id2 kn ks [cn cs kr ktw cr ctw fn]``), with the engine's
+    kinematics, and the law's words.
+    """
+    from dtcrit.packing.readers.contact_tables import read_contact_table, table_contacts
 
     table = read_contact_table(path, packing)
-    contacts = with_arms(packing, overlaps_of_pairs(packing, table.i, table.j), convention.arm)
-    v = table.values
-    contacts = contacts.with_stiffness(v["kn"], v["ks"], v.get("kr"), v.get("ktw"))
-    contacts = contacts.with_damping(v.get("cn", 0.0), v.get("cs", 0.0))
-    contacts = contacts.with_normal_force(v.get("fn", v["kn"] * contacts.overlap))
-    return contacts, f"per-contact table {Path(path).name}" + ("" if "fn" in v else " (pre-load kn x overlap)")
+    contacts = table_contacts(packing, table, convention.arm)
+    return contacts, f"per-contact table {Path(path).name}" + ("" if "fn" in table.values else " (pre-load kn x overlap)")
 
 
 def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_style: str | None = None,
@@ -305,9 +302,10 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
     if yade_file:
         check_schema(path)  # a JSON file of another format is not "a YADE export"
     convention = engine_convention(engine or ("yade" if yade_file else "lammps"))
-    if yade_file != (convention.name == "yade"):
+    if yade_file != (convention.name == "yade") and not (contact_table and not yade_file):
         raise InputError("engine", f"{source} is {'a YADE export' if yade_file else 'a dump'}, "
-                                   f"which does not go with --engine {convention.name}")
+                                   f"which does not go with --engine {convention.name}"
+                                   + ("" if yade_file else " without a --contacts table"))
     if yade_file:
         if pair_style or local or contact_table:
             raise InputError("engine", "a YADE export carries its own contacts; --pair-style, --local and --contacts "
@@ -315,6 +313,9 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
         packing, contacts, meta = read_yade_audit(path)  # YADE's kinematics (clumps too) applied on reading
         return Snapshot(source, packing, contacts, convention, "YADE's per-contact kn, ks (export)",
                         MappingProxyType(dict(meta)))
+    if convention.name == "yade" and (pair_style or local):
+        raise InputError("engine", "with --engine yade a dump goes with a --contacts table (YADE's per-contact terms); "
+                                   "--pair-style and --local do not apply")
     style = parse_pair_style(pair_style) if pair_style else None
     if contact_table and (style or local):
         raise InputError("contact_table", "a contact table already gives each contact's stiffness; "
