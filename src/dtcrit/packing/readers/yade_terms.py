@@ -22,6 +22,7 @@ The refusals, each with the YADE source that makes it change the dynamics (``pkg
   velocity field ``velGrad x`` is added to every body);
 * a Law2 functor in ``laws`` that is not :data:`KNOWN_LAWS`, or one with an option in
   :data:`REFUSED_LAW_OPTIONS` on (creep: a viscous term);
+* a non-zero ``shift2`` in an export that is not periodic (YADE writes zero there);
 * an interaction whose ``phys`` is not :data:`KNOWN_PHYS` (e.g. ViscElPhys: its law takes the shear
   velocity at the contact point and adds a rolling resistance ``mR``; MindlinPhys: its ``kn`` is a
   secant) or whose ``geom`` is not :data:`KNOWN_GEOM`;
@@ -166,7 +167,10 @@ def _check_body(where: str, body: dict, damping: float) -> None:
                                                "while the others are (local damping): not modelled by the audit")
 
 
-def _check_interaction(where: str, it: dict) -> None:
+def _check_interaction(where: str, it: dict, periodic: bool) -> None:
+    shift = it.get("shift2")
+    if not periodic and isinstance(shift, list) and any(isinstance(x, (int, float)) and x != 0 for x in shift):
+        raise InputError(f"{where}.shift2", f"a periodic image shift {show(shift)} in an export that is not periodic")
     for key, what, known in (("phys", "physics", KNOWN_PHYS), ("geom", "geometry", KNOWN_GEOM)):
         name = it.get(key)
         if name is not None and name not in known:
@@ -213,7 +217,7 @@ def check_export_terms(doc: dict, path) -> None:
     inters = doc.get("interactions") if isinstance(doc.get("interactions"), list) else []
     for k, it in enumerate(inters):
         if isinstance(it, dict):
-            _check_interaction(f"{path}: interactions[{k}]", it)
+            _check_interaction(f"{path}: interactions[{k}]", it, bool(doc.get("periodic")))
 
 
 def refusal_lines() -> list[str]:
