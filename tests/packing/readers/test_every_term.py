@@ -205,9 +205,9 @@ def test_every_field_is_covered_by_a_test():
 #: for each refused field, a value that changes YADE's dynamics and the word the one-line refusal names
 REFUSED = {
     "top": {
-        "cell_vel_grad": (lambda d: d.update(cell_vel_grad=[[0, 0.1, 0], [0, 0, 0], [0, 0, 0]]), "cell_vel_grad"),
-        "cell_next_vel_grad": (lambda d: d.update(cell_next_vel_grad=[[0.1, 0, 0], [0, 0, 0], [0, 0, 0]]),
-                               "cell_next_vel_grad"),
+        "cell_vel_grad": (lambda d: d.update(cell_vel_grad=[[0, 1.0, 0], [0, 0, 0], [0, 0, 0]]), "cell_vel_grad"),
+        "cell_next_vel_grad": (lambda d: d.update(cell_next_vel_grad=[[1.0, 0, 0], [0, 0, 0], [0, 0, 0]]),
+                               "cell_vel_grad"),
         "density_scaling": (lambda d: d.update(density_scaling=True), "density_scaling"),
         "exact_aspherical_rot": (lambda d: (d.update(exact_aspherical_rot=False),
                                             _body(d, 0, inertia=[INERTIA, 2 * INERTIA, INERTIA])),
@@ -253,8 +253,9 @@ def test_refused_field_is_one_line_naming_it(case, tmp_path, capsys):
 
 
 def test_refused_fields_at_their_default_are_accepted(tmp_path):
-    """The same fields at YADE's defaults (and local damping, modelled elsewhere) pass."""
-    doc = _export(newton_damping=0.2, laws=[{"class": "Law2_ScGeom6D_CohFrictPhys_CohesionMoment",
+    """The same fields at YADE's defaults (and local damping, modelled elsewhere) pass; so does a cell
+    moving at 0.01/s, 2e-7 per critical step."""
+    doc = _export(newton_damping=0.2, cell_vel_grad=[[0.01, 0, 0], [0, 0, 0], [0, 0, 0]], laws=[{"class": "Law2_ScGeom6D_CohFrictPhys_CohesionMoment",
                                              "shear_creep": False, "twist_creep": False}])
     _body(doc, 1, blocked_dofs="xZ")  # a fixed body's blocked DOFs do not matter
     _inter(doc, phys="CohFrictPhys", geom="ScGeom6D")

@@ -393,4 +393,8 @@ def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None =
     report = analysis.audit(given.packing, given.contacts, given.convention, law=given.law, source=given.source,
                             integrator=integrator, dt_user=dt if dt is not None else given.meta.get("dt"),
                             material=given.meta.get("material"))
+    if given.meta.get("cell_strain_rate"):  # a YADE cell in homothetic motion: refused unless negligible
+        from dtcrit.packing.readers.yade_terms import check_cell_motion
+
+        check_cell_motion(given.meta["cell_strain_rate"], report.dt_crit)
     return SnapshotAudit.from_report(report)

@@ -18,8 +18,12 @@ The refusals, each with the YADE source that makes it change the dynamics (``pkg
   ``state.densityScaling``, NewtonIntegrator.cpp);
 * ``exact_aspherical_rot`` false on a free body with unequal principal moments (NewtonIntegrator's
   ``leapfrogSphericalRotate`` then integrates an aspherical body as a sphere);
-* a non-zero ``cell_vel_grad`` or ``cell_next_vel_grad`` (homothetic cell motion, Cell.cpp: the
-  velocity field ``velGrad x`` is added to every body);
+* homothetic cell motion, ``cell_vel_grad`` or ``cell_next_vel_grad`` (Cell.cpp: the velocity field
+  ``velGrad x`` is added to every body), when its largest entry times ``dt_crit`` exceeds
+  :data:`CELL_MOTION_TOL` (:func:`check_cell_motion`, after the audit).  It perturbs the leapfrog's
+  amplification matrix by ``O(|velGrad| dt)``, which moves the threshold by as much relative: a
+  residual rate of a stopped compression (``|velGrad| dt ~ 1e-8``) is negligible, a shear at a strain
+  rate comparable to ``1/dt`` is not;
 * a Law2 functor in ``laws`` that is not :data:`KNOWN_LAWS`, or one with an option in
   :data:`REFUSED_LAW_OPTIONS` on (creep: a viscous term);
 * a non-zero ``shift2`` in an export that is not periodic (YADE writes zero there);
@@ -49,6 +53,9 @@ KNOWN_LAWS = ("Law2_ScGeom_FrictPhys_CundallStrack", "Law2_ScGeom6D_CohFrictPhys
 #: Law2 options that add a term the audit does not model when on
 REFUSED_LAW_OPTIONS = ("shear_creep", "twist_creep")
 
+#: largest ``|velGrad| dt_crit`` accepted: the relative change of the threshold it may cause
+CELL_MOTION_TOL = 1e-6
+
 MODELLED, DERIVED, RECORD, REFUSED = "modelled", "derived", "record", "refused"
 
 #: top-level keys: (kind, what the audit does with it)
@@ -60,8 +67,8 @@ TOP = {
     "newton_damping": (MODELLED, "local (Cundall) damping NewtonIntegrator.damping"),
     "periodic": (MODELLED, "periodic cell"),
     "cell_hsize": (MODELLED, "the periodic cell's vectors"),
-    "cell_vel_grad": (REFUSED, "refused when non-zero: homothetic cell motion O.cell.velGrad"),
-    "cell_next_vel_grad": (REFUSED, "refused when non-zero: homothetic cell motion O.cell.nextVelGrad"),
+    "cell_vel_grad": (REFUSED, "refused when |O.cell.velGrad| dt_crit > 1e-6 (homothetic cell motion)"),
+    "cell_next_vel_grad": (REFUSED, "refused when |O.cell.nextVelGrad| dt_crit > 1e-6 (homothetic cell motion)"),
     "density_scaling": (REFUSED, "refused when true: NewtonIntegrator.densityScaling scales the inertia"),
     "exact_aspherical_rot": (REFUSED, "refused when false with an aspherical free body"),
     "laws": (REFUSED, "refused: a Law2 functor not in " + ", ".join(KNOWN_LAWS) + ", or creep on"),
@@ -114,17 +121,54 @@ def _flag(key: str, value) -> bool | None:
     raise InputError(key, f"expected true, false or null, found {show(value)}")
 
 
-def _matrix_zero(key: str, value) -> None:
+def _largest_entry(key: str, value) -> float:
     if value is None:
-        return
+        return 0.0
     entries = [x for row in value for x in row] if isinstance(value, list) and all(
         isinstance(row, list) for row in value) else None
     if entries is None or len(entries) != 9 or not all(
             isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) for x in entries):
         raise InputError(key, f"expected a 3 x 3 matrix of finite numbers, found {show(value)}")
-    if any(x != 0 for x in entries):
-        raise InputError(key, "homothetic cell motion (a non-zero velocity gradient) is not modelled by the audit; "
-                              "export a snapshot of a cell at rest")
+    return max(abs(float(x)) for x in entries)
+
+
+def cell_strain_rate(doc: dict, path) -> float:
+    """The largest entry of the export's cell velocity gradients (``velGrad``, ``nextVelGrad``) [1/s].
+
+    Parameters
+    ----------
+    doc : dict
+        The export as read from JSON.
+    path : str or pathlib.Path
+        The export, named in errors.
+
+    Returns
+    -------
+    float
+        ``max |L_ab|`` over both matrices; 0 without them.
+    """
+    return max(_largest_entry(f"{path}: {key}", doc.get(key)) for key in ("cell_vel_grad", "cell_next_vel_grad"))
+
+
+def check_cell_motion(rate: float, dt_crit: float) -> None:
+    """Refuse homothetic cell motion fast enough to move the threshold (module docstring).
+
+    Parameters
+    ----------
+    rate : float
+        :func:`cell_strain_rate` [1/s].
+    dt_crit : float
+        The audit's critical step [s].
+
+    Raises
+    ------
+    InputError
+        Keyed ``cell_vel_grad`` when ``rate * dt_crit > CELL_MOTION_TOL``.
+    """
+    if rate * dt_crit > CELL_MOTION_TOL:
+        raise InputError("cell_vel_grad", f"homothetic cell motion at a velocity gradient of {rate:g}/s is "
+                                          f"{rate * dt_crit:.3g} per critical step (above {CELL_MOTION_TOL:g}): it "
+                                          "changes the step and is not modelled by the audit")
 
 
 def _check_laws(path, laws) -> None:
@@ -199,22 +243,21 @@ def check_export_terms(doc: dict, path) -> None:
     if _flag(f"{path}: density_scaling", doc.get("density_scaling")):
         raise InputError(f"{path}: density_scaling", "NewtonIntegrator.densityScaling scales every body's inertia "
                                                      "(state.densityScaling): not modelled by the audit")
-    for key in ("cell_vel_grad", "cell_next_vel_grad"):
-        _matrix_zero(f"{path}: {key}", doc.get(key))
+    cell_strain_rate(doc, path)  # well-formed; its size is checked against dt_crit after the audit
     _check_laws(path, doc.get("laws"))
-    bodies = doc.get("bodies") if isinstance(doc.get("bodies"), list) else []
+    bodies: list = doc["bodies"] if isinstance(doc.get("bodies"), list) else []
     damping = doc.get("newton_damping")
     damping = damping if isinstance(damping, (int, float)) and not isinstance(damping, bool) else 0.0
     for k, body in enumerate(bodies):
         if isinstance(body, dict):
             _check_body(f"{path}: bodies[{k}]", body, damping)
     if _flag(f"{path}: exact_aspherical_rot", doc.get("exact_aspherical_rot")) is False:
-        k = next((k for k, b in enumerate(bodies) if isinstance(b, dict) and _aspherical(b)), None)
-        if k is not None:
+        odd = next((b for b in bodies if isinstance(b, dict) and _aspherical(b)), None)
+        if odd is not None:
             raise InputError(f"{path}: exact_aspherical_rot", f"false: NewtonIntegrator integrates the aspherical body "
-                                                              f"{show(bodies[k].get('id'))} as a sphere, which the "
+                                                              f"{show(odd.get('id'))} as a sphere, which the "
                                                               "audit does not model")
-    inters = doc.get("interactions") if isinstance(doc.get("interactions"), list) else []
+    inters: list = doc["interactions"] if isinstance(doc.get("interactions"), list) else []
     for k, it in enumerate(inters):
         if isinstance(it, dict):
             _check_interaction(f"{path}: interactions[{k}]", it, bool(doc.get("periodic")))
