@@ -362,3 +362,23 @@ def test_gran_argument_is_modelled_or_refused_naming_it(key):
     terms = _gran_terms(style)
     for name, value in expected.items():
         assert float(getattr(terms, name)[0]) == pytest.approx(value, rel=1e-12), (key, name)
+
+
+# ---- the README's list --------------------------------------------------------------------------------
+
+
+def refusals_block() -> str:
+    """The README's list of refused inputs, generated from the decision tables."""
+    lines = ["YADE exports (`src/dtcrit/packing/readers/yade_terms.py`):", ""]
+    lines += [f"* `{key}`: {text}" for key, text in (line.split(": ", 1) for line in yt.refusal_lines())]
+    lines += ["", "LAMMPS `pair_style gran/*` (`src/dtcrit/packing/conventions/pair_styles.py`):", ""]
+    lines += [f"* `{key}`: {text}" for key, text in GRAN_TERMS.items() if text.startswith("refused")]
+    lines += ["", "LAMMPS `pair_style granular` (`src/dtcrit/packing/conventions/granular_style.py`):", ""]
+    lines += [f"* `{key}`: {text}" for key, text in gs.GRANULAR_TERMS.items() if text.startswith("refused")]
+    return "\n".join(lines)
+
+
+def test_readme_lists_every_refusal():
+    text = (SRC.parent / "README.md").read_text()
+    block = text.split("<!-- refusals:start -->\n", 1)[1].split("\n<!-- refusals:end -->", 1)[0]
+    assert block == refusals_block(), "regenerate the README block with refusals_block():\n" + refusals_block()

@@ -36,6 +36,8 @@ The refusals, each with the YADE source that makes it change the dynamics (``pkg
   every body whose ``state.isDamped`` is set, this one not).
 
 ``newton_damping`` itself is read by ``dtcrit.packing.readers.yade_export`` (local damping).
+``NewtonIntegrator.kinSplit`` only splits the kinetic energy it reports, and ``gravity`` is a constant
+force: neither changes the step, and neither is exported.
 """
 from __future__ import annotations
 
