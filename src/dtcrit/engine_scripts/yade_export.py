@@ -43,19 +43,23 @@ key                      meaning
 Body: ``id``; ``pos`` (``state.pos``, unwrapped in periodic scenes); ``radius`` (the sphere's
 radius, ``null`` for any other shape and for clumps); ``mass`` (``state.mass``); ``inertia``
 (``state.inertia``: principal moments in the body frame); ``clump_id`` (the clump of a clump member,
-else ``null``); ``is_clump``; ``fixed`` (``not b.dynamic`` or all six DOFs blocked).
+else ``null``); ``is_clump``; ``fixed`` (``not b.dynamic`` or all six DOFs blocked); ``blocked_dofs``
+(``state.blockedDOFs``, e.g. ``"xyZ"``); ``is_damped`` (``state.isDamped``: local damping acts on it).
 
 Interaction: ``id1``, ``id2``; ``kn``, ``ks`` [N/m] (``phys.kn``, ``phys.ks``); ``kr``, ``ktw``
 [N m/rad] (rolling and twisting springs when the moment law acts on this interaction: CohFrictPhys
 with ``momentRotationLaw`` and an unbroken bond or a law with ``always_use_moment_law``; any other
 physics exporting ``kr``/``ktw``; else ``null``); ``cn``, ``cs`` [N s/m] (viscous dashpots, e.g.
-ViscElPhys, else ``null``); ``normal`` (``geom.normal``, unit, from body 1 towards body 2);
+ViscElPhys, else ``null``; dtcrit's reader refuses ViscElPhys, whose law takes the slip at the
+contact point and adds a rolling resistance, and every physics class it does not model: see
+``dtcrit.packing.readers.yade_terms``); ``normal`` (``geom.normal``, unit, from body 1 towards body 2);
 ``point`` (``geom.contactPoint``); ``penetration`` (``geom.penetrationDepth``, positive when
 overlapping; YADE does not save it, so on a scene just loaded it is computed from the two spheres); ``radius1``, ``radius2`` (``geom.refR1``, ``geom.refR2``); ``bonded`` (a cohesive
 bond is active: ``not phys.cohesionBroken``, or ``phys.isCohesive``); ``shift2`` (the periodic
 shift of body 2, ``O.cell.hSize * i.cellDist``; ``[0, 0, 0]`` when not periodic).
 
-Extra keys (readers ignore keys they do not know): top level ``avoid_granular_ratcheting``
+Extra keys (every key written here has a decision in ``dtcrit.packing.readers.yade_terms``: modelled,
+derived, a record, or refused when it changes the dynamics): top level ``avoid_granular_ratcheting``
 (``Ig2_Sphere_Sphere_ScGeom(6D).avoidGranularRatcheting`` of the scene's InteractionLoop, ``null``
 without that functor); body ``ori`` (``state.ori`` as ``[w, x, y, z]``); interaction ``geom``,
 ``phys`` (class names) and ``fn`` [N] (``phys.normalForce . normal``: the normal force, positive
