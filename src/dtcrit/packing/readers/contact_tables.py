@@ -7,7 +7,8 @@ first line that is not a comment.  Columns in any order, each named once.  Requi
 (springs in N/m); optional: ``cn cs`` (dashpots, N s/m), ``kr ktw`` (rolling and twisting springs,
 N m/rad), ``cr ctw`` (rolling and twisting dashpots, N m s/rad), ``fn`` (the compressive normal force
 in N, for the pre-load's geometric stiffness).  Other columns (positions, normals, ...) carry no
-term and are not read.  Ids are those of the atom dump.  :func:`table_contacts` gives the contacts an
+term and are not read; a column named like a term (``kt``, ``gamma_n``, ... :data:`SYNONYMS`) is
+refused, naming it, rather than dropped.  Ids are those of the atom dump.  :func:`table_contacts` gives the contacts an
 engine's kinematics (``--engine yade``: YADE's, ``dtcrit.packing.conventions.engines.with_arms``).
 
 **LAMMPS local dump** of the engine's own contact list, e.g.::
@@ -36,6 +37,10 @@ from dtcrit.packing.readers.limits import check_rates, contact_rates
 
 REQUIRED = ("id1", "id2", "kn", "ks")
 OPTIONAL = ("cn", "cs", "kr", "ktw", "cr", "ctw", "fn")
+#: other names engines give these terms: refused (naming the column) rather than read as "no term"
+SYNONYMS = {"k_n": "kn", "k_s": "ks", "kt": "ks", "k_t": "ks", "c_n": "cn", "c_s": "cs", "ct": "cs", "c_t": "cs",
+            "gamman": "cn", "gamma_n": "cn", "gammat": "cs", "gamma_t": "cs", "k_r": "kr", "k_tw": "ktw",
+            "c_r": "cr", "c_tw": "ctw", "f_n": "fn", "normalforce": "fn"}
 
 
 @dataclass(frozen=True)
@@ -151,6 +156,11 @@ def _header(path: Path, lines: list[str]) -> tuple[int, list[str]]:
     if missing:
         raise InputError(f"{path}:{first + 1}", f"the header must name the columns {' '.join(REQUIRED)} "
                                                 f"(missing {' '.join(missing)})")
+    other = [c for c in header if c.lower() in SYNONYMS and c not in REQUIRED + OPTIONAL]
+    if other:
+        raise InputError(f"{path}:{first + 1}", f"the column {other[0]} looks like a contact term, which this table "
+                                                f"would not read: name it {SYNONYMS[other[0].lower()]} (N/m, N s/m, "
+                                                "N m/rad, N m s/rad, N) or drop it")
     twice = sorted({c for c in header if header.count(c) > 1})
     if twice:
         raise InputError(f"{path}:{first + 1}", f"the header names the column {twice[0]} twice")
