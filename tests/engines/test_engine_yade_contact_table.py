@@ -1,7 +1,8 @@
 """YADE writes a dump and a contact table (comment lines in its header, columns in its own order) of a
 small compressed cluster; ``dtcrit audit DUMP --engine yade --contacts TABLE`` must give the step of the
 same state exported by ``yade_export.py``.  The same run checks that a real export carries exactly the
-fields ``dtcrit.packing.readers.yade_terms`` has decisions for, and that a partly blocked body is refused.
+fields ``dtcrit.packing.readers.yade_terms`` has decisions for, and that a partly blocked body and
+NewtonIntegrator's density scaling are refused.
 """
 from __future__ import annotations
 
@@ -50,6 +51,10 @@ with open(OUT + "/contacts.txt", "w") as f:
             f.write("# a comment between rows\n\n")
 O.bodies[4].state.blockedDOFs = "xZ"
 export(OUT + "/blocked.json")
+O.bodies[4].state.blockedDOFs = ""
+O.engines = O.engines[:3] + [GlobalStiffnessTimeStepper(), O.engines[3]]
+O.engines[-1].densityScaling = True
+export(OUT + "/scaled.json")
 print("DTCRIT-DONE")
 '''
 
@@ -80,7 +85,10 @@ def test_a_real_export_has_exactly_the_decided_fields(run):
     assert doc["laws"] == [{"class": "Law2_ScGeom_FrictPhys_CundallStrack", "sphericalBodies": True}]
 
 
-def test_a_partly_blocked_body_is_refused(run):
+def test_a_partly_blocked_body_and_density_scaling_are_refused(run):
     with pytest.raises(InputError) as info:
         audit_snapshot(run / "blocked.json")
     assert "blocked_dofs" in str(info.value) and "'xZ'" in str(info.value)
+    with pytest.raises(InputError) as info:
+        audit_snapshot(run / "scaled.json")
+    assert "density_scaling" in str(info.value)
