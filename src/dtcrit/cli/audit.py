@@ -1,7 +1,7 @@
 """``dtcrit audit``: the critical step of a real simulation snapshot, as its engine integrates it.
 
     dtcrit audit DUMP --pair-style 'gran/hooke/history 1e4 NULL 0 NULL 0.5 0' [--local CONTACTS.local]
-    dtcrit audit DUMP --contacts TABLE [--engine liggghts]
+    dtcrit audit DUMP --contacts TABLE [--engine liggghts|yade]
     dtcrit audit DUMP --liggghts-input in.file --engine liggghts
     dtcrit audit EXPORT.json --engine yade          (written by dtcrit/engine_scripts/yade_export.py)
     ... [--dt DT] [--local-damping ALPHA --local-damping-law yade|pfc] [--json] [--plot FILE.png]
@@ -39,7 +39,7 @@ def add_parser(subparsers) -> None:
                    help="LIGGGHTS input script: 'pair_style gran model hertz|hooke ...' and its 'fix property/global' "
                         "materials per atom type (the dump's type column)")
     p.add_argument("--local", metavar="FILE", help="LAMMPS dump local of the engine's contact list (patom1 patom2)")
-    p.add_argument("--contacts", metavar="TABLE", help="contact table with the columns id1 id2 kn ks [cn cs kr ktw fn]")
+    p.add_argument("--contacts", metavar="TABLE", help="contact table with the columns id1 id2 kn ks [cn cs kr ktw cr ctw fn], any order, # comments")
     p.add_argument("--density", type=float, help="particle density [kg/m^3] for a dump without a mass column")
     p.add_argument("--snapshot-index", type=int, default=-1, help="snapshot in the dump (default: the last)")
     p.add_argument("--dt", type=float, help="the simulation's own step [s], rated against dt_crit")

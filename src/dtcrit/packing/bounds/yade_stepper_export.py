@@ -142,7 +142,7 @@ def from_snapshot(snapshot) -> StepperInput | None:
 
     Parameters
     ----------
-    snapshot : dtcrit.packing.audit.run.Snapshot
+    snapshot : dtcrit.packing.audit.results.Snapshot
         A snapshot (``source``, ``packing``, ``meta``); a ready input in ``meta["yade_stepper"]`` is used as is.
 
     Returns
