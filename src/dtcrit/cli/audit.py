@@ -3,6 +3,7 @@
     dtcrit audit DUMP --pair-style 'gran/hooke/history 1e4 NULL 0 NULL 0.5 0' [--local CONTACTS.local]
     dtcrit audit DUMP --contacts TABLE [--engine liggghts]
     dtcrit audit EXPORT.json --engine yade          (written by dtcrit/engine_scripts/yade_export.py)
+    ... [--wall 'fix 2 all wall/gran hertz/history 2e5 NULL 50 NULL 0.5 1 zplane 0 NULL'] (repeatable)
     ... [--dt DT] [--json]
 
 The engine's conventions (``dtcrit.packing.conventions.engines``) decide which pairs touch, the contact arms,
@@ -35,6 +36,9 @@ def add_parser(subparsers) -> None:
                    help="the input script's pair style, e.g. 'gran/hooke/history 1e4 NULL 0 NULL 0.5 0'")
     p.add_argument("--local", metavar="FILE", help="LAMMPS dump local of the engine's contact list (patom1 patom2)")
     p.add_argument("--contacts", metavar="TABLE", help="contact table with the columns id1 id2 kn ks [cn cs kr ktw fn]")
+    p.add_argument("--wall", action="append", metavar="'FIX LINE'",
+                   help="the input script's 'fix ID group wall/gran STYLE ARGS xplane|yplane|zplane lo hi|zcylinder r' "
+                        "line (LAMMPS; repeatable): its wall contacts enter against a fixed body")
     p.add_argument("--density", type=float, help="particle density [kg/m^3] for a dump without a mass column")
     p.add_argument("--snapshot-index", type=int, default=-1, help="snapshot in the dump (default: the last)")
     p.add_argument("--dt", type=float, help="the simulation's own step [s], rated against dt_crit")
@@ -106,7 +110,7 @@ def _run(args) -> int:
     try:
         result = audit_snapshot(args.snapshot, dt=args.dt, integrator=args.integrator, engine=args.engine,
                                 pair_style=args.pair_style, local=args.local, contact_table=args.contacts,
-                                density=args.density, snapshot_index=args.snapshot_index)
+                                density=args.density, snapshot_index=args.snapshot_index, walls=args.wall)
     except DumpReadError as exc:  # the dump reader's key as the flag that set it
         raise InputError(_dump_flag(exc, args.snapshot), exc.reason) from None
     if args.json:

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 import os
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, Mapping
@@ -252,7 +252,7 @@ def _table_contacts(packing: Packing, convention: EngineConvention, path) -> tup
 
 def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_style: str | None = None,
                   local: str | os.PathLike | None = None, contact_table: str | os.PathLike | None = None,
-                  density: float | None = None, snapshot_index: int = -1) -> Snapshot:
+                  density: float | None = None, snapshot_index: int = -1, walls=None) -> Snapshot:
     """Read a snapshot with its engine's conventions: the packing and its contacts with every term.
 
     Parameters
@@ -272,6 +272,9 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
         Particle density [kg/m^3] for a dump without a mass column.
     snapshot_index : int
         The snapshot in the dump (-1: the last).
+    walls : sequence of str, optional
+        The input script's ``fix ... wall/gran`` lines (LAMMPS;
+        ``dtcrit.packing.conventions.lammps_walls``): each wall's contacts enter against a fixed body.
 
     Returns
     -------
@@ -309,9 +312,9 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
         raise InputError("engine", f"{source} is {'a YADE export' if yade_file else 'a dump'}, "
                                    f"which does not go with --engine {convention.name}")
     if yade_file:
-        if pair_style or local or contact_table:
-            raise InputError("engine", "a YADE export carries its own contacts; --pair-style, --local and --contacts "
-                                       "do not apply")
+        if pair_style or local or contact_table or walls:
+            raise InputError("engine", "a YADE export carries its own contacts; --pair-style, --local, --contacts "
+                                       "and --wall do not apply")
         packing, contacts, meta = read_yade_audit(path)  # YADE's kinematics (clumps too) applied on reading
         return Snapshot(source, packing, contacts, convention, "YADE's per-contact kn, ks (export)",
                         MappingProxyType(dict(meta)))
@@ -324,7 +327,7 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
     packing = _read_dump(path, density, snapshot_index)
     if contact_table:
         contacts, law = _table_contacts(packing, convention, contact_table)
-        return Snapshot(source, packing, contacts, convention, law)
+        return _with_walls(Snapshot(source, packing, contacts, convention, law), walls)
     assert style is not None
     if local:
         i, j = read_local_dump(local, packing)
@@ -334,8 +337,24 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
         contacts = engine_sphere_contacts(packing, convention)
     contacts = with_arms(packing, contacts, style.arm)  # the pair style's own kinematics
     contacts = apply_terms(contacts, style.terms(packing, contacts), preload=convention.preload)
-    return Snapshot(source, packing, contacts, convention, style.describe(),
-                    MappingProxyType({"material": style.material()}))
+    return _with_walls(Snapshot(source, packing, contacts, convention, style.describe(),
+                                MappingProxyType({"material": style.material()})), walls)
+
+
+def _with_walls(snapshot: Snapshot, walls) -> Snapshot:
+    """The snapshot with its ``fix wall/gran`` walls' contacts (``dtcrit.packing.conventions.lammps_walls``)."""
+    if not walls:
+        return snapshot
+    from dtcrit.packing.conventions.lammps_walls import add_walls, parse_wall
+
+    if snapshot.convention.name != "lammps":
+        raise InputError("--wall", f"reads LAMMPS fix wall/gran lines, not {snapshot.convention.name}'s walls")
+    parsed = [parse_wall(text) for text in ([walls] if isinstance(walls, str) else walls)]
+    packing, contacts, notes = add_walls(snapshot.packing, snapshot.contacts, parsed,
+                                         preload=snapshot.convention.preload)
+    meta = {**snapshot.meta, "notes": (*snapshot.meta.get("notes", ()), *notes),
+            "fixed_bodies": packing.n - snapshot.packing.n}
+    return replace(snapshot, packing=packing, contacts=contacts, meta=MappingProxyType(meta))
 
 
 def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None = None,
@@ -392,4 +411,9 @@ def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None =
     report = analysis.audit(given.packing, given.contacts, given.convention, law=given.law, source=given.source,
                             integrator=integrator, dt_user=dt if dt is not None else given.meta.get("dt"),
                             material=given.meta.get("material"))
+    if given.meta.get("fixed_bodies"):  # walls are bodies of the model, not particles of the report
+        from dtcrit.packing.wall_bodies import count_particles_only
+
+        count_particles_only(report, given.packing, given.contacts, given.packing.n - given.meta["fixed_bodies"])
+    report.notes.extend(given.meta.get("notes", ()))
     return SnapshotAudit.from_report(report)
