@@ -1,0 +1,69 @@
+"""Walls in ``dtcrit audit`` against the engines' own thresholds.
+
+* LAMMPS: spheres resting on a ``fix wall/gran hertz/history ... zplane 0 NULL`` wall under a
+  constant load (``support.engines.lammps_walls``); the threshold is bisected in the real `lmp` to
+  1e-4 and ``dtcrit audit --wall`` (the same fix line, a dump of the same spheres) must give a
+  ``dt_crit`` inside ``[0.999 x stable end, unstable end]``.  The bracket starts around the step
+  of the governing mode worked out here by hand from the fix's source (meff = m, arm R,
+  ``k_n = 3/2 Kn sqrt(R delta)``, ``k_t = Kt sqrt(R delta)``, normal ``A = 1/m``, tangential
+  ``A = 1/m + R^2/I = 7/(2m)``).
+* YADE: spheres on a ``utils.wall`` (``support.engines.yade_walls``), exported by
+  ``engine_scripts/yade_export.py`` and audited from the export.
+"""
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from support.engines import require_engine
+
+from dtcrit.packing.audit.run import audit_snapshot
+
+RHO = 2500.0
+
+
+def _overlap(load: float, kn: float, radius: float) -> float:
+    """Static overlap of ``load = Kn delta sqrt(R delta)`` (LAMMPS hertz/history on a plane)."""
+    return (load / (kn * math.sqrt(radius))) ** (2.0 / 3.0)
+
+
+def _hand_step(load: float, kn: float, kt: float, radius: float) -> float:
+    m = 4.0 / 3.0 * math.pi * radius**3 * RHO
+    a = math.sqrt(radius * _overlap(load, kn, radius))
+    omega2 = max(1.5 * kn * a / m, 3.5 * kt * a / m)
+    return 2.0 / math.sqrt(omega2)
+
+
+LAMMPS_CASES = {
+    # one sphere, Kt NULL (2/7 Kn): the normal mode governs
+    "one sphere, normal": ((0.01,), 1.0, 1e9, None),
+    # three sizes, Kt > Kn: the tangential (slip-rolling) mode of the smallest governs
+    "three spheres, tangential": ((0.01, 0.008, 0.012), 2.0, 1e9, 2e9),
+}
+
+
+@pytest.mark.parametrize("name", list(LAMMPS_CASES))
+def test_lammps_hertz_wall_threshold(name, tmp_path):
+    """The audit with --wall lands inside LAMMPS's bisected threshold bracket on a Hertz wall."""
+    require_engine("lammps")
+    from support.engines.lammps_walls import WallSpheres, bisect_threshold, dump_text
+
+    radii, load, kn, kt = LAMMPS_CASES[name]
+    words = f"{kn!r} {'NULL' if kt is None else repr(kt)} 0 NULL 0.5 0"
+    positions = tuple((0.05 * k, 0.0, r - _overlap(load, kn, r)) for k, r in enumerate(radii))
+    case = WallSpheres(positions, radii, RHO, load, f"gran/hertz/history {words}",
+                       f"fix w all wall/gran hertz/history {words} zplane 0 NULL")
+    hand = min(_hand_step(load, kn, 2.0 / 7.0 * kn if kt is None else kt, r) for r in radii)
+    lo, hi = bisect_threshold(case, 0.97 * hand, 1.03 * hand, rel_tol=1e-4)
+    dump = tmp_path / "wall.dump"
+    dump.write_text(dump_text(case))
+    audit = audit_snapshot(dump, pair_style=case.pair_style, walls=[case.fix_line])
+    print(f"{name}: LAMMPS bracket [{lo:.7g}, {hi:.7g}], dtcrit {audit.dt_crit:.7g}, "
+          f"ratio to the stable end {audit.dt_crit / lo:.6f}")
+    assert 0.999 * lo <= audit.dt_crit <= hi
+    assert audit.dt_safe <= audit.dt_crit
+    assert audit.n_particles == len(radii) and audit.n_contacts == len(radii)
+    rows = {e.estimate.name: e for e in audit.estimators}
+    assert rows["collision_time_fraction"].safe  # meff = m, not a dummy sphere's m/2
+    assert rows["gershgorin"].estimate.dt <= audit.dt_crit * (1 + 1e-12)
