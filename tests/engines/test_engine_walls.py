@@ -7,8 +7,9 @@
   of the governing mode worked out here by hand from the fix's source (meff = m, arm R,
   ``k_n = 3/2 Kn sqrt(R delta)``, ``k_t = Kt sqrt(R delta)``, normal ``A = 1/m``, tangential
   ``A = 1/m + R^2/I = 7/(2m)``).
-* YADE: spheres on a ``utils.wall`` (``support.engines.yade_walls``), exported by
-  ``engine_scripts/yade_export.py`` and audited from the export.
+* YADE: spheres on a ``utils.wall`` or ``utils.facet`` (``support.engines.yade_walls``), exported by
+  ``engine_scripts/yade_export.py``, the threshold bisected inside YADE to 1e-4, the export audited
+  (``dt_crit`` inside ``[0.999 x stable end, unstable end]``).
 """
 from __future__ import annotations
 
@@ -67,3 +68,37 @@ def test_lammps_hertz_wall_threshold(name, tmp_path):
     rows = {e.estimate.name: e for e in audit.estimators}
     assert rows["collision_time_fraction"].safe  # meff = m, not a dummy sphere's m/2
     assert rows["gershgorin"].estimate.dt <= audit.dt_crit * (1 + 1e-12)
+
+
+YADE_CASES = {
+    # wall: kn = E R (refR1 = R), force at the plane, slip velocity with YADE's ratcheting correction
+    "one sphere on utils.wall": ("wall", ((0.0, 0.0, 0.01),), 1.0),
+    "three spheres on utils.wall": ("wall", ((0.0, 0.0, 0.01), (0.05, 0.0, 0.008), (0.1, 0.0, 0.012)), 1.0),
+    # facet: kn = 4/3 E R (refR1 = 2 R), force and slip at R - delta/2
+    "one sphere on utils.facet": ("facet", ((0.3, 0.3, 0.01),), 4.0 / 3.0),
+}
+
+
+@pytest.mark.parametrize("name", list(YADE_CASES))
+def test_yade_wall_threshold(name, tmp_path):
+    """The audit of a YADE export with a Wall or Facet lands inside YADE's bisected threshold bracket."""
+    require_engine("yade")
+    from support.engines.yade_walls import bisect
+
+    wall, spheres, factor = YADE_CASES[name]
+    young, ratio = 1e8, 0.5
+    # hand estimate: the tangential mode A = 1/m + R^2/I = 7/(2m) with ks = 0.5 kn governs (leapfrog 2/omega)
+    hand = min(2.0 / math.sqrt(3.5 * ratio * factor * young * r / (4.0 / 3.0 * math.pi * r**3 * RHO))
+               for _, _, r in spheres)
+    export = tmp_path / "walls.json"
+    spec = {"wall": wall, "spheres": spheres, "young": young, "ks_ratio": ratio, "density": RHO, "load": 1.0,
+            "overlap_guess": 1e-3, "eps": 1e-9, "steps": 6000, "growth": 1e4, "lo": 0.96 * hand, "hi": 1.04 * hand,
+            "rel_tol": 1e-4}
+    out = bisect(spec, export)
+    audit = audit_snapshot(export)
+    lo, hi = out["lo"], out["hi"]
+    print(f"{name}: YADE bracket [{lo:.7g}, {hi:.7g}], dtcrit {audit.dt_crit:.7g}, "
+          f"ratio to the stable end {audit.dt_crit / lo:.6f}")
+    assert 0.999 * lo <= audit.dt_crit <= hi
+    assert audit.dt_safe <= audit.dt_crit
+    assert audit.n_particles == len(spheres) and audit.n_contacts == len(spheres)
