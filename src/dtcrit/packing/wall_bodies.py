@@ -120,14 +120,16 @@ def concatenate(first: Contacts, second: Contacts) -> Contacts:
     Contacts
         ``first`` followed by ``second``.
     """
-    geometry = {key: np.concatenate([getattr(first, key), getattr(second, key)])
-                for key in ("i", "j", "normal", "arm_i", "arm_j", "overlap", "image", "radius_eff")}
-    terms = {}
+    i, j, normal, arm_i, arm_j, overlap, image, radius_eff = (
+        np.concatenate([getattr(first, key), getattr(second, key)])
+        for key in ("i", "j", "normal", "arm_i", "arm_j", "overlap", "image", "radius_eff"))
+    terms: dict[str, np.ndarray | None] = {}
     for key in _TERMS:
         a, b = getattr(first, key), getattr(second, key)
         terms[key] = None if a is None and b is None else np.concatenate(
             [np.zeros(first.count) if a is None else a, np.zeros(second.count) if b is None else b])
-    return Contacts(**geometry, **terms)
+    return Contacts(i, j, normal, arm_i, arm_j, overlap, image, radius_eff, kn=terms["kn"], ks=terms["ks"], cn=terms["cn"], cs=terms["cs"], kr=terms["kr"],
+                    ktw=terms["ktw"], force_n=terms["force_n"], cr=terms["cr"], ctw=terms["ctw"])
 
 
 def merge(parts: list[WallContacts]) -> WallContacts:

@@ -10,7 +10,9 @@ one array entry per contact.  Modules:
 * ``rules_of_thumb`` -- the step estimates DEM codes use (Rayleigh time, Hertz duration, collision
   time, YADE's GlobalStiffnessTimeStepper);
 * ``estimate`` -- one estimate type rated against ``dt_crit`` with one tolerance;
-* ``json_numbers`` -- non-finite numbers as JSON ``null``.
+* ``json_numbers`` -- non-finite numbers as JSON ``null``;
+* ``walls`` -- a sphere on a fixed wall as each engine codes it (LAMMPS ``fix wall/gran``'s effective
+  radius and material constants, YADE's wall and facet arms, the Hertz wall's tangent stiffness).
 
 No SymPy is imported here.
 """
