@@ -232,7 +232,9 @@ def step_json(result) -> dict:
         "pairs": [pair_json(p) for p in result.pairs],
         "particles": [_particle_json(p, result.B_max[p.number]) for p in sc.particles],
         "contact": _contact_json(sc, result.pairs[0].contact.convention),
-        "walls": [{"number": w.number, "name": w.name, "kn": w.kn, "ks": w.ks, "damping": w.damping,
+        "walls": [{"number": w.number, "name": w.name, "model": w.model, "damping": w.damping,
+                   "kn": w.kn if w.model == "linear" else None, "ks": w.ks if w.model == "linear" else None,
+                   "overlap": w.overlap, "velocity": w.velocity,
                    "damping_ratio": w.damping_ratio, "restitution": w.restitution, "particles": list(w.particles)}
                   for w in sc.walls],
         "warnings": [f"{k}: {m}" for k, m in sc.warnings],
