@@ -141,8 +141,8 @@ def parse_wall(text: str) -> LammpsWall:
     Examples
     --------
     >>> w = parse_wall("fix 2 all wall/gran hooke/history 1e5 NULL 0 NULL 0.5 0 zplane 0 NULL")
-    >>> w.style, w.geometry.style, w.law.kt
-    ('hooke/history', 'zplane', 28571.428571428572)
+    >>> w.style, w.geometry.style, round(w.law.kt, 6)
+    ('hooke/history', 'zplane', 28571.428571)
     """
     words = str(text).split()
     if words[:1] == ["fix"]:
