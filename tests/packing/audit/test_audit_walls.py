@@ -9,6 +9,7 @@ from __future__ import annotations
 import json
 import math
 
+import jsonschema
 import numpy as np
 import pytest
 
@@ -16,6 +17,7 @@ from dtcrit.cli import main
 from dtcrit.errors import InputError
 from dtcrit.packing.audit.run import audit_snapshot
 from dtcrit.packing.conventions.lammps_walls import parse_wall
+from support.paths import REPO_ROOT as ROOT
 
 R, RHO = 1e-3, 2500.0
 MASS = 4.0 / 3.0 * math.pi * R**3 * RHO
@@ -127,6 +129,7 @@ def test_contacts_keyword_and_two_walls_json(tmp_path, capsys):
     out = capsys.readouterr().out
     assert rc == 0
     doc = json.loads(out)
+    jsonschema.validate(doc, json.loads((ROOT / "src" / "dtcrit" / "schemas" / "dtcrit-audit-1.json").read_text()))
     body = doc.get("audit", doc)
     assert body["n_particles"] == 2 and body["n_contacts"] == 2
     assert body["dt_crit"] == pytest.approx(2.0 / math.sqrt(2e5 / MASS), rel=1e-12)  # the stiffer wall's normal mode
