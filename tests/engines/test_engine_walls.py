@@ -7,6 +7,8 @@
   of the governing mode worked out here by hand from the fix's source (meff = m, arm R,
   ``k_n = 3/2 Kn sqrt(R delta)``, ``k_t = Kt sqrt(R delta)``, normal ``A = 1/m``, tangential
   ``A = 1/m + R^2/I = 7/(2m)``).
+* LAMMPS: a bed of 24 spheres poured by LAMMPS under gravity onto a Hertz floor (pre-loaded pair
+  contacts and wall contacts together), the threshold bisected from LAMMPS's own dump.
 * YADE: spheres on a ``utils.wall`` or ``utils.facet`` (``support.engines.yade_walls``), exported by
   ``engine_scripts/yade_export.py``, the threshold bisected inside YADE to 1e-4, the export audited
   (``dt_crit`` inside ``[0.999 x stable end, unstable end]``).
@@ -68,6 +70,28 @@ def test_lammps_hertz_wall_threshold(name, tmp_path):
     rows = {e.estimate.name: e for e in audit.estimators}
     assert rows["collision_time_fraction"].safe  # meff = m, not a dummy sphere's m/2
     assert rows["gershgorin"].estimate.dt <= audit.dt_crit * (1 + 1e-12)
+
+
+def test_lammps_bed_on_a_hertz_floor(tmp_path):
+    """A bed settled by LAMMPS on a Hertz floor: the audit of LAMMPS's dump lands inside its bracket.
+
+    24 spheres under gravity on a hertz/history floor: pre-loaded pair contacts and wall contacts together.
+    """
+    require_engine("lammps")
+    from support.engines.lammps_walls import Bed, bisect_threshold, grows_bed, settle
+
+    bed = Bed()
+    dump = settle(bed, tmp_path)
+    (tmp_path / "bed.dump").write_text(dump)
+    audit = audit_snapshot(tmp_path / "bed.dump", pair_style=bed.pair_style(0.5), walls=[bed.fix_line(0.5)])
+    walls = next(note for note in audit.notes if note.startswith("wall 1"))
+    on_floor = int(walls.split("): ", 1)[1].split()[0])
+    assert audit.n_particles == bed.n and 0 < on_floor < audit.n_contacts  # floor and pair contacts both
+    # the bracket starts around dtcrit's figure; bisection checks both ends in LAMMPS
+    lo, hi = bisect_threshold(lambda dt: grows_bed(bed, dump, dt, 6000), 0.95 * audit.dt_crit, 1.05 * audit.dt_crit)
+    print(f"bed: LAMMPS bracket [{lo:.7g}, {hi:.7g}], dtcrit {audit.dt_crit:.7g}, ratio {audit.dt_crit / lo:.6f}")
+    assert 0.999 * lo <= audit.dt_crit <= hi
+    assert audit.dt_safe <= audit.dt_crit
 
 
 YADE_CASES = {
