@@ -72,6 +72,27 @@ def test_lammps_hertz_wall_threshold(name, tmp_path):
     assert rows["gershgorin"].estimate.dt <= audit.dt_crit * (1 + 1e-12)
 
 
+def test_lammps_hertz_zcylinder_threshold(tmp_path):
+    """A sphere pressed outwards onto a LAMMPS zcylinder from inside: R_eff with rwall = -2 r_c, the lever term."""
+    require_engine("lammps")
+    from support.engines.lammps_walls import WallSpheres, bisect_threshold, dump_text
+
+    r, rc, load, kn = 0.01, 0.05, 1.0, 1e9
+    r_eff = r * (-2 * rc) / (r - 2 * rc)  # fix_wall_gran.cpp: rwall = -2 r_c inside the cylinder
+    delta = (load / (kn * math.sqrt(r_eff))) ** (2.0 / 3.0)
+    words = f"{kn!r} {kn!r} 0 NULL 0.5 0"
+    case = WallSpheres(((rc - r + delta, 0.0, 0.0),), (r,), RHO, load, f"gran/hertz/history {words}",
+                       f"fix w all wall/gran hertz/history {words} zcylinder {rc!r}", (1.0, 0.0, 0.0), "f f p")
+    m = 4.0 / 3.0 * math.pi * r**3 * RHO
+    hand = 2.0 / math.sqrt(3.5 * kn * math.sqrt(r_eff * delta) / m)
+    lo, hi = bisect_threshold(case, 0.97 * hand, 1.03 * hand, rel_tol=1e-4)
+    dump = tmp_path / "cyl.dump"
+    dump.write_text(dump_text(case).replace("ITEM: BOX BOUNDS ff ff ff", "ITEM: BOX BOUNDS ff ff pp"))
+    audit = audit_snapshot(dump, pair_style=case.pair_style, walls=[case.fix_line])
+    print(f"zcylinder: LAMMPS bracket [{lo:.7g}, {hi:.7g}], dtcrit {audit.dt_crit:.7g}, ratio {audit.dt_crit / lo:.6f}")
+    assert 0.999 * lo <= audit.dt_crit <= hi
+
+
 def test_lammps_bed_on_a_hertz_floor(tmp_path):
     """A bed settled by LAMMPS on a Hertz floor: the audit of LAMMPS's dump lands inside its bracket.
 

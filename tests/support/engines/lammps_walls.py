@@ -34,6 +34,8 @@ class WallSpheres:
     load: float
     pair_style: str
     fix_line: str  # 'fix w all wall/gran ... zplane 0 NULL'
+    direction: tuple[float, float, float] = (0.0, 0.0, -1.0)  # of the load
+    boundary: str = "f f f"
 
 
 def _g(x: float) -> str:
@@ -66,10 +68,11 @@ def dump_text(case: WallSpheres) -> str:
 def script(case: WallSpheres, dt: float, steps: int, halt: float) -> str:
     """The input script: nve/sphere, the wall, the load, the growth figure every 20 steps."""
     return "\n".join([
-        "units si", "atom_style sphere", "boundary f f f", "comm_modify vel yes", "newton off",
+        "units si", "atom_style sphere", f"boundary {case.boundary}", "comm_modify vel yes", "newton off",
         "read_data case.data", f"pair_style {case.pair_style.split(None, 1)[0]} {case.pair_style.split(None, 1)[1]}",
         "pair_coeff * *", "neighbor 1e-4 bin", "neigh_modify delay 0",
-        case.fix_line, f"fix load all addforce 0 0 {_g(-case.load)}", "fix move all nve/sphere",
+        case.fix_line, "fix load all addforce " + " ".join(_g(case.load * c) for c in case.direction),
+        "fix move all nve/sphere",
         "compute tq all property/atom tqx tqy tqz radius",
         "variable g atom sqrt(fx*fx+fy*fy+fz*fz)+sqrt(c_tq[1]*c_tq[1]+c_tq[2]*c_tq[2]+c_tq[3]*c_tq[3])/c_tq[4]",
         "compute gm all reduce max v_g", "variable gmax equal c_gm",
