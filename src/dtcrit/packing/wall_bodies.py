@@ -11,6 +11,7 @@ change; they carry the ids ``max id + 1, max id + 2, ...``.
 """
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -153,8 +154,9 @@ def count_particles_only(report, packing: Packing, contacts: Contacts, n_free: i
     """Report the particles alone when the last bodies of ``packing`` are walls (in place).
 
     The particle count, the mean coordination (a wall contact counts once, on its particle), the
-    limiting ids (a wall body is never named) and the participation ratio (over the particles:
-    the walls hold no energy) of an ``AuditReport`` (``dtcrit.packing.audit.snapshot``).
+    limiting ids (a wall body is never named), the participation ratio (over the particles: the
+    walls hold no energy) and an estimator's "contact of particles i and w" (then "of particle i and a
+    wall") of an ``AuditReport`` (``dtcrit.packing.audit.snapshot``).
 
     Parameters
     ----------
@@ -175,5 +177,18 @@ def count_particles_only(report, packing: Packing, contacts: Contacts, n_free: i
     report.n_particles = n_free
     report.coordination_mean = float(per.mean())
     report.limiting = [pid for pid in report.limiting if pid not in walls]
+    report.estimators = [_name_walls(e, walls) for e in report.estimators]
     if np.isfinite(report.participation):
         report.participation = min(1.0, report.participation * n_all / n_free)
+
+
+_PAIR = re.compile(r"contact of particles (\d+) and (\d+)")
+
+
+def _name_walls(rated, walls: set):
+    """The rated estimate with a wall body's id in its detail replaced by "a wall"."""
+    found = _PAIR.search(rated.estimate.detail)
+    if not found or int(found.group(2)) not in walls:
+        return rated
+    detail = _PAIR.sub(f"contact of particle {found.group(1)} and a wall", rated.estimate.detail)
+    return replace(rated, estimate=replace(rated.estimate, detail=detail))

@@ -43,6 +43,7 @@ def test_hooke_history_wall_is_the_sphere_on_an_immovable_plane(tmp_path):
     assert (a.n_particles, a.n_contacts, a.limiting) == (1, 1, (5,))
     rows = {e.estimate.name: e for e in a.estimators}
     assert rows["collision_time_fraction"].estimate.dt == pytest.approx(math.pi * math.sqrt(MASS / kn) / 50, rel=1e-12)
+    assert rows["collision_time_fraction"].estimate.detail.endswith("contact of particle 5 and a wall")
     assert any("wall 1" in note for note in a.notes)
 
 
