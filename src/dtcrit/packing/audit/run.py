@@ -375,7 +375,7 @@ def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None =
         Override the engine's integrator (a name of ``dtcrit.INTEGRATORS``).
     **read
         The keyword arguments of :func:`read_snapshot` (``engine``, ``pair_style``, ``local``,
-        ``contact_table``, ``density``, ``snapshot_index``) for a file.
+        ``contact_table``, ``density``, ``snapshot_index``, ``walls``) for a file.
 
     Returns
     -------

@@ -14,6 +14,8 @@ Given as the input script's own line, ``--wall 'fix ID group wall/gran STYLE ARG
 * ``xplane``/``yplane``/``zplane lo hi`` (``NULL`` for none) and ``zcylinder r_c``
   (``dtcrit.packing.detection.walls``); ``region`` is refused;
 * the slip velocity and the torque use the full radius (arm ``R``);
+* the fix's group is not in a dump: every particle touching the wall is taken as in it, which can only
+  add springs and lower the step (said in a note when the group is not ``all``);
 * the optional keyword ``contacts`` only stores output and is accepted; ``wiggle``, ``shear`` and any
   other keyword (a moving wall, heat) are refused in one line naming them.
 
@@ -58,12 +60,15 @@ class LammpsWall:
         The wall.
     text : str
         The line as given.
+    group : str
+        The fix's group (``all`` when the line starts at ``wall/gran``).
     """
 
     style: str
     law: GranPairStyle | GranularStyle
     geometry: WallGeometry
     text: str
+    group: str = "all"
 
     def describe(self) -> str:
         """The wall in words.
@@ -145,7 +150,9 @@ def parse_wall(text: str) -> LammpsWall:
     ('hooke/history', 'zplane', 28571.428571)
     """
     words = str(text).split()
+    group = "all"
     if words[:1] == ["fix"]:
+        group = words[2] if len(words) > 2 else "all"
         words = words[3:]
     if not words:
         raise InputError(FLAG, "empty: give the fix line, e.g. 'fix 2 all wall/gran hooke/history 1e5 NULL 0 NULL 0.5 0 zplane 0 NULL'")
@@ -169,7 +176,7 @@ def parse_wall(text: str) -> LammpsWall:
     for word in words[k:]:
         if word not in OUTPUT_ONLY:
             raise InputError(FLAG, f"keyword {word!r} is not modelled (a moving wall or another term)")
-    return LammpsWall(style, law, geometry, " ".join(words))
+    return LammpsWall(style, law, geometry, " ".join(words), group)
 
 
 def _wall_granular(law: GranularStyle) -> GranularStyle:
@@ -223,5 +230,8 @@ def add_walls(packing: Packing, contacts: Contacts, walls: list[LammpsWall], *, 
         contacts = concatenate(contacts, mine)
         count = found[number - 1].count
         notes.append(f"wall {number} ({wall.describe()}): {count} particle{'s' if count != 1 else ''} touching, "
-                     "each against a fixed body of infinite mass (meff = m, arm R)")
+                     "each against a fixed body of infinite mass (meff = m, arm R)"
+                     + ("" if wall.group == "all" else f"; the dump does not say which atoms are in group "
+                        f"{wall.group!r}: every particle touching the wall is taken as in it (extra springs only "
+                        "lower the step)"))
     return grown, contacts, notes
