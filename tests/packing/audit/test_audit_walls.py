@@ -136,16 +136,16 @@ def test_contacts_keyword_and_two_walls_json(tmp_path, capsys):
     assert body["dt_crit"] == pytest.approx(2.0 / math.sqrt(2e5 / MASS), rel=1e-12)  # the stiffer wall's normal mode
 
 
-def _yade_export(path, *, dynamic_wall=False):
+def _yade_export(path, *, dynamic_wall=False, gap=1e-6):
     doc = {"schema": "dtcrit-yade-export/1", "dt": 1e-7, "iter": 1, "periodic": False, "cell_hsize": None,
            "wall_no_ratch": False,
            "bodies": [{"id": 0, "shape": "Wall", "axis": 2, "sense": 0, "pos": [0, 0, 0], "radius": None,
                        "mass": 0.0, "inertia": [0, 0, 0], "clump_id": None, "is_clump": False,
                        "fixed": not dynamic_wall},
-                      {"id": 1, "shape": "Sphere", "pos": [0, 0, R - 1e-6], "radius": R, "mass": MASS,
+                      {"id": 1, "shape": "Sphere", "pos": [0, 0, R - gap], "radius": R, "mass": MASS,
                        "inertia": [INERTIA, INERTIA, INERTIA], "clump_id": None, "is_clump": False, "fixed": False}],
            "interactions": [{"id1": 0, "id2": 1, "kn": 1e5, "ks": 5e4, "normal": [0, 0, 1],
-                             "point": [0, 0, 0], "penetration": 1e-6, "radius1": R, "radius2": R,
+                             "point": [0, 0, 0], "penetration": gap, "radius1": R, "radius2": R,
                              "shift2": [0, 0, 0]}]}
     path.write_text(json.dumps(doc))
     return path
@@ -163,3 +163,10 @@ def test_yade_moving_wall_is_refused(tmp_path):
     """A Wall YADE integrates as a free body is not modelled."""
     with pytest.raises(InputError, match="moving wall"):
         audit_snapshot(_yade_export(tmp_path / "m.json", dynamic_wall=True))
+
+
+def test_yade_wall_interaction_opening_is_kept_at_zero_overlap(tmp_path):
+    """A real interaction YADE has not erased yet (penetration < 0) keeps its springs, arm R, as sphere pairs do."""
+    a = audit_snapshot(_yade_export(tmp_path / "o.json", gap=-1e-9))
+    omega2 = max(1e5 / MASS, 5e4 * (1.0 / MASS + R**2 / INERTIA))
+    assert a.dt_crit == pytest.approx(2.0 / math.sqrt(omega2), rel=1e-12)

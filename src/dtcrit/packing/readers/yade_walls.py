@@ -89,15 +89,18 @@ def _one(where: str, it: dict, walls: dict, members: dict) -> tuple:
     n = sign * n / norm
     point = _triple(f"{where}.point", it.get("point"))
     delta = _finite(f"{where}.penetration", it.get("penetration"), signed=True)
-    if delta is None or not 0.0 <= delta < radius:
-        raise InputError(f"{where}.penetration", f"expected an overlap in [0, R) of the sphere, found {show(delta)}")
+    if delta is None or not delta < radius:
+        raise InputError(f"{where}.penetration", f"expected an overlap below the sphere's radius, found {show(delta)}")
+    opening = delta < 0.0  # real until YADE erases it: kept with its springs at zero overlap, as sphere pairs are
+    delta = max(delta, 0.0)
     refs = [_finite(f"{where}.radius{s}", it.get(f"radius{s}"), positive=True) for s in (1, 2)]
     terms = {key: _finite(f"{where}.{key}", it.get(key), allow_none=key not in ("kn", "ks")) for key in TERMS}
     shape = walls[wall][1].get("shape")
     force_side = float(np.linalg.norm(point - centre))
-    if not 0.0 < force_side <= radius * (1 + 1e-9):
+    if not (0.0 < force_side <= radius * (1 + 1e-9) or (opening and force_side > 0.0)):
         raise InputError(f"{where}.point", f"the contact point lies {force_side:g} m from the sphere's centre, "
                                            f"not within its radius {radius:g} m")
+    force_side = min(force_side, radius)
     return body, centre, radius, wall, shape, n, delta, refs, force_side, terms
 
 
