@@ -72,6 +72,32 @@ def test_lammps_hertz_wall_threshold(name, tmp_path):
     assert rows["gershgorin"].estimate.dt <= audit.dt_crit * (1 + 1e-12)
 
 
+def test_lammps_granular_hertz_material_wall(tmp_path):
+    """The wall's own granular constants hold in lmp (hertz/material with mindlin NULL).
+
+    4/3 E/(2 (1 - nu)) normal and E/4 (2 - nu)(1 + nu) a tangential, read in fix_wall_gran.cpp.
+    """
+    require_engine("lammps")
+    from support.engines.lammps_walls import WallSpheres, bisect_threshold, dump_text
+
+    r, load, e, nu = 0.01, 1.0, 1e8, 0.3
+    coeff = 4.0 / 3.0 * e / (2.0 * (1.0 - nu))
+    delta = (load / (coeff * math.sqrt(r))) ** (2.0 / 3.0)
+    a = math.sqrt(r * delta)
+    m = 4.0 / 3.0 * math.pi * r**3 * RHO
+    kt = e / 4.0 * (2.0 - nu) * (1.0 + nu) * a
+    hand = 2.0 / math.sqrt(max(1.5 * coeff * a / m, 3.5 * kt / m))
+    words = f"hertz/material {e!r} 0 {nu!r} tangential mindlin NULL 0 0.5"
+    case = WallSpheres(((0.0, 0.0, r - delta),), (r,), RHO, load, f"granular {words}",
+                       f"fix w all wall/gran granular {words} zplane 0 NULL")
+    lo, hi = bisect_threshold(case, 0.97 * hand, 1.03 * hand, rel_tol=1e-4)
+    dump = tmp_path / "g.dump"
+    dump.write_text(dump_text(case))
+    audit = audit_snapshot(dump, pair_style=case.pair_style, walls=[case.fix_line])
+    print(f"granular: LAMMPS bracket [{lo:.7g}, {hi:.7g}], dtcrit {audit.dt_crit:.7g}, ratio {audit.dt_crit / lo:.6f}")
+    assert 0.999 * lo <= audit.dt_crit <= hi
+
+
 def test_lammps_hertz_zcylinder_threshold(tmp_path):
     """A sphere pressed outwards onto a LAMMPS zcylinder from inside: R_eff with rwall = -2 r_c, the lever term."""
     require_engine("lammps")

@@ -69,8 +69,7 @@ def script(case: WallSpheres, dt: float, steps: int, halt: float) -> str:
     """The input script: nve/sphere, the wall, the load, the growth figure every 20 steps."""
     return "\n".join([
         "units si", "atom_style sphere", f"boundary {case.boundary}", "comm_modify vel yes", "newton off",
-        "read_data case.data", f"pair_style {case.pair_style.split(None, 1)[0]} {case.pair_style.split(None, 1)[1]}",
-        "pair_coeff * *", "neighbor 1e-4 bin", "neigh_modify delay 0",
+        "read_data case.data", *_pair_lines(case.pair_style), "neighbor 1e-4 bin", "neigh_modify delay 0",
         case.fix_line, "fix load all addforce " + " ".join(_g(case.load * c) for c in case.direction),
         "fix move all nve/sphere",
         "compute tq all property/atom tqx tqy tqz radius",
@@ -79,6 +78,14 @@ def script(case: WallSpheres, dt: float, steps: int, halt: float) -> str:
         f"fix stop all halt 20 v_gmax > {_g(halt)} error soft",
         f"timestep {_g(dt)}", "thermo_style custom step c_gm", "thermo 20", "thermo_modify norm no",
         f"run {steps}", ""])
+
+
+def _pair_lines(pair_style: str) -> list[str]:
+    """``pair_style`` and ``pair_coeff`` lines (``granular WORDS``: the words go to ``pair_coeff * *``)."""
+    name, args = pair_style.split(None, 1)
+    if name == "granular":
+        return ["pair_style granular", f"pair_coeff * * {args}"]
+    return [f"pair_style {pair_style}", "pair_coeff * *"]
 
 
 def grows(case: WallSpheres, dt: float, steps: int, *, eps: float = 1e-9, seed: int = 7) -> bool:
