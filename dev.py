@@ -7,6 +7,7 @@
     python3 dev.py golden     rewrite tests/golden (the outputs of ``dtcrit codegen`` and ``dtcrit step`` on every
                               example) after an intended change of output (test extras); review with git diff
     python3 dev.py mpi-env    create .venv-mpi, the environment of ``dtcrit packing --backend slepc`` (below)
+    python3 dev.py audit-figure  redraw README's ``dtcrit audit --plot`` figure (figures extra)
 
 Every task creates the virtual environment ``.venv`` beside this file when it is missing,
 (re)installs the package whenever ``pyproject.toml`` or ``constraints.txt`` (the pinned versions)
@@ -44,6 +45,9 @@ PY = BIN / ("python.exe" if os.name == "nt" else "python")
 STAMP = VENV / ".dtcrit-installed"
 
 DEMO_SCENE = "examples/paper_ellipsoids.toml"
+AUDIT_FIGURE = ("audit", "examples/packings/random_lognormal_60.dump", "--pair-style",
+                "gran/hertz/history 1e9 NULL 0 NULL 0.5 0", "--plot", "derivations/records/figures/audit_random_lognormal_60.png")
+"""The ``dtcrit`` arguments that make README's "Audit your simulation" figure (``python3 dev.py audit-figure``)."""
 
 
 def run(*cmd: str | os.PathLike, env: dict | None = None) -> int:
@@ -51,7 +55,8 @@ def run(*cmd: str | os.PathLike, env: dict | None = None) -> int:
     return subprocess.call([str(c) for c in cmd], cwd=ROOT, env=env)
 
 
-EXTRAS = {"demo": (), "test": ("test",), "generate": ("test",), "mpi-env": (), "golden": ("test",)}
+EXTRAS = {"demo": (), "test": ("test",), "generate": ("test",), "mpi-env": (), "golden": ("test",),
+          "audit-figure": ("figures",)}
 """The optional dependency groups of pyproject.toml each task installs: the demo runs on the runtime
 dependencies alone; the tests (and the derivation scripts behind ``generate``) need the ``test`` extra."""
 
@@ -238,7 +243,13 @@ def golden() -> int:
     return run(PY, "-m", "support.golden", env={**child_env(), "PYTHONPATH": str(ROOT / "tests")})
 
 
-TASKS = {"demo": demo, "test": test, "generate": generate, "mpi-env": mpi_env, "golden": golden}
+def audit_figure() -> int:
+    """Redraw README's ``dtcrit audit --plot`` figure on the example dump (``AUDIT_FIGURE``)."""
+    return run(PY, "-m", "dtcrit", *AUDIT_FIGURE, env=child_env())
+
+
+TASKS = {"demo": demo, "test": test, "generate": generate, "mpi-env": mpi_env, "golden": golden,
+         "audit-figure": audit_figure}
 
 if __name__ == "__main__":
     if len(sys.argv) < 2 or sys.argv[1] not in TASKS:

@@ -28,6 +28,7 @@ LAYERS = (
     ("dtcrit.integrators.schemes", 1),  # update rules: plain arithmetic, read by SymPy and the runtime
     ("dtcrit.symbolic", 2),
     ("dtcrit._generated", 3),
+    ("dtcrit.physics.local_damping", 3),  # local damping's laws and step factor: NumPy only, read by integrators and physics users
     ("dtcrit.physics", 4),  # contact physics shared by packing and scenes: NumPy only
     ("dtcrit.integrators", 4),
     ("dtcrit.bodies", 5),

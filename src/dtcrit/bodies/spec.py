@@ -50,7 +50,8 @@ SPHERE_SIZE_KEYS = ("radius", "radii", "fractions", "lognormal")
 """A sphere's size keys: one radius, or a size distribution (``dtcrit.scenes.sizes``)."""
 PARTICLE_ALL = tuple(dict.fromkeys(PARTICLE_COMMON + SPHERE_SIZE_KEYS + tuple(k for v in SHAPE_KEYS.values() for k, _ in v)))
 """Every key a ``[[particle]]`` table may hold for some shape."""
-TOP_LEVEL_KEYS = ("integrator", "omega_max", "safety", "pairs", "title", "coordination_max", "overlap_max", "isolated")
+TOP_LEVEL_KEYS = ("integrator", "omega_max", "safety", "pairs", "title", "coordination_max", "overlap_max", "isolated",
+                  "local_damping", "local_damping_law")
 """Keys of a scene that belong before its first table (``dtcrit.scenes.model.TOP_KEYS`` without the
 tables): found inside a table, the message explains TOML's rule."""
 

@@ -1,10 +1,11 @@
 """``dtcrit audit``: the critical step of a real simulation snapshot, as its engine integrates it.
 
     dtcrit audit DUMP --pair-style 'gran/hooke/history 1e4 NULL 0 NULL 0.5 0' [--local CONTACTS.local]
-    dtcrit audit DUMP --contacts TABLE [--engine liggghts]
+    dtcrit audit DUMP --contacts TABLE [--engine liggghts|yade]
+    dtcrit audit DUMP --liggghts-input in.file --engine liggghts
     dtcrit audit EXPORT.json --engine yade          (written by dtcrit/engine_scripts/yade_export.py)
     ... [--wall 'fix 2 all wall/gran hertz/history 2e5 NULL 50 NULL 0.5 1 zplane 0 NULL'] (repeatable)
-    ... [--dt DT] [--json]
+    ... [--dt DT] [--local-damping ALPHA --local-damping-law yade|pfc] [--json] [--plot FILE.png]
 
 The engine's conventions (``dtcrit.packing.conventions.engines``) decide which pairs touch, the contact arms,
 the pre-load and the integrator; the dashpots enter the damping matrix contact by contact.
@@ -31,19 +32,31 @@ def add_parser(subparsers) -> None:
     p.add_argument("snapshot", help="LAMMPS/LIGGGHTS text dump (ITEM: ATOMS id type x y z radius|diameter "
                                     "[mass]) or a YADE export (JSON, dtcrit-yade-export/1)")
     p.add_argument("--engine", choices=("lammps", "liggghts", "yade"),
-                   help="whose conventions to apply (default: yade for a YADE export, else lammps)")
+                   help="whose conventions to apply (default: yade for a YADE export, liggghts with "
+                        "--liggghts-input, else lammps)")
     p.add_argument("--pair-style", metavar="'STYLE ARGS'",
                    help="the input script's pair style, e.g. 'gran/hooke/history 1e4 NULL 0 NULL 0.5 0'")
+    p.add_argument("--liggghts-input", metavar="FILE",
+                   help="LIGGGHTS input script: 'pair_style gran model hertz|hooke ...' and its 'fix property/global' "
+                        "materials per atom type (the dump's type column)")
     p.add_argument("--local", metavar="FILE", help="LAMMPS dump local of the engine's contact list (patom1 patom2)")
-    p.add_argument("--contacts", metavar="TABLE", help="contact table with the columns id1 id2 kn ks [cn cs kr ktw fn]")
+    p.add_argument("--contacts", metavar="TABLE", help="contact table with the columns id1 id2 kn ks [cn cs kr ktw cr ctw fn], any order, # comments")
     p.add_argument("--wall", action="append", metavar="'FIX LINE'",
                    help="the input script's 'fix ID group wall/gran STYLE ARGS xplane|yplane|zplane lo hi|zcylinder r' "
                         "line (LAMMPS; repeatable): its wall contacts enter against a fixed body")
     p.add_argument("--density", type=float, help="particle density [kg/m^3] for a dump without a mass column")
     p.add_argument("--snapshot-index", type=int, default=-1, help="snapshot in the dump (default: the last)")
     p.add_argument("--dt", type=float, help="the simulation's own step [s], rated against dt_crit")
+    p.add_argument("--local-damping", type=float, metavar="ALPHA",
+                   help="local (Cundall) damping coefficient in [0, 1): dt_crit and dt_safe times 1/sqrt(1+ALPHA) "
+                        "(default: a YADE export's newton_damping)")
+    p.add_argument("--local-damping-law", choices=("yade", "pfc"),
+                   help="its law: yade (sign of the power at the on-step velocity estimate) or pfc (sign of F.v at "
+                        "the half step); yade for a YADE export")
     p.add_argument("--integrator", help="override the engine's integrator (see dtcrit step's integrators)")
     p.add_argument("--json", action="store_true", help="print the result as JSON (schema dtcrit-audit/1)")
+    p.add_argument("--plot", metavar="FILE.png", help="also draw the particles by their share of the governing mode "
+                                                      "and the top of the spectrum with dt_crit, dt_safe and the estimators")
     p.set_defaults(run=run_command)
 
 
@@ -72,12 +85,15 @@ def flag_of(key: str, args) -> str | None:
     if key.startswith("-") or ":" in key:
         return None
     if key in ("stiffness", "damping", "youngs", "kn", "ks"):
+        if getattr(args, "liggghts_input", None):
+            return "--liggghts-input"
         return "--contacts" if args.contacts else "--pair-style" if args.pair_style else f"{args.snapshot}:contacts"
     if key in ("box", "positions", "mass", "radius"):
         return f"{args.snapshot}:{key}"
     return {"integrator": "--integrator", "density": "--density", "dt": "--dt", "engine": "--engine",
             "snapshot": "SNAPSHOT", "local": "--local", "contact_table": "--contacts",
-            "pair_style": "--pair-style"}.get(key)
+            "pair_style": "--pair-style", "plot": "--plot", "local_damping": "--local-damping",
+            "local_damping_law": "--local-damping-law", "liggghts_input": "--liggghts-input"}.get(key)
 
 
 def run_command(args) -> int:
@@ -107,12 +123,21 @@ def _run(args) -> int:
     from dtcrit.packing.audit.run import DumpReadError, audit_snapshot
 
     args.source_label = None
+    if args.plot:
+        from dtcrit.figures.audit_plot import check_plot_path, write_audit_plot
+
+        check_plot_path(args.plot)  # before the work: a bad path is one line at once
     try:
-        result = audit_snapshot(args.snapshot, dt=args.dt, integrator=args.integrator, engine=args.engine,
+        result = audit_snapshot(args.snapshot, dt=args.dt, integrator=args.integrator,
+                                local_damping=args.local_damping, local_damping_law=args.local_damping_law,
+                                engine=args.engine,
                                 pair_style=args.pair_style, local=args.local, contact_table=args.contacts,
-                                density=args.density, snapshot_index=args.snapshot_index, walls=args.wall)
+                                density=args.density, snapshot_index=args.snapshot_index,
+                                liggghts_input=args.liggghts_input, walls=args.wall)
     except DumpReadError as exc:  # the dump reader's key as the flag that set it
         raise InputError(_dump_flag(exc, args.snapshot), exc.reason) from None
+    if args.plot:
+        write_audit_plot(result, args.plot)
     if args.json:
         json.dump(result.to_json(), sys.stdout, indent=2, sort_keys=True)
         sys.stdout.write("\n")

@@ -28,28 +28,40 @@ key                      meaning
 ``periodic``             ``O.periodic``
 ``cell_hsize``           ``O.cell.hSize`` as 3 rows (columns are the cell vectors), ``null``
                          when not periodic
+``cell_vel_grad``        ``O.cell.velGrad`` and ``O.cell.nextVelGrad`` as 3 rows (homothetic
+``cell_next_vel_grad``   cell motion), ``null`` when not periodic
+``density_scaling``      ``NewtonIntegrator.densityScaling`` (per-body inertia scaling), ``null``
+                         without a NewtonIntegrator
+``exact_aspherical_rot`` ``NewtonIntegrator.exactAsphericalRot``, ``null`` without one
+``laws``                 one object per Law2 functor of the InteractionLoops: ``class`` and its
+                         attributes that change the force (``shear_creep``, ``twist_creep``,
+                         ``always_use_moment_law``, ...)
 ``bodies``               one object per body (below)
 ``interactions``         one object per *real* interaction (``i.isReal``; below)
 =======================  ===================================================================
 
-Body: ``id``; ``shape`` (the class name: ``Sphere``, ``Wall``, ``Facet``, ...; a ``Wall`` adds ``axis``
-and ``sense``, a ``Facet`` its ``vertices`` in global coordinates); ``pos`` (``state.pos``, unwrapped in
+Body: ``id``; ``shape`` (the class name: ``Sphere``, ``Wall``, ``Facet``, ...); ``axis``, ``sense`` (a
+``Wall``'s, else ``null``); ``vertices`` (a ``Facet``'s corners in global coordinates, else ``null``); ``pos`` (``state.pos``, unwrapped in
 periodic scenes); ``radius`` (the sphere's
 radius, ``null`` for any other shape and for clumps); ``mass`` (``state.mass``); ``inertia``
 (``state.inertia``: principal moments in the body frame); ``clump_id`` (the clump of a clump member,
-else ``null``); ``is_clump``; ``fixed`` (``not b.dynamic`` or all six DOFs blocked).
+else ``null``); ``is_clump``; ``fixed`` (``not b.dynamic`` or all six DOFs blocked); ``blocked_dofs``
+(``state.blockedDOFs``, e.g. ``"xyZ"``); ``is_damped`` (``state.isDamped``: local damping acts on it).
 
 Interaction: ``id1``, ``id2``; ``kn``, ``ks`` [N/m] (``phys.kn``, ``phys.ks``); ``kr``, ``ktw``
 [N m/rad] (rolling and twisting springs when the moment law acts on this interaction: CohFrictPhys
 with ``momentRotationLaw`` and an unbroken bond or a law with ``always_use_moment_law``; any other
 physics exporting ``kr``/``ktw``; else ``null``); ``cn``, ``cs`` [N s/m] (viscous dashpots, e.g.
-ViscElPhys, else ``null``); ``normal`` (``geom.normal``, unit, from body 1 towards body 2);
+ViscElPhys, else ``null``; dtcrit's reader refuses ViscElPhys, whose law takes the slip at the
+contact point and adds a rolling resistance, and every physics class it does not model: see
+``dtcrit.packing.readers.yade_terms``); ``normal`` (``geom.normal``, unit, from body 1 towards body 2);
 ``point`` (``geom.contactPoint``); ``penetration`` (``geom.penetrationDepth``, positive when
 overlapping; YADE does not save it, so on a scene just loaded it is computed from the two spheres); ``radius1``, ``radius2`` (``geom.refR1``, ``geom.refR2``); ``bonded`` (a cohesive
 bond is active: ``not phys.cohesionBroken``, or ``phys.isCohesive``); ``shift2`` (the periodic
 shift of body 2, ``O.cell.hSize * i.cellDist``; ``[0, 0, 0]`` when not periodic).
 
-Extra keys (readers ignore keys they do not know): top level ``avoid_granular_ratcheting``
+Extra keys (every key written here has a decision in ``dtcrit.packing.readers.yade_terms``: modelled,
+derived, a record, or refused when it changes the dynamics): top level ``avoid_granular_ratcheting``
 (``Ig2_Sphere_Sphere_ScGeom(6D).avoidGranularRatcheting`` of the scene's InteractionLoop, ``null``
 without that functor), ``wall_no_ratch`` (``Ig2_Wall_Sphere_ScGeom.noRatch``, ``null`` without that
 functor: the ratcheting correction of sphere-wall contacts, ``pkg/dem/Ig2_Facet_Sphere_ScGeom.cpp``);
@@ -114,6 +126,52 @@ def _newton_damping(O):
     return None
 
 
+def _newton(O):
+    """The scene's NewtonIntegrator, or None."""
+    return next((e for e in O.engines if type(e).__name__ == "NewtonIntegrator"), None)
+
+
+def _newton_flag(O, name):
+    """A NewtonIntegrator attribute as a bool, None without a NewtonIntegrator."""
+    newton = _newton(O)
+    return None if newton is None else bool(getattr(newton, name))
+
+
+def _density_scaling(O):
+    """``NewtonIntegrator.densityScaling``; its getter warns without a GlobalStiffnessTimeStepper, so
+    without one it is read only when a body carries a manual ``state.densityScaling``.
+    """
+    if _newton(O) is None:
+        return None
+    stepper = any(type(e).__name__ == "GlobalStiffnessTimeStepper" for e in O.engines)
+    manual = any(b is not None and float(getattr(b.state, "densityScaling", -1.0)) > 0 for b in O.bodies)
+    return _newton_flag(O, "densityScaling") if stepper or manual else False
+
+
+#: Law2 attributes that change the force (the rest -- label, neverErase, traceEnergy -- do not)
+_LAW_OPTIONS = ("always_use_moment_law", "shear_creep", "twist_creep", "useIncrementalForm", "sphericalBodies",
+                "includeAdhesion", "includeMoment", "preventGranularRatcheting")
+
+
+def _laws(O):
+    out = []
+    for f in _engines(O):
+        name = type(f).__name__
+        if name.startswith("Law2_"):
+            entry = {"class": name}
+            entry.update({k: bool(getattr(f, k)) for k in _LAW_OPTIONS if hasattr(f, k)})
+            out.append(entry)
+    return out
+
+
+def _vel_grads(O):
+    if not O.periodic:
+        return None, None
+    c = O.cell
+    return ([[_num(c.velGrad[r, k]) for k in range(3)] for r in range(3)],
+            [[_num(c.nextVelGrad[r, k]) for k in range(3)] for r in range(3)])
+
+
 def _ratcheting(O):
     for f in _engines(O):
         if type(f).__name__ in ("Ig2_Sphere_Sphere_ScGeom", "Ig2_Sphere_Sphere_ScGeom6D"):
@@ -134,14 +192,10 @@ def _always_moment_law(O) -> bool:
                for f in _engines(O))
 
 
-def _wall_shape(b, shape) -> dict:
-    """``axis``, ``sense`` of a Wall; the global ``vertices`` of a Facet (``pos + ori * vertex``)."""
-    if shape == "Wall":
-        return {"axis": int(b.shape.axis), "sense": int(b.shape.sense)}
-    if shape == "Facet":
-        st = b.state
-        return {"vertices": [_vec(st.pos + st.ori * v) for v in b.shape.vertices]}
-    return {}
+def _facet_vertices(b):
+    """The global corners of a Facet (``pos + ori * vertex``)."""
+    st = b.state
+    return [_vec(st.pos + st.ori * v) for v in b.shape.vertices]
 
 
 def _body(b) -> dict:
@@ -151,7 +205,9 @@ def _body(b) -> dict:
     q = st.ori  # minieigen indexes a quaternion as (x, y, z, w)
     return {
         "shape": shape,
-        **_wall_shape(b, shape),
+        "axis": int(b.shape.axis) if shape == "Wall" else None,
+        "sense": int(b.shape.sense) if shape == "Wall" else None,
+        "vertices": _facet_vertices(b) if shape == "Facet" else None,
         "id": int(b.id),
         "pos": _vec(st.pos),
         "radius": _num(b.shape.radius) if shape == "Sphere" and not b.isClump else None,
@@ -160,6 +216,8 @@ def _body(b) -> dict:
         "clump_id": int(b.clumpId) if b.isClumpMember else None,
         "is_clump": bool(b.isClump),
         "fixed": (not bool(b.dynamic)) or all(c in blocked for c in "xyzXYZ"),
+        "blocked_dofs": blocked,
+        "is_damped": bool(getattr(st, "isDamped", True)),
         "ori": [_num(q[3]), _num(q[0]), _num(q[1]), _num(q[2])],
     }
 
@@ -248,6 +306,7 @@ def snapshot() -> dict:
     if periodic:
         h = O.cell.hSize
         hsize = [[_num(h[r, c]) for c in range(3)] for r in range(3)]
+    vel_grad, next_vel_grad = _vel_grads(O)
     return {
         "schema": SCHEMA,
         "yade_version": str(yade.config.version),
@@ -256,6 +315,11 @@ def snapshot() -> dict:
         "newton_damping": _newton_damping(O),
         "periodic": periodic,
         "cell_hsize": hsize,
+        "cell_vel_grad": vel_grad,
+        "cell_next_vel_grad": next_vel_grad,
+        "density_scaling": _density_scaling(O),
+        "exact_aspherical_rot": _newton_flag(O, "exactAsphericalRot"),
+        "laws": _laws(O),
         "avoid_granular_ratcheting": _ratcheting(O),
         "wall_no_ratch": _wall_no_ratch(O),
         "bodies": [_body(b) for b in O.bodies if b is not None],

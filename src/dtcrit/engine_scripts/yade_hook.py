@@ -21,8 +21,15 @@ in a subprocess, then sets ``O.dt = safety * min(dt_safe, dt_crit)`` from the JS
 and keeps its step.  If dtcrit fails (non-zero exit, no JSON, a non-positive step) the hook stops the
 simulation (``O.pause()``) and raises ``RuntimeError`` with dtcrit's message, unless
 ``on_error="keep"``, which keeps the current step and records the failure.  ``hook.history`` lists,
-per call: ``iter``, ``dt_crit``, ``dt_safe``, ``dt`` (the step set) and ``seconds`` (the audit's
-wall time), or ``error``.
+per call: ``iter``, ``dt_crit``, ``dt_safe``, ``local_damping`` (the audit's object, or None),
+``dt`` (the step set) and ``seconds`` (the audit's wall time), or ``error``.
+
+Local (Cundall) damping: the export carries ``NewtonIntegrator.damping`` (``newton_damping``), which
+the audit reads with YADE's law, so ``dt_crit`` and ``dt_safe`` are already the damped ones,
+``2/(omega_max sqrt(1 + damping))`` and the rigorous bound times ``1/sqrt(1 + damping)``: the hook's
+step stays below YADE's threshold with damping as without.  Viscous dashpots (``cn``, ``cs``) together
+with ``damping`` > 0, and clumps with ``damping`` > 0, are not modelled: the audit refuses them and the
+hook stops (or keeps its step with ``on_error="keep"``).
 
 ``safety`` (default 0.9, in (0, 1]) multiplies the bound: ``dt_safe`` may equal ``dt_crit`` (for an
 isolated pair the rigorous bound is exact), and a step *at* the boundary is only marginally stable
@@ -129,7 +136,7 @@ class DtcritHook:
         except (ValueError, KeyError, TypeError) as exc:
             self._fail(O, record, f"unreadable dtcrit output ({exc}): {done.stdout[:200]!r}")
             return None
-        record.update(dt_crit=dt_crit, dt_safe=dt_safe)
+        record.update(dt_crit=dt_crit, dt_safe=dt_safe, local_damping=out.get("local_damping"))
         dt = self.safety * min(dt_safe, dt_crit)
         if not (dt > 0.0 and dt < float("inf")):
             self._fail(O, record, f"no positive finite step (dt_crit={dt_crit!r}, dt_safe={dt_safe!r})")

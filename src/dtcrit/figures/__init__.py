@@ -11,6 +11,9 @@ a ``write_figN(out, fine=...)`` that writes a PNG and the CSV of its data:
 * :mod:`.appendix_a` (+ :mod:`.appendix_a_search`, :mod:`.appendix_a_contacts`, :mod:`.appendix_a_plots`) --
   the Appendix A search over admissible contacts.
 
+:mod:`.audit_plot` draws ``dtcrit audit --plot`` (not a paper figure; data from
+:mod:`dtcrit.packing.audit.plot_data`).
+
 :func:`make_figures` runs them; :mod:`.summary` builds the JSON summary of ``--json``.
 Matplotlib is needed only to draw (``pip install dtcrit[figures]``).
 """

@@ -35,23 +35,10 @@ from __future__ import annotations
 
 import numpy as np
 
-LAWS = ("pfc", "yade")
+from dtcrit.physics.local_damping import LAWS, flip_threshold
 
-
-def flip_threshold(alpha):
-    """``omega_max dt = 2/sqrt(1 + alpha)``, where the top mode's flip ray (stiffness ``(1 + alpha) K``) reaches eigenvalue -1.
-
-    Parameters
-    ----------
-    alpha : float or array_like
-        Local damping coefficient.
-
-    Returns
-    -------
-    numpy.ndarray
-        The threshold (a 0-d array for a scalar ``alpha``).
-    """
-    return 2.0 / np.sqrt(1.0 + np.asarray(alpha, dtype=float))
+__all__ = ["LAWS", "flip_threshold", "force", "power_sign", "step", "energy_norm", "lyapunov", "grows",
+           "bisect_threshold", "chain", "sphere_wall_sphere", "omega_max"]
 
 
 def _col(v, batch):

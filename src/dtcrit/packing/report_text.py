@@ -24,10 +24,10 @@ def format_report(r: PackingReport) -> str:
         f"coordination mean {r.cn_mean:.4g} max {r.cn_max}",
         f"omega_max = {r.omega_max:.6g} rad/s  ({r.solver}, relative residual {r.relative_residual:.2g}"
         f"{f', {r.matvecs} matrix-vector products' if r.matvecs else ''})",
-        f"dt_crit = 2/omega_max = {r.dt_crit:.6g} s   alpha = dt_crit / sqrt(m_min/K_max) = {r.alpha:.5g}"
+        f"dt_crit = 2/omega_max = {r.dt_crit:.7g} s   alpha = dt_crit / sqrt(m_min/K_max) = {r.alpha:.5g}"
         f"   (m_min {r.m_min:.4g} kg, K_max {r.k_max:.4g} N/m)",
         f"highest mode: {r.mode} ({100 * r.rotational_fraction:.1f} % of its kinetic energy in rotation)",
-        f"{r.integrator}, modal damping ratio {r.damping_ratio:g}: dt = {r.dt_integrator:.6g} s"
+        f"{r.integrator}, modal damping ratio {r.damping_ratio:g}: dt = {r.dt_integrator:.7g} s"
         + ("  (no step is stable)" if r.dt_integrator == 0 else ""),
     ]
     b = r.bracket

@@ -9,6 +9,8 @@ one array entry per contact.  Modules:
 * ``damping_conventions`` -- restitution <-> damping ratio and each engine's dashpot convention;
 * ``rules_of_thumb`` -- the step estimates DEM codes use (Rayleigh time, Hertz duration, collision
   time, YADE's GlobalStiffnessTimeStepper);
+* ``local_damping`` -- local (Cundall) damping: the laws (``yade``, ``pfc``), the coefficient's range
+  and the step factor ``1/sqrt(1 + alpha)``, with what is proved for each law;
 * ``estimate`` -- one estimate type rated against ``dt_crit`` with one tolerance;
 * ``json_numbers`` -- non-finite numbers as JSON ``null``;
 * ``walls`` -- a sphere on a fixed wall as each engine codes it (LAMMPS ``fix wall/gran``'s effective

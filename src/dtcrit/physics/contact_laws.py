@@ -21,6 +21,7 @@ __all__ = [
     "hertz_max_overlap",
     "lammps_hertz_tangent_stiffness",
     "yade_normal_stiffness",
+    "liggghts_hooke_stiffness",
 ]
 
 
@@ -221,3 +222,28 @@ def yade_normal_stiffness(e1_r1: float, e2_r2: float) -> float:
     x, y = e1_r1, e2_r2
     return 2.0 * (x / (1.0 + x / y) if x <= y else y / (1.0 + y / x))
 
+
+def liggghts_hooke_stiffness(y_star: Any, r_star: Any, m_star: Any, velocity: Any) -> Any:
+    """LIGGGHTS ``model hooke`` spring: Hertz's secant stiffness at the overlap of an impact at ``velocity``.
+
+    ``k_n = 16/15 sqrt(R*) Y* (15 m* v^2/(16 sqrt(R*) Y*))^(1/5)`` with ``v`` the
+    ``characteristicVelocity`` (LIGGGHTS-PUBLIC ``src/normal_model_hooke.h``); the force is ``k_n delta``.
+
+    Parameters
+    ----------
+    y_star : float or numpy.ndarray
+        Effective modulus ``Y*`` [Pa] (``effective_youngs_modulus``).
+    r_star : float or numpy.ndarray
+        Effective radius ``R*`` [m].
+    m_star : float or numpy.ndarray
+        Effective mass ``m*`` [kg].
+    velocity : float or numpy.ndarray
+        The characteristic velocity [m/s].
+
+    Returns
+    -------
+    float or numpy.ndarray
+        ``k_n`` [N/m].
+    """
+    sqrt_r = r_star**0.5
+    return 16.0 / 15.0 * sqrt_r * y_star * (15.0 * m_star * velocity * velocity / (16.0 * sqrt_r * y_star)) ** 0.2

@@ -46,6 +46,9 @@ __all__ = [
     "damping_ratio_from_restitution",
     "tsuji_alpha",
     "lammps_gran_defaults",
+    "liggghts_beta",
+    "liggghts_hertz_dashpot",
+    "liggghts_hooke_dashpot",
 ]
 
 HERTZ_FACTOR = 2.0 * math.sqrt(5.0 / 6.0) / 2.0  # c = 2 sqrt(5/6) zeta sqrt(S m*) = f * 2 zeta sqrt(S m*)
@@ -186,6 +189,71 @@ def damping_ratio_from_restitution(e: float) -> float:
     return L / math.hypot(math.pi, L)
 
 
+def liggghts_beta(e: float) -> float:
+    """LIGGGHTS's ``betaeff = ln e / sqrt(ln^2 e + pi^2)`` of a restitution coefficient (negative for ``e < 1``).
+
+    ``createBetaEff`` in LIGGGHTS-PUBLIC ``src/global_properties.cpp``; it is ``-zeta(e)`` of
+    :func:`damping_ratio_from_restitution`.  LIGGGHTS itself refuses ``e`` outside ``(0.05, 1]``.
+
+    Parameters
+    ----------
+    e : float
+        Restitution coefficient, ``0 < e <= 1``.
+
+    Returns
+    -------
+    float
+        ``beta`` (0 for ``e = 1``).
+    """
+    log_e = math.log(e)
+    return log_e / math.sqrt(log_e * log_e + math.pi * math.pi)
+
+
+def liggghts_hertz_dashpot(beta: Any, stiffness: Any, m_eff: Any) -> Any:
+    """LIGGGHTS ``model hertz`` dashpot ``gamma = -2 sqrt(5/6) beta sqrt(S m*)``.
+
+    ``S`` is ``S_n = 2 Y* sqrt(R* delta)`` for the normal dashpot and ``S_t = 8 G* sqrt(R* delta)``
+    for the tangential one (LIGGGHTS-PUBLIC ``src/normal_model_hertz.h``): the ``liggghts``/``edem``
+    convention ``c = 2 sqrt(5/6) zeta sqrt(S m*)`` with ``zeta = -beta``.
+
+    Parameters
+    ----------
+    beta : float or numpy.ndarray
+        :func:`liggghts_beta` of the pair's restitution coefficient.
+    stiffness : float or numpy.ndarray
+        ``S_n`` or ``S_t`` [N/m].
+    m_eff : float or numpy.ndarray
+        Effective mass ``m*`` [kg].
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The dashpot [N s/m].
+    """
+    return -2.0 * math.sqrt(5.0 / 6.0) * beta * (stiffness * m_eff) ** 0.5
+
+
+def liggghts_hooke_dashpot(beta: Any, kn: Any, m_eff: Any) -> Any:
+    """LIGGGHTS ``model hooke`` normal dashpot ``gamma_n = sqrt(4 m* k_n ln^2 e/(ln^2 e + pi^2)) = 2 |beta| sqrt(k_n m*)``.
+
+    LIGGGHTS-PUBLIC ``src/normal_model_hooke.h`` (``viscous off``); with ``tangential_damping on`` the
+    tangential dashpot is the same ``gamma_t = gamma_n``: the ``liggghts`` convention for linear springs.
+
+    Parameters
+    ----------
+    beta : float or numpy.ndarray
+        :func:`liggghts_beta` of the pair's restitution coefficient.
+    kn : float or numpy.ndarray
+        The normal spring [N/m] (``dtcrit.physics.contact_laws.liggghts_hooke_stiffness``).
+    m_eff : float or numpy.ndarray
+        Effective mass ``m*`` [kg].
+
+    Returns
+    -------
+    float or numpy.ndarray
+        ``gamma_n`` [N s/m].
+    """
+    return (4.0 * m_eff * kn * beta * beta) ** 0.5
 
 
 def tsuji_alpha(e: Any) -> Any:

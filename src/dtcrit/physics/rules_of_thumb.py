@@ -173,7 +173,9 @@ def yade_gsts_step(diagonal_step: float, safety: float = 1.0) -> float:
     """YADE GlobalStiffnessTimeStepper's step from the ``sqrt(2)`` diagonal estimate.
 
     ``1.41044 sqrt(min(M/K)) x safety`` = ``diagonal_step x 1.41044/sqrt(2) x safety``
-    (``GlobalStiffnessTimeStepper.cpp``; default ``timestepSafetyCoefficient`` 0.8).
+    (``GlobalStiffnessTimeStepper.cpp``; default ``timestepSafetyCoefficient`` 0.8).  It is the step YADE
+    sets only where ``diagonal_step`` sums the stiffnesses as YADE does; the step it sets on any
+    scene, clumps included, is ``dtcrit.packing.bounds.yade_stepper.yade_stepper``.
 
     Parameters
     ----------

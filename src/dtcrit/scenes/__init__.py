@@ -1,6 +1,7 @@
 """Scenes: the TOML description of a DEM simulation's contacts (``scene``, ``fields``, ``model``),
 the ``dtcrit step`` API (``timestep``) and the estimates other DEM codes use (``code_estimates``; their
-formulas and the contact physics are ``dtcrit.physics``).
+formulas and the contact physics are ``dtcrit.physics``); ``local_damping`` (the keys ``local_damping``,
+``local_damping_law``: the step times ``1/sqrt(1 + alpha)``).
 
 Runtime only (NumPy; SciPy on first use for polyhedra): scenes import ``bodies`` and
 ``integrators``, never ``symbolic``.

@@ -1,14 +1,18 @@
 """The step estimates DEM codes use, evaluated for a scene beside its verified step (``dtcrit step``).
 
 Rayleigh time and its fractions, Hertz contact duration and its fractions, damped collision time / 50,
-the per-body diagonal-stiffness estimate of YADE/PFC and the paper's Eq. (46); the formulas are
+the per-body diagonal-stiffness estimate of YADE/PFC, YADE's GlobalStiffnessTimeStepper as it runs
+(``dtcrit.packing.bounds.yade_stepper``) and the paper's Eq. (46); the other formulas are
 :mod:`dtcrit.physics.rules_of_thumb`.
 """
 from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from dtcrit.integrators.stability import paper_eq46
+from dtcrit.packing.bounds.yade_stepper import single_contact_step
 from dtcrit.physics import rules_of_thumb as rot
 from dtcrit.physics.estimate import Estimate
 
@@ -73,7 +77,7 @@ def scene_estimates(scene, steps) -> list[Estimate]:
         "normal direction" if t_c50 is not None else "not underdamped: no collision time",
     ))
 
-    diag = []
+    diag, gsts = [], []
     for p in steps:
         k_t = max(p.contact.kn, p.contact.ks)
         sides = [(p.contact.i, p.contact.radius_i)] + ([] if p.contact.wall else [(p.contact.j, p.contact.radius_j)])
@@ -82,6 +86,7 @@ def scene_estimates(scene, steps) -> list[Estimate]:
             s = part.shape_at(radius)
             k_rot = (p.contact.ks if part.kind == "sphere" else k_t) * s.max_arm**2
             diag.append(rot.diagonal_stiffness_step(s.mass, min(s.inertia), k_t, k_rot))
+            gsts.append(_gsts_side(part.kind, s, p.contact))
     out.append(_estimate(
         "diagonal_stiffness",
         "per-body diagonal stiffness sqrt(2) sqrt(min(m/K_ii, I/K_rot_ii)) (YADE GlobalStiffnessTimeStepper, PFC; before their safety factor)",
@@ -91,8 +96,10 @@ def scene_estimates(scene, steps) -> list[Estimate]:
     out.append(_estimate(
         "yade_gsts",
         "YADE GlobalStiffnessTimeStepper as it runs: 1.41044 x timestepSafetyCoefficient 0.8 x sqrt(min(m/K_ii, I/K_rot_ii))",
-        rot.yade_gsts_step(min(diag), rot.YADE_GSTS_SAFETY),
-        "its defaults; one contact per body as for diagonal_stiffness",
+        _min_or_none(gsts) if None not in gsts else None,
+        "its defaults; one contact per body, normal along the worst axis: K_ii = max(kn, ks), "
+        "K_rot_ii = max(ks r^2 + kr, ktw), r the sphere's (a clump's largest member's) radius"
+        if None not in gsts else "YADE's stepper reads sphere contacts: spheres and clumps of spheres only",
     ))
 
     eq46 = min(min([paper_eq46(p.contact.kn, p.contact.cn, p.A_max)]
@@ -100,6 +107,20 @@ def scene_estimates(scene, steps) -> list[Estimate]:
     out.append(_estimate("paper_eq46", "Peng et al. 2020, Eq. (46) with Eq. (26) A_max (as printed)", eq46,
                             "smallest over pairs and directions"))
     return [_finite(e) for e in out]
+
+
+def _gsts_side(kind: str, shape, contact) -> float | None:
+    """YADE's stepper on one side of a contact (``yade_stepper.single_contact_step``).
+
+    The touching sphere's radius is the arm; None for shapes the stepper does not take.
+    """
+    if kind == "sphere":
+        radius = shape.max_arm
+    elif kind == "clump":
+        radius = float(np.max(shape.spheres[:, 3]))
+    else:
+        return None
+    return single_contact_step(shape.mass, shape.inertia, contact.kn, contact.ks, contact.kr, contact.ktw, radius)
 
 
 def _finite(e: Estimate) -> Estimate:

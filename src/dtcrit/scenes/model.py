@@ -15,7 +15,7 @@ from dtcrit.scenes.damping_input import damping_kind
 # The vocabulary of a scene
 # ----------------------------------------------------------------------------------------------
 TOP_KEYS = ("integrator", "omega_max", "safety", "pairs", "title", "coordination_max", "overlap_max", "isolated", "particle", "contact",
-            "wall")
+            "wall", "local_damping", "local_damping_law")
 PAIRS_CHOICES = ("all", "unlike")
 
 CONTACT_MODELS = ("linear", "yade", "hertz", "bond")
@@ -319,6 +319,9 @@ class Scene:
         Largest overlap in a packing, as a fraction of ``R_i + R_j``.
     isolated : bool
         The headline is the isolated-contact step (else the step for any packing).
+    local_damping : tuple of (float, str) or None
+        Local (Cundall) damping ``(alpha, law)``: the step times ``1/sqrt(1 + alpha)``
+        (:mod:`dtcrit.scenes.local_damping`).
     """
 
     source: str
@@ -334,6 +337,7 @@ class Scene:
     coordination_max: int | None = None
     overlap_max: float = 0.05  # largest overlap in a packing, as a fraction of R_i + R_j (the dense sphere bound)
     isolated: bool = False  # the headline is the isolated-contact step (else the step for any packing)
+    local_damping: tuple[float, str] | None = None  # (alpha, law): dtcrit.scenes.local_damping
 
     @property
     def identical(self) -> bool:

@@ -286,8 +286,10 @@ def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
         found.append(("contact.model", "warning: Hertz stiffness over a lognormal size range is evaluated at "
                       f"{len(next(p for p in particles if p.sizes is not None and p.sizes.kind == 'lognormal').radii)} "
                       "log-spaced radii between the cut-offs (no monotonicity is proved for Hertz)"))
+    import dtcrit.scenes.local_damping as local_damping
+
     scene = Scene(source, integrator, tuple(particles), law, omega_max, safety, pairs, title, tuple(found), walls, coordination,
-                  overlap, isolated)
+                  overlap, isolated, local_damping.parse(doc))
     from dtcrit.scenes.laws import resolve_wall
 
     checks = [(f"pair {i}-{j}", resolve_pair(scene, i, j)) for i, j in scene.pair_numbers()]
@@ -298,6 +300,7 @@ def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
             if not math.isfinite(value):
                 key = f"wall[{pc.wall_number}].{name}" if pc.wall is not None else f"contact.{name}"
                 raise InputError(key, f"{where}: {name} = {value!r} is outside double precision")
+    local_damping.check(scene, checks)
     return scene
 
 

@@ -332,5 +332,7 @@ def critical_step(scene: Scene) -> StepResult:
         if g.direction not in ("normal", "shear"):
             bound = bound.replace("translation-dominant", "contact-dominant", 1) + f"; {g.reason}"
     estimates = tuple(RatedEstimate(e, dt) for e in scene_estimates(scene, steps))
-    return StepResult(scene, pairs, dt, governing, bound, t, r, b_max, estimates, dt_isolated, dense, factors, basis,
-                      coordination, note)
+    from dtcrit.scenes.local_damping import apply as with_local_damping
+
+    return with_local_damping(StepResult(scene, pairs, dt, governing, bound, t, r, b_max, estimates, dt_isolated, dense,
+                                         factors, basis, coordination, note))

@@ -165,7 +165,7 @@ def _bad_cases(tmp: Path):
         (["good.dump", "--pair-style", "granular hooke 1e4 50"], "tangential model is required"),
         (["good.dump", "--pair-style", "granular hooke 1e4 tangential linear_history 1e4 1 0.5"], "hooke eta must be"),
         (["good.dump", "--pair-style", "granular hooke 1e4 5 tangential linear_history 1e4 1 0.5 damping sticky"],
-         "damping must be one of"),
+         "damping 'sticky' is not modelled"),
         (["good.dump", "--pair-style", "granular hooke 1e4 5 tangential mindlin NULL 1 0.5"], "needs a material"),
     ]
 

@@ -54,7 +54,7 @@ def _yade_inter(a, b, **kw):
 
 def _yade_export(bodies, interactions):
     return {"schema": "dtcrit-yade-export/1", "yade_version": "2023.02a", "dt": 1e-7, "iter": 3,
-            "newton_damping": 0.2, "periodic": False, "cell_hsize": None, "avoid_granular_ratcheting": True,
+            "newton_damping": 0.0, "periodic": False, "cell_hsize": None, "avoid_granular_ratcheting": True,
             "bodies": bodies, "interactions": interactions}
 
 

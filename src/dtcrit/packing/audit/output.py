@@ -7,6 +7,8 @@ from dtcrit.json_meta import envelope
 from dtcrit.physics.estimate import RatedEstimate
 from dtcrit.physics.json_numbers import finite_or_none as _finite
 
+from dtcrit.packing.audit.mode_character import describe
+from dtcrit.packing.audit.local_damping import text_lines as local_damping_lines
 from dtcrit.packing.audit.snapshot import AuditReport
 
 JSON_SCHEMA = "dtcrit-audit/1"
@@ -34,10 +36,12 @@ def audit_json(r: AuditReport) -> dict:
         "dt_crit": _finite(r.dt_crit), "dt_safe": _finite(r.dt_safe), "dt_undamped": _finite(r.dt_undamped),
         "method": r.method, "limiting": {"ids": r.limiting, "energy_share": r.limiting_share,
                                            "participation_ratio": _finite(r.participation)},
+        "governing_mode": None if r.governing_mode is None else r.governing_mode.to_json(),
         "dt_user": _finite(r.dt_user), "dt_user_ratio": _finite(r.ratio),
         "stable": None if r.ratio is None else bool(r.ratio < 1.0),
         "estimators": {e.estimate.name: _estimate_json(e) for e in r.estimators},
         "notes": list(r.notes),
+        "local_damping": None if r.local_damping is None else dict(r.local_damping),
     })
     return out
 
@@ -95,11 +99,12 @@ def format_audit(r: AuditReport) -> str:
         f"particles {r.n_particles}, contacts {r.n_contacts}, mean coordination {r.coordination_mean:.4g}"
         + (", dashpots in the damping matrix" if r.damped else ", no dashpots"),
         "",
-        f"dt_crit = {r.dt_crit:.6g} s   ({r.method})",
-        f"dt_safe = {r.dt_safe:.6g} s   (rigorous lower bound; dt_safe/dt_crit = {_ratio(r.dt_safe / r.dt_crit)})",
+        f"dt_crit = {r.dt_crit:.7g} s   ({r.method})",
+        f"dt_safe = {r.dt_safe:.7g} s   (rigorous lower bound; dt_safe/dt_crit = {_ratio(r.dt_safe / r.dt_crit)})",
     ]
     if r.damped:
-        lines.append(f"undamped 2/omega_max = {r.dt_undamped:.6g} s")
+        lines.append(f"undamped 2/omega_max = {r.dt_undamped:.7g} s")
+    lines += local_damping_lines(r)
     if r.limiting:
         lines.append(f"limiting particles (ids): {' '.join(str(i) for i in r.limiting)}  "
                      f"({100 * r.limiting_share:.3g} % of the governing mode's energy)")
@@ -107,6 +112,8 @@ def format_audit(r: AuditReport) -> str:
         lines.append(f"governing mode: spread out, participation ratio {r.participation:.3g} (about "
                      f"{r.participating:.3g} of {r.n_particles} particles share its energy; the {len_top(r)} with the "
                      f"most hold {100 * r.limiting_share:.3g} %): no few particles limit the step")
+    lines.append(describe(r.governing_mode) if r.governing_mode is not None else
+                 "governing mode: not resolved (this integrator's route gives no mode vector)")
     if r.dt_user is not None:
         ratio = r.dt_user / r.dt_crit  # AuditReport.ratio
         verdict = "stable" if ratio < 1.0 else "UNSTABLE"
@@ -115,7 +122,9 @@ def format_audit(r: AuditReport) -> str:
     lines.append(f"{'estimator':<26}{'dt [s]':>13}{'dt/dt_crit':>13}  {'safe':<5}what it is (what it bounds); detail")
     for rated in r.estimators:
         e, times = rated.estimate, rated.ratio
-        assert times is not None  # every audit estimate has a step
+        if e.dt is None or times is None:  # an estimate that does not apply (the detail says why)
+            lines.append(f"{e.name:<26}{'n/a':>13}{'':>13}  {'-':<5}{e.kind}; {e.detail}")
+            continue
         lines.append(f"{e.name:<26}{e.dt:>13.6g}{_ratio(times):>13}  {'yes' if rated.safe else 'NO':<5}"
                      f"{e.kind}; {e.detail}")
     return "\n".join(lines)

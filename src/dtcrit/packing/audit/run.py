@@ -16,204 +16,20 @@ from __future__ import annotations
 
 import math
 import os
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import replace
 from pathlib import Path
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any, Mapping
+from typing import TYPE_CHECKING, Any
 
 from dtcrit.errors import InputError, MisuseError
 
+from dtcrit.packing.audit.results import DumpReadError, Snapshot, SnapshotAudit
+
 if TYPE_CHECKING:
-    from dtcrit.packing.audit.snapshot import AuditReport
     from dtcrit.packing.conventions.engines import EngineConvention
     from dtcrit.packing.model import Contacts, Packing
-    from dtcrit.physics.estimate import RatedEstimate
 
 __all__ = ["DumpReadError", "Snapshot", "SnapshotAudit", "audit_snapshot", "read_snapshot"]
-
-
-class DumpReadError(InputError):
-    """Bad input in the dump file of a snapshot.
-
-    Parameters
-    ----------
-    key : str or None
-        The reader's key: ``snapshot_index``, ``density``, ``file``, or one that starts with the file's
-        path (``PATH:LINE``).
-    reason : str
-        What is wrong.
-    source : str or os.PathLike or None
-        The dump file the value came from.
-    line : int or None
-        The 1-based line in ``source``.
-    """
-
-
-@dataclass(frozen=True)
-class Snapshot:
-    """A snapshot's packing and contacts with every term its engine applies.
-
-    Parameters
-    ----------
-    source : str
-        The snapshot file as given.
-    packing : Packing
-        The particles, by the engine's ids.
-    contacts : Contacts
-        The contacts with their springs, dashpots and pre-load.
-    convention : EngineConvention
-        The engine's conventions (contact detection, arms, pre-load, integrator).
-    law : str
-        The contact law in words.
-    meta : Mapping
-        What the file adds: ``dt`` (a YADE export's step [s]), ``material`` (Young's modulus [Pa],
-        Poisson's ratio) of a pair style that has one; with walls ``fixed_bodies`` (how many of the
-        packing's last bodies are walls, ``dtcrit.packing.wall_bodies``) and ``notes``.
-
-    Examples
-    --------
-    >>> from dtcrit import read_snapshot
-    >>> s = read_snapshot("examples/packings/random_lognormal_60.dump",
-    ...                   pair_style="gran/hertz/history 1e9 NULL 0 NULL 0.5 0")
-    >>> sorted(s.meta), s.contacts.count > 0
-    (['material'], True)
-    """
-
-    source: str
-    packing: Packing = field(repr=False)
-    contacts: Contacts = field(repr=False)
-    convention: EngineConvention
-    law: str
-    meta: Mapping[str, Any] = field(default_factory=lambda: MappingProxyType({}))
-
-
-@dataclass(frozen=True)
-class SnapshotAudit:
-    """The critical step of a snapshot as its engine integrates it, and the codes' estimators beside it.
-
-    Parameters
-    ----------
-    source, engine, engine_source, integrator, law : str
-        The snapshot, the engine, where its conventions come from, the integrator and the contact law.
-    n_particles, n_contacts : int
-        Particles and contacts.
-    coordination_mean : float
-        Mean coordination number.
-    damped, preload : bool
-        Whether dashpots enter the damping matrix, and pre-loaded contacts the stiffness.
-    dt_crit : float
-        The exact critical step of the packing for the integrator [s].
-    dt_safe : float
-        A rigorous lower bound on it [s].
-    dt_undamped : float
-        ``2 / omega_max`` without the dashpots [s].
-    method : str
-        How ``dt_crit`` was found.
-    limiting : tuple of int
-        Ids of the particles the governing mode sits on (empty when it is spread out).
-    limiting_share : float
-        The share of the governing mode's energy the most energetic particles hold.
-    dt_user : float or None
-        The simulation's own step [s], rated against ``dt_crit``.
-    estimators : tuple of RatedEstimate
-        The codes' estimators, each rated against ``dt_crit`` (:class:`dtcrit.physics.estimate.RatedEstimate`).
-    notes : tuple of str
-        Notes printed with the result.
-    participation : float
-        Participation ratio of the governing mode's particle energies.
-
-    Examples
-    --------
-    >>> from dtcrit import audit_snapshot
-    >>> a = audit_snapshot("examples/packings/random_lognormal_60.dump",
-    ...                    pair_style="gran/hooke/history 1e5 NULL 0 NULL 0.5 0")
-    >>> a.to_json()["schema"], a.dt_user is None
-    ('dtcrit-audit/1', True)
-    """
-
-    source: str
-    engine: str
-    engine_source: str
-    integrator: str
-    law: str
-    n_particles: int
-    n_contacts: int
-    coordination_mean: float
-    damped: bool
-    preload: bool
-    dt_crit: float
-    dt_safe: float
-    dt_undamped: float
-    method: str
-    limiting: tuple[int, ...]
-    limiting_share: float
-    dt_user: float | None
-    estimators: tuple[RatedEstimate, ...] = ()
-    notes: tuple[str, ...] = ()
-    participation: float = math.nan
-
-    @property
-    def ratio(self) -> float | None:
-        """``dt_user / dt_crit`` (None without ``dt_user``)."""
-        return None if self.dt_user is None else self.dt_user / self.dt_crit
-
-    @classmethod
-    def from_report(cls, report: AuditReport) -> SnapshotAudit:
-        """The frozen form of a :class:`dtcrit.packing.audit.snapshot.AuditReport`.
-
-        Parameters
-        ----------
-        report : AuditReport
-            The report of :func:`dtcrit.packing.audit.snapshot.audit`.
-
-        Returns
-        -------
-        SnapshotAudit
-            The same numbers, frozen.
-        """
-        values = {f.name: getattr(report, f.name) for f in fields(report)}
-        values.update(limiting=tuple(report.limiting), notes=tuple(report.notes),
-                      estimators=tuple(report.estimators))
-        return cls(**values)
-
-    def report(self) -> AuditReport:
-        """The mutable :class:`dtcrit.packing.audit.snapshot.AuditReport` of the same numbers.
-
-        Returns
-        -------
-        AuditReport
-            A new report.
-        """
-        from dtcrit.packing.audit.snapshot import AuditReport
-
-        values = {f.name: getattr(self, f.name) for f in fields(self)}
-        values.update(limiting=list(self.limiting), notes=list(self.notes),
-                      estimators=list(self.estimators))
-        return AuditReport(**values)
-
-    def to_json(self) -> dict:
-        """The JSON document ``dtcrit audit --json`` prints (schema ``dtcrit-audit/1``).
-
-        Returns
-        -------
-        dict
-            The envelope and the audit; non-finite numbers are ``None``.
-        """
-        from dtcrit.packing.audit.output import audit_json
-
-        return audit_json(self.report())
-
-    def to_text(self) -> str:
-        """The text ``dtcrit audit`` prints.
-
-        Returns
-        -------
-        str
-            The audit without a final newline.
-        """
-        from dtcrit.packing.audit.output import format_audit
-
-        return format_audit(self.report())
 
 
 def _check_files(path, local, contact_table) -> None:
@@ -238,22 +54,20 @@ def _is_yade_export(path) -> bool:
 
 
 def _table_contacts(packing: Packing, convention: EngineConvention, path) -> tuple[Contacts, str]:
-    """The contacts of a per-contact table (``id1 id2 kn ks [cn cs kr ktw fn]``) and the law's words."""
-    from dtcrit.packing.conventions.engines import overlaps_of_pairs, with_arms
-    from dtcrit.packing.readers.contact_tables import read_contact_table
+    """The contacts of a per-contact table (``id1 id2 kn ks [cn cs kr ktw cr ctw fn]``), with the engine's
+    kinematics, and the law's words.
+    """
+    from dtcrit.packing.readers.contact_tables import read_contact_table, table_contacts
 
     table = read_contact_table(path, packing)
-    contacts = with_arms(packing, overlaps_of_pairs(packing, table.i, table.j), convention.arm)
-    v = table.values
-    contacts = contacts.with_stiffness(v["kn"], v["ks"], v.get("kr"), v.get("ktw"))
-    contacts = contacts.with_damping(v.get("cn", 0.0), v.get("cs", 0.0))
-    contacts = contacts.with_normal_force(v.get("fn", v["kn"] * contacts.overlap))
-    return contacts, f"per-contact table {Path(path).name}" + ("" if "fn" in v else " (pre-load kn x overlap)")
+    contacts = table_contacts(packing, table, convention.arm)
+    return contacts, f"per-contact table {Path(path).name}" + ("" if "fn" in table.values else " (pre-load kn x overlap)")
 
 
 def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_style: str | None = None,
                   local: str | os.PathLike | None = None, contact_table: str | os.PathLike | None = None,
-                  density: float | None = None, snapshot_index: int = -1, walls=None) -> Snapshot:
+                  density: float | None = None, snapshot_index: int = -1,
+                  liggghts_input: str | os.PathLike | None = None, walls=None) -> Snapshot:
     """Read a snapshot with its engine's conventions: the packing and its contacts with every term.
 
     Parameters
@@ -262,7 +76,7 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
         A LAMMPS/LIGGGHTS text dump (``ITEM: ATOMS id type x y z radius|diameter [mass]``) or a YADE
         export (JSON, ``dtcrit-yade-export/1``, written by ``dtcrit/engine_scripts/yade_export.py``).
     engine : {'lammps', 'liggghts', 'yade'}, optional
-        Whose conventions to apply (default: yade for a YADE export, else lammps).
+        Whose conventions to apply (default: yade for a YADE export, liggghts with ``liggghts_input``, else lammps).
     pair_style : str, optional
         The input script's pair style, e.g. ``'gran/hooke/history 1e4 NULL 0 NULL 0.5 0'``.
     local : str or os.PathLike, optional
@@ -273,6 +87,8 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
         Particle density [kg/m^3] for a dump without a mass column.
     snapshot_index : int
         The snapshot in the dump (-1: the last).
+    liggghts_input : str or os.PathLike, optional
+        A LIGGGHTS input: the law per atom type (``dtcrit.packing.conventions.liggghts_input``).
     walls : sequence of str, optional
         The input script's ``fix ... wall/gran`` lines (LAMMPS;
         ``dtcrit.packing.conventions.lammps_walls``): each wall's contacts enter against a fixed body.
@@ -299,6 +115,7 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
     """
     from dtcrit.packing.conventions.engines import engine_convention, engine_sphere_contacts, overlaps_of_pairs
     from dtcrit.packing.conventions.engines import with_arms
+    from dtcrit.packing.conventions.liggghts_law import read_liggghts_law
     from dtcrit.packing.conventions.pair_styles import apply_terms, parse_pair_style
     from dtcrit.packing.readers.contact_tables import read_local_dump
     from dtcrit.packing.readers.yade_export import check_schema, read_yade_audit
@@ -308,27 +125,36 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
     yade_file = _is_yade_export(path)
     if yade_file:
         check_schema(path)  # a JSON file of another format is not "a YADE export"
-    convention = engine_convention(engine or ("yade" if yade_file else "lammps"))
-    if yade_file != (convention.name == "yade"):
+    convention = engine_convention(engine or ("yade" if yade_file else "liggghts" if liggghts_input else "lammps"))
+    if yade_file != (convention.name == "yade") and not (contact_table and not yade_file):
         raise InputError("engine", f"{source} is {'a YADE export' if yade_file else 'a dump'}, "
-                                   f"which does not go with --engine {convention.name}")
+                                   f"which does not go with --engine {convention.name}"
+                                   + ("" if yade_file else " without a --contacts table"))
     if yade_file:
-        if pair_style or local or contact_table or walls:
-            raise InputError("engine", "a YADE export carries its own contacts; --pair-style, --local, --contacts "
-                                       "and --wall do not apply")
+        if pair_style or local or contact_table or liggghts_input or walls:
+            raise InputError("engine", "a YADE export carries its own contacts; --pair-style, --local, --contacts, "
+                                       "--liggghts-input and --wall do not apply")
         packing, contacts, meta = read_yade_audit(path)  # YADE's kinematics (clumps too) applied on reading
         return Snapshot(source, packing, contacts, convention, "YADE's per-contact kn, ks (export)",
                         MappingProxyType(dict(meta)))
+    if liggghts_input and (pair_style or contact_table):
+        raise InputError("liggghts_input", "a LIGGGHTS input gives the contact law: do not combine it with "
+                                           "--pair-style or --contacts")
+    if convention.name == "yade" and (pair_style or local or liggghts_input):
+        raise InputError("engine", "with --engine yade a dump goes with a --contacts table (YADE's per-contact terms); "
+                                   "--pair-style, --local and --liggghts-input do not apply")
     style = parse_pair_style(pair_style) if pair_style else None
     if contact_table and (style or local):
         raise InputError("contact_table", "a contact table already gives each contact's stiffness; "
                                           "do not combine it with --pair-style or --local")
-    if not contact_table and style is None:
+    if not contact_table and style is None and not liggghts_input:
         raise InputError("pair_style", "give the contact law (the input script's pair style) or a --contacts table")
     packing = _read_dump(path, density, snapshot_index)
     if contact_table:
         contacts, law = _table_contacts(packing, convention, contact_table)
         return _with_walls(Snapshot(source, packing, contacts, convention, law), walls)
+    if liggghts_input:
+        style = read_liggghts_law(liggghts_input, path, snapshot_index, packing)
     assert style is not None
     if local:
         i, j = read_local_dump(local, packing)
@@ -359,7 +185,8 @@ def _with_walls(snapshot: Snapshot, walls) -> Snapshot:
 
 
 def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None = None,
-                   integrator: str | None = None, **read: Any) -> SnapshotAudit:
+                   integrator: str | None = None, local_damping: float | None = None,
+                   local_damping_law: str | None = None, **read: Any) -> SnapshotAudit:
     """The critical step of a simulation snapshot as its engine integrates it.
 
     ``dt_crit`` is the exact critical step of the whole packing for the engine's integrator (with
@@ -374,9 +201,12 @@ def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None =
         The simulation's own step [s], rated against ``dt_crit`` (default: a YADE export's own).
     integrator : str, optional
         Override the engine's integrator (a name of ``dtcrit.INTEGRATORS``).
+    local_damping, local_damping_law : float and {'yade', 'pfc'}, optional
+        Local (Cundall) damping in [0, 1) and its law (default: a YADE export's ``newton_damping``, law
+        ``yade``): the steps times ``1/sqrt(1 + alpha)`` (:mod:`dtcrit.packing.audit.local_damping`).
     **read
         The keyword arguments of :func:`read_snapshot` (``engine``, ``pair_style``, ``local``,
-        ``contact_table``, ``density``, ``snapshot_index``, ``walls``) for a file.
+        ``contact_table``, ``density``, ``snapshot_index``, ``liggghts_input``, ``walls``) for a file.
 
     Returns
     -------
@@ -398,7 +228,9 @@ def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None =
     >>> a.engine, a.dt_safe <= a.dt_crit, a.ratio < 1
     ('lammps', True, True)
     """
+    from dtcrit.packing.audit import local_damping as damping
     from dtcrit.packing.audit import snapshot as analysis
+    from dtcrit.packing.bounds.yade_stepper_export import from_snapshot
 
     if isinstance(snapshot, Snapshot):
         if read:
@@ -409,12 +241,17 @@ def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None =
         if dt is not None and not (math.isfinite(dt) and dt > 0):
             raise InputError("dt", f"must be a positive finite number, got {dt}")
         given = read_snapshot(snapshot, **read)
+    local = damping.resolve(given.meta, given.source, local_damping, local_damping_law)
     report = analysis.audit(given.packing, given.contacts, given.convention, law=given.law, source=given.source,
                             integrator=integrator, dt_user=dt if dt is not None else given.meta.get("dt"),
-                            material=given.meta.get("material"))
+                            material=given.meta.get("material"), yade_stepper=from_snapshot(given))
     if given.meta.get("fixed_bodies"):  # walls are bodies of the model, not particles of the report
         from dtcrit.packing.wall_bodies import count_particles_only
 
         count_particles_only(report, given.packing, given.contacts, given.packing.n - given.meta["fixed_bodies"])
     report.notes.extend(given.meta.get("notes", ()))
-    return SnapshotAudit.from_report(report)
+    if given.meta.get("cell_strain_rate"):  # a YADE cell in homothetic motion: refused unless negligible
+        from dtcrit.packing.readers.yade_terms import check_cell_motion
+
+        check_cell_motion(given.meta["cell_strain_rate"], report.dt_crit)
+    return replace(SnapshotAudit.from_report(damping.apply(report, local)), snapshot=given)

@@ -17,7 +17,8 @@ the normal force of the pre-load), built with the engine's conventions (``dtcrit
 * each estimator row says what it bounds: the block-diagonal and Gershgorin rows bound the *undamped*
   step ``2/omega_max`` from below (with dashpots ``dt_crit`` is lower, so they may exceed it).
 * the codes' own estimators beside it, with their real constants: YADE's GlobalStiffnessTimeStepper
-  (``1.41044 min sqrt(M_dd / K_dd)``, default safety 0.8; ``pkg/dem/GlobalStiffnessTimeStepper.cpp``),
+  as it runs (the ``O.dt`` it sets at its default safety 0.8 and at 1, clumps included:
+  ``dtcrit.packing.bounds.yade_stepper``),
   the undamped per-body bounds, and the LAMMPS-docs rule of a fraction of the collision time
   ``pi sqrt(m_eff / k_n)`` (1/50 in the LAMMPS granular examples), and with a material (Young's
   modulus, Poisson's ratio) the Rayleigh time and its 20 % and 40 % (EDEM's guidance; LIGGGHTS warns
@@ -36,6 +37,8 @@ from dtcrit.physics import rules_of_thumb as rot
 from dtcrit.physics.contact_laws import reduced
 from dtcrit.physics.estimate import Estimate, RatedEstimate
 
+from dtcrit.packing.audit.mode_character import ModeCharacter, mode_character, participation_ratio, particle_energies
+from dtcrit.packing.bounds.yade_stepper import StepperInput, estimator_rows, from_contacts
 from dtcrit.packing.operators.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
 from dtcrit.packing.solvers.damped_step import damped_critical_dt
 from dtcrit.packing.conventions.engines import EngineConvention
@@ -97,6 +100,12 @@ class AuditReport:
     participation : float
         Participation ratio ``(sum e_p)^2 / (N sum e_p^2)`` of the governing mode's particle energies
         (1: every particle alike; 1/N: one particle).
+    governing_mode : ModeCharacter or None
+        Which springs hold the governing mode's energy (``dtcrit.packing.audit.mode_character``);
+        ``None`` on the spectral-radius route (no mode vector).
+    local_damping : dict or None
+        Local (Cundall) damping applied to ``dt_crit`` (``alpha``, ``law``, ``status``, ...;
+        :mod:`dtcrit.packing.audit.local_damping`), None without it.
     """
 
     source: str
@@ -119,6 +128,8 @@ class AuditReport:
     estimators: list[RatedEstimate] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     participation: float = math.nan  # (sum e_p)^2 / (N sum e_p^2) of the governing mode's particle energies
+    governing_mode: ModeCharacter | None = None
+    local_damping: dict | None = None  # packing.audit.local_damping: alpha, law, status
 
     @property
     def participating(self) -> float:
@@ -144,13 +155,13 @@ def _limiting(packing: Packing, vector: np.ndarray | None) -> tuple[list[int], f
     """``(ids, share of the top LIMITING_COUNT, participation ratio)``; no ids when the mode is spread out."""
     if vector is None:
         return [], 0.0, math.nan
-    share = (np.asarray(vector).reshape(-1, 6) ** 2).sum(axis=1)
+    share = particle_energies(vector)
     total = share.sum()
     if total <= 0:
         return [], 0.0, math.nan
     top = np.argsort(-share, kind="stable")[:LIMITING_COUNT]
     held = float(share[top].sum() / total)
-    participation = float(total**2 / (len(share) * np.sum(share**2)))
+    participation = participation_ratio(share)
     ids = [packing.particle_id(p) for p in top] if held >= LOCALISED_SHARE else []
     return ids, held, participation
 
@@ -173,19 +184,10 @@ def _rayleigh_rows(packing: Packing, material) -> list[tuple]:
 
 
 def _estimators(packing: Packing, springs: Contacts, dt_crit: float, material=None,
-                damped: bool = False) -> list[RatedEstimate]:
+                damped: bool = False, stepper: StepperInput | None = None) -> list[RatedEstimate]:
     md = mass_diagonal(packing)
     a = scale_symmetric(stiffness_matrix(packing, springs), md, inplace=True)
-    diag = est.diagonal_stiffness(a, packing.particle_id)
-    diag_dt = diag.dt
-    assert diag_dt is not None  # an omega^2 estimate always has a step
-    factor = rot.YADE_GSTS_CONSTANT
-    rows: list[tuple[str, float | None, str, str]] = [
-        ("yade_gsts", rot.yade_gsts_step(diag_dt, rot.YADE_GSTS_SAFETY), "heuristic",
-         f"YADE GlobalStiffnessTimeStepper as it runs: {factor} min sqrt(M/K_dd) x safety {rot.YADE_GSTS_SAFETY}"),
-        ("yade_gsts_unscaled", rot.yade_gsts_step(diag_dt), "heuristic",
-         "the same at safety 1 (" + diag.detail.replace("sqrt(2) sqrt(M/K)", f"{factor} sqrt(M/K)") + ")"),
-    ]
+    rows = estimator_rows(stepper if stepper is not None else from_contacts(packing, springs))
     bounds = ("lower bound on the undamped step 2/omega_max (the dashpots lower dt_crit)" if damped
               else "lower bound on dt_crit (= 2/omega_max, no dashpots)")
     for e in (est.block_diagonal(a, packing.particle_id), est.gershgorin(a, md)):
@@ -204,7 +206,7 @@ def _estimators(packing: Packing, springs: Contacts, dt_crit: float, material=No
 
 def audit(packing: Packing, contacts: Contacts, convention: EngineConvention, *, law: str, source: str,
           integrator: str | None = None, dt_user: float | None = None, method: str = "auto",
-          material: tuple[float, float] | None = None) -> AuditReport:
+          material: tuple[float, float] | None = None, yade_stepper: StepperInput | None = None) -> AuditReport:
     """The audit of a snapshot: its exact critical step as its engine integrates it (module docstring).
 
     Parameters
@@ -228,6 +230,10 @@ def audit(packing: Packing, contacts: Contacts, convention: EngineConvention, *,
         Eigen-solver of ``largest_mode``.
     material : tuple of float or None
         ``(E [Pa], nu)`` when the contact law has a material: adds the Rayleigh-time estimators.
+    yade_stepper : StepperInput or None
+        What YADE's GlobalStiffnessTimeStepper reads of the scene (a YADE export's spheres, clump
+        members and contacts, ``dtcrit.packing.bounds.yade_stepper_export``) for the ``yade_gsts`` rows;
+        None: the packing's own sphere contacts (``yade_stepper.from_contacts``).
 
     Returns
     -------
@@ -244,6 +250,7 @@ def audit(packing: Packing, contacts: Contacts, convention: EngineConvention, *,
     step = damped_critical_dt(packing, contacts, integrator, method=method)
     springs = replace(contacts, force_n=None)
     dt_safe = min(step.dt_lower, step.dt)
+    stepper = yade_stepper if yade_stepper is not None else from_contacts(packing, contacts)
     limiting, share, participation = _limiting(packing, step.vector)
     cn = contacts.coordination(packing.n)
     notes = []
@@ -256,6 +263,6 @@ def audit(packing: Packing, contacts: Contacts, convention: EngineConvention, *,
         n_particles=packing.n, n_contacts=contacts.count, coordination_mean=float(cn.mean()),
         damped=contacts.damped, preload=bool(notes), dt_crit=step.dt, dt_safe=dt_safe,
         dt_undamped=step.dt_undamped, method=step.method, limiting=limiting, limiting_share=share,
-        dt_user=dt_user, estimators=_estimators(packing, springs, step.dt, material, contacts.damped), notes=notes,
-        participation=participation,
+        dt_user=dt_user, estimators=_estimators(packing, springs, step.dt, material, contacts.damped, stepper), notes=notes,
+        participation=participation, governing_mode=mode_character(packing, contacts, step.vector),
     )

@@ -22,7 +22,10 @@ the words of the ``pair_coeff`` line after ``* *`` (one coefficient set for ever
 Kinematics: the slip velocity uses the full radius, the torque the arm ``R - delta/2`` (checked in
 ``tests/engines/test_engine_lammps_pairs.py``); ``dtcrit.packing.conventions.engines`` uses their symmetric equivalent, arms
 ``sqrt(R (R - delta/2))``, exact for two equal spheres.  ``jkr`` (its stiffness follows the
-hysteretic JKR branch) is refused.
+hysteretic JKR branch) is refused, and so is every keyword the audit does not model
+(:data:`GRANULAR_TERMS`): ``heat`` other than ``none`` (an explicit heat conduction with its own step),
+``limit_damping`` where it can act (``if (limit_damping && Fntot < 0) Fntot = 0``: with a normal
+dashpot or the DMT pull-off), damping and tangential models not listed.
 """
 from __future__ import annotations
 
@@ -45,6 +48,27 @@ NORMAL_ARGS = {"hooke": ("kn", "eta"), "hertz": ("kn", "eta"), "hertz/material":
 TANGENTIAL_ARGS = {"linear_nohistory": ("x", "mu"), "linear_history": ("kt", "x", "mu"),
                    "mindlin": ("kt", "x", "mu"), "mindlin_rescale": ("kt", "x", "mu")}
 DAMPING = ("velocity", "mass_velocity", "viscoelastic", "tsuji")
+
+#: every model and keyword of ``pair_coeff`` for ``pair_style granular`` (LAMMPS pair_granular docs):
+#: what the audit does with it
+GRANULAR_TERMS = {
+    **{f"normal {name}": "modelled" for name in NORMAL_ARGS},
+    "normal jkr": "refused (hysteretic JKR branch)",
+    **{f"damping {name}": "modelled" for name in DAMPING},
+    "damping coeff_restitution": "refused (not modelled)",
+    **{f"tangential {name}": "modelled (contacts taken as sticking)" for name in TANGENTIAL_ARGS},
+    "tangential mindlin/force": "refused (not modelled)",
+    "tangential mindlin_rescale/force": "refused (not modelled)",
+    "rolling none": "modelled (no term)",
+    "rolling sds": "modelled",
+    "twisting none": "modelled (no term)",
+    "twisting marshall": "modelled",
+    "twisting sds": "modelled",
+    "heat none": "modelled (no term)",
+    "heat area": "refused (heat conduction: its own explicit step, not audited)",
+    "heat radius": "refused (heat conduction: its own explicit step, not audited)",
+    "limit_damping": "refused when it can act: eta > 0 or the dmt normal model",
+}
 
 
 @dataclass(frozen=True)
@@ -204,6 +228,7 @@ def parse_granular(words: list[str]) -> GranularStyle:
     rolling: dict | None = None
     twisting: tuple[str, dict] | None = None
     damping = "viscoelastic"
+    limit = False
     while k < len(words):
         key = words[k]
         if key == "tangential":
@@ -216,14 +241,17 @@ def parse_granular(words: list[str]) -> GranularStyle:
                 raise InputError(FLAG, f"granular: mindlin with kt NULL needs a material normal model, not {normal}")
         elif key == "damping":
             if k + 1 >= len(words) or words[k + 1] not in DAMPING:
-                raise InputError(FLAG, f"granular: damping must be one of {', '.join(DAMPING)}")
+                found = words[k + 1] if k + 1 < len(words) else "nothing"
+                raise InputError(FLAG, f"granular: damping {found!r} is not modelled by the audit; modelled: "
+                                       f"{', '.join(DAMPING)}")
             damping, k = words[k + 1], k + 2
         elif key == "rolling":
             if words[k + 1:k + 2] == ["none"]:
                 k += 2
                 continue
             if words[k + 1:k + 2] != ["sds"]:
-                raise InputError(FLAG, "granular: rolling must be 'sds k gamma mu' or 'none'")
+                raise InputError(FLAG, f"granular: rolling {' '.join(words[k + 1:k + 2]) or 'nothing'!r} is not modelled "
+                                       "by the audit; modelled: 'sds k gamma mu', 'none'")
             rolling, k = _take(words, k + 2, ("k", "gamma", "mu"), "rolling sds")
         elif key == "twisting":
             model = words[k + 1] if k + 1 < len(words) else ""
@@ -235,11 +263,22 @@ def parse_granular(words: list[str]) -> GranularStyle:
                 vals, k = _take(words, k + 2, ("k", "gamma", "mu"), "twisting sds")
                 twisting = ("sds", vals)
             else:
-                raise InputError(FLAG, "granular: twisting must be 'marshall', 'sds k gamma mu' or 'none'")
+                raise InputError(FLAG, f"granular: twisting {model or 'nothing'!r} is not modelled by the audit; "
+                                       "modelled: 'marshall', 'sds k gamma mu', 'none'")
         elif key == "limit_damping":
-            k += 1
+            limit, k = True, k + 1
+        elif key == "heat":
+            model = words[k + 1] if k + 1 < len(words) else "nothing"
+            if model != "none":
+                raise InputError(FLAG, f"granular: heat {model!r} integrates heat conduction with its own explicit "
+                                       "step, which the audit does not model (only 'heat none')")
+            k += 2
         else:
             raise InputError(FLAG, f"granular: unknown keyword {key!r}")
     if tangential is None or tangential_args is None:
         raise InputError(FLAG, "granular: the tangential model is required ('tangential linear_history kt x mu', ...)")
+    if limit and (normal_args["eta"] > 0 or normal == "dmt"):
+        raise InputError(FLAG, "granular: limit_damping clamps the normal force at zero (here it can act: "
+                               f"{'the dmt pull-off' if normal == 'dmt' else 'a normal dashpot'}), which the audit "
+                               "does not model")
     return GranularStyle(normal, normal_args, tangential, tangential_args, damping, rolling, twisting, " ".join(words))

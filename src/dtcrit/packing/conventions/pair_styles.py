@@ -16,6 +16,10 @@ The user gives the style exactly as in the input script, e.g.
   ``k_s = Kt sqrt(R* delta)``, ``c_n = m_eff gamma_n sqrt(R* delta)``, ``c_s = m_eff gamma_t sqrt(R* delta)``.
 
 The friction limit is taken as not reached (sticking contacts): the linear analysis of the step.
+``limit_damping`` (``if (limit_damping && ccel < 0.0) ccel = 0.0``: the normal force is clamped at zero
+when the dashpot would make it attractive) is refused when ``gamma_n > 0``, where it can act; the linear
+analysis does not model the clamp.  :data:`GRAN_TERMS` lists every argument and keyword with what the
+audit does with it.
 """
 from __future__ import annotations
 
@@ -32,6 +36,17 @@ from dtcrit.packing.conventions.law_terms import FLAG, ContactTerms, number
 from dtcrit.packing.model import Contacts, Packing
 
 GRAN_STYLES = ("gran/hooke", "gran/hooke/history", "gran/hertz/history")
+
+#: every argument and keyword of ``pair_style gran/*`` (LAMMPS pair_gran docs): what the audit does with it
+GRAN_TERMS = {
+    "Kn": "modelled: normal spring (Hertz: times sqrt(R* delta), tangent 3/2)",
+    "Kt": "modelled: shear spring (gran/hooke has no shear history: no spring)",
+    "gamma_n": "modelled: normal dashpot m_eff gamma_n",
+    "gamma_t": "modelled: shear dashpot m_eff gamma_t",
+    "xmu": "modelled: 0 removes the tangential force; else contacts taken as sticking",
+    "dampflag": "modelled: 0 removes the shear dashpot",
+    "limit_damping": "refused when gamma_n > 0 (the clamp of the normal force at zero is not modelled)",
+}
 
 
 @dataclass(frozen=True)
@@ -150,7 +165,8 @@ def parse_pair_style(text: str):
         style = style.rsplit("/", 1)[0]
     if style not in GRAN_STYLES:
         raise InputError(FLAG, f"unknown or unsupported pair style {style!r}; supported: {', '.join(GRAN_STYLES)}, granular")
-    if args and args[-1] == "limit_damping":
+    limit_damping = bool(args) and args[-1] == "limit_damping"
+    if limit_damping:
         args = args[:-1]
     if len(args) != 6:
         raise InputError(FLAG, f"{style} takes 6 arguments (Kn Kt gamma_n gamma_t xmu dampflag), found {len(args)}")
@@ -166,6 +182,9 @@ def parse_pair_style(text: str):
         raise InputError(FLAG, f"dampflag must be 0 or 1, found {args[5]!r}")
     if kn == 0:
         raise InputError(FLAG, "Kn must be positive")
+    if limit_damping and gamma_n > 0:
+        raise InputError(FLAG, f"limit_damping with gamma_n = {args[2]} clamps the normal force at zero, which the "
+                               "audit does not model (it is a no-op only with gamma_n = 0)")
     kt, gamma_t = lammps_gran_defaults(kn, kt, gamma_n, gamma_t)
     return GranPairStyle(style, kn, kt, gamma_n, gamma_t, xmu, int(args[5]), " ".join([words[0], *args]))
 

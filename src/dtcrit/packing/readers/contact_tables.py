@@ -1,10 +1,15 @@
 """Contact lists from files: ``--contacts TABLE`` (any engine) and ``--local DUMP`` (LAMMPS's own).
 
-**Contact table.**  A text table, whitespace- or comma-separated, whose first non-empty line is the
-header (a leading ``#`` is allowed) naming the columns.  Required: ``id1 id2 kn ks`` (springs in
-N/m); optional: ``cn cs`` (dashpots, N s/m), ``kr ktw`` (rolling and twisting springs, N m/rad),
-``fn`` (the compressive normal force in N, for the pre-load's geometric stiffness).  Other columns
-are ignored.  Ids are those of the atom dump.
+**Contact table.**  A text table, whitespace- or comma-separated.  Blank lines and comment lines
+(``#``) may stand anywhere; the header is the first line naming the required columns, with or
+without a leading ``#`` (a ``#`` line before it that does not name them is a comment), or else the
+first line that is not a comment.  Columns in any order, each named once.  Required: ``id1 id2 kn ks``
+(springs in N/m); optional: ``cn cs`` (dashpots, N s/m), ``kr ktw`` (rolling and twisting springs,
+N m/rad), ``cr ctw`` (rolling and twisting dashpots, N m s/rad), ``fn`` (the compressive normal force
+in N, for the pre-load's geometric stiffness).  Other columns (positions, normals, ...) carry no
+term and are not read; a column named like a term (``kt``, ``gamma_n``, ... :data:`SYNONYMS`) is
+refused, naming it, rather than dropped.  Ids are those of the atom dump.  :func:`table_contacts` gives the contacts an
+engine's kinematics (``--engine yade``: YADE's, ``dtcrit.packing.conventions.engines.with_arms``).
 
 **LAMMPS local dump** of the engine's own contact list, e.g.::
 
@@ -31,7 +36,11 @@ from dtcrit.packing.model import Packing
 from dtcrit.packing.readers.limits import check_rates, contact_rates
 
 REQUIRED = ("id1", "id2", "kn", "ks")
-OPTIONAL = ("cn", "cs", "kr", "ktw", "fn")
+OPTIONAL = ("cn", "cs", "kr", "ktw", "cr", "ctw", "fn")
+#: other names engines give these terms: refused (naming the column) rather than read as "no term"
+SYNONYMS = {"k_n": "kn", "k_s": "ks", "kt": "ks", "k_t": "ks", "c_n": "cn", "c_s": "cs", "ct": "cs", "c_t": "cs",
+            "gamman": "cn", "gamma_n": "cn", "gammat": "cs", "gamma_t": "cs", "k_r": "kr", "k_tw": "ktw",
+            "c_r": "cr", "c_tw": "ctw", "f_n": "fn", "normalforce": "fn"}
 
 
 @dataclass(frozen=True)
@@ -128,16 +137,39 @@ def read_contact_table(path, packing: Packing) -> ContactTable:
         return _read_contact_table(Path(path), packing)
 
 
-def _read_contact_table(path: Path, packing: Packing) -> ContactTable:
-    lines = text_lines(path)
-    k = next((n for n, ln in enumerate(lines) if ln.strip()), None)
-    if k is None:
-        raise InputError(f"{path}:1", "the contact table is empty")
-    header = _split(lines[k].lstrip().lstrip("#"))
+def _header(path: Path, lines: list[str]) -> tuple[int, list[str]]:
+    """The header's line index and column names (module docstring)."""
+    first = None
+    for n, line in enumerate(lines):
+        text = line.strip()
+        if not text:
+            continue
+        names = _split(text.lstrip("#"))
+        if all(c in names for c in REQUIRED) or not text.startswith("#"):
+            first = n
+            break
+    if first is None:
+        raise InputError(f"{path}:1", "the contact table is empty" if not any(ln.strip() for ln in lines) else
+                         f"no header line names the columns {' '.join(REQUIRED)} (only comments)")
+    header = _split(lines[first].strip().lstrip("#"))
     missing = [c for c in REQUIRED if c not in header]
     if missing:
-        raise InputError(f"{path}:{k + 1}", f"the header must name the columns {' '.join(REQUIRED)} "
-                                            f"(missing {' '.join(missing)})")
+        raise InputError(f"{path}:{first + 1}", f"the header must name the columns {' '.join(REQUIRED)} "
+                                                f"(missing {' '.join(missing)})")
+    other = [c for c in header if c.lower() in SYNONYMS and c not in REQUIRED + OPTIONAL]
+    if other:
+        raise InputError(f"{path}:{first + 1}", f"the column {other[0]} looks like a contact term, which this table "
+                                                f"would not read: name it {SYNONYMS[other[0].lower()]} (N/m, N s/m, "
+                                                "N m/rad, N m s/rad, N) or drop it")
+    twice = sorted({c for c in header if header.count(c) > 1})
+    if twice:
+        raise InputError(f"{path}:{first + 1}", f"the header names the column {twice[0]} twice")
+    return first, header
+
+
+def _read_contact_table(path: Path, packing: Packing) -> ContactTable:
+    lines = text_lines(path)
+    k, header = _header(path, lines)
     used = [c for c in REQUIRED + OPTIONAL if c in header]
     col = {c: header.index(c) for c in used}
     lookup = _index_map(packing)
@@ -145,7 +177,7 @@ def _read_contact_table(path: Path, packing: Packing) -> ContactTable:
     for n in range(k + 1, len(lines)):
         parts = _split(lines[n])
         if not parts or parts[0].startswith("#"):
-            continue
+            continue  # blank and comment lines may stand anywhere
         where = f"{path}:{n + 1}"
         if len(parts) != len(header):
             raise InputError(where, f"expected {len(header)} columns ({' '.join(header)}), found {len(parts)}")
@@ -166,6 +198,37 @@ def _read_contact_table(path: Path, packing: Packing) -> ContactTable:
     data = np.array(rows, dtype=float).reshape(len(pairs), len(used) - 2)
     _in_range(path, packing, ij, {c: data[:, m] for m, c in enumerate(used[2:])}, numbers)
     return ContactTable(ij[:, 0], ij[:, 1], {c: data[:, m] for m, c in enumerate(used[2:])})
+
+
+def table_contacts(packing: Packing, table: ContactTable, arm: str):
+    """The contacts of a read table with an engine's kinematics, springs, dashpots and pre-load.
+
+    The stiffness is set before the arms, since YADE's kinematics (``arm="yade"``) scale ``ks`` by
+    ``alpha = (R_1 + R_2)/(R_1 + R_2 - delta)`` (``dtcrit.packing.conventions.engines.with_arms``); without
+    an ``fn`` column the pre-load is ``kn`` times the overlap (the linear law).
+
+    Parameters
+    ----------
+    packing : Packing
+        The atom dump's packing.
+    table : ContactTable
+        The table (:func:`read_contact_table`).
+    arm : str
+        The engine's arm convention (``EngineConvention.arm``: ``radius``, ``yade``, ...).
+
+    Returns
+    -------
+    Contacts
+        One contact per row with the engine's arms and every term the table gives.
+    """
+    from dtcrit.packing.conventions.engines import overlaps_of_pairs, with_arms
+
+    v = table.values
+    contacts = overlaps_of_pairs(packing, table.i, table.j)
+    contacts = contacts.with_stiffness(v["kn"], v["ks"], v.get("kr"), v.get("ktw"))
+    contacts = with_arms(packing, contacts, arm)
+    contacts = contacts.with_damping(v.get("cn", 0.0), v.get("cs", 0.0), v.get("cr"), v.get("ctw"))
+    return contacts.with_normal_force(v.get("fn", v["kn"] * contacts.overlap))
 
 
 def _id_columns(names: list[str]) -> tuple[int, int]:

@@ -29,6 +29,7 @@ from dtcrit.errors import InputError
 from dtcrit.packing.conventions.engines import overlaps_of_pairs
 from dtcrit.packing.model import Box, Contacts, Packing
 from dtcrit.packing.readers.limits import check_inertia, check_lengths
+from dtcrit.packing.readers.yade_terms import cell_strain_rate, check_export_terms
 from dtcrit.inputs.arrays import triple as _triple
 from dtcrit.inputs.files import line_of, located_in
 from dtcrit.inputs.text import show
@@ -107,6 +108,7 @@ def _load(path: Path) -> tuple[dict, list, list]:
         raise InputError(f"{path}: bodies", f"the export needs a non-empty 'bodies' list, found {show(bodies)}")
     if not isinstance(inters, list):
         raise InputError(f"{path}: interactions", f"the export needs an 'interactions' list, found {show(inters)}")
+    check_export_terms(doc, path)  # every setting the audit does not model, refused naming it
     return doc, bodies, inters
 
 
@@ -165,8 +167,8 @@ def read_yade_audit(path) -> tuple[Packing, Contacts, dict]:
     tuple
         ``(packing, contacts, metadata)``: the packing's ``radii`` are bounding radii and
         ``orientations`` the clumps' (identity for spheres); the contacts carry YADE's terms and
-        kinematics; the metadata holds ``dt``, ``iter``, ``yade_version``, ``newton_damping`` and
-        the number of ``clumps``.
+        kinematics; the metadata holds ``dt``, ``iter``, ``yade_version``, ``newton_damping``, the
+        number of ``clumps`` and the ``cell_strain_rate`` (``yade_terms.cell_strain_rate``).
     """
     with located_in(path):
         return _read_yade_audit(Path(path))
@@ -200,7 +202,7 @@ def _read_yade_audit(path: Path) -> tuple[Packing, Contacts, dict]:
                 rb.positions, ~rb.fixed)
     except InputError as exc:
         raise _keyed(path, exc) from None
-    return packing, contacts, {**meta, "clumps": rb.clumps}
+    return packing, contacts, {**meta, "clumps": rb.clumps, "cell_strain_rate": cell_strain_rate(doc, path)}
 
 
 def read_yade_export(path) -> tuple[Packing, Contacts, dict]:
