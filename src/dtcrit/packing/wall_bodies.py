@@ -180,6 +180,11 @@ def count_particles_only(report, packing: Packing, contacts: Contacts, n_free: i
     report.estimators = [_name_walls(e, walls) for e in report.estimators]
     if np.isfinite(report.participation):
         report.participation = min(1.0, report.participation * n_all / n_free)
+    mode = getattr(report, "governing_mode", None)
+    if mode is not None:  # the same ratio over the particles, and their shares (the walls hold none)
+        ratio = mode.participation_ratio
+        report.governing_mode = replace(mode, participation_ratio=min(1.0, ratio * n_all / n_free)
+                                        if np.isfinite(ratio) else ratio, particle_share=mode.particle_share[:n_free])
 
 
 _PAIR = re.compile(r"contact of particles (\d+) and (\d+)")

@@ -41,6 +41,8 @@ def test_hooke_history_wall_is_the_sphere_on_an_immovable_plane(tmp_path):
     omega2 = max(kn / MASS, kt * (1.0 / MASS + R**2 / INERTIA))
     assert a.dt_crit == pytest.approx(2.0 / math.sqrt(omega2), rel=1e-12)
     assert (a.n_particles, a.n_contacts, a.limiting) == (1, 1, (5,))
+    assert a.participation == 1.0 and a.governing_mode.participation_ratio == 1.0  # one particle: the walls hold nothing
+    assert a.governing_mode.particle_share.shape == (1,)
     rows = {e.estimate.name: e for e in a.estimators}
     assert rows["collision_time_fraction"].estimate.dt == pytest.approx(math.pi * math.sqrt(MASS / kn) / 50, rel=1e-12)
     assert rows["collision_time_fraction"].estimate.detail.endswith("contact of particle 5 and a wall")
