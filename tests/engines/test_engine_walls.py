@@ -173,3 +173,5 @@ def test_yade_wall_threshold(name, tmp_path):
     assert 0.999 * lo <= audit.dt_crit <= hi
     assert audit.dt_safe <= audit.dt_crit
     assert audit.n_particles == len(spheres) and audit.n_contacts == len(spheres)
+    rows = {e.estimate.name: e.estimate.dt for e in audit.estimators}
+    assert rows["yade_gsts"] == pytest.approx(out["gsts"], rel=1e-9)  # the stepper's step as YADE sets it

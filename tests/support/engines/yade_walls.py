@@ -6,6 +6,7 @@ Each sphere is pushed onto the wall (the plane ``z = 0``) by a permanent force `
 step, so the equilibrium is YADE's own).  The scene is exported with ``engine_scripts/yade_export.py``;
 then for each step the scene is rebuilt, kicked with tiny random velocities and spins, and run: a run
 grows when ``max(|v|, R |omega|)`` exceeds ``GROWTH_LIMIT`` times its size over the first steps.
+Before the bisection, YADE's GlobalStiffnessTimeStepper steps once on the exported state: its ``O.dt``.
 Bisection of the threshold runs inside YADE (one start-up).  Nothing here imports dtcrit.
 """
 from __future__ import annotations
@@ -84,6 +85,9 @@ sys.path.insert(0, SPEC["engine_scripts"])
 import yade_export
 yade_export.export(SPEC["export"])
 kn = [i.phys.kn for i in O.interactions if i.isReal]
+O.engines = [GlobalStiffnessTimeStepper(timestepSafetyCoefficient=0.8, timeStepUpdateInterval=1)] + O.engines
+O.step()  # the exported state: the stepper reads exactly its interactions
+gsts = O.dt
 lo, hi = SPEC["lo"], SPEC["hi"]
 if grows(lo, ids) or not grows(hi, ids):
     print(TAG + json.dumps({"error": "bracket", "lo": lo, "hi": hi}), flush=True)
@@ -94,7 +98,7 @@ while hi / lo - 1.0 > SPEC["rel_tol"]:
         hi = mid
     else:
         lo = mid
-print(TAG + json.dumps({"lo": lo, "hi": hi, "kn": kn}), flush=True)
+print(TAG + json.dumps({"lo": lo, "hi": hi, "kn": kn, "gsts": gsts}), flush=True)
 '''
 
 
@@ -103,7 +107,8 @@ def bisect(spec: dict, export: Path, *, timeout: float = 300.0) -> dict:
 
     ``spec``: ``wall`` (``wall`` or ``facet``), ``spheres`` ``[(x, y, R), ...]``, ``young``, ``ks_ratio``,
     ``density``, ``load``, ``overlap_guess`` (relative), ``eps``, ``steps``, ``growth``, ``lo``, ``hi``,
-    ``rel_tol``.  Returns ``{"lo", "hi", "kn"}``.
+    ``rel_tol``.  Returns ``{"lo", "hi", "kn", "gsts"}`` (``gsts``: the ``O.dt`` YADE's
+    GlobalStiffnessTimeStepper, safety 0.8, sets on the exported state in one step).
     """
     exe = engine_executable("yade")
     if exe is None:
