@@ -4,6 +4,7 @@
     dtcrit audit DUMP --contacts TABLE [--engine liggghts|yade]
     dtcrit audit DUMP --liggghts-input in.file --engine liggghts
     dtcrit audit EXPORT.json --engine yade          (written by dtcrit/engine_scripts/yade_export.py)
+    ... [--wall 'fix 2 all wall/gran hertz/history 2e5 NULL 50 NULL 0.5 1 zplane 0 NULL'] (repeatable)
     ... [--dt DT] [--local-damping ALPHA --local-damping-law yade|pfc] [--json] [--plot FILE.png]
 
 The engine's conventions (``dtcrit.packing.conventions.engines``) decide which pairs touch, the contact arms,
@@ -40,6 +41,9 @@ def add_parser(subparsers) -> None:
                         "materials per atom type (the dump's type column)")
     p.add_argument("--local", metavar="FILE", help="LAMMPS dump local of the engine's contact list (patom1 patom2)")
     p.add_argument("--contacts", metavar="TABLE", help="contact table with the columns id1 id2 kn ks [cn cs kr ktw cr ctw fn], any order, # comments")
+    p.add_argument("--wall", action="append", metavar="'FIX LINE'",
+                   help="the input script's 'fix ID group wall/gran STYLE ARGS xplane|yplane|zplane lo hi|zcylinder r' "
+                        "line (LAMMPS; repeatable): its wall contacts enter against a fixed body")
     p.add_argument("--density", type=float, help="particle density [kg/m^3] for a dump without a mass column")
     p.add_argument("--snapshot-index", type=int, default=-1, help="snapshot in the dump (default: the last)")
     p.add_argument("--dt", type=float, help="the simulation's own step [s], rated against dt_crit")
@@ -129,7 +133,7 @@ def _run(args) -> int:
                                 engine=args.engine,
                                 pair_style=args.pair_style, local=args.local, contact_table=args.contacts,
                                 density=args.density, snapshot_index=args.snapshot_index,
-                                liggghts_input=args.liggghts_input)
+                                liggghts_input=args.liggghts_input, walls=args.wall)
     except DumpReadError as exc:  # the dump reader's key as the flag that set it
         raise InputError(_dump_flag(exc, args.snapshot), exc.reason) from None
     if args.plot:

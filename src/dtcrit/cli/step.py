@@ -132,7 +132,7 @@ def format_text(result) -> str:
         lines.append(f"  particle {p.number}: {p.describe()}")
     lines.append(_contact_line(sc, result.pairs[0].contact.convention))
     for w in sc.walls:
-        lines.append(f"  wall {w.number} ({w.name}): kn = {w.kn:g} N/m, ks = {w.ks:g} N/m, damping: {w.damping}, "
+        lines.append(f"  wall {w.number} ({w.name}): {w.springs_text()}, damping: {w.damping}, "
                      f"touched by particle {', '.join(map(str, w.particles))}")
     lines.append(f"  integrator: {sc.integrator}" + _order_text(sc.integrator)
                  + (f", omega_max = {sc.omega_max:g} rad/s" if sc.omega_max is not None else ""))

@@ -50,8 +50,10 @@ non-positive step) the hook raises ``RuntimeError`` with dtcrit's message, unles
 *at* the boundary is only marginally stable, and a contact formed between two calls stiffens the
 packing at once.  The audit costs a process start and an eigen-solve (about 1 s for 30 spheres);
 ``every`` trades that against how fast the packing changes.  What the audit sees: the atoms and their
-pair contacts.  Contacts with ``fix wall/gran`` walls are not in a dump and are not audited (a scene
-with a ``[[wall]]`` table gives a wall contact's own step, ``dtcrit step``); frozen or driven atoms
+pair contacts; ``fix wall/gran`` walls are not in a dump: give the input's own fix lines as
+``extra_args=("--wall", "fix 2 all wall/gran ...")`` (one pair per wall, ``dtcrit audit --wall``) and
+their contacts are audited too (with ``local``, a snapshot whose only contacts are with walls keeps its
+step); frozen or driven atoms
 are audited as free (a conservative choice for undamped packings: fixing degrees of freedom cannot
 raise the largest eigenvalue, by eigenvalue interlacing).  Run serially: under ``mpirun`` every rank
 would start dtcrit.

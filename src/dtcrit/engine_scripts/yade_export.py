@@ -40,7 +40,9 @@ key                      meaning
 ``interactions``         one object per *real* interaction (``i.isReal``; below)
 =======================  ===================================================================
 
-Body: ``id``; ``pos`` (``state.pos``, unwrapped in periodic scenes); ``radius`` (the sphere's
+Body: ``id``; ``shape`` (the class name: ``Sphere``, ``Wall``, ``Facet``, ...); ``axis``, ``sense`` (a
+``Wall``'s, else ``null``); ``vertices`` (a ``Facet``'s corners in global coordinates, else ``null``); ``pos`` (``state.pos``, unwrapped in
+periodic scenes); ``radius`` (the sphere's
 radius, ``null`` for any other shape and for clumps); ``mass`` (``state.mass``); ``inertia``
 (``state.inertia``: principal moments in the body frame); ``clump_id`` (the clump of a clump member,
 else ``null``); ``is_clump``; ``fixed`` (``not b.dynamic`` or all six DOFs blocked); ``blocked_dofs``
@@ -61,7 +63,9 @@ shift of body 2, ``O.cell.hSize * i.cellDist``; ``[0, 0, 0]`` when not periodic)
 Extra keys (every key written here has a decision in ``dtcrit.packing.readers.yade_terms``: modelled,
 derived, a record, or refused when it changes the dynamics): top level ``avoid_granular_ratcheting``
 (``Ig2_Sphere_Sphere_ScGeom(6D).avoidGranularRatcheting`` of the scene's InteractionLoop, ``null``
-without that functor); body ``ori`` (``state.ori`` as ``[w, x, y, z]``); interaction ``geom``,
+without that functor), ``wall_no_ratch`` (``Ig2_Wall_Sphere_ScGeom.noRatch``, ``null`` without that
+functor: the ratcheting correction of sphere-wall contacts, ``pkg/dem/Ig2_Facet_Sphere_ScGeom.cpp``);
+body ``ori`` (``state.ori`` as ``[w, x, y, z]``); interaction ``geom``,
 ``phys`` (class names) and ``fn`` [N] (``phys.normalForce . normal``: the normal force, positive
 in compression; the pre-load of the contact's geometric stiffness).
 
@@ -175,9 +179,23 @@ def _ratcheting(O):
     return None
 
 
+def _wall_no_ratch(O):
+    """``Ig2_Wall_Sphere_ScGeom.noRatch`` of the scene's InteractionLoop (``null`` without that functor)."""
+    for f in _engines(O):
+        if type(f).__name__ == "Ig2_Wall_Sphere_ScGeom":
+            return bool(f.noRatch)
+    return None
+
+
 def _always_moment_law(O) -> bool:
     return any(type(f).__name__ == "Law2_ScGeom6D_CohFrictPhys_CohesionMoment" and bool(f.always_use_moment_law)
                for f in _engines(O))
+
+
+def _facet_vertices(b):
+    """The global corners of a Facet (``pos + ori * vertex``)."""
+    st = b.state
+    return [_vec(st.pos + st.ori * v) for v in b.shape.vertices]
 
 
 def _body(b) -> dict:
@@ -186,6 +204,10 @@ def _body(b) -> dict:
     blocked = str(getattr(st, "blockedDOFs", ""))
     q = st.ori  # minieigen indexes a quaternion as (x, y, z, w)
     return {
+        "shape": shape,
+        "axis": int(b.shape.axis) if shape == "Wall" else None,
+        "sense": int(b.shape.sense) if shape == "Wall" else None,
+        "vertices": _facet_vertices(b) if shape == "Facet" else None,
         "id": int(b.id),
         "pos": _vec(st.pos),
         "radius": _num(b.shape.radius) if shape == "Sphere" and not b.isClump else None,
@@ -231,7 +253,14 @@ def _penetration(O, i, shift):
     if value is not None:
         return value
     b1, b2 = O.bodies[i.id1], O.bodies[i.id2]
-    if type(b1.shape).__name__ != "Sphere" or type(b2.shape).__name__ != "Sphere":
+    kinds = (type(b1.shape).__name__, type(b2.shape).__name__)
+    if sorted(kinds) == ["Sphere", "Wall"]:  # Ig2_Wall_Sphere_ScGeom: R - |distance to the plane|
+        second = kinds[0] == "Wall"  # the sphere is body 2 (shifted by shift2)
+        wall, ball = (b1, b2) if second else (b2, b1)
+        ax = int(wall.shape.axis)
+        gap = ball.state.pos[ax] - wall.state.pos[ax] + (shift[ax] if second else -shift[ax])
+        return _num(ball.shape.radius - abs(gap))
+    if kinds != ("Sphere", "Sphere"):
         return None
     x1, x2 = b1.state.pos, b2.state.pos
     d = math.sqrt(sum((x2[k] + shift[k] - x1[k]) ** 2 for k in range(3)))
@@ -292,6 +321,7 @@ def snapshot() -> dict:
         "exact_aspherical_rot": _newton_flag(O, "exactAsphericalRot"),
         "laws": _laws(O),
         "avoid_granular_ratcheting": _ratcheting(O),
+        "wall_no_ratch": _wall_no_ratch(O),
         "bodies": [_body(b) for b in O.bodies if b is not None],
         "interactions": [_interaction(O, i, always) for i in O.interactions if i.isReal],
     }

@@ -11,7 +11,8 @@ al. 2020, a Rayleigh quotient).
 
 Modules: ``model`` (Packing, Box, the contact laws applied per contact), ``contact_set`` (Contacts), ``step``
 (``packing_step``, the analysis behind ``dtcrit packing``), ``step_input`` (its inputs: a dump, a
-bodies file or a generated packing), ``report`` (``analyse`` and the report), ``report_text`` (its text); and the subpackages
+bodies file or a generated packing), ``report`` (``analyse`` and the report), ``report_text`` (its text),
+``wall_bodies`` (fixed walls as bodies of infinite mass); and the subpackages
 ``readers`` (engine files), ``conventions`` (each engine's contact conventions), ``detection``
 (contacts from positions), ``operators`` (the contact element, ``K`` assembled or applied),
 ``solvers`` (largest mode, damped step, certificate, memory), ``bounds`` (cheap estimates and

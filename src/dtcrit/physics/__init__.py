@@ -12,7 +12,9 @@ one array entry per contact.  Modules:
 * ``local_damping`` -- local (Cundall) damping: the laws (``yade``, ``pfc``), the coefficient's range
   and the step factor ``1/sqrt(1 + alpha)``, with what is proved for each law;
 * ``estimate`` -- one estimate type rated against ``dt_crit`` with one tolerance;
-* ``json_numbers`` -- non-finite numbers as JSON ``null``.
+* ``json_numbers`` -- non-finite numbers as JSON ``null``;
+* ``walls`` -- a sphere on a fixed wall as each engine codes it (LAMMPS ``fix wall/gran``'s effective
+  radius and material constants, YADE's wall and facet arms, the Hertz wall's tangent stiffness).
 
 No SymPy is imported here.
 """

@@ -155,9 +155,10 @@ def wall_convention(name: str | None, model: str):
 
 
 def resolve_wall(scene, wall, i: int, r: float | None = None) -> PairContact:
-    """The linear contact of particle type ``i`` with a fixed wall.
+    """The linear(ised) contact of particle type ``i`` with a fixed wall.
 
-    The wall's springs as given; its dashpots by the wall convention with mass ``wall_mass * m``.
+    The wall's springs as given (a Hertz wall's: the tangent stiffness at its overlap,
+    :mod:`dtcrit.scenes.hertz_walls`); its dashpots by the wall convention with mass ``wall_mass * m``.
 
     Parameters
     ----------
@@ -178,10 +179,17 @@ def resolve_wall(scene, wall, i: int, r: float | None = None) -> PairContact:
     p = scene.particle(i)
     r = p.radii[0] if r is None and p.radii else r
     m = p.mass_at(r)
-    conv = wall_convention(scene.contact.damping_convention, scene.contact.model)
+    if wall.model == "hertz":
+        from dtcrit.scenes.hertz_walls import hertz_wall_springs
+
+        conv = convention_for(scene.contact.damping_convention, "hertz", f"wall[{wall.number}].damping_ratio")
+        kn, ks = hertz_wall_springs(scene, wall, p, r, m)
+    else:
+        conv = wall_convention(scene.contact.damping_convention, scene.contact.model)
+        kn, ks = wall.kn, wall.ks
     m_eff = conv.wall_mass * m
-    cn, cs, zn, zs = _dashpots(conv, wall.damping, wall.cn, wall.cs, wall.damping_ratio, wall.kn, wall.ks, m_eff)
-    return PairContact(i, 0, m_eff, wall.kn, wall.ks, cn, cs, wall.damping_ratio if wall.damping not in ("coefficients", "none") else None,
+    cn, cs, zn, zs = _dashpots(conv, wall.damping, wall.cn, wall.cs, wall.damping_ratio, kn, ks, m_eff)
+    return PairContact(i, 0, m_eff, kn, ks, cn, cs, wall.damping_ratio if wall.damping not in ("coefficients", "none") else None,
                        radius_i=r, zeta_n=zn, zeta_s=zs, convention=conv.name, wall=wall.name, wall_number=wall.number,
                        kr=wall.kr, ktw=wall.ktw, cr=wall.cr_value, ctw=wall.ctw_value)
 
@@ -202,5 +210,7 @@ def convention_of(scene, pc: PairContact):
         Its convention (``dtcrit.physics.damping_conventions.Convention``).
     """
     if pc.wall is not None:
+        if any(w.model == "hertz" and w.number == pc.wall_number for w in scene.walls):
+            return convention_for(scene.contact.damping_convention, "hertz")
         return wall_convention(scene.contact.damping_convention, scene.contact.model)
     return _convention(scene.contact)

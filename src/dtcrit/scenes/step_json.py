@@ -232,11 +232,19 @@ def step_json(result) -> dict:
         "pairs": [pair_json(p) for p in result.pairs],
         "particles": [_particle_json(p, result.B_max[p.number]) for p in sc.particles],
         "contact": _contact_json(sc, result.pairs[0].contact.convention),
-        "walls": [{"number": w.number, "name": w.name, "kn": w.kn, "ks": w.ks, "damping": w.damping,
-                   "damping_ratio": w.damping_ratio, "restitution": w.restitution, "particles": list(w.particles)}
-                  for w in sc.walls],
+        "walls": [_wall_json(w) for w in sc.walls],
         "warnings": [f"{k}: {m}" for k, m in sc.warnings],
     }
+
+
+def _wall_json(w) -> dict:
+    """A ``[[wall]]`` entry; a Hertz wall adds its law (its springs depend on the particle: ``kn``, ``ks`` null)."""
+    out = {"number": w.number, "name": w.name, "kn": w.kn, "ks": w.ks, "damping": w.damping,
+           "damping_ratio": w.damping_ratio, "restitution": w.restitution, "particles": list(w.particles)}
+    if w.model != "linear":
+        out.update(model=w.model, kn=None, ks=None, overlap=w.overlap, velocity=w.velocity,
+                   youngs_modulus=w.youngs_modulus, poisson_ratio=w.poisson_ratio)
+    return out
 
 
 def order_of_accuracy_json(integrator: str) -> dict | None:

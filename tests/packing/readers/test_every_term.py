@@ -157,8 +157,8 @@ MODELLED = {
 
 #: a change of each derived or recorded field: the step must not move
 UNCHANGED = {
-    "top": {"yade_version": "2099.01", "dt": 3e-5, "iter": 99},
-    "body": {"id": None},
+    "top": {"yade_version": "2099.01", "dt": 3e-5, "iter": 99, "wall_no_ratch": False},  # no wall here
+    "body": {"id": None, "shape": None, "axis": None, "sense": None, "vertices": None},  # walls: test_audit_walls
     "interaction": {"normal": [0.0, 1.0, 0.0], "point": [5.0, 5.0, 5.0], "radius1": 9.0, "radius2": 9.0,
                     "bonded": True},
 }

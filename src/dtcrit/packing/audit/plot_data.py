@@ -173,6 +173,8 @@ def audit_figure_data(audit, count: int = 10) -> AuditFigureData:
     else:
         e = particle_energies(spectrum.top_vector)
         share, mode = e / e.sum(), "top undamped mode"
-    ids = np.array([packing.particle_id(p) for p in range(packing.n)])
-    return AuditFigureData(ids, packing.positions.copy(), packing.radii.copy(), np.asarray(share, dtype=float),
-                           mode, spectrum, _marks(audit), f"{snapshot.source}: {snapshot.law}")
+    n = packing.n - int(snapshot.meta.get("fixed_bodies", 0))  # walls come last and are not drawn
+    ids = np.array([packing.particle_id(p) for p in range(n)])
+    return AuditFigureData(ids, packing.positions[:n].copy(), packing.radii[:n].copy(),
+                           np.asarray(share, dtype=float)[:n], mode, spectrum, _marks(audit),
+                           f"{snapshot.source}: {snapshot.law}")

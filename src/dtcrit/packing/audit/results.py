@@ -56,7 +56,8 @@ class Snapshot:
         The contact law in words.
     meta : Mapping
         What the file adds: ``dt`` (a YADE export's step [s]), ``material`` (Young's modulus [Pa],
-        Poisson's ratio) of a pair style that has one.
+        Poisson's ratio) of a pair style that has one; with walls ``fixed_bodies`` (how many of the
+        packing's last bodies are walls, ``dtcrit.packing.wall_bodies``) and ``notes``.
 
     Examples
     --------

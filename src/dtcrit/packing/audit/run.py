@@ -67,7 +67,7 @@ def _table_contacts(packing: Packing, convention: EngineConvention, path) -> tup
 def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_style: str | None = None,
                   local: str | os.PathLike | None = None, contact_table: str | os.PathLike | None = None,
                   density: float | None = None, snapshot_index: int = -1,
-                  liggghts_input: str | os.PathLike | None = None) -> Snapshot:
+                  liggghts_input: str | os.PathLike | None = None, walls=None) -> Snapshot:
     """Read a snapshot with its engine's conventions: the packing and its contacts with every term.
 
     Parameters
@@ -89,6 +89,9 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
         The snapshot in the dump (-1: the last).
     liggghts_input : str or os.PathLike, optional
         A LIGGGHTS input: the law per atom type (``dtcrit.packing.conventions.liggghts_input``).
+    walls : sequence of str, optional
+        The input script's ``fix ... wall/gran`` lines (LAMMPS;
+        ``dtcrit.packing.conventions.lammps_walls``): each wall's contacts enter against a fixed body.
 
     Returns
     -------
@@ -128,9 +131,9 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
                                    f"which does not go with --engine {convention.name}"
                                    + ("" if yade_file else " without a --contacts table"))
     if yade_file:
-        if pair_style or local or contact_table or liggghts_input:
-            raise InputError("engine", "a YADE export carries its own contacts; --pair-style, --local, --contacts "
-                                       "and --liggghts-input do not apply")
+        if pair_style or local or contact_table or liggghts_input or walls:
+            raise InputError("engine", "a YADE export carries its own contacts; --pair-style, --local, --contacts, "
+                                       "--liggghts-input and --wall do not apply")
         packing, contacts, meta = read_yade_audit(path)  # YADE's kinematics (clumps too) applied on reading
         return Snapshot(source, packing, contacts, convention, "YADE's per-contact kn, ks (export)",
                         MappingProxyType(dict(meta)))
@@ -149,7 +152,7 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
     packing = _read_dump(path, density, snapshot_index)
     if contact_table:
         contacts, law = _table_contacts(packing, convention, contact_table)
-        return Snapshot(source, packing, contacts, convention, law)
+        return _with_walls(Snapshot(source, packing, contacts, convention, law), walls)
     if liggghts_input:
         style = read_liggghts_law(liggghts_input, path, snapshot_index, packing)
     assert style is not None
@@ -161,8 +164,24 @@ def read_snapshot(path: str | os.PathLike, *, engine: str | None = None, pair_st
         contacts = engine_sphere_contacts(packing, convention)
     contacts = with_arms(packing, contacts, style.arm)  # the pair style's own kinematics
     contacts = apply_terms(contacts, style.terms(packing, contacts), preload=convention.preload)
-    return Snapshot(source, packing, contacts, convention, style.describe(),
-                    MappingProxyType({"material": style.material()}))
+    return _with_walls(Snapshot(source, packing, contacts, convention, style.describe(),
+                                MappingProxyType({"material": style.material()})), walls)
+
+
+def _with_walls(snapshot: Snapshot, walls) -> Snapshot:
+    """The snapshot with its ``fix wall/gran`` walls' contacts (``dtcrit.packing.conventions.lammps_walls``)."""
+    if not walls:
+        return snapshot
+    from dtcrit.packing.conventions.lammps_walls import add_walls, parse_wall
+
+    if snapshot.convention.name != "lammps":
+        raise InputError("--wall", f"reads LAMMPS fix wall/gran lines, not {snapshot.convention.name}'s walls")
+    parsed = [parse_wall(text) for text in ([walls] if isinstance(walls, str) else walls)]
+    packing, contacts, notes = add_walls(snapshot.packing, snapshot.contacts, parsed,
+                                         preload=snapshot.convention.preload)
+    meta = {**snapshot.meta, "notes": (*snapshot.meta.get("notes", ()), *notes),
+            "fixed_bodies": packing.n - snapshot.packing.n}
+    return replace(snapshot, packing=packing, contacts=contacts, meta=MappingProxyType(meta))
 
 
 def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None = None,
@@ -187,7 +206,7 @@ def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None =
         ``yade``): the steps times ``1/sqrt(1 + alpha)`` (:mod:`dtcrit.packing.audit.local_damping`).
     **read
         The keyword arguments of :func:`read_snapshot` (``engine``, ``pair_style``, ``local``,
-        ``contact_table``, ``density``, ``snapshot_index``, ``liggghts_input``) for a file.
+        ``contact_table``, ``density``, ``snapshot_index``, ``liggghts_input``, ``walls``) for a file.
 
     Returns
     -------
@@ -226,6 +245,11 @@ def audit_snapshot(snapshot: str | os.PathLike | Snapshot, *, dt: float | None =
     report = analysis.audit(given.packing, given.contacts, given.convention, law=given.law, source=given.source,
                             integrator=integrator, dt_user=dt if dt is not None else given.meta.get("dt"),
                             material=given.meta.get("material"), yade_stepper=from_snapshot(given))
+    if given.meta.get("fixed_bodies"):  # walls are bodies of the model, not particles of the report
+        from dtcrit.packing.wall_bodies import count_particles_only
+
+        count_particles_only(report, given.packing, given.contacts, given.packing.n - given.meta["fixed_bodies"])
+    report.notes.extend(given.meta.get("notes", ()))
     if given.meta.get("cell_strain_rate"):  # a YADE cell in homothetic motion: refused unless negligible
         from dtcrit.packing.readers.yade_terms import check_cell_motion
 

@@ -2,7 +2,8 @@
 
 ``dtcrit.packing.bounds.yade_stepper`` computes the stepper's step; this module collects what it reads
 from the export's own entries (``dtcrit/engine_scripts/yade_export.py`` writes them): each sphere's
-body (a clump member's ``clump_id``, else itself) and radius; each interaction's ``normal``
+body (a clump member's ``clump_id``, else itself) and radius (a Wall or Facet body is its own, fixed, body
+whose contacts carry their arms in ``radius1``, ``radius2``); each interaction's ``normal``
 (``geom.normal``), ``radius1``, ``radius2`` (``geom.refR1``, ``refR2``), ``kn``, ``ks``, ``fn`` (its
 normal force: zero skips it, as the stepper does), ``phys`` (whether ``getRotStiffness()`` is
 ``(ktw, kr, kr)``, :data:`~dtcrit.packing.bounds.yade_stepper.ROTATIONAL_PHYSICS`) and ``kr``, ``ktw``;
@@ -68,7 +69,8 @@ def _spheres(bodies: list, index: Mapping[int, int]) -> tuple[dict, list[int], l
             raise _Missing(f"sphere {bid} belongs to no body of the packing")
         slot[bid] = len(body)
         body.append(index[owner])
-        radius.append(_number(b.get("radius"), f"the radius of sphere {bid}"))
+        wall = b.get("shape") in ("Wall", "Facet")  # a fixed wall body: its contacts carry refR1, refR2
+        radius.append(0.0 if wall else _number(b.get("radius"), f"the radius of sphere {bid}"))
     return slot, body, radius
 
 

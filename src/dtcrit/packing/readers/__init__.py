@@ -4,7 +4,7 @@ Modules: ``lammps_dump`` (text dumps: a snapshot as a packing, writing dumps) an
 streamed one snapshot at a time, ``iter_dump``), ``contact_tables`` (``--contacts`` tables and ``--local``
 dumps), ``bodies_file``, ``bodies_array`` (its bodies as a packing) and ``bodies_values`` (``dtcrit-bodies/1``;
 shapes by ``dtcrit.bodies.spec``),
-``yade_export``, ``yade_clumps`` (``dtcrit-yade-export/1``) and ``yade_terms`` (what the audit does with
+``yade_export``, ``yade_clumps``, ``yade_walls`` (``dtcrit-yade-export/1``; its Wall and Facet bodies) and ``yade_terms`` (what the audit does with
 each export field: modelled or refused), ``limits`` (the range of numbers a read
 packing may carry).  Values are checked by ``dtcrit.inputs``; errors carry their location (source, line, key).
 """

@@ -176,9 +176,11 @@ def read_yade_audit(path) -> tuple[Packing, Contacts, dict]:
 
 def _read_yade_audit(path: Path) -> tuple[Packing, Contacts, dict]:
     from dtcrit.packing.readers.yade_clumps import rigid_bodies, yade_contacts
+    from dtcrit.packing.readers.yade_walls import add_yade_walls, split_walls
 
     doc, bodies, inters = _load(path)
     meta = _meta(doc, path)
+    bodies, inters, walls, touching = split_walls(bodies, inters, path)  # Wall and Facet bodies: yade_walls
     rb = rigid_bodies(bodies, path)
     if rb.fixed.all():
         raise InputError(f"{path}: bodies", "every body is fixed: nothing moves")
@@ -192,7 +194,12 @@ def _read_yade_audit(path: Path) -> tuple[Packing, Contacts, dict]:
         packing = Packing(x, masses, inertia, rb.radii, box=box, orientations=rb.rotations if rb.clumps else None,
                           half_lengths=np.repeat(rb.radii[:, None], 3, 1), label=_label(path, doc, rb.clumps),
                           ids=rb.ids)
-        contacts = yade_contacts(rb, inters, path, box=box, wrapped=x, ratcheting=ratcheting is not False)
+        contacts = (yade_contacts(rb, inters, path, box=box, wrapped=x, ratcheting=ratcheting is not False)
+                    if inters or not touching else Contacts.empty())
+        if walls:
+            packing, contacts, meta["fixed_bodies"] = add_yade_walls(
+                packing, contacts, rb.members, walls, touching, path, doc.get("wall_no_ratch") is not False,
+                rb.positions, ~rb.fixed)
     except InputError as exc:
         raise _keyed(path, exc) from None
     return packing, contacts, {**meta, "clumps": rb.clumps, "cell_strain_rate": cell_strain_rate(doc, path)}

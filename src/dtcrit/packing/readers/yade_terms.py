@@ -75,6 +75,7 @@ TOP = {
     "exact_aspherical_rot": (REFUSED, "refused when false with an aspherical free body"),
     "laws": (REFUSED, "refused: a Law2 functor not in " + ", ".join(KNOWN_LAWS) + ", or creep on"),
     "avoid_granular_ratcheting": (MODELLED, "the shear kinematics (alpha) of ScGeom"),
+    "wall_no_ratch": (MODELLED, "the shear kinematics (alpha) of sphere-Wall contacts (yade_walls)"),
     "bodies": (MODELLED, "the bodies (BODY)"),
     "interactions": (MODELLED, "the interactions (INTERACTION)"),
 }
@@ -82,6 +83,10 @@ TOP = {
 #: per-body keys
 BODY = {
     "id": (RECORD, "the body's id"),
+    "shape": (MODELLED, "a Wall or Facet is a fixed wall (yade_walls); other shapes need a radius (spheres)"),
+    "axis": (RECORD, "a Wall's axis: its contacts' normals are exported"),
+    "sense": (RECORD, "a Wall's side: its contacts' normals are exported"),
+    "vertices": (RECORD, "a Facet's corners: its contacts' points are exported"),
     "pos": (MODELLED, "the centre (contact geometry, arms)"),
     "radius": (MODELLED, "the sphere's radius (arms)"),
     "mass": (MODELLED, "the mass"),
@@ -107,10 +112,10 @@ INTERACTION = {
     "fn": (MODELLED, "normal force (pre-load's geometric stiffness)"),
     "penetration": (MODELLED, "the pre-load kn x penetration when fn is not given"),
     "shift2": (MODELLED, "the periodic image of body 2"),
-    "normal": (DERIVED, "recomputed from the positions"),
-    "point": (DERIVED, "recomputed from the positions and radii (R - penetration/2)"),
-    "radius1": (DERIVED, "the bodies' radii are used"),
-    "radius2": (DERIVED, "the bodies' radii are used"),
+    "normal": (DERIVED, "recomputed from the positions (a Wall or Facet contact's is used, yade_walls)"),
+    "point": (DERIVED, "recomputed from the positions and radii (R - penetration/2; a wall contact's is used)"),
+    "radius1": (DERIVED, "the bodies' radii are used (a wall contact's refR1 gives its alpha)"),
+    "radius2": (DERIVED, "the bodies' radii are used (a wall contact's refR2 gives its alpha)"),
     "bonded": (RECORD, "the exporter already gives kr, ktw only where the moment law acts"),
     "geom": (REFUSED, "refused when not one of " + ", ".join(KNOWN_GEOM)),
     "phys": (REFUSED, "refused when not one of " + ", ".join(KNOWN_PHYS)),
