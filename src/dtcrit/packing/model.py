@@ -56,10 +56,13 @@ class Box:
         object.__setattr__(self, "lo", lo)
         object.__setattr__(self, "hi", hi)
         object.__setattr__(self, "periodic", tuple(bool(p) for p in self.periodic))
-        if self.cell is not None:
-            from dtcrit.packing.periodic_cell import checked_cell
-
-            object.__setattr__(self, "cell", checked_cell(self.cell, hi - lo))
+        if self.cell is not None:  # sheared: finite, diagonal hi - lo, right-handed; a diagonal cell is None
+            h = np.array(self.cell, dtype=float)
+            if h.shape != (3, 3) or not np.all(np.isfinite(h)) or not np.allclose(np.diag(h), hi - lo, rtol=1e-12, atol=0):
+                raise InputError("box", f"the cell must be a finite 3 x 3 matrix with diagonal hi - lo = {hi - lo}")
+            if not np.linalg.det(h) > 1e-12 * np.prod(np.linalg.norm(h, axis=0)):
+                raise InputError("box", f"the cell vectors (columns) {h.T.tolist()} must be right-handed, not coplanar")
+            object.__setattr__(self, "cell", h if np.any(h - np.diag(np.diag(h))) else None)
 
     @property
     def lengths(self) -> np.ndarray:

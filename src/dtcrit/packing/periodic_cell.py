@@ -28,41 +28,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from dtcrit.errors import InputError
-
 if TYPE_CHECKING:
     from dtcrit.packing.model import Box
 
 MARGIN = 1e-9
 """Relative widening of the ghost slab and of the search reach, so that rounding never loses a pair."""
-
-
-def checked_cell(cell, lengths: np.ndarray) -> np.ndarray | None:
-    """A box's edge vectors checked: finite, right-handed, diagonal ``lengths``; None when axis-aligned.
-
-    Parameters
-    ----------
-    cell : array_like
-        (3, 3) edge vectors as columns [m].
-    lengths : numpy.ndarray
-        The box's ``hi - lo`` [m], which must be the cell's diagonal.
-
-    Returns
-    -------
-    numpy.ndarray or None
-        The cell as a float array, or None for a diagonal cell (an axis-aligned box).
-    """
-    h = np.array(cell, dtype=float)
-    if h.shape != (3, 3) or not np.all(np.isfinite(h)):
-        raise InputError("box", f"the cell must be a 3 x 3 matrix of finite numbers, got {np.shape(cell)}")
-    if not np.allclose(np.diag(h), lengths, rtol=1e-12, atol=0.0):
-        raise InputError("box", f"the cell's diagonal {np.diag(h)} must be the box lengths hi - lo = {lengths}")
-    if not np.any(h - np.diag(np.diag(h))):
-        return None
-    det = float(np.linalg.det(h))
-    if not det > 1e-12 * float(np.prod(np.linalg.norm(h, axis=0))):
-        raise InputError("box", f"the cell vectors (columns) {h.T.tolist()} must be right-handed and not coplanar")
-    return h
 
 
 def fractional(box: Box, vectors: np.ndarray) -> np.ndarray:
