@@ -22,8 +22,6 @@ import json
 import subprocess
 import sys
 
-import pytest
-
 from support.engines import require_engine
 from support.engines.lammps_packing import PackingSpec
 from support.engines.lammps_sheared import bisect_threshold, shear
@@ -43,6 +41,7 @@ def _audit(*args: str) -> dict:
 
 
 def test_lammps_triclinic_packing_within_its_bisected_threshold(tmp_path):
+    """The sheared LAMMPS packing (module docstring): dt_crit in [0.999, 1] of LAMMPS's threshold."""
     require_engine("lammps")
     dump = shear(PackingSpec(solid_fraction=0.66, seed=7), TILTS, tmp_path / "sheared")
     assert dump.splitlines()[4].startswith("ITEM: BOX BOUNDS xy xz yz pp pp pp")
@@ -57,6 +56,9 @@ def test_lammps_triclinic_packing_within_its_bisected_threshold(tmp_path):
 
 
 def test_yade_sheared_cell_within_its_bisected_threshold(tmp_path):
+    """The sheared YADE FCC (module docstring): all 12 contacts per sphere found, dt_crit in [0.999, 1]
+    of YADE's threshold.
+    """
     require_engine("yade")
     scene = sheared_lattice(tmp_path / "fcc", [(0, 1, 1), (2, 1, 1)])
     assert scene["contacts"] == 6 * scene["bodies"] and scene["hsize"][2][1] > 0
