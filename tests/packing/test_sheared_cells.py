@@ -22,7 +22,7 @@ from hypothesis import strategies as st
 from dtcrit.cli import main
 from dtcrit.errors import InputError
 from dtcrit.packing import Box, LinearLaw, Packing, analyse, lattice
-from dtcrit.packing.detection.overlaps import find_sphere_contacts, wrap_positions
+from dtcrit.packing.detection.overlaps import find_sphere_contacts
 from dtcrit.packing.periodic_cell import nearest_image
 from dtcrit.packing.readers.lammps_dump import format_dump, read_dump
 from dtcrit.packing.readers.yade_export import read_yade_audit
@@ -98,8 +98,8 @@ def test_contacts_of_a_sheared_cell_are_every_image_in_range(n, tilts, angle, pe
     except InputError as exc:  # a sphere wider than the shortest periodic translation
         assume("own periodic image" not in exc.reason)
         raise
-    xw = wrap_positions(packing.positions, box)
-    found = [(i, j, xw[j] + h @ s - xw[i]) for i, j, s in zip(c.i, c.j, c.image)]
+    x = packing.positions  # images are of the packing's own (unwrapped) positions
+    found = [(i, j, x[j] + h @ s - x[i]) for i, j, s in zip(c.i, c.j, c.image)]
     reference = _brute_pairs(packing.positions, r, h, periodic)
     _same_pairs(found, reference, r.max())
     d = np.array([np.linalg.norm(s) for _, _, s in found]).reshape(-1)
@@ -202,3 +202,45 @@ def test_yade_sheared_cell_and_shift2(tmp_path):
     path.write_text(json.dumps(_yade_export(h, [_sphere(0, x1), _sphere(1, x2)], [inter])))
     with pytest.raises(InputError, match="not a whole number of cell vectors"):
         read_yade_audit(path)
+
+
+@pytest.mark.parametrize("route", ["assembled", "matrix-free"])
+def test_a_cell_and_its_relabelled_lattice_basis_give_one_step(route):
+    """``H`` and ``H U`` (``U`` unimodular: ``b + 2a``, ``c - b``) are one periodic system, so one step, with
+    the pre-load's geometric stiffness (centre distances through the images) on every contact."""
+    plain = lattice("fcc", 2, radius=1e-3, density=2500.0)
+    lengths = plain.box.lengths
+    rng = np.random.default_rng(3)
+    x = plain.positions * 0.999 + rng.normal(size=plain.positions.shape) * 1e-5
+    h = _cell(lengths, (0.37 * lengths[1], 0.0, -0.21 * lengths[2]))
+    steps = []
+    for cell in (h, h @ np.array([[1, 2, 0], [0, 1, -1], [0, 0, 1]], float)):
+        packing = Packing.spheres(x, 1e-3, masses=plain.masses, box=_box(cell))
+        contacts = find_sphere_contacts(packing)
+        contacts = contacts.with_stiffness(np.full(contacts.count, 1e5), np.full(contacts.count, 3e4))
+        steps.append(analyse(packing, None, contacts.with_normal_force(1e5 * contacts.overlap), route=route).dt_crit)
+    assert steps[0] == pytest.approx(steps[1], rel=1e-10)
+
+
+def test_clumps_and_convex_bodies_find_the_sphere_contacts_of_a_sheared_cell():
+    """The same spheres as one-member clumps (``find_body_contacts``) and as convex shapes
+    (``find_convex_contacts``, support-function penetration) touch as the spheres do, through the same
+    images of the packing's own (unwrapped) centres."""
+    from dtcrit.bodies import Clump, Sphere
+    from dtcrit.packing.detection.body_contacts import find_body_contacts
+    from dtcrit.packing.detection.overlaps import find_convex_contacts
+
+    rng = np.random.default_rng(11)
+    h = _cell([3.0, 2.5, 2.8], (1.9, -0.7, 0.8), 0.2)
+    x = rng.uniform(-0.5, 1.5, (14, 3)) @ h.T
+    r = rng.uniform(0.4, 0.8, 14)
+    spheres = find_sphere_contacts(Packing.spheres(x, r, density=1.0, box=_box(h)))
+    assert spheres.count > 5 and np.any(spheres.image)
+    clumps = Packing.from_shapes([Clump([(0.0, 0.0, 0.0, rk)], density=1.0) for rk in r], x,
+                                 np.repeat(np.eye(3)[None], 14, 0), box=_box(h))
+    convex = Packing.from_shapes([Sphere(rk, density=1.0) for rk in r], x, box=_box(h))
+    for found in (find_body_contacts(clumps), find_convex_contacts(convex)):
+        key = lambda c: sorted(zip(c.i.tolist(), c.j.tolist(), map(tuple, c.image.tolist())))  # noqa: E731
+        assert key(found) == key(spheres)
+        order = np.lexsort((found.j, found.i)), np.lexsort((spheres.j, spheres.i))
+        assert np.allclose(found.normal[order[0]], spheres.normal[order[1]], atol=1e-7)

@@ -22,7 +22,8 @@ import time
 import numpy as np
 
 from dtcrit.errors import InputError
-from dtcrit.packing.detection.overlaps import _candidate_pairs, convex_penetration, find_sphere_contacts, wrap_positions
+from dtcrit.packing.detection.overlaps import (_candidate_pairs, convex_penetration, find_sphere_contacts, own_images,
+                                              wrap_positions)
 from dtcrit.packing.model import Contacts, Packing
 from dtcrit.packing.periodic_cell import image_of
 
@@ -201,6 +202,8 @@ def find_body_contacts(packing: Packing, tolerance: float = 1e-9) -> Contacts:
     # body j's image: x_j + H S = x_i + offset_a + sep - offset_b
     sep = x[j] + (0.0 if box is None else box.shift(image)) - x[i]
     body_image = np.zeros((len(i), 3)) if box is None else image_of(box, xb[bi] - xb[bj] + offset[i] - offset[j] + sep)
+    moved = own_images(packing, xb)  # images of the packing's own centres, not of the wrapped ones
+    body_image = body_image if moved is None else body_image + moved[bj] - moved[bi]
     ra, rb = radius[i], radius[j]
     return Contacts(i=bi, j=bj, normal=normal, arm_i=offset[i] + arm_a, arm_j=offset[j] + arm_b, overlap=overlap,
                     image=body_image.astype(np.int64), radius_eff=ra * rb / (ra + rb))

@@ -21,7 +21,7 @@ from scipy.spatial import cKDTree
 from dtcrit.errors import InputError
 
 from dtcrit.packing.model import Box, Contacts, Packing
-from dtcrit.packing.periodic_cell import cell_pairs, shortest_translation, spacings, wrap
+from dtcrit.packing.periodic_cell import cell_pairs, image_of, shortest_translation, spacings, wrap
 
 
 def wrap_positions(positions: np.ndarray, box: Box | None) -> np.ndarray:
@@ -186,7 +186,15 @@ def _candidate_pairs(x: np.ndarray, cutoff: float, box: Box | None, chunk: int =
     return i, j, _image_of(x[j] - x[i], box if size is not None else None).astype(np.int64)
 
 
-def _touching(packing: Packing, x, i, j, image, tolerance):
+def own_images(packing: Packing, x: np.ndarray) -> np.ndarray | None:
+    """Whole cell vectors ``n`` with ``x = positions + H n`` (``x`` wrapped), or None when there are none:
+    images found among wrapped centres plus ``n_j - n_i`` are images of the packing's own positions.
+    """
+    moved = None if packing.box is None else image_of(packing.box, x - packing.positions)
+    return moved if moved is not None and moved.any() else None
+
+
+def _touching(packing: Packing, x, i, j, image, tolerance, moved=None):
     """The contacts among candidate pairs ``(i, j, image)``: field arrays of ``Contacts``."""
     r = packing.radii
     box = packing.box
@@ -200,6 +208,7 @@ def _touching(packing: Packing, x, i, j, image, tolerance):
                                       "have coincident centres")
     n = sep / d[:, None]
     overlap = np.maximum(r[i] + r[j] - d, 0.0)
+    image = image if moved is None else image + moved[j] - moved[i]
     return dict(i=i, j=j, normal=n, arm_i=(r[i] - 0.5 * overlap)[:, None] * n,
                 arm_j=-(r[j] - 0.5 * overlap)[:, None] * n, overlap=overlap, image=image,
                 radius_eff=r[i] * r[j] / (r[i] + r[j]))
@@ -258,13 +267,13 @@ def find_sphere_contacts(packing: Packing, tolerance: float = 1e-9, chunk: int =
         assert box is not None  # no search frame only for a periodic box
         i, j, image = _narrow_box_pairs(x, cutoff, box)
         order = np.lexsort((image[:, 2], image[:, 1], image[:, 0], j, i))
-        return _joined([_touching(packing, x, i[order], j[order], image[order], tolerance)])
+        return _joined([_touching(packing, x, i[order], j[order], image[order], tolerance, own_images(packing, x))])
     tree = cKDTree(y, boxsize=size)
-    parts = []
+    parts, moved = [], own_images(packing, x)
     for lo in range(0, packing.n, max(1, int(chunk))):
         i, j = _chunk_pairs(tree, y, size, lo, min(lo + int(chunk), packing.n), cutoff)
         image = _image_of(x[j] - x[i], box if size is not None else None)
-        parts.append(_touching(packing, x, i, j, image, tolerance))
+        parts.append(_touching(packing, x, i, j, image, tolerance, moved))
     return _joined(parts)
 
 
@@ -377,9 +386,10 @@ def find_convex_contacts(packing: Packing, tolerance: float = 1e-9) -> Contacts:
     if not rows:
         return Contacts.empty()
     a, b, s, n, ai, aj, dep = zip(*rows)
+    a, b, moved = np.array(a, dtype=np.int64), np.array(b, dtype=np.int64), own_images(packing, x)
+    s = np.array(s, dtype=np.int64) if moved is None else np.array(s, dtype=np.int64) + moved[b] - moved[a]
     return Contacts(
-        i=np.array(a, dtype=np.int64), j=np.array(b, dtype=np.int64), normal=np.array(n),
-        arm_i=np.array(ai), arm_j=np.array(aj), overlap=np.array(dep), image=np.array(s, dtype=np.int64),
+        i=a, j=b, normal=np.array(n), arm_i=np.array(ai), arm_j=np.array(aj), overlap=np.array(dep), image=s,
         radius_eff=np.full(len(rows), np.nan),
     )
 
