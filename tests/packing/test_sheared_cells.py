@@ -207,7 +207,8 @@ def test_yade_sheared_cell_and_shift2(tmp_path):
 @pytest.mark.parametrize("route", ["assembled", "matrix-free"])
 def test_a_cell_and_its_relabelled_lattice_basis_give_one_step(route):
     """``H`` and ``H U`` (``U`` unimodular: ``b + 2a``, ``c - b``) are one periodic system, so one step, with
-    the pre-load's geometric stiffness (centre distances through the images) on every contact."""
+    the pre-load's geometric stiffness (centre distances through the images) on every contact.
+    """
     plain = lattice("fcc", 2, radius=1e-3, density=2500.0)
     lengths = plain.box.lengths
     rng = np.random.default_rng(3)
@@ -225,7 +226,8 @@ def test_a_cell_and_its_relabelled_lattice_basis_give_one_step(route):
 def test_clumps_and_convex_bodies_find_the_sphere_contacts_of_a_sheared_cell():
     """The same spheres as one-member clumps (``find_body_contacts``) and as convex shapes
     (``find_convex_contacts``, support-function penetration) touch as the spheres do, through the same
-    images of the packing's own (unwrapped) centres."""
+    images of the packing's own (unwrapped) centres.
+    """
     from dtcrit.bodies import Clump, Sphere
     from dtcrit.packing.detection.body_contacts import find_body_contacts
     from dtcrit.packing.detection.overlaps import find_convex_contacts
