@@ -107,7 +107,8 @@ def packing_from_snapshot(snap: DumpSnapshot, density: float | None = None, labe
     elif density is None:
         raise snap.fail(header_line, "the ATOMS columns have no 'mass': give the particle density (--density)")
     _check_sizes(snap, x, r, masses, density)
-    for what, values in (("a box bound", np.vstack([snap.box.lo, snap.box.hi]).T), ("a coordinate", x), ("radius", r)):
+    bounds = np.vstack([snap.box.lo, snap.box.hi] + ([] if snap.box.cell is None else [snap.box.cell - np.diag(snap.box.lengths)]))
+    for what, values in (("a box bound", bounds.T), ("a coordinate", x), ("radius", r)):
         if what == "a box bound":
             check_lengths(values, lambda k: snap.at(snap.first_line - 4 + k), what)
         else:
