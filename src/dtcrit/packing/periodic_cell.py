@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
-    from dtcrit.packing.model import Box
+    from dtcrit.packing.model import Box, Packing
 
 MARGIN = 1e-9
 """Relative widening of the ghost slab and of the search reach, so that rounding never loses a pair."""
@@ -143,6 +143,26 @@ def nearest_image(box: Box, sep: np.ndarray) -> np.ndarray:
         better = d < length
         best[better], length[better] = trial[better], d[better]
     return best
+
+
+def own_images(packing: Packing, x: np.ndarray) -> np.ndarray | None:
+    """Whole cell vectors ``n`` with ``x = positions + H n``: an image among the wrapped centres ``x``
+    plus ``n_j - n_i`` is the image of the packing's own positions.
+
+    Parameters
+    ----------
+    packing : Packing
+        The particles (their own positions and box).
+    x : numpy.ndarray
+        The same centres wrapped into the box (``dtcrit.packing.detection.overlaps.wrap_positions``).
+
+    Returns
+    -------
+    numpy.ndarray or None
+        ``(n, 3)`` int64, or None when no centre was moved.
+    """
+    moved = None if packing.box is None else image_of(packing.box, x - packing.positions)
+    return moved if moved is not None and moved.any() else None
 
 
 def shortest_translation(box: Box) -> float:

@@ -22,10 +22,9 @@ import time
 import numpy as np
 
 from dtcrit.errors import InputError
-from dtcrit.packing.detection.overlaps import (_candidate_pairs, convex_penetration, find_sphere_contacts, own_images,
-                                              wrap_positions)
+from dtcrit.packing.detection.overlaps import _candidate_pairs, convex_penetration, find_sphere_contacts, wrap_positions
 from dtcrit.packing.model import Contacts, Packing
-from dtcrit.packing.periodic_cell import image_of
+from dtcrit.packing.periodic_cell import image_of, own_images
 
 PROGRESS_AFTER = 2.0
 """Seconds of pair-by-pair penetration after which progress is shown (then every as many)."""

@@ -21,7 +21,7 @@ from scipy.spatial import cKDTree
 from dtcrit.errors import InputError
 
 from dtcrit.packing.model import Box, Contacts, Packing
-from dtcrit.packing.periodic_cell import cell_pairs, image_of, shortest_translation, spacings, wrap
+from dtcrit.packing.periodic_cell import cell_pairs, own_images, shortest_translation, spacings, wrap
 
 
 def wrap_positions(positions: np.ndarray, box: Box | None) -> np.ndarray:
@@ -184,14 +184,6 @@ def _candidate_pairs(x: np.ndarray, cutoff: float, box: Box | None, chunk: int =
     i = np.concatenate([p[0] for p in pairs]) if pairs else np.zeros(0, np.int64)
     j = np.concatenate([p[1] for p in pairs]) if pairs else np.zeros(0, np.int64)
     return i, j, _image_of(x[j] - x[i], box if size is not None else None).astype(np.int64)
-
-
-def own_images(packing: Packing, x: np.ndarray) -> np.ndarray | None:
-    """Whole cell vectors ``n`` with ``x = positions + H n`` (``x`` wrapped), or None when there are none:
-    images found among wrapped centres plus ``n_j - n_i`` are images of the packing's own positions.
-    """
-    moved = None if packing.box is None else image_of(packing.box, x - packing.positions)
-    return moved if moved is not None and moved.any() else None
 
 
 def _touching(packing: Packing, x, i, j, image, tolerance, moved=None):

@@ -194,7 +194,7 @@ def _parse_box(lines: _Lines, header_text: str) -> Box:
     periodic = ("p" in flags[0], "p" in flags[1], "p" in flags[2])
     rows = np.array(_box_lines(lines, 4 if general else 3 if tilted else 2,
                                "ax ay az origin" if general else "lo_bound hi_bound tilt" if tilted else "lo hi"))
-    big = np.flatnonzero(~(np.abs(rows) <= MAX_LENGTH).all(axis=1)) if (tilted or general) else []
+    big = np.flatnonzero(~(np.abs(rows) <= MAX_LENGTH).all(axis=1) & bool(tilted or general))
     if len(big):  # before the cell's determinant overflows
         raise lines.fail(k + 1 + int(big[0]), f"a box value {np.abs(rows[big[0]]).max():g} m is beyond the "
                                               f"{MAX_LENGTH:g} m a packing's lengths may reach")
