@@ -19,7 +19,8 @@ both ends and kept once: ``i < j``, or ``i == j`` with ``n`` lexicographically p
 
 Nearest images (:func:`nearest_image`) are exact too: from the rounded fractional separation, every
 shift that can still be shorter (``|delta_k| <= D / w_k + 1/2``, ``D`` the rounded image's length) is
-tried.
+tried.  Contacts carry images of the packing's own positions, wrapped or not (:func:`own_images`), as
+the pre-load's centre distances ``|x_j + H n - x_i|`` need.
 """
 from __future__ import annotations
 
