@@ -9,7 +9,8 @@ al. 2020, a Rayleigh quotient).
     >>> round(analyse(lattice("sc", 2, mass=1.0), LinearLaw(1.0, 1.0)).alpha, 4)
     0.4472
 
-Modules: ``model`` (Packing, Box, the contact laws applied per contact), ``contact_set`` (Contacts), ``step``
+Modules: ``model`` (Packing, Box, the contact laws applied per contact), ``periodic_cell`` (images in a
+sheared cell), ``contact_set`` (Contacts), ``step``
 (``packing_step``, the analysis behind ``dtcrit packing``), ``step_input`` (its inputs: a dump, a
 bodies file or a generated packing), ``report`` (``analyse`` and the report), ``report_text`` (its text),
 ``wall_bodies`` (fixed walls as bodies of infinite mass); and the subpackages

@@ -23,19 +23,28 @@ from dtcrit.physics.contact_laws import hertz_normal_stiffness, mindlin_tangent_
 
 @dataclass(frozen=True)
 class Box:
-    """An axis-aligned simulation box ``[lo, hi)``; ``periodic[a]`` says whether axis ``a`` wraps.
+    """A simulation box: the parallelepiped spanned from ``lo`` by the columns of ``cell``; ``periodic[a]``
+    says whether the box wraps along cell vector ``a``.
+
+    Without ``cell`` the box is axis-aligned, ``[lo, hi)``.  A sheared (triclinic) box gives ``cell``,
+    whose columns are the edge vectors ``a, b, c`` (YADE's ``O.cell.hSize``; LAMMPS's
+    ``(lx, 0, 0), (xy, ly, 0), (xz, yz, lz)``, Howto triclinic); then ``hi`` is ``lo + diag(cell)``
+    (LAMMPS's ``xhi, yhi, zhi``).  ``dtcrit.packing.periodic_cell`` wraps, shifts and finds images.
 
     Parameters
     ----------
     lo, hi : array_like
         Lower and upper bounds [m] along x, y, z (finite, ``hi > lo``).
     periodic : tuple of bool
-        Whether each axis wraps.
+        Whether each cell vector (axis) wraps.
+    cell : array_like or None
+        (3, 3) edge vectors as columns [m]; None, or a diagonal matrix: the axis-aligned box.
     """
 
     lo: np.ndarray
     hi: np.ndarray
     periodic: tuple[bool, bool, bool]
+    cell: np.ndarray | None = None
 
     def __post_init__(self):
         lo = np.asarray(self.lo, dtype=float).reshape(3)
@@ -47,11 +56,39 @@ class Box:
         object.__setattr__(self, "lo", lo)
         object.__setattr__(self, "hi", hi)
         object.__setattr__(self, "periodic", tuple(bool(p) for p in self.periodic))
+        if self.cell is not None:  # sheared: finite, diagonal hi - lo, right-handed; a diagonal cell is None
+            h = np.array(self.cell, dtype=float)
+            if h.shape != (3, 3) or not np.all(np.isfinite(h)) or not np.allclose(np.diag(h), hi - lo, rtol=1e-12, atol=0):
+                raise InputError("box", f"the cell must be a finite 3 x 3 matrix with diagonal hi - lo = {hi - lo}")
+            if not np.linalg.det(h) > 1e-12 * np.prod(np.linalg.norm(h, axis=0)):
+                raise InputError("box", f"the cell vectors (columns) {h.T.tolist()} must be right-handed, not coplanar")
+            object.__setattr__(self, "cell", h if np.any(h - np.diag(np.diag(h))) else None)
 
     @property
     def lengths(self) -> np.ndarray:
-        """Edge lengths ``hi - lo`` [m] of the box along x, y, z."""
+        """Edge lengths ``hi - lo`` [m] along x, y, z (of a sheared box: ``diag(cell)``)."""
         return self.hi - self.lo
+
+    @property
+    def matrix(self) -> np.ndarray:
+        """The (3, 3) edge vectors as columns [m]: ``cell``, or ``diag(lengths)``."""
+        return np.diag(self.lengths) if self.cell is None else self.cell
+
+    def shift(self, image) -> np.ndarray:
+        """The translation [m] of integer periodic images ``image`` (``(..., 3)``): ``cell @ image``.
+
+        Parameters
+        ----------
+        image : array_like
+            Integer image shifts along the cell vectors, shape ``(..., 3)``.
+
+        Returns
+        -------
+        numpy.ndarray
+            The translations, shape ``(..., 3)`` (``image * lengths`` for an axis-aligned box).
+        """
+        image = np.asarray(image)
+        return image * self.lengths if self.cell is None else image @ self.cell.T
 
     @classmethod
     def cube(cls, length: float, periodic: bool = True) -> "Box":

@@ -84,7 +84,7 @@ BAD = [
     (GOOD.replace("NUMBER OF ATOMS\n3", "NUMBER OF ATOMS\n4"), 13, "unexpected end of file"),
     (GOOD.replace("-1.0 5.0", "5.0 -1.0"), 7, "must exceed"),
     (GOOD.replace("-1.0 5.0", "-1.0 5.0 0.3"), 7, "triclinic"),
-    (GOOD.replace("pp ff pp", "xy xz yz pp ff pp"), 5, "triclinic"),
+    (GOOD.replace("pp ff pp", "xy xz yz pp ff pp"), 6, "triclinic"),  # bounds lines without their tilt
     (GOOD.replace("1 1 0.35 1.0 1.0 0 0 0 0.5", "1 1 0.35 1.0 0 0 0 0.5"), 11, "expected 9 values"),
     (GOOD.replace("2 2 1.0 1.0 1.95", "2 2 1.0 abc 1.95"), 12, "'abc' is not a number"),
     (GOOD.replace("2 2 1.0 1.0 1.95 0 0 0 0.5", "2 2 1.0 1.0 1.95 0 0 0 -0.5"), 12, "radius must be positive"),

@@ -43,6 +43,7 @@ from dtcrit.physics.contact_laws import reduced
 
 from dtcrit.packing.detection.overlaps import find_sphere_contacts
 from dtcrit.packing.model import Contacts, Packing
+from dtcrit.packing.periodic_cell import nearest_image
 
 
 @dataclass(frozen=True)
@@ -208,11 +209,9 @@ def overlaps_of_pairs(packing: Packing, i: np.ndarray, j: np.ndarray) -> Contact
     sep = x[j] - x[i]
     image = np.zeros((len(i), 3), dtype=np.int64)
     box = packing.box
-    if box is not None:
-        for a in range(3):
-            if box.periodic[a]:
-                image[:, a] = -np.rint(sep[:, a] / box.lengths[a]).astype(np.int64)
-        sep = sep + image * box.lengths
+    if box is not None:  # the nearest image, sheared cells included
+        image = nearest_image(box, sep)
+        sep = sep + box.shift(image)
     d = np.linalg.norm(sep, axis=1)
     if np.any(d <= 0):
         k = int(np.argmax(d <= 0))

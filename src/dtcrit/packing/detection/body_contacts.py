@@ -10,7 +10,7 @@ contact point halfway between the two deepest support points), which for two sph
 same point.  A packing of spheres only is a sphere packing and goes to ``find_sphere_contacts``.
 
 Candidates come from the parts' bounding spheres; periodic axes use the box's images as for
-spheres.  The one-pair-at-a-time penetration reports its progress on standard error (when that is
+spheres (sheared cells included: ``dtcrit.packing.periodic_cell``).  The one-pair-at-a-time penetration reports its progress on standard error (when that is
 a terminal) once it has run for ``PROGRESS_AFTER`` seconds.
 """
 from __future__ import annotations
@@ -24,6 +24,7 @@ import numpy as np
 from dtcrit.errors import InputError
 from dtcrit.packing.detection.overlaps import _candidate_pairs, convex_penetration, find_sphere_contacts, wrap_positions
 from dtcrit.packing.model import Contacts, Packing
+from dtcrit.packing.periodic_cell import image_of, own_images
 
 PROGRESS_AFTER = 2.0
 """Seconds of pair-by-pair penetration after which progress is shown (then every as many)."""
@@ -180,8 +181,7 @@ def find_body_contacts(packing: Packing, tolerance: float = 1e-9) -> Contacts:
     i, j, image = _candidate_pairs(x, 2.0 * bound.max() * (1.0 + tolerance), box)
     keep = (owner[i] != owner[j]) | np.any(image != 0, axis=1)  # members of one clump are one rigid body
     i, j, image = i[keep], j[keep], image[keep]
-    lengths = np.zeros(3) if box is None else box.lengths
-    sep = x[j] + image * lengths - x[i]
+    sep = x[j] + (0.0 if box is None else box.shift(image)) - x[i]
     spheres = ~np.isnan(radius[i]) & ~np.isnan(radius[j])
     found = [np.zeros(len(i), bool), np.zeros((len(i), 3)), np.zeros((len(i), 3)), np.zeros((len(i), 3)),
              np.zeros(len(i))]
@@ -198,11 +198,11 @@ def find_body_contacts(packing: Packing, tolerance: float = 1e-9) -> Contacts:
                                      "hold spheres with coincident centres: no contact normal")
     i, j, image, normal, arm_a, arm_b, overlap = (v[touch] for v in (i, j, image, normal, arm_a, arm_b, overlap))
     bi, bj = owner[i], owner[j]
-    periodic = np.zeros(3, bool) if box is None else np.array(box.periodic)
-    safe = np.where(periodic, lengths, 1.0)
-    # body j's image: x_j + S L = x_i + offset_a + sep - offset_b
-    sep = x[j] + image * lengths - x[i]
-    body_image = np.where(periodic, np.rint((xb[bi] - xb[bj] + offset[i] - offset[j] + sep) / safe), 0)
+    # body j's image: x_j + H S = x_i + offset_a + sep - offset_b
+    sep = x[j] + (0.0 if box is None else box.shift(image)) - x[i]
+    body_image = np.zeros((len(i), 3)) if box is None else image_of(box, xb[bi] - xb[bj] + offset[i] - offset[j] + sep)
+    moved = own_images(packing, xb)  # images of the packing's own centres, not of the wrapped ones
+    body_image = body_image if moved is None else body_image + moved[bj] - moved[bi]
     ra, rb = radius[i], radius[j]
     return Contacts(i=bi, j=bj, normal=normal, arm_i=offset[i] + arm_a, arm_j=offset[j] + arm_b, overlap=overlap,
                     image=body_image.astype(np.int64), radius_eff=ra * rb / (ra + rb))

@@ -4,7 +4,9 @@ penetration depth from their support functions.
 Spheres ``i`` and ``j`` touch when their centre distance ``d <= (R_i + R_j) (1 + tolerance)``.
 Periodic axes use the minimum image when the box is wider than twice the contact range; for
 narrower boxes every periodic image in range is searched explicitly, so a particle may touch its
-own image or the same neighbour through several images (small lattice cells need this).
+own image or the same neighbour through several images (small lattice cells need this).  A sheared
+(triclinic) cell is searched over every image in range, ghosts and all
+(``dtcrit.packing.periodic_cell.cell_pairs``), whatever its tilt.
 The contact point is the middle of the overlap along the centre line,
 ``x_c = x_i + (R_i - delta/2) n`` (Peng et al. 2020, Eqs (1)-(2) define both arms from this one
 point).
@@ -19,6 +21,7 @@ from scipy.spatial import cKDTree
 from dtcrit.errors import InputError
 
 from dtcrit.packing.model import Box, Contacts, Packing
+from dtcrit.packing.periodic_cell import cell_pairs, own_images, shortest_translation, spacings, wrap
 
 
 def wrap_positions(positions: np.ndarray, box: Box | None) -> np.ndarray:
@@ -39,6 +42,8 @@ def wrap_positions(positions: np.ndarray, box: Box | None) -> np.ndarray:
     x = np.array(positions, dtype=float, copy=True)
     if box is None:
         return x
+    if box.cell is not None:
+        return wrap(box, x)
     for a in range(3):
         if box.periodic[a]:
             length = box.lengths[a]
@@ -60,6 +65,8 @@ def _search_frame(x: np.ndarray, cutoff: float, box: Box | None):
     """
     if box is None:
         return x, None
+    if box.cell is not None:
+        return None, None  # a sheared cell: every image in range (cell_pairs)
     periodic = np.array(box.periodic)
     if not periodic.any():
         return x, None
@@ -117,32 +124,35 @@ def check_box_holds_particles(packing: Packing) -> None:
     box = packing.box
     if box is None or not any(box.periodic) or packing.n == 0:
         return
+    normals = np.eye(3) if box.cell is None else np.linalg.inv(box.cell) * spacings(box)[:, None]
     for a in range(3):
         if not box.periodic[a]:
             continue
-        widths = 2.0 * packing.radii if packing.shapes is None else _widths_along(packing, a)
+        widths = 2.0 * packing.radii if packing.shapes is None else _widths_along(packing, normals[a])
         widest = int(np.argmax(widths))
         diameter = float(widths[widest])
-        length = float(box.lengths[a])
+        length = float(box.lengths[a] if box.cell is None else spacings(box)[a])
+        if packing.shapes is None and box.cell is not None:
+            length = shortest_translation(box)  # a sphere overlaps its image only within the shortest one
         if length < diameter * (1.0 - 1e-12):
             raise InputError("box", f"the periodic length along {AXES[a]} is {length:.6g} m, shorter than the "
                                     f"width {diameter:.6g} m of particle {packing.particle_id(widest)}: it "
                                     "overlaps its own periodic image")
 
 
-def _widths_along(packing: Packing, axis: int) -> np.ndarray:
-    """Width of each (centrally symmetric) body along a global axis: twice its support there."""
-    e = np.zeros(3)
-    e[axis] = 1.0
+def _widths_along(packing: Packing, e: np.ndarray) -> np.ndarray:
+    """Width of each (centrally symmetric) body along a unit direction ``e``: twice its support there."""
     rot = packing.orientations if packing.orientations is not None else np.repeat(np.eye(3)[None], packing.n, 0)
     assert packing.shapes is not None  # only called for packings of shaped bodies
-    return np.array([2.0 * abs(_support_point(shape, r, e)[axis]) for shape, r in zip(packing.shapes, rot)])
+    return np.array([2.0 * abs(_support_point(shape, r, e) @ e) for shape, r in zip(packing.shapes, rot)])
 
 
 def _narrow_box_pairs(x: np.ndarray, cutoff: float, box: Box):
     """``(i, j, image)`` of a periodic box narrower than twice the cutoff: every image in range is
     searched explicitly, so a particle may touch its own image or a neighbour through several.
     """
+    if box.cell is not None:
+        return cell_pairs(x, cutoff, box)
     lengths = box.lengths
     periodic = np.array(box.periodic)
     reach = [int(np.ceil(cutoff / lengths[a])) if periodic[a] else 0 for a in range(3)]
@@ -176,12 +186,11 @@ def _candidate_pairs(x: np.ndarray, cutoff: float, box: Box | None, chunk: int =
     return i, j, _image_of(x[j] - x[i], box if size is not None else None).astype(np.int64)
 
 
-def _touching(packing: Packing, x, i, j, image, tolerance):
+def _touching(packing: Packing, x, i, j, image, tolerance, moved=None):
     """The contacts among candidate pairs ``(i, j, image)``: field arrays of ``Contacts``."""
     r = packing.radii
     box = packing.box
-    lengths = np.zeros(3) if box is None else box.lengths
-    sep = x[j] + image * lengths - x[i]
+    sep = x[j] + (0.0 if box is None else box.shift(image)) - x[i]
     d = np.sqrt(np.einsum("ij,ij->i", sep, sep))
     touch = d <= (r[i] + r[j]) * (1.0 + tolerance)
     i, j, image, sep, d = i[touch], j[touch], image[touch], sep[touch], d[touch]
@@ -191,6 +200,7 @@ def _touching(packing: Packing, x, i, j, image, tolerance):
                                       "have coincident centres")
     n = sep / d[:, None]
     overlap = np.maximum(r[i] + r[j] - d, 0.0)
+    image = image if moved is None else image + moved[j] - moved[i]
     return dict(i=i, j=j, normal=n, arm_i=(r[i] - 0.5 * overlap)[:, None] * n,
                 arm_j=-(r[j] - 0.5 * overlap)[:, None] * n, overlap=overlap, image=image,
                 radius_eff=r[i] * r[j] / (r[i] + r[j]))
@@ -249,13 +259,13 @@ def find_sphere_contacts(packing: Packing, tolerance: float = 1e-9, chunk: int =
         assert box is not None  # no search frame only for a periodic box
         i, j, image = _narrow_box_pairs(x, cutoff, box)
         order = np.lexsort((image[:, 2], image[:, 1], image[:, 0], j, i))
-        return _joined([_touching(packing, x, i[order], j[order], image[order], tolerance)])
+        return _joined([_touching(packing, x, i[order], j[order], image[order], tolerance, own_images(packing, x))])
     tree = cKDTree(y, boxsize=size)
-    parts = []
+    parts, moved = [], own_images(packing, x)
     for lo in range(0, packing.n, max(1, int(chunk))):
         i, j = _chunk_pairs(tree, y, size, lo, min(lo + int(chunk), packing.n), cutoff)
         image = _image_of(x[j] - x[i], box if size is not None else None)
-        parts.append(_touching(packing, x, i, j, image, tolerance))
+        parts.append(_touching(packing, x, i, j, image, tolerance, moved))
     return _joined(parts)
 
 
@@ -353,10 +363,9 @@ def find_convex_contacts(packing: Packing, tolerance: float = 1e-9) -> Contacts:
     rot = packing.orientations if packing.orientations is not None else np.repeat(np.eye(3)[None], packing.n, 0)
     cutoff = 2.0 * packing.radii.max() * (1.0 + tolerance)
     i, j, image = _candidate_pairs(x, cutoff, box)
-    lengths = np.zeros(3) if box is None else box.lengths
     rows = []
     for a, b, s in zip(i, j, image):
-        sep = x[b] + s * lengths - x[a]
+        sep = x[b] + (0.0 if box is None else box.shift(s)) - x[a]
         d = np.linalg.norm(sep)
         if d > (packing.radii[a] + packing.radii[b]) * (1.0 + tolerance):
             continue
@@ -369,9 +378,10 @@ def find_convex_contacts(packing: Packing, tolerance: float = 1e-9) -> Contacts:
     if not rows:
         return Contacts.empty()
     a, b, s, n, ai, aj, dep = zip(*rows)
+    a, b, moved = np.array(a, dtype=np.int64), np.array(b, dtype=np.int64), own_images(packing, x)
+    s = np.array(s, dtype=np.int64) if moved is None else np.array(s, dtype=np.int64) + moved[b] - moved[a]
     return Contacts(
-        i=np.array(a, dtype=np.int64), j=np.array(b, dtype=np.int64), normal=np.array(n),
-        arm_i=np.array(ai), arm_j=np.array(aj), overlap=np.array(dep), image=np.array(s, dtype=np.int64),
+        i=a, j=b, normal=np.array(n), arm_i=np.array(ai), arm_j=np.array(aj), overlap=np.array(dep), image=s,
         radius_eff=np.full(len(rows), np.nan),
     )
 

@@ -222,6 +222,9 @@ def slab_sphere_contacts(packing: Packing, lo: int, hi: int, tolerance: float = 
     if hi <= lo:
         return SlabContacts(lo, hi, Contacts.empty(), empty, empty.copy())
     box = packing.box
+    if box is not None and box.cell is not None:
+        raise InputError("box", "the distributed (MPI) contact search takes axis-aligned boxes only: run a sheared "
+                                "(triclinic) cell without the MPI launcher")
     x = wrap_positions(packing.positions, box)
     r = packing.radii
     if order is not None:

@@ -176,7 +176,8 @@ def distribute(packing: Packing, law=None, contacts: Contacts | None = None, *, 
                                         "build (python3-petsc4py-64-real python3-slepc4py-64-real)")
         lo, hi = split_rows(packing.n, size, rank)
         order = None
-        if contacts is None and packing.is_spheres:
+        sheared = packing.box is not None and packing.box.cell is not None  # searched whole, in periodic_cell
+        if contacts is None and packing.is_spheres and not sheared:
             order = morton_order(wrap_positions(packing.positions, packing.box))
             slab = slab_sphere_contacts(packing, lo, hi, order=order)
         else:

@@ -132,7 +132,7 @@ def _require_stiffness(contacts: Contacts) -> None:
 def _centre_distance(packing: Packing, contacts: Contacts, sl) -> np.ndarray:
     d = packing.positions[contacts.j[sl]] - packing.positions[contacts.i[sl]]
     if packing.box is not None:
-        d = d + contacts.image[sl] * packing.box.lengths
+        d = d + packing.box.shift(contacts.image[sl])
     return np.linalg.norm(d, axis=1)
 
 

@@ -33,6 +33,7 @@ import numpy as np
 from dtcrit.errors import InputError
 from dtcrit.inputs.files import located_in, text_lines
 from dtcrit.packing.model import Packing
+from dtcrit.packing.periodic_cell import nearest_image
 from dtcrit.packing.readers.limits import check_rates, contact_rates
 
 REQUIRED = ("id1", "id2", "kn", "ks")
@@ -85,9 +86,7 @@ def _apart(path: Path, packing: Packing, ij: np.ndarray, lines: list[int]) -> No
     sep = packing.positions[ij[:, 1]] - packing.positions[ij[:, 0]]
     box = packing.box
     if box is not None:
-        for a in range(3):
-            if box.periodic[a]:
-                sep[:, a] -= np.rint(sep[:, a] / box.lengths[a]) * box.lengths[a]
+        sep = sep + box.shift(nearest_image(box, sep))
     with np.errstate(under="ignore"):
         same = ~(np.linalg.norm(sep, axis=1) > 0)  # as the contact normal sep/|sep| needs it
     if same.any():

@@ -18,6 +18,7 @@ import numpy as np
 
 from dtcrit.errors import InputError, Location
 from dtcrit.packing.model import Box
+from dtcrit.packing.readers.limits import MAX_LENGTH
 
 class DumpSnapshot:
     """One snapshot of a dump: its header parsed, its atom rows kept as text until :attr:`rows` is read.
@@ -27,7 +28,7 @@ class DumpSnapshot:
     timestep : int
         The ``ITEM: TIMESTEP`` value.
     box : Box
-        The orthogonal box with its periodic axes.
+        The box (orthogonal or triclinic) with its periodic axes.
     columns : list of str
         The names of the ``ITEM: ATOMS`` columns.
     lines : list of str
@@ -150,34 +151,78 @@ def _int_at(lines: _Lines, what: str) -> int:
         raise lines.fail(lines.number, f"expected the {what} (a whole number), found '{text[:60]}'") from None
 
 
+def _box_lines(lines: _Lines, width: int, what: str) -> list[list[float]]:
+    """The three bounds lines of ``ITEM: BOX BOUNDS``, ``width`` finite numbers each (``what`` names them)."""
+    rows = []
+    for _ in range(3):
+        text = lines.need(f"the box bounds '{what}' (BOX BOUNDS has three lines)")
+        try:
+            vals = [float(p) for p in text.split()]
+        except ValueError:
+            raise lines.fail(lines.number, f"box bounds must be numbers, found '{text.strip()[:60]}'") from None
+        if width == 2 and len(vals) == 3:
+            raise lines.fail(lines.number, "a third value (a tilt factor) on a bounds line, but the header names no "
+                                           "'xy xz yz': a triclinic box says so in its BOX BOUNDS header")
+        if len(vals) != width or not all(math.isfinite(v) for v in vals):
+            kind = "a triclinic box" if width > 2 else "the box"
+            raise lines.fail(lines.number, f"{kind} needs {width} finite numbers '{what}' per line, "
+                                           f"found '{text.strip()[:60]}'")
+        rows.append(vals)
+    return rows
+
+
 def _parse_box(lines: _Lines, header_text: str) -> Box:
+    """The box of ``ITEM: BOX BOUNDS``: orthogonal ``lo hi``; restricted triclinic ``xy xz yz`` with the
+    bounding box and tilt factors (LAMMPS Howto triclinic: ``xlo_bound = xlo + min(0, xy, xz, xy + xz)``,
+    ``xhi_bound = xhi + max(0, xy, xz, xy + xz)``, ``ylo_bound = ylo + min(0, yz)``,
+    ``yhi_bound = yhi + max(0, yz)``); general triclinic ``abc origin`` (``ax ay az xlo`` per line,
+    ``dump_modify triclinic/general``).
+    """
     k = lines.number
     header = header_text.strip()[len("ITEM: BOX BOUNDS"):].split()
-    if any(flag in ("xy", "xz", "yz") for flag in header):
-        raise lines.fail(k, "triclinic boxes are not supported (orthogonal boxes only)")
-    flags = header if header else ["pp", "pp", "pp"]
+    tilted = [w for w in header if w in ("xy", "xz", "yz")]
+    general = header[:2] == ["abc", "origin"]
+    if tilted and header[:3] != ["xy", "xz", "yz"]:
+        raise lines.fail(k, f"triclinic header: LAMMPS writes 'xy xz yz' before the flags, found '{' '.join(header)}'")
+    words = header[3:] if tilted else header[2:] if general else header
+    flags = words if words else ["pp", "pp", "pp"]
     if len(flags) != 3 or any(len(f) != 2 or any(ch not in "pfsm" for ch in f) for f in flags):
         raise lines.fail(k, f"boundary flags must be three of pp/ff/ss/mm/fs/..., found '{' '.join(header)}'")
     for a, f in enumerate(flags):
         if ("p" in f) and f != "pp":
             raise lines.fail(k, f"axis {'xyz'[a]}: a periodic axis needs the flag 'pp', found '{f}'")
-    lo, hi = np.zeros(3), np.zeros(3)
-    for a in range(3):
-        text = lines.need("the box bounds 'lo hi' (BOX BOUNDS has three lines)")
-        try:
-            vals = [float(p) for p in text.split()]
-        except ValueError:
-            raise lines.fail(lines.number, f"box bounds must be numbers, found '{text.strip()[:60]}'") from None
-        if len(vals) == 3:
-            raise lines.fail(lines.number, "triclinic boxes are not supported (orthogonal boxes only)")
-        if len(vals) != 2 or not all(math.isfinite(v) for v in vals):
-            raise lines.fail(lines.number, f"expected two finite numbers 'lo hi', found '{text.strip()[:60]}'")
-        if not vals[1] - vals[0] > 0:  # also an overflowing length
-            raise lines.fail(lines.number, f"upper box bound {vals[1]:g} must exceed the lower bound {vals[0]:g}")
-        lo[a], hi[a] = vals
-    if not np.all(np.isfinite(hi - lo)):
+    periodic = ("p" in flags[0], "p" in flags[1], "p" in flags[2])
+    rows = np.array(_box_lines(lines, 4 if general else 3 if tilted else 2,
+                               "ax ay az origin" if general else "lo_bound hi_bound tilt" if tilted else "lo hi"))
+    big = np.flatnonzero(~(np.abs(rows) <= MAX_LENGTH).all(axis=1) & bool(tilted or general))
+    if len(big):  # before the cell's determinant overflows
+        raise lines.fail(k + 1 + int(big[0]), f"a box value {np.abs(rows[big[0]]).max():g} m is beyond the "
+                                              f"{MAX_LENGTH:g} m a packing's lengths may reach")
+    if general:
+        lo, cell = rows[:, 3], rows[:, :3].T
+    else:
+        lo, hi = rows[:, 0].copy(), rows[:, 1].copy()
+        cell = None
+        if tilted:
+            xy, xz, yz = rows[:, 2]
+            lo -= [min(0.0, xy, xz, xy + xz), min(0.0, yz), 0.0]
+            hi -= [max(0.0, xy, xz, xy + xz), max(0.0, yz), 0.0]
+        bad = [a for a in range(3) if not hi[a] - lo[a] > 0]  # also an overflowing length
+        if bad:
+            raise lines.fail(k + 1 + bad[0], f"upper box bound {hi[bad[0]]:g} must exceed the lower bound {lo[bad[0]]:g}")
+        if tilted:
+            cell = np.diag(hi - lo) + np.array([[0.0, xy, xz], [0.0, 0.0, yz], [0.0, 0.0, 0.0]])
+    if cell is not None and not np.all(np.diag(cell) > 0):
+        raise lines.fail(k, f"the cell vectors a, b, c {cell.T.tolist()} need positive x, y, z components "
+                            "respectively (LAMMPS's restricted triclinic orientation)")
+    if not np.all(np.isfinite(cell if cell is not None else hi - lo)):
         raise lines.fail(lines.number, "the box lengths overflow double precision")
-    return Box(lo, hi, ("p" in flags[0], "p" in flags[1], "p" in flags[2]))
+    if cell is not None:
+        hi = lo + np.diag(cell)
+    try:
+        return Box(lo, hi, periodic, cell=cell)
+    except InputError as exc:
+        raise lines.fail(k, exc.reason) from None
 
 
 def _next_block(lines: _Lines) -> DumpSnapshot | None:

@@ -16,8 +16,10 @@ A snapshot is::
 Positions come from ``x y z``, ``xu yu zu`` (unwrapped) or ``xs ys zs`` (box fractions); sizes from
 ``radius`` or ``diameter``; masses from an optional ``mass`` column, otherwise from ``density``.
 Each axis is periodic when its boundary flag is ``pp`` (LAMMPS's default ``p p p`` when the header
-has no flags).  Non-periodic walls are not part of the packing (no wall contacts).  Triclinic boxes
-are rejected.  Any malformed content raises ``InputError`` located at its line (``FILE:N``; ``line N``
+has no flags).  Non-periodic walls are not part of the packing (no wall contacts).  Triclinic
+(sheared) boxes are read from ``ITEM: BOX BOUNDS xy xz yz`` (bounding box and tilt factors, converted to
+``lo``/``hi`` as LAMMPS's Howto triclinic gives) or ``abc origin`` (general triclinic), box fractions
+``xs ys zs`` as ``lo + H s``.  Any malformed content raises ``InputError`` located at its line (``FILE:N``; ``line N``
 for text read without a file name: ``InputError.location`` holds the source and line).
 
 :func:`iter_dump` streams a dump one snapshot at a time (a generator: one snapshot's text in memory,
@@ -34,6 +36,7 @@ import numpy as np
 from dtcrit.errors import InputError
 from dtcrit.packing.model import Box, Packing
 from dtcrit.packing.readers.dump_stream import DumpSnapshot, _chosen, iter_dump, read_snapshots
+from dtcrit.packing.periodic_cell import spacings
 from dtcrit.packing.readers.limits import check_inertia, check_lengths
 
 __all__ = ["DumpSnapshot", "format_dump", "iter_dump", "packing_from_snapshot", "read_dump", "read_snapshots",
@@ -86,7 +89,7 @@ def packing_from_snapshot(snap: DumpSnapshot, density: float | None = None, labe
     x = snap.rows[:, [cols[c] for c in pos]]
     if pos[0] == "xs":
         with np.errstate(over="ignore", invalid="ignore"):
-            x = snap.box.lo + x * snap.box.lengths
+            x = snap.box.lo + snap.box.shift(x)
     r = snap.rows[:, cols["radius"]] if size == "radius" else 0.5 * snap.rows[:, cols["diameter"]]
     bad = ~(r > 0)
     if bad.any():
@@ -104,7 +107,8 @@ def packing_from_snapshot(snap: DumpSnapshot, density: float | None = None, labe
     elif density is None:
         raise snap.fail(header_line, "the ATOMS columns have no 'mass': give the particle density (--density)")
     _check_sizes(snap, x, r, masses, density)
-    for what, values in (("a box bound", np.vstack([snap.box.lo, snap.box.hi]).T), ("a coordinate", x), ("radius", r)):
+    bounds = np.vstack([snap.box.lo, snap.box.hi] + ([] if snap.box.cell is None else [snap.box.cell - np.diag(snap.box.lengths)]))
+    for what, values in (("a box bound", bounds.T), ("a coordinate", x), ("radius", r)):
         if what == "a box bound":
             check_lengths(values, lambda k: snap.at(snap.first_line - 4 + k), what)
         else:
@@ -152,9 +156,10 @@ def _periodic_room(snap: DumpSnapshot, r: np.ndarray) -> None:
     images more than one deep (and the image search would not end).
     """
     k = int(np.argmax(r))
+    width = spacings(snap.box)  # the box lengths, or a sheared cell's face spacings
     for a in range(3):
-        if snap.box.periodic[a] and snap.box.lengths[a] < r[k]:
-            raise snap.fail(snap.first_line + k, f"radius {r[k]:g} exceeds the periodic box length {snap.box.lengths[a]:g} "
+        if snap.box.periodic[a] and width[a] < r[k]:
+            raise snap.fail(snap.first_line + k, f"radius {r[k]:g} exceeds the periodic box length {width[a]:g} "
                                              f"along {'xyz'[a]}: the sphere would overlap its own images more than "
                                              "one deep")
 
@@ -216,8 +221,8 @@ def format_dump(packing: Packing, *, timestep: int = 0, with_mass: bool = True) 
         hi = packing.positions.max(axis=0) + packing.radii.max()
         box = Box(lo, hi, (False, False, False))
     flags = " ".join("pp" if p else "ff" for p in box.periodic)
-    out = ["ITEM: TIMESTEP", str(int(timestep)), "ITEM: NUMBER OF ATOMS", str(packing.n), f"ITEM: BOX BOUNDS {flags}"]
-    out += [f"{box.lo[a]:.17g} {box.hi[a]:.17g}" for a in range(3)]
+    out = ["ITEM: TIMESTEP", str(int(timestep)), "ITEM: NUMBER OF ATOMS", str(packing.n)]
+    out += _box_bounds(box, flags)
     out.append("ITEM: ATOMS id type x y z radius" + (" mass" if with_mass else ""))
     for k in range(packing.n):
         x, y, z = packing.positions[k]
@@ -226,6 +231,23 @@ def format_dump(packing: Packing, *, timestep: int = 0, with_mass: bool = True) 
             row += f" {packing.masses[k]:.17g}"
         out.append(row)
     return "\n".join(out) + "\n"
+
+
+def _box_bounds(box: Box, flags: str) -> list[str]:
+    """The ``ITEM: BOX BOUNDS`` block: orthogonal, restricted triclinic (``xy xz yz``: bounding box and
+    tilts, Howto triclinic) for an upper-triangular cell, else general triclinic (``abc origin``).
+    """
+    if box.cell is None:
+        return [f"ITEM: BOX BOUNDS {flags}"] + [f"{box.lo[a]:.17g} {box.hi[a]:.17g}" for a in range(3)]
+    h = box.cell
+    if np.any(np.tril(h, -1)):
+        return [f"ITEM: BOX BOUNDS abc origin {flags}"] + [
+            f"{h[0, a]:.17g} {h[1, a]:.17g} {h[2, a]:.17g} {box.lo[a]:.17g}" for a in range(3)]
+    xy, xz, yz = h[0, 1], h[0, 2], h[1, 2]
+    low = box.lo + [min(0.0, xy, xz, xy + xz), min(0.0, yz), 0.0]
+    high = box.hi + [max(0.0, xy, xz, xy + xz), max(0.0, yz), 0.0]
+    return [f"ITEM: BOX BOUNDS xy xz yz {flags}"] + [f"{low[a]:.17g} {high[a]:.17g} {t:.17g}"
+                                                     for a, t in enumerate((xy, xz, yz))]
 
 
 def write_dump(path, packing: Packing, **kwargs) -> None:

@@ -60,6 +60,7 @@ from dtcrit.inputs.values import finite as _finite
 from dtcrit.inputs.values import whole
 from dtcrit.numerics.rotations import unit_body_to_world_matrix
 from dtcrit.packing.model import Box, Contacts
+from dtcrit.packing.periodic_cell import fractional, image_of, nearest_image
 from dtcrit.packing.readers.limits import check_inertia, check_lengths, check_rates, contact_rates
 
 TERMS = ("kn", "ks", "kr", "ktw", "cn", "cs", "fn")
@@ -229,6 +230,16 @@ def _terms(where: str, it: dict) -> dict:
     return out
 
 
+def _whole_cells(where: str, box: Box | None, shift: np.ndarray) -> None:
+    """Refuse a ``shift2`` that is not ``hSize cellDist`` (whole cell vectors) of the export's cell."""
+    if box is None:
+        return
+    n = fractional(box, shift)
+    if np.abs(n - np.rint(n)).max() > 1e-6:
+        raise InputError(f"{where}.shift2", f"{shift.tolist()} is not a whole number of cell vectors of cell_hsize "
+                                            f"(hSize^-1 shift2 = {n.tolist()})")
+
+
 def yade_contacts(bodies: RigidBodies, interactions: list, path, *, box: Box | None, wrapped: np.ndarray,
                   ratcheting: bool = True) -> Contacts:
     """Contacts between the rigid bodies with YADE's kinematics (module docstring).
@@ -255,7 +266,6 @@ def yade_contacts(bodies: RigidBodies, interactions: list, path, *, box: Box | N
         of sphere-sphere contacts.
     """
     rows = []
-    lengths = None if box is None else box.lengths
     for k, it in enumerate(interactions):
         where = f"{path}: interactions[{k}]"
         if not isinstance(it, dict):
@@ -270,8 +280,9 @@ def yade_contacts(bodies: RigidBodies, interactions: list, path, *, box: Box | N
         sep = x2 - x1
         if it.get("shift2") is not None:
             shift = _triple(f"{where}.shift2", it["shift2"])
-        elif lengths is not None:
-            shift = -np.rint(sep / lengths) * lengths
+            _whole_cells(where, box, shift)
+        elif box is not None:
+            shift = box.shift(nearest_image(box, sep[None]))[0]
         else:
             shift = np.zeros(3)
         sep = sep + shift
@@ -301,9 +312,9 @@ def yade_contacts(bodies: RigidBodies, interactions: list, path, *, box: Box | N
     m1 = np.sqrt(force_side1 * (r1 / alpha if ratcheting else force_side1))
     m2 = np.sqrt(force_side2 * (r2 / alpha if ratcheting else force_side2))
     image = np.zeros((len(rows), 3), np.int64)
-    if lengths is not None:  # x_q + shift - x_p in the packing's wrapped positions
-        moved = (wrapped - bodies.positions) / lengths
-        image = np.rint(shift / lengths + moved[p] - moved[q]).astype(np.int64)
+    if box is not None:  # x_q + shift - x_p in the packing's wrapped positions
+        moved = wrapped - bodies.positions
+        image = image_of(box, shift + moved[p] - moved[q])
     contacts = Contacts(i=p, j=q, normal=n, arm_i=d1 + m1[:, None] * n, arm_j=d2 - m2[:, None] * n,
                         overlap=np.maximum(delta, 0.0), image=image, radius_eff=r1 * r2 / (r1 + r2))
     ks = alpha * col["ks"]

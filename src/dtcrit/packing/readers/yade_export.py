@@ -4,7 +4,7 @@ with YADE's own per-contact ``kn``, ``ks`` (and ``kr``, ``ktw``, ``cn``, ``cs`` 
 
 A fixed body (all degrees of freedom blocked) is a wall to the others: it enters with an inertia
 ``FIXED_INERTIA`` times the largest free one, which leaves the free bodies' frequencies unchanged to
-~1e-150 relative.  The periodic cell must be orthogonal.
+~1e-150 relative.  The periodic cell may be sheared (``cell_hsize`` off the diagonal).
 
 Two readers:
 
@@ -28,6 +28,7 @@ from dtcrit.errors import InputError
 
 from dtcrit.packing.conventions.engines import overlaps_of_pairs
 from dtcrit.packing.model import Box, Contacts, Packing
+from dtcrit.packing.periodic_cell import wrap
 from dtcrit.packing.readers.limits import check_inertia, check_lengths
 from dtcrit.packing.readers.yade_terms import cell_strain_rate, check_export_terms
 from dtcrit.inputs.arrays import triple as _triple
@@ -48,12 +49,18 @@ def _box(doc: dict, path: Path) -> Box | None:
         raise InputError(f"{path}: cell_hsize", f"a periodic export needs the 3 x 3 cell_hsize, found {show(h)}")
     cell = np.array([_triple(f"{path}: cell_hsize[{a}]", row) for a, row in enumerate(h)])
     check_lengths(cell, lambda a: f"{path}: cell_hsize[{a}]", "a cell vector component")
-    if np.abs(cell - np.diag(np.diag(cell))).max() > 1e-12 * np.abs(cell).max():
-        raise InputError(f"{path}: cell_hsize", "triclinic (sheared) periodic cells are not supported yet")
     for a in range(3):
         if not cell[a, a] > 0:
             raise InputError(f"{path}: cell_hsize[{a}][{a}]", f"the cell length must be positive, found {cell[a, a]:g}")
-    return Box(np.zeros(3), np.diag(cell).copy(), (True, True, True))
+    try:  # columns are the cell vectors (sheared: off-diagonal terms); images are hSize * cellDist
+        return Box(np.zeros(3), np.diag(cell).copy(), (True, True, True), cell=cell)
+    except InputError as exc:
+        raise InputError(f"{path}: cell_hsize", exc.reason) from None
+
+
+def _wrapped(box: Box, x: np.ndarray) -> np.ndarray:
+    """Positions moved by whole cell vectors into the periodic cell (any shear)."""
+    return np.mod(x, box.lengths) if box.cell is None else wrap(box, x)
 
 
 _SCHEMA_KEY = re.compile(rb'"schema"\s*:\s*"([^"\\]{0,80})"')
@@ -188,7 +195,7 @@ def _read_yade_audit(path: Path) -> tuple[Packing, Contacts, dict]:
     if rb.fixed.any():
         masses, inertia = _heavy(path, masses, rb.fixed, "mass"), _heavy(path, inertia, rb.fixed, "moment of inertia")
     box = _box(doc, path)
-    x = rb.positions if box is None else np.mod(rb.positions, box.lengths)
+    x = rb.positions if box is None else _wrapped(box, rb.positions)
     ratcheting = doc.get("avoid_granular_ratcheting")
     try:
         packing = Packing(x, masses, inertia, rb.radii, box=box, orientations=rb.rotations if rb.clumps else None,
@@ -265,7 +272,7 @@ def _read_yade_export(path: Path) -> tuple[Packing, Contacts, dict]:
     box = _box(doc, path)
     positions = np.array(x)
     if box is not None:
-        positions = np.mod(positions, box.lengths)
+        positions = _wrapped(box, positions)
     try:
         packing = Packing(positions, mass_of, inertia_of, np.array(radii), box=box,
                           half_lengths=np.repeat(np.array(radii)[:, None], 3, 1), label=_label(path, doc),
