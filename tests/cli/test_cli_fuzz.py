@@ -354,6 +354,7 @@ PINNED = [
     ["packing", _tmp("bad.dump"), "--density", "1"],
     ["packing", _tmp("empty.dump"), "--density", "1"],
     ["packing", "--scale", "1e3,abc"],
+    ["audit", "/proc/self/mem", "--pair-style", "gran/hooke 1 NULL 0 NULL 0.5 0"],
     [],
     ["step", "line\nbreak"],
     ["figures", "--out", "x" * 5000],

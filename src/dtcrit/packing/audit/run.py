@@ -48,8 +48,11 @@ def _read_dump(path, density: float | None, index: int):
 
 
 def _is_yade_export(path) -> bool:
-    with open(path, "rb") as fh:
-        head = fh.read(64).lstrip(b"\xef\xbb\xbf \t\r\n")
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(64).lstrip(b"\xef\xbb\xbf \t\r\n")
+    except OSError as exc:  # a special file (/proc/self/mem) that is a file but cannot be read
+        raise InputError("snapshot", f"{path} cannot be read: {exc.strerror or exc}") from None
     return head.startswith(b"{")
 
 

@@ -6,12 +6,14 @@ against the engine's own runs (``tests/engines/test_audit_lammps.py``, ``tests/e
 * **which pairs touch** -- LAMMPS and LIGGGHTS count a pair when ``r < R_i + R_j`` strictly
   (``pair_gran_hooke_history.cpp``: ``if (rsq >= radsum*radsum)`` no force); a pair at a gap of
   1e-11 m is not a contact.  YADE's interactions come from its own export, as YADE keeps them.
-* **contact arms** -- LAMMPS ``gran/*`` and LIGGGHTS use the full radius for the slip velocity and
+* **contact arms** -- LAMMPS ``gran/*`` uses the full radius for the slip velocity and
   the torque (``vtr = vt - n x (R_i w_i + R_j w_j)``, ``torque_i -= R_i n x f_t``): arms ``R_i n`` and
   ``-R_j n``.  dtcrit's own scene convention is the middle of the overlap, ``R - delta/2`` (Peng et
   al. 2020, Eqs (1)-(2)).  On a LAMMPS packing at a mean overlap of 3.6 % of R the mid-overlap arm
   gives a step 0.27 % above LAMMPS's threshold (unsafe); the full arm with the pre-load term below
-  lands within 4e-5 of it.
+  lands within 4e-5 of it.  LIGGGHTS 3.x (``surface_model_default.h``: ``cri = radi - 0.5 deltan``
+  for the slip velocity, and the torque at the contact point) uses ``R - delta/2`` for both, the
+  mid-overlap arms.
 * **YADE's kinematics** (``Ig2_Sphere_Sphere_ScGeom.cpp``, ``ScGeom.cpp`` ``getIncidentVel`` with
   ``avoidGranularRatcheting`` on, its default; ``ElasticContactLaw.cpp``): the force acts at the
   contact point ``x_1 + (R_1 - delta/2) n``, so the torque arm is ``R - delta/2``, while the slip
@@ -81,8 +83,8 @@ ENGINES: dict[str, EngineConvention] = {
         "lammps", "velocity-verlet", "radius", True, "r < R_i + R_j (strict overlap)",
         "LAMMPS GRANULAR: fix nve/sphere, pair_gran_hooke_history.cpp / pair_gran_hertz_history.cpp"),
     "liggghts": EngineConvention(
-        "liggghts", "velocity-verlet", "radius", True, "r < R_i + R_j (strict overlap)",
-        "LIGGGHTS: fix nve/sphere, pair gran (LAMMPS-derived contact kernels)"),
+        "liggghts", "velocity-verlet", "mid-overlap", True, "r < R_i + R_j (strict overlap)",
+        "LIGGGHTS: fix nve/sphere, pair gran, surface_model_default.h (arms R - delta/2)"),
     "yade": EngineConvention(
         "yade", "leapfrog", "yade", True, "the interactions YADE exported",
         "YADE: NewtonIntegrator (leapfrog), ScGeom with avoidGranularRatcheting, force at the contact point"),
@@ -118,8 +120,8 @@ def with_arms(packing: Packing, contacts: Contacts, arm: str) -> Contacts:
     contacts : Contacts
         The sphere contacts (normals, overlaps ``delta`` [m]).
     arm : str
-        ``"radius"`` (``R_i n``, ``-R_j n``: LAMMPS ``gran/*``, LIGGGHTS), ``"mid-overlap"``
-        (``R - delta/2``: Peng et al. 2020, Eqs (1)-(2)), ``"granular"`` (LAMMPS ``pair_style
+        ``"radius"`` (``R_i n``, ``-R_j n``: LAMMPS ``gran/*``), ``"mid-overlap"``
+        (``R - delta/2``: Peng et al. 2020, Eqs (1)-(2); LIGGGHTS), ``"granular"`` (LAMMPS ``pair_style
         granular``: ``sqrt(R (R - delta/2))``) or ``"yade"`` (the symmetric equivalent of YADE's
         kinematics, ``sqrt((R - delta/2) R / alpha)``; it also scales ``ks`` by ``alpha``, so apply it
         to contacts that already carry their stiffness).
