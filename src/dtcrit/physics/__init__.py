@@ -10,7 +10,8 @@ one array entry per contact.  Modules:
 * ``rules_of_thumb`` -- the step estimates DEM codes use (Rayleigh time, Hertz duration, collision
   time, YADE's GlobalStiffnessTimeStepper);
 * ``estimate`` -- one estimate type rated against ``dt_crit`` with one tolerance;
-* ``json_numbers`` -- non-finite numbers as JSON ``null``.
+* ``json_numbers`` -- non-finite numbers as JSON ``null``;
+* ``collision_laws`` -- the codes' normal collision laws (hooke, hertz; each damping model, clipping).
 
 No SymPy is imported here.
 """
