@@ -28,6 +28,7 @@ def _rows() -> list[str]:
 
 
 def build() -> str:
+    """The record's Markdown text."""
     hooke, hertz = cs.scaled_form("hooke", "liggghts"), cs.scaled_form("hertz", "liggghts")
     w_hertz = float(hertz["w0"])
     const = cs.hertz_time_constant()
