@@ -7,7 +7,7 @@ import pytest
 from dtcrit.collisions import contact_time, reference_collision
 from dtcrit.collisions.scaled import HERTZ_W0
 from dtcrit.collisions.stepping import run_lanes
-from dtcrit.collisions.scaled import scaled_law
+from dtcrit.collisions.laws import scaled_law
 
 mp.mp.dps = 30
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from dtcrit.collisions import collision_errors, reference_collision, resolution_step
-from dtcrit.collisions.scaled import scaled_law
+from dtcrit.collisions.laws import scaled_law
 from dtcrit.collisions.stepping import run_lanes
 from dtcrit.errors import InputError
 

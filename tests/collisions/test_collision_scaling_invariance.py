@@ -11,7 +11,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from dtcrit.collisions.scaled import scaled_from_physical, scaled_law
+from dtcrit.collisions.laws import scaled_law
+from dtcrit.collisions.scaled import scaled_from_physical
 from dtcrit.collisions.stepping import run_lanes
 from dtcrit.integrators.schemes import INTEGRATORS
 from dtcrit.physics.collision_laws import collision_law

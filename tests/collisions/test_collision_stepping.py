@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 
 import dtcrit.impact as imp
 from dtcrit.collisions import collision_errors, reference_collision, step_collision
-from dtcrit.collisions.scaled import scaled_law
+from dtcrit.collisions.laws import scaled_law
 from dtcrit.collisions.stepping import run_lanes
 from dtcrit.errors import InputError
 

@@ -15,7 +15,7 @@ API (units: ``restitution`` as the code takes it, see ``scaled.scaled_law``):
 * ``collision_errors(*, engine, normal, damping, restitution, steps_per_collision, clip=None)``;
 * ``resolution_step(*, engine, normal, damping, restitution, tol=0.01, quantities=(...), clip=None)``.
 
-Modules: ``scaled``, ``reference``, ``stepping``, ``resolution``, ``tables``.
+Modules: ``scaled``, ``laws``, ``reference``, ``stepping``, ``resolution``, ``tables``.
 """
 from __future__ import annotations
 
@@ -23,7 +23,8 @@ import math
 
 from dtcrit.collisions.reference import CollisionOutcome, solve_reference
 from dtcrit.collisions.resolution import QUANTITIES, Resolution, resolve, worst_errors
-from dtcrit.collisions.scaled import HERTZ_W0, ScaledLaw, scaled_from_physical, scaled_law
+from dtcrit.collisions.laws import scaled_law
+from dtcrit.collisions.scaled import HERTZ_W0, ScaledLaw, scaled_from_physical
 from dtcrit.collisions.stepping import scheme_of, step_outcome
 from dtcrit.errors import InputError
 from dtcrit.physics.collision_laws import check_normal

@@ -21,20 +21,7 @@ from dataclasses import dataclass
 from scipy.special import beta as _beta
 
 from dtcrit.errors import InputError
-from dtcrit.physics.collision_laws import (
-    DAMPING_MODELS,
-    CollisionLaw,
-    check_damping,
-    check_normal,
-    check_restitution,
-)
-from dtcrit.physics.damping_conventions import (
-    TSUJI_FACTORS,
-    damping_ratio_from_restitution,
-    hertz_mindlin_dissipation,
-    lammps_coeff_restitution_damp,
-    tsuji_alpha,
-)
+from dtcrit.physics.collision_laws import CollisionLaw, check_normal
 
 HERTZ_W0 = 0.8 * float(_beta(0.4, 0.5))
 """``t_c v/delta_el`` of the undamped Hertz impact: ``2 int_0^1 du/sqrt(1 - u^(5/2)) = (4/5) B(2/5, 1/2)``."""
@@ -135,62 +122,4 @@ def scaled_from_physical(law: CollisionLaw, v_impact: float) -> ScaledLaw:
     return _base(law.normal, g, law.q, law.clip)
 
 
-def _group_from_restitution(normal: str, damping: str, e: float, kappa: float, tsuji_version: str) -> float | None:
-    """``g`` of a model that takes ``e`` (None when ``g`` must be solved from the continuum restitution)."""
-    root = math.pi if normal == "hooke" else math.sqrt(kappa)  # sqrt(k/m) t_c, resp. sqrt(K/m) delta^(1/4) t_c
-    if damping == "none" or e == 1.0 and damping != "lammps-tsuji":
-        return 0.0
-    if damping == "lammps-tsuji":
-        return TSUJI_FACTORS[tsuji_version] * tsuji_alpha(e) * root
-    if damping == "lammps-coeff-restitution":
-        return lammps_coeff_restitution_damp(e, normal) * root
-    if damping in ("liggghts", "yade-mindlin", "mercurydpm"):
-        return 2.0 * damping_ratio_from_restitution(e) * root if normal == "hooke" else hertz_mindlin_dissipation(e) * root
-    if damping == "lammps-mass-velocity" and normal == "hooke":
-        return 2.0 * damping_ratio_from_restitution(e) * math.pi  # a linear dashpot: exact
-    return None
-
-
-def scaled_law(normal: str, damping: str, restitution: float, clip: bool | None = None,
-               tsuji_version: str = "current") -> ScaledLaw:
-    """The scaled law of a code's model at restitution ``e`` (``e`` as the code takes it).
-
-    For ``lammps-viscoelastic`` and hertz ``lammps-mass-velocity`` (which take a coefficient and whose
-    restitution depends on the speed) ``restitution`` is the continuum restitution the impact has; the
-    group is then solved from the continuum reference.
-
-    Parameters
-    ----------
-    normal : str
-        ``"hooke"`` or ``"hertz"``.
-    damping : str
-        A key of ``DAMPING_MODELS``.
-    restitution : float
-        ``e`` in (0, 1].
-    clip : bool, optional
-        Clip the force at zero; default: what the code does.
-    tsuji_version : str
-        ``"current"`` or ``"2021"`` (``lammps-tsuji`` only).
-
-    Returns
-    -------
-    ScaledLaw
-        The scaled law.
-    """
-    normal = check_normal(normal)
-    model = check_damping(damping, normal)
-    e = check_restitution(restitution)
-    if tsuji_version not in TSUJI_FACTORS:
-        raise InputError("tsuji_version", f"must be one of {', '.join(TSUJI_FACTORS)} (got {tsuji_version!r})")
-    q = model.exponents[normal]
-    c = model.clips if clip is None else bool(clip)
-    base = _base(normal, 0.0, q, c)
-    g = _group_from_restitution(normal, damping, e, base.kappa, tsuji_version)
-    if g is None:
-        from dtcrit.collisions.reference import group_for_restitution
-        g = group_for_restitution(base, e)
-    return _base(normal, g, q, c)
-
-
-__all__ = ["ScaledLaw", "HERTZ_W0", "HOOKE_W0", "entry_speed", "elastic_scales", "scaled_from_physical",
-           "scaled_law", "DAMPING_MODELS"]
+__all__ = ["ScaledLaw", "HERTZ_W0", "HOOKE_W0", "entry_speed", "elastic_scales", "scaled_from_physical"]

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from dtcrit.collisions.resolution import SAMPLE_PHASES, sampled_errors
-from dtcrit.collisions.scaled import scaled_law
+from dtcrit.collisions.laws import scaled_law
 from dtcrit.integrators.engines import ENGINES
 
 TABLE_PATH = Path(__file__).resolve().parents[1] / "_generated" / "collision_tables.json"
@@ -29,7 +29,7 @@ LAWS: tuple[tuple[str, str], ...] = (
 )
 RESTITUTIONS: tuple[float, ...] = (1.0, 0.9, 0.5, 0.1)
 STEPS: tuple[float, ...] = tuple(float(x) for x in np.round(np.geomspace(4.0, 1024.0, 25), 6))
-SOURCES = ("collisions/scaled.py", "collisions/reference.py", "collisions/stepping.py", "collisions/resolution.py",
+SOURCES = ("collisions/scaled.py", "collisions/laws.py", "collisions/reference.py", "collisions/stepping.py", "collisions/resolution.py",
            "collisions/tables.py", "physics/collision_laws.py", "physics/damping_conventions.py",
            "integrators/schemes.py", "integrators/engines.py")
 
