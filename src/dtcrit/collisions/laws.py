@@ -22,10 +22,11 @@ from dtcrit.physics.damping_conventions import (
 def _group_from_restitution(normal: str, damping: str, e: float, kappa: float, tsuji_version: str) -> float | None:
     """``g`` of a model that takes ``e`` (None when ``g`` must be solved from the continuum restitution)."""
     root = math.pi if normal == "hooke" else math.sqrt(kappa)  # sqrt(k/m) t_c, resp. sqrt(K/m) delta^(1/4) t_c
-    if damping == "none" or e == 1.0 and damping != "lammps-tsuji":
+    if damping == "none" or e == 1.0 and not damping.startswith("lammps-tsuji"):
         return 0.0
-    if damping == "lammps-tsuji":
-        return TSUJI_FACTORS[tsuji_version] * tsuji_alpha(e) * root
+    if damping.startswith("lammps-tsuji"):
+        version = "2021" if damping == "lammps-tsuji-2021" else tsuji_version
+        return TSUJI_FACTORS[version] * tsuji_alpha(e) * root
     if damping == "lammps-coeff-restitution":
         return lammps_coeff_restitution_damp(e, normal) * root
     if damping in ("liggghts", "yade-mindlin", "mercurydpm"):

@@ -25,7 +25,7 @@ TABLE_PATH = Path(__file__).resolve().parents[1] / "_generated" / "collision_tab
 SCHEMES: tuple[str, ...] = tuple(sorted({scheme for scheme, _, _ in ENGINES.values()}))
 LAWS: tuple[tuple[str, str], ...] = (
     ("hooke", "liggghts"), ("hooke", "lammps-tsuji"),
-    ("hertz", "liggghts"), ("hertz", "yade-mindlin"), ("hertz", "lammps-tsuji"),
+    ("hertz", "liggghts"), ("hertz", "yade-mindlin"), ("hertz", "lammps-tsuji"), ("hertz", "lammps-tsuji-2021"),
 )
 RESTITUTIONS: tuple[float, ...] = (1.0, 0.9, 0.5, 0.1)
 STEPS: tuple[float, ...] = tuple(float(x) for x in np.round(np.geomspace(4.0, 1024.0, 25), 6))

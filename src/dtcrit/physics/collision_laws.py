@@ -12,7 +12,8 @@ maps it (each read in the code's source):
 * ``lammps-mass-velocity``: ``eta_n = damp m_eff``; takes ``damp`` [1/s];
 * ``lammps-tsuji``: ``eta_n = damp sqrt(m_eff F_ne/delta)``, ``damp = f alpha(e)`` with LAMMPS's polynomial
   ``alpha`` and ``f = sqrt(2)`` in the current source (GranSubModDampingTsuji::init, ``damp *= MY_SQRT2``)
-  and ``f = 1`` in the 29Sep2021 release Debian ships (``tsuji_version="2021"``); takes ``e``;
+  and ``f = 1`` in the 29Sep2021 release Debian ships (key ``lammps-tsuji-2021``, or ``tsuji_version="2021"``:
+  a two-sphere collision in Debian's ``lmp`` gives e = 0.9284 for input 0.9, as this law, not 0.9002); takes ``e``;
 * ``lammps-coeff-restitution``: as tsuji with ``damp`` from ``e`` (GranSubModDampingCoeffRestitution::init;
   absent from the 2021 release); takes ``e``;
 * ``liggghts``: hooke ``gamma_n = 2 zeta sqrt(k m*)``, hertz ``gamma_n = -2 sqrt(5/6) beta sqrt(S_n m*)``,
@@ -80,6 +81,8 @@ DAMPING_MODELS: dict[str, DampingModel] = {m.key: m for m in (
                  "LAMMPS src/GRANULAR/gran_sub_mod_damping_kernel.h (damp*meff*contact_radius)"),
     DampingModel("lammps-tsuji", "restitution", False, {"hooke": 0.0, "hertz": 0.25},
                  "LAMMPS src/GRANULAR/gran_sub_mod_damping.cpp (GranSubModDampingTsuji)"),
+    DampingModel("lammps-tsuji-2021", "restitution", False, {"hooke": 0.0, "hertz": 0.25},
+                 "LAMMPS 29Sep2021 pair_granular.cpp (tsuji without the sqrt(2); Debian's lmp, measured)"),
     DampingModel("lammps-coeff-restitution", "restitution", False, {"hooke": 0.0, "hertz": 0.25},
                  "LAMMPS src/GRANULAR/gran_sub_mod_damping.cpp (GranSubModDampingCoeffRestitution)"),
     DampingModel("lammps-mass-velocity", "coefficient", False, {"hooke": 0.0, "hertz": 0.0},
@@ -253,7 +256,8 @@ def _dashpot(model: DampingModel, normal, m, kk, R_eff, e, coefficient, tsuji_ve
         return coefficient if normal == "hooke" else coefficient * math.sqrt(m * kk)  # mercurydpm gamma or d
     e = check_restitution(e)
     zeta = damping_ratio_from_restitution(e)
-    if key == "lammps-tsuji":
+    if key.startswith("lammps-tsuji"):
+        tsuji_version = "2021" if key == "lammps-tsuji-2021" else tsuji_version
         if tsuji_version not in TSUJI_FACTORS:
             raise InputError("tsuji_version", f"must be one of {', '.join(TSUJI_FACTORS)} (got {tsuji_version!r})")
         return TSUJI_FACTORS[tsuji_version] * tsuji_alpha(e) * math.sqrt(m * kk)

@@ -25,7 +25,7 @@ DASHPOTS: dict[str, tuple[sp.Expr, sp.Expr]] = {
     "lammps-mass-velocity": (sp.Integer(0), damp * m),
 }
 MODEL_CLASS = {
-    "lammps-tsuji": "sqrt(m S_n)", "lammps-coeff-restitution": "sqrt(m S_n)", "liggghts": "sqrt(m S_n)",
+    "lammps-tsuji": "sqrt(m S_n)", "lammps-tsuji-2021": "sqrt(m S_n)", "lammps-coeff-restitution": "sqrt(m S_n)", "liggghts": "sqrt(m S_n)",
     "yade-mindlin": "sqrt(m S_n)", "mercurydpm": "sqrt(m S_n)", "none": "sqrt(m S_n)",
     "lammps-viscoelastic": "lammps-viscoelastic", "lammps-mass-velocity": "lammps-mass-velocity",
 }
