@@ -31,11 +31,13 @@ def test_undamped_linear_matches_the_closed_form(scheme, n, phase):
 
 
 def test_velocity_verlet_and_leapfrog_step_the_same_impact():
-    """LAMMPS (v_{n+1/2} to the dashpot after the drift) and YADE (v_{n-1/2} before it) are one map."""
+    """LAMMPS (v_{n+1/2} to the dashpot after the drift), YADE (v_{n-1/2} before it) and MFiX's symplectic Euler
+    (v first with the force at (x_n, v_n), then x) are one map of the positions."""
     for e in (0.9, 0.3):
         a = step_collision(engine="lammps", normal="hertz", damping="liggghts", restitution=e, steps_per_collision=7.3, phase=0.41)
         b = step_collision(engine="yade", normal="hertz", damping="liggghts", restitution=e, steps_per_collision=7.3, phase=0.41)
-        assert a.restitution == pytest.approx(b.restitution, rel=1e-13)
+        c = step_collision(engine="mfix", normal="hertz", damping="liggghts", restitution=e, steps_per_collision=7.3, phase=0.41)
+        assert a.restitution == pytest.approx(b.restitution, rel=1e-13) == c.restitution
 
 
 def test_extended_taylor_gains_energy_at_the_predicted_rate():

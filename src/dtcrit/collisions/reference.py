@@ -72,16 +72,17 @@ def solve_reference(law: ScaledLaw) -> CollisionOutcome:
 def _solve(law: ScaledLaw) -> CollisionOutcome:
     def peak(_t, y):
         return y[1]
-    peak.direction = -1
 
     def exit_(_t, y):
         return y[0]
-    exit_.terminal, exit_.direction = True, -1
 
     def release(_t, y):
         u = max(y[0], 0.0)
         return law.kappa * u**law.p + law.g * u**law.q * y[1] if y[1] < 0 else 1.0
-    release.terminal, release.direction = True, -1
+
+    for event, terminal in ((peak, False), (exit_, True), (release, True)):
+        setattr(event, "terminal", terminal)  # solve_ivp reads these attributes of an event function
+        setattr(event, "direction", -1)
 
     events = [peak, exit_] + ([release] if law.clip and law.g > 0 else [])
     # start a hair inside the contact (u'(0) = w0, exact to first order) so that u = 0 is not an event at t = 0
@@ -89,7 +90,7 @@ def _solve(law: ScaledLaw) -> CollisionOutcome:
     y0 = [law.w0 * t0, law.w0 - law.g * (law.w0 * t0) ** law.q * law.w0 * t0 if law.q == 0 else law.w0]
     sol = solve_ivp(_rhs(law), (t0, 200.0), y0, method="DOP853", rtol=1e-12, atol=1e-14, events=events)
     if sol.t_events[0].size == 0:
-        raise NotConvergedError("reference", "the continuum impact reached no peak")
+        raise NotConvergedError("peak overlap", 0.0, math.inf, "solve_ivp DOP853", "the continuum impact reached no peak")
     u_peak = float(sol.y_events[0][0][0])
     if sol.t_events[1].size:
         t_end, w_end = float(sol.t_events[1][0]), float(sol.y_events[1][0][1])
@@ -128,7 +129,7 @@ def group_for_restitution(base: ScaledLaw, e: float) -> float:
     while miss(hi) > 0:
         hi *= 2.0
         if hi > 1e6:
-            raise NotConvergedError("restitution", f"no damping gives restitution {e:g}")
+            raise NotConvergedError("damping group", hi, math.inf, "brentq", f"no damping group up to {hi:g} gives restitution {e:g}")
     return float(brentq(miss, 0.0, hi, xtol=1e-15, rtol=4e-15))
 
 
