@@ -85,3 +85,14 @@ def test_bad_input_is_refused_in_one_line(kwargs, key):
     with pytest.raises(InputError) as err:
         collision_law(normal, damping, **base)
     assert err.value.location.key == key and "\n" not in str(err.value)
+
+
+def test_mindlin_tangential_sticks_then_slides_as_lammps_writes_it():
+    from dtcrit.physics.collision_laws import mindlin_tangential
+    a, k, damp, mu, fn, dt = 2e-5, 8 * 1.5e9, 0.02, 0.3, 4.0, 1e-7
+    f, xi = mindlin_tangential(1e-9, 0.01, dt, a, k, damp, mu, fn)  # stick: F = -k a (xi + v dt) - damp v
+    assert f == pytest.approx(-k * a * (1e-9 + 0.01 * dt) - damp * 0.01, rel=1e-12) and abs(f) < mu * fn
+    assert xi == pytest.approx(1e-9 + 0.01 * dt, rel=1e-12)
+    f, xi = mindlin_tangential(1e-5, 0.01, dt, a, k, damp, mu, fn)  # slide: Coulomb limit, xi reset
+    assert f == pytest.approx(-mu * fn, rel=1e-12)
+    assert -k * a * xi - damp * 0.01 == pytest.approx(-mu * fn, rel=1e-12)

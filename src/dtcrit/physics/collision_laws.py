@@ -26,7 +26,8 @@ maps it (each read in the code's source):
   HertzianViscoelasticInteraction.cc);
 * ``none``: no dashpot.
 
-Cohesion (JKR, DMT) changes the impact and is not modelled: refused with one line.
+``mindlin_tangential`` is one step of LAMMPS's tangential Mindlin force with its Coulomb limit (the oblique
+impact is not yet stepped).  Cohesion (JKR, DMT) changes the impact and is not modelled: refused with one line.
 """
 from __future__ import annotations
 
@@ -46,7 +47,7 @@ from dtcrit.physics.damping_conventions import (
 )
 
 __all__ = ["NORMALS", "DAMPING_MODELS", "CLIPPING", "DampingModel", "CollisionLaw", "collision_law",
-           "check_normal", "check_damping", "check_restitution"]
+           "check_normal", "check_damping", "check_restitution", "mindlin_tangential"]
 
 NORMALS: tuple[str, ...] = ("hooke", "hertz")
 
@@ -312,3 +313,48 @@ def collision_law(normal: str, damping: str, *, m_eff: float, k: float | None = 
     c0 = _dashpot(model, normal, float(m_eff), kk, R_eff, restitution, coefficient, tsuji_version)
     return CollisionLaw(normal, damping, float(m_eff), kk, 1.0 if normal == "hooke" else 1.5, float(c0),
                         model.exponents[normal], model.clips if clip is None else bool(clip))
+
+
+def mindlin_tangential(xi: Any, v_t: Any, dt: float, contact_radius: Any, k: float, damp: Any, mu: float,
+                       f_n_crit: Any) -> tuple[Any, Any]:
+    """One step of LAMMPS's ``tangential mindlin`` along one tangential direction (vectorised over contacts).
+
+    ``xi += v_t dt``; ``F_t = -k a xi - damp v_t``; if ``|F_t| > mu F_ncrit`` the force is scaled to the
+    Coulomb limit and the displacement reset to ``xi = -(F_t + damp v_t)/(k a)``
+    (src/GRANULAR/gran_sub_mod_tangential_kernel.h, gran_tangential_mindlin; ``k = 8 G*`` when NULL,
+    ``damp = x_gammat`` times the normal damping prefactor, ``F_ncrit = |F_n,tot|``).  The history rotation
+    of a turning contact plane and the ``rescale`` variants are not modelled.
+
+    Parameters
+    ----------
+    xi : float or numpy.ndarray
+        Tangential displacement history [m] before the step.
+    v_t : float or numpy.ndarray
+        Tangential relative velocity at the contact [m/s].
+    dt : float
+        Step [s].
+    contact_radius : float or numpy.ndarray
+        ``a = sqrt(R* delta)`` [m].
+    k : float
+        ``k`` [Pa] (``8 G*`` for Mindlin).
+    damp : float or numpy.ndarray
+        Tangential damping coefficient [N s/m].
+    mu : float
+        Friction coefficient.
+    f_n_crit : float or numpy.ndarray
+        ``|F_n|`` [N].
+
+    Returns
+    -------
+    tuple
+        ``(F_t, xi_new)``.
+    """
+    x = np.asarray(xi, dtype=float) + np.asarray(v_t, dtype=float) * dt
+    ka = k * np.asarray(contact_radius, dtype=float)
+    f = -ka * x - damp * np.asarray(v_t, dtype=float)
+    limit = mu * np.asarray(f_n_crit, dtype=float)
+    slip = np.abs(f) > limit
+    f_slip = np.where(slip, np.sign(f) * limit, f)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x_slip = np.where(slip, -(f_slip + damp * np.asarray(v_t, dtype=float)) / ka, x)
+    return f_slip, x_slip
