@@ -9,6 +9,10 @@ with ``u >= 0`` (that step has ``u = phase h w0``); the run starts one step earl
 exit: two consecutive ``u < 0`` after contact with a receding velocity.  Outcomes: restitution
 ``-v_exit/w0``, peak overlap (largest sampled overlap), duration (from the continuum entry to the
 exit crossing interpolated linearly between the last two positions), energy ratio.
+
+Velocity Verlet with ``v_{n+1/2}`` to the dashpot, leapfrog with ``v_{n-1/2}`` and symplectic Euler step
+the same positions (one map written three ways), so LAMMPS, LIGGGHTS, YADE, MFiX and Kratos's default
+resolve a collision alike.
 """
 from __future__ import annotations
 

@@ -5,8 +5,11 @@ Written by ``python3 -m dtcrit.collisions.tables`` (run by ``python3 dev.py gene
 a hash of the sources that produce it, and ``tests/collisions/test_collision_tables.py`` fails when the
 sources changed without regenerating and recomputes entries to compare.  The curves are the sampled
 worst case (``SAMPLE_PHASES`` phases); ``resolution_step`` always computes the guaranteed value
-(optimised over the phase) because that takes about a second for velocity Verlet and leapfrog (tens
-of seconds only where N_res is in the hundreds), so ``lookup`` returns None.
+(optimised over the phase).  Measured on one core: 1-5 s where N_res < 50 (velocity Verlet, leapfrog,
+symplectic Euler and Adams-Bashforth 2 at 1 % for e >= 0.5), about 30 s where it is a few hundred
+(extended Taylor and forward Euler at 1 %, e = 0.1), several minutes where it is in the thousands
+(0.1 % for extended Taylor, forward Euler, or e = 0.1); so ``lookup`` returns None and nothing is
+tabulated for it yet.
 """
 from __future__ import annotations
 
