@@ -86,3 +86,9 @@ def test_bad_input(kwargs, key):
     with pytest.raises(InputError) as err:
         step_collision(**base)
     assert err.value.location.key == key
+
+
+def test_no_dashpot_with_a_restitution_below_one_is_refused():
+    with pytest.raises(InputError) as err:
+        reference_collision(normal="hertz", damping="none", restitution=0.5)
+    assert err.value.location.key == "restitution"

@@ -67,6 +67,8 @@ def scaled_law(normal: str, damping: str, restitution: float, clip: bool | None 
     e = check_restitution(restitution)
     if tsuji_version not in TSUJI_FACTORS:
         raise InputError("tsuji_version", f"must be one of {', '.join(TSUJI_FACTORS)} (got {tsuji_version!r})")
+    if damping == "none" and e != 1.0:
+        raise InputError("restitution", f"damping 'none' has no dashpot: restitution must be 1 (got {e:g})")
     q = model.exponents[normal]
     c = model.clips if clip is None else bool(clip)
     base = _base(normal, 0.0, q, c)
