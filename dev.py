@@ -235,7 +235,8 @@ def test() -> int:
 
 def generate() -> int:
     env = child_env()
-    return run(PY, "-m", "dtcrit.symbolic.regenerate", env=env) or run(PY, "derivations/run_all.py", *sys.argv[2:], env=env)
+    return (run(PY, "-m", "dtcrit.symbolic.regenerate", env=env) or run(PY, "derivations/run_all.py", *sys.argv[2:], env=env)
+            or run(PY, "-m", "dtcrit.collisions.tables", env=env))
 
 
 def golden() -> int:

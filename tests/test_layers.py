@@ -33,6 +33,7 @@ LAYERS = (
     ("dtcrit.integrators", 4),
     ("dtcrit.bodies", 5),
     ("dtcrit.impact", 6),
+    ("dtcrit.collisions", 6),  # the step that resolves a collision (NumPy/SciPy)
     ("dtcrit.packing", 6),  # packing.step, packing.audit.run, packing.distributed.step: the packing API
     ("dtcrit.paper", 6),  # the paper's printed formulas beside the verified ones (integrators, bodies)
     ("dtcrit.scenes", 7),

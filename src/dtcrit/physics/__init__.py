@@ -15,6 +15,7 @@ one array entry per contact.  Modules:
 * ``json_numbers`` -- non-finite numbers as JSON ``null``;
 * ``walls`` -- a sphere on a fixed wall as each engine codes it (LAMMPS ``fix wall/gran``'s effective
   radius and material constants, YADE's wall and facet arms, the Hertz wall's tangent stiffness).
+* ``collision_laws`` -- the codes' normal collision laws (hooke, hertz; each damping model, clipping).
 
 No SymPy is imported here.
 """

@@ -49,6 +49,9 @@ __all__ = [
     "liggghts_beta",
     "liggghts_hertz_dashpot",
     "liggghts_hooke_dashpot",
+    "TSUJI_FACTORS",
+    "lammps_coeff_restitution_damp",
+    "hertz_mindlin_dissipation",
 ]
 
 HERTZ_FACTOR = 2.0 * math.sqrt(5.0 / 6.0) / 2.0  # c = 2 sqrt(5/6) zeta sqrt(S m*) = f * 2 zeta sqrt(S m*)
@@ -205,8 +208,7 @@ def liggghts_beta(e: float) -> float:
     float
         ``beta`` (0 for ``e = 1``).
     """
-    log_e = math.log(e)
-    return log_e / math.sqrt(log_e * log_e + math.pi * math.pi)
+    return -damping_ratio_from_restitution(e)
 
 
 def liggghts_hertz_dashpot(beta: Any, stiffness: Any, m_eff: Any) -> Any:
@@ -299,3 +301,56 @@ def lammps_gran_defaults(kn: float, kt: float | None, gamma_n: float, gamma_t: f
         ``(K_t, gamma_t)``.
     """
     return 2.0 / 7.0 * kn if kt is None else kt, 0.5 * gamma_n if gamma_t is None else gamma_t
+
+
+# ---------------------------------------------------------------------------------------------
+# restitution -> damping coefficient as the collision laws of dtcrit.physics.collision_laws take it
+# ---------------------------------------------------------------------------------------------
+
+TSUJI_FACTORS: dict[str, float] = {"current": math.sqrt(2.0), "2021": 1.0}
+"""LAMMPS ``damping tsuji``: the factor on ``alpha(e)``.  ``current``: ``damp *= MY_SQRT2`` "for effective
+mass convention (as in Tsuji 1992)" (src/GRANULAR/gran_sub_mod_damping.cpp, GranSubModDampingTsuji::init);
+``2021``: no factor (pair_granular.cpp of the 29Sep2021 release that Debian ships)."""
+
+
+def lammps_coeff_restitution_damp(e: float, normal: str) -> float:
+    """LAMMPS ``damping coeff_restitution``: the prefactor ``damp`` of ``eta_n = damp sqrt(m_eff F_ne/delta)``.
+
+    ``hooke``: ``-2 ln e/sqrt(pi^2 + ln^2 e)``; otherwise (Hertz) ``-sqrt(3/2) 2 sqrt(5/6) ln e/sqrt(pi^2 + ln^2 e)``
+    (src/GRANULAR/gran_sub_mod_damping.cpp, GranSubModDampingCoeffRestitution::init).
+
+    Parameters
+    ----------
+    e : float
+        Restitution coefficient in (0, 1].
+    normal : str
+        ``"hooke"`` or ``"hertz"``.
+
+    Returns
+    -------
+    float
+        ``damp`` (dimensionless).
+    """
+    zeta = damping_ratio_from_restitution(e)
+    return 2.0 * zeta if normal == "hooke" else math.sqrt(1.5) * 2.0 * math.sqrt(5.0 / 6.0) * zeta
+
+
+def hertz_mindlin_dissipation(e: float) -> float:
+    """``d`` of the Hertz-Mindlin dashpot ``c = d sqrt(m* K sqrt(delta))`` (``F_el = K delta^(3/2)``).
+
+    The Tsuji/Antypov calibration ``c = 2 sqrt(5/6) beta sqrt(S_n m*)`` with ``S_n = (3/2) K sqrt(delta)``
+    (LIGGGHTS normal_model_hertz.h, EDEM Hertz-Mindlin, YADE Ip2_FrictMat_FrictMat_MindlinPhys ``en``)
+    is ``d = sqrt(5) beta``, ``beta = -ln e/sqrt(pi^2 + ln^2 e)``; MercuryDPM's HertzianViscoelastic
+    ``dissipation`` is this ``d`` (HertzianViscoelasticInteraction.cc).
+
+    Parameters
+    ----------
+    e : float
+        Restitution coefficient in (0, 1].
+
+    Returns
+    -------
+    float
+        ``d`` (dimensionless).
+    """
+    return math.sqrt(5.0) * damping_ratio_from_restitution(e)
