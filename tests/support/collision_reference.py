@@ -4,10 +4,8 @@ Written from the engines' documented/source force laws (see ``support.engines.co
 from dtcrit: ``solve_ivp`` (DOP853, rtol 1e-12) of the contact ODE from first touch until the
 overlap returns to zero, in units of the elastic peak overlap D and of D/v.
 
-* ``head_on(imp)``: ``m* delta'' = -F``, ``F = F_el(delta) + eta(delta) * c(delta) * delta'``,
-  clipped at zero when the engine clips (``Impact.clipped``); ``c = 2R/(2R - delta)`` for YADE with
-  ``preventGranularRatcheting`` (``ScGeom::getIncidentVel`` scales the relative velocity by
-  ``(R1+R2)/(R1+R2-delta)``), else 1.
+* ``head_on(imp)``: ``m* delta'' = -F``, ``F = F_el(delta) + eta(delta) * delta'``,
+  clipped at zero when the engine clips (``Impact.clipped``: LAMMPS ``limit_damping``, YADE).
 * ``oblique_sliding(imp)``: the plane motion of both spheres under LAMMPS's granular law with the
   contact sliding throughout: normal force as above along the current centre line, tangential
   force ``-mu |F_n| vtr/|vtr|`` with the slip velocity ``vtr = vt + n x (R_i w_i + R_j w_j)`` (full
@@ -40,15 +38,9 @@ class Reference:
     spin: float = math.nan
 
 
-def _velocity_factor(imp, delta):
-    if imp.damping == "yade-mindlin" and imp.ratcheting:
-        return 2.0 * imp.radius / (2.0 * imp.radius - delta)
-    return 1.0
-
-
 def _normal_force(imp, delta, ddot):
     """Total normal force (repulsive > 0) at overlap delta and overlap rate ddot (SI)."""
-    f = imp.elastic_force(delta) + imp.eta(delta) * _velocity_factor(imp, delta) * ddot
+    f = imp.elastic_force(delta) + imp.eta(delta) * ddot
     return max(f, 0.0) if imp.clipped else f
 
 

@@ -33,12 +33,15 @@ Damping laws (force on the approaching pair ``-eta * v_n``, ``v_n`` the normal r
   ``damping tsuji`` with the coefficient ``e'`` whose Tsuji polynomial equals ``d``
   (``tsuji_coefficient_for``; e' < 0 for e below ~0.12, which the 2021 parser accepts).
 * ``lammps-mass-velocity``: ``eta = gamma * meff`` (coefficient as LAMMPS takes it).
-* ``yade-mindlin``: ``eta = 2 sqrt(5/6) beta(en) sqrt(meff * 2 E* sqrt(R* delta))``
-  (``Ip2_FrictMat_FrictMat_MindlinPhys::go``: ``alpha = -sqrt(5/6) 2 ln(en)/sqrt(ln^2+pi^2)
-  sqrt(2 E sqrt(R))``; ``cn = alpha sqrt(mbar) delta^(1/4)``), the total normal force clipped at
-  zero, the damping velocity from ``ScGeom::getIncidentVel``, which with
-  ``preventGranularRatcheting`` (the default) scales the relative velocity by
-  ``(R1+R2)/(R1+R2-delta)``.
+* ``yade-mindlin``: YADE 2023.02a (``Ip2_FrictMat_FrictMat_MindlinPhys::go`` with ``en``;
+  ``Law2_ScGeom_MindlinPhys_Mindlin::go``): ``eta = 2 beta_n sqrt(mbar * kn)``, ``kn = 3/2 kno
+  sqrt(delta) = 2 E* sqrt(R* delta)`` (tangent stiffness), with ``beta_n = sqrt(1/(1 - (1+en)^2
+  exp(alpha_n)) - 1)`` and ``alpha_n = en (h1 + en (h2 + ... + en h10))`` (Thornton et al. 2013,
+  eqs. B6-B7, fitted so that the *clipped* law restitutes en); the total normal force is clipped
+  at zero; the damping velocity is the plain normal relative velocity (``getIncidentVel(...,
+  false)``; ``preventGranularRatcheting`` is deprecated and unused in this version).  Older YADE
+  versions used ``2 sqrt(5/6) beta(en)`` instead, which the clipping turns into a higher
+  restitution (0.55 for en = 0.5).
 * ``none``: elastic.
 """
 from __future__ import annotations
@@ -52,7 +55,7 @@ from scipy.special import beta as beta_fn
 
 __all__ = [
     "Impact", "Outcome", "DAMPINGS", "tsuji_alpha", "beta_of", "coeff_restitution_prefactor",
-    "tsuji_coefficient_for", "hertz_time_factor", "design", "measure",
+    "tsuji_coefficient_for", "thornton_beta", "THORNTON_H", "hertz_time_factor", "design", "measure",
 ]
 
 DAMPINGS = ("lammps-tsuji", "lammps-coeff-restitution", "lammps-mass-velocity", "yade-mindlin", "none")
@@ -82,6 +85,22 @@ def coeff_restitution_prefactor(e: float, normal: str) -> float:
 def tsuji_coefficient_for(prefactor: float) -> float:
     """The ``tsuji`` coefficient e' whose polynomial equals ``prefactor`` (root near [-0.2, 1])."""
     return brentq(lambda x: tsuji_alpha(x) - prefactor, -0.2, 1.05, xtol=1e-18, rtol=8.9e-16, maxiter=500)
+
+
+#: Thornton et al. (2013) Table 2 fit coefficients h1..h10, as YADE 2023.02a codes them
+THORNTON_H = (-6.918798, -16.41105, 146.8049, -796.4559, 2928.711, -7206.864, 11494.29, -11342.18, 6276.757,
+              -1489.915)
+
+
+def thornton_beta(en: float) -> float:
+    """YADE's normal damping ratio from ``en`` (Thornton et al. 2013 eqs. B6-B7; 0 for en = 1)."""
+    if en == 1.0:
+        return 0.0
+    acc = THORNTON_H[-1]
+    for h in THORNTON_H[-2::-1]:  # Horner, as YADE nests it: en*(h1 + en*(h2 + ... + en*h10))
+        acc = h + en * acc
+    alphan = en * acc
+    return math.sqrt(1.0 / (1.0 - (1.0 + en) ** 2 * math.exp(alphan)) - 1.0)
 
 
 def hertz_time_factor() -> float:
@@ -115,7 +134,6 @@ class Impact:
     tangential_speed: float = 0.0
     friction: float = 0.0
     gammat_ratio: float = 0.0
-    ratcheting: bool = True  # YADE preventGranularRatcheting
 
     @property
     def meff(self) -> float:
@@ -157,7 +175,7 @@ class Impact:
         if self.damping == "lammps-mass-velocity":
             return self.coefficient * self.meff + 0.0 * d
         if self.damping == "yade-mindlin":
-            return 2.0 * math.sqrt(5.0 / 6.0) * beta_of(self.coefficient) * np.sqrt(
+            return 2.0 * thornton_beta(self.coefficient) * np.sqrt(
                 self.meff * 2.0 * self.estar * np.sqrt(self.reff * d))
         raise ValueError(f"unknown damping {self.damping!r}")
 
