@@ -137,10 +137,12 @@ class Impact:
 
     @property
     def meff(self) -> float:
+        """Effective mass ``m/2`` of two equal spheres."""
         return 0.5 * self.mass
 
     @property
     def reff(self) -> float:
+        """Effective radius ``R/2``."""
         return 0.5 * self.radius
 
     @property
@@ -159,6 +161,7 @@ class Impact:
         return 4.0 / 3.0 * self.estar * math.sqrt(self.reff)
 
     def elastic_force(self, delta):
+        """Elastic normal force at overlap ``delta`` (``kn delta`` or ``khertz delta^(3/2)``)."""
         d = np.maximum(delta, 0.0)
         return self.kn * d if self.normal == "hooke" else self.khertz * d**1.5
 
@@ -195,14 +198,18 @@ class Impact:
 
     @property
     def clipped(self) -> bool:
+        """Whether the engine clips the total normal force at zero (LAMMPS limit_damping, YADE)."""
         return self.clip or self.damping == "yade-mindlin"
 
 
 def design(normal: str, damping: str, coefficient: float, *, dt: float, steps_per_collision: float,
            phase: float, peak_over_radius: float = 1.0e-3, radius: float = 1.0e-3, young: float = 1.0e7,
            poisson: float = 0.3, kn: float = 1.0e3, **kw) -> Impact:
-    """An ``Impact`` with ``t_c = steps_per_collision * dt`` and elastic peak overlap
-    ``peak_over_radius * radius``: the speed and the sphere mass follow (t_c and delta_max fix them)."""
+    """An ``Impact`` with ``t_c = steps_per_collision * dt`` and the elastic peak overlap.
+
+    The elastic peak overlap is ``peak_over_radius * radius``; the speed and the sphere mass
+    follow (t_c and delta_max fix them).
+    """
     tc = steps_per_collision * dt
     dmax = peak_over_radius * radius
     probe = Impact(normal, damping, coefficient, radius, 1.0, 1.0, phase, young=young, poisson=poisson, kn=kn, **kw)

@@ -87,9 +87,11 @@ def _block(dt: float, impacts, b: int) -> tuple[str, str, int]:
     """(input block, data file text, steps) of one group."""
     n = len(impacts)
     rmax = max(i.radius for i in impacts)
-    L = (n + 2) * SPACING * rmax
+    # a slab just wide enough (the pairs move by a few overlaps): a cubic box of the pairs' span
+    # would hold ~n^3 neighbour bins
+    w, ylo, yhi = 4.0 * rmax, -SPACING * rmax, (n + 1) * SPACING * rmax
     data = [f"collisions block {b}", "", f"{2 * n} atoms", f"{n} atom types", "",
-            f"{_g(-L)} {_g(L)} xlo xhi", f"{_g(-L)} {_g(L)} ylo yhi", f"{_g(-L)} {_g(L)} zlo zhi", "",
+            f"{_g(-w)} {_g(w)} xlo xhi", f"{_g(ylo)} {_g(yhi)} ylo yhi", f"{_g(-w)} {_g(w)} zlo zhi", "",
             "Atoms # sphere", ""]
     vel = ["", "Velocities", ""]
     for k, imp in enumerate(impacts):

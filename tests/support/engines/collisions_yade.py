@@ -90,7 +90,7 @@ def _impact_dict(imp: Impact, dt: float, k: int) -> dict:
 def run_batch(groups, *, timeout: float = 300.0, keep_dir=None) -> list[list[Outcome]]:
     """Run every ``(dt, [Impact, ...])`` group in one YADE process; outcomes in the same shape."""
     groups = [(float(dt), list(imps)) for dt, imps in groups]
-    payload = {"groups": []}
+    payload: dict[str, list] = {"groups": []}
     for dt, imps in groups:
         payload["groups"].append({"dt": dt, "steps": _steps(dt, imps),
                                   "impacts": [_impact_dict(i, dt, k) for k, i in enumerate(imps)]})
