@@ -73,7 +73,7 @@ def lammps_fine():
 def yade_fine():
     """Impacts and YADE outcomes at N = 4000 (one YADE run)."""
     require_engine("yade")
-    imps = [_fine(s) for s in YADE_FINE]
+    imps = [_fine(s) for s in YADE_FINE] + [_oblique()]
     return imps, collisions_yade.collide(imps, DT)
 
 
@@ -99,9 +99,10 @@ def test_yade_fine_step_matches_the_continuum_of_its_law(yade_fine, k):
     _assert_continuum(imps[k], outs[k], head_on(imps[k]))
 
 
-def test_lammps_oblique_sliding_mindlin_matches_the_continuum(lammps_fine):
+@pytest.mark.parametrize("fixture", ["lammps_fine", "yade_fine"])
+def test_oblique_sliding_mindlin_matches_the_continuum(fixture, request):
     """Oblique impact, Mindlin tangential law sliding: tangential restitution and spin (1e-3)."""
-    imps, outs = lammps_fine
+    imps, outs = request.getfixturevalue(fixture)
     imp, got = imps[-1], outs[-1]
     ref = oblique_sliding(imp)
     _assert_continuum(imp, got, ref)

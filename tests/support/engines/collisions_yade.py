@@ -1,7 +1,7 @@
 """Collide pairs of spheres in YADE (``yade -n -x``, 2023.02a) with its Hertz-Mindlin law.
 
 Each group ``(dt, [Impact, ...])`` of a batch is one ``O.reset()`` scene in one YADE process: every
-impact is a pair of spheres with its own ``FrictMat`` (E, nu, friction 0), the pairs 6 radii apart
+impact is a pair of spheres with its own ``FrictMat`` (E, nu, friction angle atan(mu)), the pairs 6 radii apart
 along y; ``Ip2_FrictMat_FrictMat_MindlinPhys(en=MatchMaker(matches=[(mat, mat, en), ...]))`` gives
 each pair its restitution (``en = 1`` -> ``alpha = 0``: no damping), ``Law2_ScGeom_MindlinPhys_Mindlin``
 (its damping velocity is the plain relative velocity in 2023.02a),
@@ -10,6 +10,12 @@ states.  Initial positions and velocities as the LAMMPS harness sets them (YADE'
 is the half-step one, v_{-1/2}; there is no force before contact, so it equals v_0).  A PyRunner
 after NewtonIntegrator records every step's positions, velocities and spins (YADE stores
 v_{n+1/2} with x_{n+1}: after the contact both are the free-flight velocity).
+
+Oblique impacts: YADE's tangential law (``Ig2_Sphere_Sphere_ScGeom`` shear increment,
+``ks = 8 G* sqrt(R* delta)``, Coulomb limit ``tan(phi) |F_n|``, forces at the contact point, arm
+``R - delta/2``) slides like LAMMPS's ``mindlin``; its shear increment scales the translational
+slip by ``(R1+R2)/(R1+R2-delta)`` (avoidGranularRatcheting), which does not change the sliding
+force, only its direction's sign matters in a plane impact.
 """
 from __future__ import annotations
 
@@ -34,13 +40,14 @@ class YadeError(RuntimeError):
 
 
 SCRIPT = r'''# written by tests/support/engines/collisions_yade.py; run as `yade -n -x collide.py payload.json`
-import json, sys
+import json, math, sys
 P = json.load(open(sys.argv[1]))
 for gi, g in enumerate(P["groups"]):
     O.reset()
     mats, matches = [], []
     for k, c in enumerate(g["impacts"]):
-        mid = O.materials.append(FrictMat(young=c["young"], poisson=c["poisson"], density=1000.0, frictionAngle=0.0))
+        mid = O.materials.append(FrictMat(young=c["young"], poisson=c["poisson"], density=1000.0,
+                                                frictionAngle=math.atan(c["friction"])))
         mats.append(mid)
         matches.append((mid, mid, c["en"]))
     ids = []
@@ -83,7 +90,7 @@ def _impact_dict(imp: Impact, dt: float, k: int) -> dict:
     if imp.damping not in ("yade-mindlin", "none") or imp.normal != "hertz":
         raise ValueError(f"YADE harness: Hertz-Mindlin with en only, not {imp.normal}/{imp.damping}")
     return {"young": imp.young, "poisson": imp.poisson, "radius": imp.radius, "mass": imp.mass,
-            "en": 1.0 if imp.damping == "none" else imp.coefficient,
+            "en": 1.0 if imp.damping == "none" else imp.coefficient, "friction": imp.friction,
             "state": [list(map(list, s)) for s in _pair_state(imp, dt, k)]}
 
 
