@@ -266,3 +266,36 @@ def test_engine_error_within_tolerance_at_resolution_step_and_beyond_at_1_2x(eng
         if not beyond > TOL:
             msgs.append(f"{law}: at 1.2x the step (N={n_res / 1.2:.4g}) worst error {beyond:.4g} <= {TOL}")
     assert not msgs, "\n".join(msgs)
+
+
+# ----------------------------------------------------------------------------- engine against engine
+
+def test_lammps_and_yade_step_the_same_collision_alike():
+    """Independent of dtcrit: YADE's clipped Thornton law written in LAMMPS (``tsuji`` with the
+    coefficient whose polynomial is ``2 beta_T(en) sqrt(3/2)``, ``limit_damping``) gives the same
+    outcomes at coarse steps and any phase to 1e-9: both engines step a collision alike (position
+    Verlet, the half-step velocity in the dashpot, contact when the step's overlap is positive,
+    clipping of the total normal force).
+    """
+    require_engine("lammps")
+    require_engine("yade")
+    from support.engines.collisions import thornton_beta, tsuji_coefficient_for
+
+    yade_imps, lmp_imps = [], []
+    for en in (0.1, 0.5, 0.9, 1.0):
+        for n in COARSE_N:
+            for p in COARSE_PHASES:
+                y = design("hertz", "yade-mindlin" if en < 1.0 else "none", en, dt=DT, steps_per_collision=n, phase=p)
+                coef = tsuji_coefficient_for(2.0 * thornton_beta(en) * math.sqrt(1.5)) if en < 1.0 else 0.0
+                yade_imps.append(y)
+                lmp_imps.append(replace(y, damping="lammps-tsuji" if en < 1.0 else "none", coefficient=coef,
+                                        clip=True))
+    y_out = collisions_yade.collide(yade_imps, DT)
+    l_out = collisions_lammps.collide(lmp_imps, DT)
+    bad = []
+    for imp, a, b in zip(yade_imps, y_out, l_out):
+        for name in ("restitution", "peak_overlap", "duration", "energy_ratio"):
+            if _rel(getattr(a, name), getattr(b, name)) > 1e-9:
+                bad.append(f"en={imp.coefficient} N={imp.contact_time / DT:.3g} phase={imp.phase}: {name} "
+                           f"YADE {getattr(a, name)!r} LAMMPS {getattr(b, name)!r}")
+    assert not bad, "\n".join(bad[:12])
