@@ -171,11 +171,27 @@ def _coarse(laws):
 
 
 def _dtcrit_outcome(engine, law, n, phase):
-    from dtcrit.collisions import step_collision
+    """The outcome dtcrit gives for the law as this engine build applies it.
+
+    LAMMPS ``tsuji`` changed after the 2021 release Debian ships (the current source multiplies the
+    polynomial by sqrt(2)); dtcrit's ``scaled_law`` takes ``tsuji_version="2021"`` for it, which
+    ``step_collision`` passes on when it accepts the keyword, else the same composition
+    (``step_outcome(scheme_of(engine), scaled_law(...))``) is called directly.
+    """
+    import inspect
+
+    from dtcrit.collisions import scaled_law, step_collision
 
     normal, damping, coef, clip = law
-    return step_collision(engine=engine, normal=normal, damping=damping, restitution=coef,
-                          steps_per_collision=n, phase=phase, clip=clip if engine == "lammps" else None)
+    kw = dict(engine=engine, normal=normal, damping=damping, restitution=coef, steps_per_collision=n,
+              phase=phase, clip=clip if engine == "lammps" else None)
+    if damping != "lammps-tsuji":
+        return step_collision(**kw)
+    if "tsuji_version" in inspect.signature(step_collision).parameters:
+        return step_collision(**kw, tsuji_version="2021")
+    from dtcrit.collisions.stepping import scheme_of, step_outcome
+
+    return step_outcome(scheme_of(engine), scaled_law(normal, damping, coef, kw["clip"], tsuji_version="2021"), n, phase)
 
 
 def _assert_same_map(engine, cases, outs):

@@ -64,9 +64,9 @@ for gi, g in enumerate(P["groups"]):
             pair.append(b)
         ids.append(pair)
     rec = []
+    states = [b.state for b in O.bodies]
     def record():
-        rec.append([[list(O.bodies[b].state.pos) + list(O.bodies[b].state.vel) + list(O.bodies[b].state.angVel)
-                     for b in range(len(O.bodies))]])
+        rec.append([(tuple(s.pos), tuple(s.vel), tuple(s.angVel)) for s in states])
     globals()["_record"] = record
     O.engines = [
         ForceResetter(),
@@ -81,7 +81,7 @@ for gi, g in enumerate(P["groups"]):
     record()
     O.run(g["steps"], True)
     with open("group%d.json" % gi, "w") as fh:
-        json.dump([r[0] for r in rec], fh)
+        json.dump([[list(p) + list(v) + list(w) for (p, v, w) in row] for row in rec], fh)
 print("DTCRIT-COLLIDE done", flush=True)
 '''
 
