@@ -12,6 +12,8 @@ overlap returns to zero, in units of the elastic peak overlap D and of D/v.
   radii) and torques ``-(R - delta/2) n x f_s`` on both spheres (``PairGranular::compute``).  It
   refuses a case whose slip velocity reverses or whose trial Mindlin force at first touch is
   below the Coulomb limit (then the contact would stick, which this reference does not model).
+* ``oblique_sticking(imp)``: the same plane motion with the contact sticking (friction >= 1e3):
+  LAMMPS's ``mindlin`` history ``xi`` and force ``-k_t xi - eta_t vtr``, ``k_t = 8 G* sqrt(R* delta)``.
 """
 from __future__ import annotations
 
@@ -21,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
-__all__ = ["Reference", "head_on", "oblique_sliding"]
+__all__ = ["Reference", "head_on", "oblique_sliding", "oblique_sticking"]
 
 RTOL = 1.0e-12
 
@@ -78,15 +80,34 @@ def head_on(imp) -> Reference:
 
 def oblique_sliding(imp) -> Reference:
     """Continuum outcome of the oblique impact ``imp`` under LAMMPS's law, sliding throughout."""
+    if imp.damping != "none" or imp.gammat_ratio != 0.0:
+        raise ValueError("oblique_sliding: a normal or tangential dashpot makes the onset stick; not modelled")
+    # first touch: trial Mindlin force / normal force = 8 G* vt / (4/3 E* v) (both ~ t^(3/2))
+    if 6.0 * imp.gstar * imp.tangential_speed / (imp.estar * imp.speed) <= imp.friction:
+        raise ValueError("oblique_sliding: the contact sticks at first touch; not modelled")
+    return _oblique(imp, stick=False)
+
+
+def oblique_sticking(imp) -> Reference:
+    """Continuum outcome of the oblique impact ``imp`` under LAMMPS's ``mindlin`` law, sticking.
+
+    The tangential displacement history ``xi`` (LAMMPS keeps it in the tangent plane, its magnitude
+    preserved as the normal turns) grows at the slip velocity along the tangent; the force is
+    ``-k_t xi - eta_t vtr`` with ``k_t = 8 G* sqrt(R* delta)`` (``mindlin NULL``) and
+    ``eta_t = gammat_ratio * eta_n``.  Coulomb's limit is taken not to bind (``friction`` >= 1e3:
+    it binds only where the normal force vanishes at the very end); a case where it binds before
+    the last 1 % of the contact is refused.
+    """
+    if imp.friction < 1.0e3:
+        raise ValueError("oblique_sticking: needs friction >= 1e3 (Coulomb's limit not modelled)")
+    return _oblique(imp, stick=True)
+
+
+def _oblique(imp, *, stick: bool) -> Reference:
     D, v, R, m = imp.elastic_peak, imp.speed, imp.radius, imp.mass
     T = D / v
     inertia = 0.4 * m * R * R
     mu = imp.friction
-    if imp.damping != "none" or imp.gammat_ratio != 0.0:
-        raise ValueError("oblique_sliding: a normal or tangential dashpot makes the onset stick; not modelled")
-    # first touch: trial Mindlin force / normal force = 8 G* vt / (4/3 E* v) (both ~ t^(3/2))
-    if 6.0 * imp.gstar * imp.tangential_speed / (imp.estar * v) <= mu:
-        raise ValueError("oblique_sliding: the contact sticks at first touch; not modelled")
 
     def state(y):
         # y = [q_x, q_y, u_x, u_y, W]: r = x1 - x2 = (-2R + D q_x, D q_y); vr = v1 - v2 = v (u_x, u_y);
@@ -106,15 +127,23 @@ def oblique_sliding(imp) -> Reference:
         fn = _normal_force(imp, delta, -vnnr)
         vt = vr - vnnr * n
         vtr = vt + np.array([n[1], -n[0]]) * (2.0 * R * w)  # vt + n x (R w1 + R w2), w along z
-        s = np.linalg.norm(vtr)
-        fs = -mu * abs(fn) * vtr / s
+        if stick:
+            tan = np.array([-n[1], n[0]])
+            kt = 8.0 * imp.gstar * math.sqrt(imp.reff * max(delta, 0.0))
+            fs = -(kt * D * y[5]) * tan - imp.gammat_ratio * imp.eta(delta) * vtr
+        else:
+            fs = -mu * abs(fn) * vtr / np.linalg.norm(vtr)
         torque = -(R - 0.5 * delta) * (n[0] * fs[1] - n[1] * fs[0])
         return delta, n, fn, fs, torque, vtr
 
     def rhs(t, y):
-        _, n, fn, fs, torque, _ = forces(y)
+        _, n, fn, fs, torque, vtr = forces(y)
         acc = 2.0 * (fn * n + fs) / m  # d(v1 - v2)/dt
-        return [y[2], y[3], acc[0] * T / v, acc[1] * T / v, torque / inertia * T * T]
+        dy = [y[2], y[3], acc[0] * T / v, acc[1] * T / v, torque / inertia * T * T]
+        if stick:  # d(xi/D)/ds = vtr . t / v
+            n = state(y)[1]
+            dy.append((vtr @ np.array([-n[1], n[0]])) / v)
+        return dy
 
     def out(t, y):
         return state(y)[0] / D
@@ -125,13 +154,21 @@ def oblique_sliding(imp) -> Reference:
         return -(np.array([y[2], y[3]]) @ state(y)[1])  # overlap rate
 
     peak.direction = -1.0
-    y0 = [0.0, 0.0, 1.0, imp.tangential_speed / v, 0.0]
+    y0 = [0.0, 0.0, 1.0, imp.tangential_speed / v, 0.0] + ([0.0] if stick else [])
     sol = solve_ivp(rhs, (0.0, 50.0), y0, method="DOP853", rtol=RTOL, atol=1e-15, events=[out, peak])
     if sol.status != 1:
         raise RuntimeError(f"oblique reference: {sol.message}")
-    slips = [forces(sol.y[:, k])[5] for k in range(sol.y.shape[1])]
-    if min(s @ slips[0] for s in slips) <= 0.0:
-        raise ValueError("oblique_sliding: the slip velocity reverses during the contact; not modelled")
+    if stick:
+        t_end = sol.t_events[0][0]
+        for k in range(sol.y.shape[1]):
+            if sol.t[k] < 0.99 * t_end:
+                _, _, fn, fs, _, _ = forces(sol.y[:, k])
+                if np.linalg.norm(fs) > mu * abs(fn):
+                    raise ValueError("oblique_sticking: Coulomb's limit binds before the end; not modelled")
+    else:
+        slips = [forces(sol.y[:, k])[5] for k in range(sol.y.shape[1])]
+        if min(s @ slips[0] for s in slips) <= 0.0:
+            raise ValueError("oblique_sliding: the slip velocity reverses during the contact; not modelled")
     yend = sol.y_events[0][0]
     _, n_end = state(yend)
     n0 = np.array([-1.0, 0.0])
