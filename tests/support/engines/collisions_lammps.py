@@ -10,7 +10,8 @@ Law text (``pair_coeff i i``) per ``Impact.damping``, for this build (29Sep2021 
 20220106, no ``coeff_restitution``):
 
 * ``lammps-tsuji``: ``hertz/material E e nu`` (or ``hooke kn e``) ``damping tsuji``;
-* ``lammps-coeff-restitution``: the same with the coefficient ``e'`` of ``tsuji_coefficient_for``
+* ``lammps-coeff-restitution``: ``damping coeff_restitution`` where the build has it
+  (``has_coeff_restitution``), else ``tsuji`` with the coefficient ``e'`` of ``tsuji_coefficient_for``
   (``tsuji`` and ``coeff_restitution`` share the form ``damp*sqrt(meff*F/delta)``);
 * ``lammps-mass-velocity``: ``hooke kn gamma damping mass_velocity``;
 * ``none``: the coefficient 0 with ``damping mass_velocity`` (no dashpot).
@@ -20,7 +21,9 @@ gammat_ratio mu`` for oblique ones.  ``Impact.clip`` adds ``limit_damping``.
 """
 from __future__ import annotations
 
+import functools
 import os
+import shutil
 import subprocess
 import tempfile
 from pathlib import Path
@@ -31,7 +34,7 @@ from . import engine_executable
 from .collisions import Impact, Outcome, coeff_restitution_prefactor, measure, tsuji_coefficient_for
 from .lammps import LammpsError
 
-__all__ = ["law_text", "collide", "run_batch", "LammpsError"]
+__all__ = ["law_text", "has_coeff_restitution", "collide", "run_batch", "LammpsError"]
 
 FIRST_CONTACT_STEP = 1  # the contact starts phase*dt before step 1
 SPACING = 6.0  # pair spacing along y, in radii
@@ -41,10 +44,30 @@ def _g(x: float) -> str:
     return repr(float(x))
 
 
+@functools.lru_cache(maxsize=None)
+def has_coeff_restitution() -> bool:
+    """Whether this LAMMPS build knows ``damping coeff_restitution`` (a one-step probe run)."""
+    probe = ("units si\natom_style sphere\nregion b block 0 1 0 1 0 1\ncreate_box 1 b\n"
+             "pair_style granular\npair_coeff * * hertz/material 1e7 0.5 0.3 damping coeff_restitution "
+             "tangential linear_nohistory 0.0 0.0\n")
+    try:
+        work = _run(probe, {}, timeout=60.0)["dir"]
+    except LammpsError:
+        return False
+    shutil.rmtree(work, ignore_errors=True)
+    return True
+
+
 def law_text(imp: Impact) -> str:
-    """``pair_coeff`` model text of ``imp`` for this LAMMPS build."""
+    """``pair_coeff`` model text of ``imp`` for this LAMMPS build.
+
+    ``lammps-coeff-restitution`` is written natively where the build has it, else as ``tsuji`` with
+    the coefficient of ``tsuji_coefficient_for`` (the 2021 ``tsuji`` prefactor, factor 1).
+    """
     if imp.damping == "lammps-tsuji":
         coef, model = imp.coefficient, "tsuji"
+    elif imp.damping == "lammps-coeff-restitution" and has_coeff_restitution():
+        coef, model = imp.coefficient, "coeff_restitution"
     elif imp.damping == "lammps-coeff-restitution":
         coef, model = tsuji_coefficient_for(coeff_restitution_prefactor(imp.coefficient, imp.normal)), "tsuji"
     elif imp.damping == "lammps-mass-velocity":
@@ -149,14 +172,14 @@ def _run(script: str, files: dict[str, str], *, timeout: float, keep_dir=None) -
             break
     if proc.returncode != 0 or "ERROR" in log:
         tail = "\n".join((log or proc.stdout + proc.stderr).splitlines()[-15:])
+        if keep_dir is None:
+            shutil.rmtree(work, ignore_errors=True)
         raise LammpsError(f"lmp failed (exit {proc.returncode}):\n{tail}")
     return {"dir": work}
 
 
 def run_batch(groups, *, timeout: float = 300.0, keep_dir=None) -> list[list[Outcome]]:
     """Run every ``(dt, [Impact, ...])`` group in one LAMMPS process; outcomes in the same shape."""
-    import shutil
-
     groups = [(float(dt), list(imps)) for dt, imps in groups]
     script, files = "", {}
     for b, (dt, imps) in enumerate(groups):
