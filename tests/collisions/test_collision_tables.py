@@ -16,7 +16,9 @@ def test_the_tables_were_generated_from_the_current_sources():
 def test_entries_recompute(index):
     case = tables.load()["cases"][index]
     again = tables.curve(case["scheme"], case["normal"], case["damping"], case["restitution"])
-    assert again == case["errors"]
+    assert again.keys() == case["errors"].keys()
+    for key, values in case["errors"].items():  # stored to 6 digits: a last-bit change may move the 6th
+        assert again[key] == pytest.approx(values, rel=2e-6, abs=1e-300), key
 
 
 def test_the_curves_fall_with_n_for_velocity_verlet():
