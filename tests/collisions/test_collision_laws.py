@@ -19,6 +19,13 @@ def alpha(e):  # LAMMPS gran_sub_mod_damping.cpp, Marshall 2009 Eq. 53 (literal 
     return (1.2728 - 4.2783 * e + 11.087 * e**2 - 22.348 * e**3 + 27.467 * e**4 - 18.022 * e**5 + 4.8218 * e**6)
 
 
+def thornton(en):
+    """YADE's betan from en, Thornton et al. (2013) eqs. B6-B7 with Table 2's h1..h10 (literals)."""
+    h = [-6.918798, -16.41105, 146.8049, -796.4559, 2928.711, -7206.864, 11494.29, -11342.18, 6276.757, -1489.915]
+    alphan = sum(hk * en ** (k + 1) for k, hk in enumerate(h))
+    return math.sqrt(1.0 / (1.0 - (1.0 + en) ** 2 * math.exp(alphan)) - 1.0)
+
+
 @pytest.mark.parametrize("d, v", [(1e-5, 0.3), (4e-6, -0.7), (2.5e-4, 1.9)])
 def test_hertz_laws_match_the_sources(d, v):
     kh = 4.0 / 3.0 * E * math.sqrt(R)
@@ -29,8 +36,9 @@ def test_hertz_laws_match_the_sources(d, v):
         "liggghts": fe + 2.0 * math.sqrt(5.0 / 6.0) * beta(e) * math.sqrt(sn * M) * v,
         "lammps-tsuji": fe + math.sqrt(2.0) * alpha(e) * math.sqrt(M * fe / d) * v,
         "lammps-coeff-restitution": fe + math.sqrt(1.5) * 1.82574185835055380345 * beta(e) * math.sqrt(M * fe / d) * v,
-        # YADE: alpha = -sqrt(5/6) 2 logE/sqrt(logE^2 + pi^2) sqrt(2 E sqrt(R)); cn = alpha sqrt(mbar) uN^0.25
-        "yade-mindlin": max(fe + math.sqrt(5 / 6.0) * 2 * beta(e) * math.sqrt(2 * E * math.sqrt(R)) * math.sqrt(M) * d**0.25 * v, 0.0),
+        # YADE (pkg/dem/HertzMindlin.cpp): betan by Thornton (2013) B6-B7; cn = 2 betan sqrt(mbar kn),
+        # kn = 3/2 kno sqrt(uN), kno = 4/3 E sqrt(R); the total normal force clipped at zero
+        "yade-mindlin": max(fe + 2 * thornton(e) * math.sqrt(M * 1.5 * kh * math.sqrt(d)) * v, 0.0),
         "none": fe,
     }
     for damping, want in expect.items():

@@ -186,33 +186,25 @@ LAMMPS_LAWS = [
 YADE_LAWS = [("hertz", "yade-mindlin", e, True) for e in (0.1, 0.5, 0.9)] + [("hertz", "none", 1.0, True)]
 
 
+LAMMPS_2021 = {"lammps-tsuji": "lammps-tsuji-2021"}  # the harness's key -> dtcrit's key for Debian's lmp
+
+
 def _coarse(laws):
     return [(law, n, p, design(law[0], law[1], law[2], dt=DT, steps_per_collision=n, phase=p, clip=law[3]))
             for law in laws for n in COARSE_N for p in COARSE_PHASES]
 
 
 def _dtcrit_outcome(engine, law, n, phase):
-    """The outcome dtcrit gives for the law as this engine build applies it.
+    """The outcome dtcrit's ``step_collision`` gives for the law as this engine build applies it.
 
     LAMMPS ``tsuji`` changed after the 2021 release Debian ships (the current source multiplies the
-    polynomial by sqrt(2)); dtcrit's ``scaled_law`` takes ``tsuji_version="2021"`` for it, which
-    ``step_collision`` passes on when it accepts the keyword, else the same composition
-    (``step_outcome(scheme_of(engine), scaled_law(...))``) is called directly.
+    polynomial by sqrt(2)); dtcrit's damping key ``lammps-tsuji-2021`` is that release's law.
     """
-    import inspect
-
-    from dtcrit.collisions import scaled_law, step_collision
+    from dtcrit.collisions import step_collision
 
     normal, damping, coef, clip = law
-    kw = dict(engine=engine, normal=normal, damping=damping, restitution=coef, steps_per_collision=n,
-              phase=phase, clip=clip if engine == "lammps" else None)
-    if damping != "lammps-tsuji":
-        return step_collision(**kw)
-    if "tsuji_version" in inspect.signature(step_collision).parameters:
-        return step_collision(**kw, tsuji_version="2021")
-    from dtcrit.collisions.stepping import scheme_of, step_outcome
-
-    return step_outcome(scheme_of(engine), scaled_law(normal, damping, coef, kw["clip"], tsuji_version="2021"), n, phase)
+    return step_collision(engine=engine, normal=normal, damping=LAMMPS_2021.get(damping, damping), restitution=coef,
+                          steps_per_collision=n, phase=phase, clip=clip if engine == "lammps" else None)
 
 
 def _assert_same_map(engine, cases, outs):

@@ -16,6 +16,7 @@ from dtcrit.physics.damping_conventions import (
     hertz_mindlin_dissipation,
     lammps_coeff_restitution_damp,
     tsuji_alpha,
+    yade_mindlin_dissipation,
 )
 
 
@@ -29,7 +30,9 @@ def _group_from_restitution(normal: str, damping: str, e: float, kappa: float, t
         return TSUJI_FACTORS[version] * tsuji_alpha(e) * root
     if damping == "lammps-coeff-restitution":
         return lammps_coeff_restitution_damp(e, normal) * root
-    if damping in ("liggghts", "yade-mindlin", "mercurydpm"):
+    if damping == "yade-mindlin":
+        return yade_mindlin_dissipation(e) * root
+    if damping in ("liggghts", "mercurydpm"):
         return 2.0 * damping_ratio_from_restitution(e) * root if normal == "hooke" else hertz_mindlin_dissipation(e) * root
     if damping == "lammps-mass-velocity" and normal == "hooke":
         return 2.0 * damping_ratio_from_restitution(e) * math.pi  # a linear dashpot: exact

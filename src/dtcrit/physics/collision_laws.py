@@ -19,8 +19,10 @@ maps it (each read in the code's source):
 * ``liggghts``: hooke ``gamma_n = 2 zeta sqrt(k m*)``, hertz ``gamma_n = -2 sqrt(5/6) beta sqrt(S_n m*)``,
   ``S_n = 2 E* sqrt(R* delta)`` (normal_model_hooke.h, normal_model_hertz.h; EDEM Hertz-Mindlin is the
   same law); takes ``e``;
-* ``yade-mindlin``: ``Ip2_FrictMat_FrictMat_MindlinPhys(en)``: ``alpha = -2 sqrt(5/6) ln e/sqrt(ln^2 e + pi^2)
-  sqrt(2 E* sqrt(R*))``, ``c_n = alpha sqrt(m*) delta^(1/4)`` (pkg/dem/HertzMindlin.cpp), Hertz only;
+* ``yade-mindlin``: ``Ip2_FrictMat_FrictMat_MindlinPhys(en)``: ``betan`` from ``en`` by Thornton et al. (2013)
+  eqs. B6-B7 (fit coefficients h1-h10), ``Law2_ScGeom_MindlinPhys_Mindlin``: ``c_n = 2 betan sqrt(m* k_n)``,
+  ``k_n = 2 E* sqrt(R* delta)``, total normal force clipped at zero (pkg/dem/HertzMindlin.cpp of yade/trunk;
+  YADE 2023.02a restitutes ``en``: 0.10002 for 0.1; older sources used ``2 sqrt(5/6) beta``), Hertz only;
 * ``mercurydpm``: LinearViscoelastic ``F = k delta + gamma delta'`` (``gamma`` [kg/s] or from ``e``);
   HertzianViscoelastic ``c = d sqrt(m* (4/3) E* sqrt(R* delta))`` (``d`` or from ``e``,
   HertzianViscoelasticInteraction.cc);
@@ -44,6 +46,7 @@ from dtcrit.physics.damping_conventions import (
     hertz_mindlin_dissipation,
     lammps_coeff_restitution_damp,
     tsuji_alpha,
+    yade_mindlin_dissipation,
 )
 
 __all__ = ["NORMALS", "DAMPING_MODELS", "CLIPPING", "DampingModel", "CollisionLaw", "collision_law",
@@ -91,7 +94,7 @@ DAMPING_MODELS: dict[str, DampingModel] = {m.key: m for m in (
     DampingModel("liggghts", "restitution", False, {"hooke": 0.0, "hertz": 0.25},
                  "LIGGGHTS normal_model_hooke.h, normal_model_hertz.h (limitForce off by default)"),
     DampingModel("yade-mindlin", "restitution", True, {"hertz": 0.25},
-                 "YADE pkg/dem/HertzMindlin.cpp (Ip2_FrictMat_FrictMat_MindlinPhys en; Law2 no attraction)"),
+                 "YADE pkg/dem/HertzMindlin.cpp (Ip2_FrictMat_FrictMat_MindlinPhys en: Thornton 2013 B6-B7; Law2 clips)"),
     DampingModel("mercurydpm", "restitution", False, {"hooke": 0.0, "hertz": 0.25},
                  "MercuryDPM LinearViscoelasticInteraction.cc, HertzianViscoelasticInteraction.cc"),
     DampingModel("none", "restitution", False, {"hooke": 0.0, "hertz": 0.0}, "no dashpot"),
@@ -266,7 +269,9 @@ def _dashpot(model: DampingModel, normal, m, kk, R_eff, e, coefficient, tsuji_ve
         return lammps_coeff_restitution_damp(e, normal) * math.sqrt(m * kk)
     if normal == "hooke":  # liggghts, mercurydpm: 2 zeta sqrt(k m)
         return 2.0 * zeta * math.sqrt(m * kk)
-    return hertz_mindlin_dissipation(e) * math.sqrt(m * kk)  # liggghts, yade-mindlin, mercurydpm (hertz)
+    if key == "yade-mindlin":
+        return yade_mindlin_dissipation(e) * math.sqrt(m * kk)
+    return hertz_mindlin_dissipation(e) * math.sqrt(m * kk)  # liggghts, mercurydpm (hertz)
 
 
 def collision_law(normal: str, damping: str, *, m_eff: float, k: float | None = None, E_eff: float | None = None,

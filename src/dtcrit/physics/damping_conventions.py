@@ -52,6 +52,9 @@ __all__ = [
     "TSUJI_FACTORS",
     "lammps_coeff_restitution_damp",
     "hertz_mindlin_dissipation",
+    "THORNTON_H",
+    "thornton_damping_ratio",
+    "yade_mindlin_dissipation",
 ]
 
 HERTZ_FACTOR = 2.0 * math.sqrt(5.0 / 6.0) / 2.0  # c = 2 sqrt(5/6) zeta sqrt(S m*) = f * 2 zeta sqrt(S m*)
@@ -339,8 +342,8 @@ def hertz_mindlin_dissipation(e: float) -> float:
     """``d`` of the Hertz-Mindlin dashpot ``c = d sqrt(m* K sqrt(delta))`` (``F_el = K delta^(3/2)``).
 
     The Tsuji/Antypov calibration ``c = 2 sqrt(5/6) beta sqrt(S_n m*)`` with ``S_n = (3/2) K sqrt(delta)``
-    (LIGGGHTS normal_model_hertz.h, EDEM Hertz-Mindlin, YADE Ip2_FrictMat_FrictMat_MindlinPhys ``en``)
-    is ``d = sqrt(5) beta``, ``beta = -ln e/sqrt(pi^2 + ln^2 e)``; MercuryDPM's HertzianViscoelastic
+    (LIGGGHTS normal_model_hertz.h, EDEM Hertz-Mindlin; YADE's ``Ip2_FrictMat_FrictMat_MindlinPhys`` coded it
+    before it moved to Thornton's map, see ``yade_mindlin_dissipation``) is ``d = sqrt(5) beta``, ``beta = -ln e/sqrt(pi^2 + ln^2 e)``; MercuryDPM's HertzianViscoelastic
     ``dissipation`` is this ``d`` (HertzianViscoelasticInteraction.cc).
 
     Parameters
@@ -354,3 +357,55 @@ def hertz_mindlin_dissipation(e: float) -> float:
         ``d`` (dimensionless).
     """
     return math.sqrt(5.0) * damping_ratio_from_restitution(e)
+
+
+#: Thornton et al. (2013, Powder Technol. 233) Table 2 fit coefficients h1..h10, as YADE codes them
+#: (pkg/dem/HertzMindlin.cpp, Ip2_FrictMat_FrictMat_MindlinPhys::go)
+THORNTON_H: tuple[float, ...] = (-6.918798, -16.41105, 146.8049, -796.4559, 2928.711, -7206.864, 11494.29,
+                                 -11342.18, 6276.757, -1489.915)
+
+
+def thornton_damping_ratio(e: float) -> float:
+    """Damping ratio of a clipped Hertz dashpot ``2 beta sqrt(m* S_n)`` that restitutes ``e`` (Thornton et al. 2013).
+
+    Eqs. (B6)-(B7): ``alpha = e (h1 + e (h2 + ... + e h10))``, ``beta = sqrt(1/(1 - (1+e)^2 exp(alpha)) - 1)``,
+    nested as YADE's ``Ip2_FrictMat_FrictMat_MindlinPhys::go`` nests it (pkg/dem/HertzMindlin.cpp; ``en = 1``
+    gives 0).  The fit holds for the law whose total normal force is clipped at zero.
+
+    Parameters
+    ----------
+    e : float
+        Normal restitution coefficient in (0, 1].
+
+    Returns
+    -------
+    float
+        ``beta`` (YADE's ``betan``).
+    """
+    if e >= 1.0:
+        return 0.0
+    acc = THORNTON_H[-1]
+    for h in THORNTON_H[-2::-1]:
+        acc = h + e * acc
+    return math.sqrt(1.0 / (1.0 - (1.0 + e) ** 2 * math.exp(e * acc)) - 1.0)
+
+
+def yade_mindlin_dissipation(e: float) -> float:
+    """``d`` of YADE's Hertz-Mindlin dashpot ``c = d sqrt(m* K sqrt(delta))`` from ``en`` (``F_el = K delta^(3/2)``).
+
+    YADE (pkg/dem/HertzMindlin.cpp): ``Ip2_FrictMat_FrictMat_MindlinPhys`` with ``en`` sets ``betan`` by
+    Thornton's map (``thornton_damping_ratio``); ``Law2_ScGeom_MindlinPhys_Mindlin`` damps with
+    ``cn = 2 betan sqrt(mbar kn)``, ``kn = (3/2) kno sqrt(uN)``, ``kno = K``, and clips the total normal force at
+    zero; so ``d = 2 sqrt(3/2) beta = sqrt(6) beta``.
+
+    Parameters
+    ----------
+    e : float
+        Normal restitution coefficient ``en`` in (0, 1].
+
+    Returns
+    -------
+    float
+        ``d`` (dimensionless).
+    """
+    return math.sqrt(6.0) * thornton_damping_ratio(e)
