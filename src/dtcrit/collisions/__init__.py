@@ -15,7 +15,8 @@ API (units: ``restitution`` as the code takes it, see ``scaled.scaled_law``):
 * ``collision_errors(*, engine, normal, damping, restitution, steps_per_collision, clip=None)``;
 * ``resolution_step(*, engine, normal, damping, restitution, tol=0.01, quantities=(...), clip=None)``.
 
-Modules: ``scaled``, ``laws``, ``reference``, ``stepping``, ``resolution``, ``tables``.
+Modules: ``scaled``, ``laws``, ``reference``, ``stepping``, ``resolution``, ``tables``,
+``resolution_table``.
 """
 from __future__ import annotations
 

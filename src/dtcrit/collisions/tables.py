@@ -5,14 +5,14 @@ Written by ``python3 -m dtcrit.collisions.tables`` (run by ``python3 dev.py gene
 a hash of the sources that produce it, and ``tests/collisions/test_collision_tables.py`` fails when the
 sources changed without regenerating and recomputes entries to compare.  The curves are the sampled
 worst case (``SAMPLE_PHASES`` phases); ``resolution_step`` always computes the guaranteed value
-(optimised over the phase).  Measured on one core: 1-5 s where N_res < 50 (velocity Verlet, leapfrog,
-symplectic Euler and Adams-Bashforth 2 at 1 % for e >= 0.5), about 30 s where it is a few hundred
-(extended Taylor and forward Euler at 1 %, e = 0.1), several minutes where it is in the thousands
-(0.1 % for extended Taylor, forward Euler, or e = 0.1); so ``lookup`` returns None and nothing is
-tabulated for it yet.
+(optimised over the phase).  Its cost grows as N_res (measured on one core: under 1 s where N_res < 50,
+about 10 s at a few hundred, minutes in the thousands), so the document also holds the resolution steps
+of the standard cases that ``resolve`` gives (``resolution_table``: ``resolutions``), and ``lookup``
+answers from them.
 """
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import sys
@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from dtcrit.collisions import resolution_table
 from dtcrit.collisions.resolution import SAMPLE_PHASES, sampled_errors
 from dtcrit.collisions.laws import scaled_law
 from dtcrit.integrators.engines import ENGINES
@@ -33,7 +34,7 @@ LAWS: tuple[tuple[str, str], ...] = (
 RESTITUTIONS: tuple[float, ...] = (1.0, 0.9, 0.5, 0.1)
 STEPS: tuple[float, ...] = tuple(float(x) for x in np.round(np.geomspace(4.0, 1024.0, 25), 6))
 SOURCES = ("collisions/scaled.py", "collisions/laws.py", "collisions/reference.py", "collisions/stepping.py", "collisions/resolution.py",
-           "collisions/tables.py", "physics/collision_laws.py", "physics/damping_conventions.py",
+           "collisions/tables.py", "collisions/resolution_table.py", "physics/collision_laws.py", "physics/damping_conventions.py",
            "integrators/schemes.py", "integrators/engines.py")
 
 
@@ -88,7 +89,8 @@ def build() -> dict:
                 cases.append({"scheme": scheme, "normal": normal, "damping": damping, "restitution": e,
                               "errors": curve(scheme, normal, damping, e)})
     return {"generated_by": "python3 dev.py generate (dtcrit.collisions.tables)", "derivation_hash": source_hash(),
-            "sample_phases": SAMPLE_PHASES, "steps_per_collision": list(STEPS), "cases": cases}
+            "sample_phases": SAMPLE_PHASES, "steps_per_collision": list(STEPS), "cases": cases,
+            "resolutions": resolution_table.build(cases, STEPS)}
 
 
 def load() -> dict:
@@ -102,8 +104,13 @@ def load() -> dict:
     return json.loads(TABLE_PATH.read_text())
 
 
+@functools.lru_cache(maxsize=1)
+def _resolutions() -> tuple:
+    return tuple(load().get("resolutions", ())) if TABLE_PATH.exists() else ()
+
+
 def lookup(scheme, normal, damping, restitution, tol, quantities, clip):
-    """A tabulated resolution step covering the request: none is tabulated (module docstring).
+    """The tabulated resolution step of the request, or None (``resolution_table.find``).
 
     Parameters
     ----------
@@ -118,10 +125,14 @@ def lookup(scheme, normal, damping, restitution, tol, quantities, clip):
 
     Returns
     -------
-    None
-        Always; ``resolution_step`` computes.
+    Resolution or None
+        The stored resolution (what ``resolve`` gives, to ``resolution_table.DIGITS`` digits), or None.
     """
-    return None
+    try:
+        e, t = float(restitution), float(tol)
+    except (TypeError, ValueError):
+        return None
+    return resolution_table.find(list(_resolutions()), scheme, normal, damping, e, t, quantities, clip)
 
 
 def main() -> int:
