@@ -235,8 +235,9 @@ def test() -> int:
 
 def generate() -> int:
     env = child_env()
-    return (run(PY, "-m", "dtcrit.symbolic.regenerate", env=env) or run(PY, "derivations/run_all.py", *sys.argv[2:], env=env)
-            or run(PY, "-m", "dtcrit.collisions.tables", env=env))
+    # the collision tables before the records: derivations/collision_findings.py reads them
+    return (run(PY, "-m", "dtcrit.symbolic.regenerate", env=env) or run(PY, "-m", "dtcrit.collisions.tables", env=env)
+            or run(PY, "derivations/run_all.py", *sys.argv[2:], env=env))
 
 
 def golden() -> int:
