@@ -38,12 +38,12 @@ def _restitution_from_zeta(zeta: float, key: str) -> float:
     return 1.0 if zeta <= 0.0 else math.exp(-math.pi * zeta / math.sqrt(1.0 - zeta * zeta))
 
 
-def _damping_key(scene, pc, wall) -> tuple[str, str, float]:
+def _damping_key(pc, wall, m_eff: float) -> tuple[str, str, float]:
     """(normal, damping, restitution) of the core for a resolved contact (module docstring)."""
     hertz = pc.delta_max is not None or (wall is not None and wall.model == "hertz")
     key = f"wall[{wall.number}]" if wall is not None else "contact"
     if not hertz:
-        zeta = pc.cn / (2.0 * math.sqrt(pc.kn * pc.m_star)) if pc.cn > 0 else 0.0
+        zeta = pc.cn / (2.0 * math.sqrt(pc.kn * m_eff)) if pc.cn > 0 else 0.0
         e = _restitution_from_zeta(zeta, key + ".damping_ratio")
         return "hooke", ("none" if e == 1.0 else "liggghts"), e
     conv = pc.convention
@@ -56,12 +56,12 @@ def _damping_key(scene, pc, wall) -> tuple[str, str, float]:
     return "hertz", "liggghts", _restitution_from_zeta(pc.zeta, key + ".damping_ratio")
 
 
-def _hertz_terms(pc, v: float) -> dict:
+def _hertz_terms(pc, m: float, v: float) -> dict:
     """``E* sqrt(R*)``, ``k1 = 8 G* sqrt(R*)`` and the peak overlap at ``v`` from the tangent stiffnesses at ``pc.velocity``."""
     v0 = pc.velocity
-    d0 = math.sqrt(15.0 * pc.m_star * v0 * v0 / (8.0 * pc.kn))  # (4/15) k_n delta^2 = m v^2/2 at the peak
+    d0 = math.sqrt(15.0 * m * v0 * v0 / (8.0 * pc.kn))  # (4/15) k_n delta^2 = m v^2/2 at the peak
     K = (2.0 / 3.0) * pc.kn / math.sqrt(d0)  # F = K delta^(3/2), k_n = (3/2) K sqrt(delta)
-    delta = (1.25 * pc.m_star * v * v / K) ** 0.4
+    delta = (1.25 * m * v * v / K) ** 0.4
     return dict(E_sqrtR=0.75 * K, k1=pc.ks / math.sqrt(d0), delta_max=delta, scale=math.sqrt(delta / d0))
 
 
@@ -77,19 +77,23 @@ def _particle_props(parts) -> dict | None:
 def _contacts(scene):
     for i, j in scene.pair_numbers():
         p, q = scene.particle(i), scene.particle(j)
-        yield resolve_pair(scene, i, j), p, q, None
+        yield resolve_pair(scene, i, j), p, q, None  # the smallest sizes: the shortest contact time
     for w in scene.walls:
         for i in w.particles:
             yield resolve_wall(scene, w, i), scene.particle(i), None, w
 
 
 def _entry(scene, pc, p, q, wall, v, tol: float, engine: str) -> dict:
-    normal, damping, e = _damping_key(scene, pc, wall)
-    hz = _hertz_terms(pc, v) if normal == "hertz" else None
+    for part in (p, q):
+        if part is not None and part.kind != "sphere":
+            raise InputError(f"particle[{part.number}].shape", f"dtcrit collide models collisions of spheres, not {part.kind}")
+    m = pc.m_star if wall is None else p.mass_at(pc.radius_i)  # against a fixed wall: the particle's mass
+    normal, damping, e = _damping_key(pc, wall, m)
+    hz = _hertz_terms(pc, m, v) if normal == "hertz" else None
     if hz is None:
-        t_c, peak = contact_time("hooke", m_eff=pc.m_star, k=pc.kn), v * math.sqrt(pc.m_star / pc.kn)
+        t_c, peak = contact_time("hooke", m_eff=m, k=pc.kn), v * math.sqrt(m / pc.kn)
     else:
-        t_c = contact_time("hertz", m_eff=pc.m_star, E_eff=hz["E_sqrtR"], R_eff=1.0, v_impact=v)
+        t_c = contact_time("hertz", m_eff=m, E_eff=hz["E_sqrtR"], R_eff=1.0, v_impact=v)
         peak = hz["delta_max"]
         s, s4 = hz["scale"], math.sqrt(hz["scale"])
         pc = replace(pc, kn=pc.kn * s, ks=pc.ks * s, cn=pc.cn * s4, cs=pc.cs * s4)
@@ -101,12 +105,12 @@ def _entry(scene, pc, p, q, wall, v, tol: float, engine: str) -> dict:
     dt = min(dt_stab, dt_res) if dt_res > 0 else dt_stab
     n_bind = t_c / dt
     errs = collision_errors(engine=engine, normal=normal, damping=damping, restitution=e, steps_per_collision=n_bind)
-    rules = code_rules(t_c=t_c, m_star=pc.m_star, v_max=v, hertz=hz, restitution=e,
+    rules = code_rules(t_c=t_c, m_star=m, v_max=v, hertz=hz, restitution=e,
                        particle=_particle_props([p] if q is None else [p, q]))
     return {
         "pair": pc.label, "wall": pc.wall, "normal": normal, "damping": damping, "restitution": e,
-        "m_eff": pc.m_star, "v_max": v, "t_c": t_c, "peak_overlap": peak, "dt_stability": dt_stab,
-        "dt_resolution": dt_res, "steps_resolution": res.steps_per_collision, "dt": dt, "steps_per_collision": n_bind,
+        "m_eff": m, "v_max": v, "t_c": t_c, "peak_overlap": peak, "dt_stability": dt_stab,
+        "dt_resolution": dt_res if dt_res > 0 else None, "steps_resolution": res.steps_per_collision if dt_res > 0 else None, "dt": dt, "steps_per_collision": n_bind,
         "binding": "resolution" if dt_res > 0 and dt_res <= dt_stab else "stability",
         "energy_gain": errs["energy_gain"], "gains_energy": errs["energy_gain"] > ENERGY_TOL,
         "errors_at_dt": {k: errs[k] for k in ("restitution", "peak_overlap", "duration")},
