@@ -21,6 +21,7 @@ from dataclasses import replace
 
 from dtcrit.collisions import collision_errors, contact_time, resolution_step
 from dtcrit.collisions.resolution import check_tol
+from dtcrit.collisions.stepping import scheme_of
 from dtcrit.errors import InputError
 from dtcrit.physics.collision_rules import code_rules
 from dtcrit.scenes.laws import resolve_pair, resolve_wall
@@ -97,7 +98,7 @@ def _entry(scene, pc, p, q, wall, v, tol: float, engine: str) -> dict:
         peak = hz["delta_max"]
         s, s4 = hz["scale"], math.sqrt(hz["scale"])
         pc = replace(pc, kn=pc.kn * s, ks=pc.ks * s, cn=pc.cn * s4, cs=pc.cs * s4)
-    ps = pair_step(scene.integrator, pc, p.shape_at(pc.radius_i), q.shape_at(pc.radius_j) if q is not None else None,
+    ps = pair_step(scheme_of(engine), pc, p.shape_at(pc.radius_i), q.shape_at(pc.radius_j) if q is not None else None,
                    p.kind, q.kind if q is not None else None)
     dt_stab = ps.dt_translation
     res = resolution_step(engine=engine, normal=normal, damping=damping, restitution=e, tol=tol)
