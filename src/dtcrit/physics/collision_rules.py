@@ -152,7 +152,7 @@ def burns_step(m_star: float, k1: float, v: float, restitution: float, s_t: floa
     def f(x: float) -> float:
         return 1.0 - a * x - b * x ** 2.5
 
-    hi = min(1.0 / a if a > 0 else math.inf, b ** -0.4)  # f(hi) <= 0 at either bound
+    hi = 1.01 * min(1.0 / a if a > 0 else math.inf, b ** -0.4)  # f(hi) < 0 beyond either bound
     return float(brentq(f, 0.0, hi, xtol=1e-300, rtol=1e-14))
 
 
