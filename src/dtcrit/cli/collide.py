@@ -1,4 +1,4 @@
-"""``dtcrit collide SCENE``: the step that resolves each collision of a scene (``dtcrit.collisions.report``).
+"""``dtcrit collide SCENE``: the step that resolves each collision of a scene (``dtcrit.scenes.collide``).
 
 dtcrit collide examples/glass_spheres_hertz.toml
 dtcrit collide examples/glass_spheres_hertz.toml --tol 0.001 --json
@@ -87,7 +87,7 @@ def run(args) -> int:
     int
         0; bad input raises ``InputError``, printed as one line with status 2.
     """
-    from dtcrit.collisions.report import collide_report
+    from dtcrit.scenes.collide import collide_report
     from dtcrit.json_meta import envelope
     from dtcrit.scenes.scene import load_scene
 

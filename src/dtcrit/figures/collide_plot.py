@@ -25,7 +25,7 @@ def collide_curves(report: dict, points: int = 24) -> list[dict]:
     Parameters
     ----------
     report : dict
-        From :func:`dtcrit.collisions.report.collide_report`.
+        From :func:`dtcrit.scenes.collide.collide_report`.
     points : int
         Grid points in N between ``N/4`` and ``4 N`` of the binding N.
 
@@ -52,7 +52,7 @@ def write_collide_plot(report: dict, path, points: int = 24) -> list[dict]:
     Parameters
     ----------
     report : dict
-        From :func:`dtcrit.collisions.report.collide_report`.
+        From :func:`dtcrit.scenes.collide.collide_report`.
     path : str or os.PathLike
         The PNG (``check_plot_path``).
     points : int
