@@ -72,6 +72,10 @@ def write_collide_plot(report: dict, path, points: int = 24) -> list[dict]:
         ax.loglog(c["N"], np.maximum(c["peak_overlap"], 1e-12), "--", color=line.get_color(), label=f"{c['pair']}: peak overlap")
         ax.axvline(c["chosen"], color=line.get_color(), lw=0.8, ls=":")
     ax.axhline(report["tol"], color="k", lw=0.8)
+    from matplotlib.ticker import NullFormatter, ScalarFormatter
+
+    ax.xaxis.set_major_formatter(ScalarFormatter())
+    ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set_xlabel("steps per collision N = t_c/dt")
     ax.set_ylabel("worst relative error over the entry phase")
     ax.set_title(f"{report['integrator']}: the chosen step (dotted), tolerance {report['tol']:g}")
