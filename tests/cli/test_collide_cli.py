@@ -169,3 +169,20 @@ def test_the_readme_figure_is_made_by_the_dev_py_command():
     with contextlib.redirect_stdout(buf):
         assert main(["collide", str(GLASS)]) == 0
     assert block == buf.getvalue()
+
+
+def test_hertz_wall_against_the_closed_form(tmp_path, capsys):
+    """A Hertz wall of another material: R* = R, m* = m, E* = 1/((1 - nu^2)/E + (1 - nu_w^2)/E_w)."""
+    scene = tmp_path / "wall.toml"
+    scene.write_text(GLASS.read_text() + '\n[[wall]]\nmodel = "hertz"\nyoungs_modulus = 200e9\npoisson_ratio = 0.3\nrestitution = 0.5\n')
+    by = {p["pair"]: p for p in _json(capsys, scene)["pairs"]}
+    g = _glass()
+    es = 1 / ((1 - mp.mpf("0.22") ** 2) / mp.mpf("63e9") + (1 - mp.mpf("0.3") ** 2) / mp.mpf("200e9"))
+    delta = (15 * g["m"] * g["v"] ** 2 / (16 * es * mp.sqrt(g["R"]))) ** mp.mpf("0.4")
+    t_c = 2 * delta / g["v"] * mp.quad(lambda x: 1 / mp.sqrt(1 - x ** mp.mpf("2.5")), [0, 1])
+    w = by["1-wall1"]
+    assert w["peak_overlap"] == pytest.approx(float(delta), rel=1e-10)
+    assert w["t_c"] == pytest.approx(float(t_c), rel=1e-9)
+    assert w["restitution"] == pytest.approx(0.5, rel=1e-12)
+    res = resolution_step(engine="velocity-verlet", normal="hertz", damping="liggghts", restitution=0.5, tol=0.01)
+    assert w["dt_resolution"] == pytest.approx(float(t_c) / res.steps_per_collision, rel=1e-9)

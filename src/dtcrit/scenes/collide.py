@@ -57,10 +57,18 @@ def _damping_key(pc, wall, m_eff: float) -> tuple[str, str, float]:
     return "hertz", "liggghts", _restitution_from_zeta(pc.zeta, key + ".damping_ratio")
 
 
-def _hertz_terms(pc, m: float, v: float) -> dict:
-    """``E* sqrt(R*)``, ``k1 = 8 G* sqrt(R*)`` and the peak overlap at ``v`` from the tangent stiffnesses at ``pc.velocity``."""
-    v0 = pc.velocity
-    d0 = math.sqrt(15.0 * m * v0 * v0 / (8.0 * pc.kn))  # (4/15) k_n delta^2 = m v^2/2 at the peak
+def _linearised_overlap(scene, pc, wall, m: float) -> float:
+    """The overlap whose tangent stiffness the scene resolved ``pc`` at (``scenes.laws``, ``scenes.hertz_walls``)."""
+    if wall is None:
+        return pc.delta_max
+    if wall.overlap is not None:
+        return wall.overlap
+    v0 = wall.velocity if wall.velocity is not None else scene.contact.velocity
+    return math.sqrt(15.0 * m * v0 * v0 / (8.0 * pc.kn))  # (4/15) k_n delta^2 = m v^2/2 at the peak
+
+
+def _hertz_terms(pc, d0: float, m: float, v: float) -> dict:
+    """``E* sqrt(R*)``, ``k1 = 8 G* sqrt(R*)`` and the peak overlap at ``v`` from the tangent stiffnesses at ``d0``."""
     K = (2.0 / 3.0) * pc.kn / math.sqrt(d0)  # F = K delta^(3/2), k_n = (3/2) K sqrt(delta)
     delta = (1.25 * m * v * v / K) ** 0.4
     return dict(E_sqrtR=0.75 * K, k1=pc.ks / math.sqrt(d0), delta_max=delta, scale=math.sqrt(delta / d0))
@@ -90,7 +98,7 @@ def _entry(scene, pc, p, q, wall, v, tol: float, engine: str) -> dict:
             raise InputError(f"particle[{part.number}].shape", f"dtcrit collide models collisions of spheres, not {part.kind}")
     m = pc.m_star if wall is None else p.mass_at(pc.radius_i)  # against a fixed wall: the particle's mass
     normal, damping, e = _damping_key(pc, wall, m)
-    hz = _hertz_terms(pc, m, v) if normal == "hertz" else None
+    hz = _hertz_terms(pc, _linearised_overlap(scene, pc, wall, m), m, v) if normal == "hertz" else None
     if hz is None:
         t_c, peak = contact_time("hooke", m_eff=m, k=pc.kn), v * math.sqrt(m / pc.kn)
     else:
