@@ -60,13 +60,12 @@ def format_text(rep: dict) -> str:
     """
     lines = [f"collisions resolved by {rep['integrator']} within {rep['tol']:g} (restitution, peak overlap) at v_max = {rep['v_max']:g} m/s"]
     for e in rep["pairs"]:
-        gain = f"gains up to {e['energy_gain']:.2%} energy in the worst entry phase" if e["gains_energy"] else "gains no energy"
         lines += [f"pair {e['pair']}: {e['normal']} law, damping {e['damping']}, e = {e['restitution']:.4g}",
                   f"  t_c = {e['t_c']:.6g} s, peak overlap = {e['peak_overlap']:.6g} m",
                   f"  dt_stability = {e['dt_stability']:.6g} s, " + (f"dt_resolution = {e['dt_resolution']:.6g} s "
                   f"(N_res = {e['steps_resolution']:.4g})" if e["dt_resolution"] else "no step resolves it")
                   + f"; binding: {e['binding']}",
-                  f"  dt = {e['dt']:.6g} s = t_c/{e['steps_per_collision']:.4g}; there the integrator {gain}"]
+                  f"  dt = {e['dt']:.6g} s = t_c/{e['steps_per_collision']:.4g}; there the integrator {e['energy_verdict']}"]
         for r in e["rules"]:
             tail = "not applicable" if r["dt"] is None else f"{r['dt']:.4g} s = {r['ratio']:.3g} x dt  {r['verdict']}"
             lines.append(f"    {r['label']:<48} {tail}")

@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-from dtcrit.collisions import collision_errors, contact_time, resolution_step
+from dtcrit.collisions import collision_errors, contact_time, reference_collision, resolution_step, step_collision
 from dtcrit.collisions.resolution import check_tol
 from dtcrit.collisions.stepping import scheme_of
 from dtcrit.errors import InputError
@@ -31,6 +31,17 @@ __all__ = ["collide_report", "ENERGY_TOL"]
 
 ENERGY_TOL = 1e-9
 """Relative exit-energy excess over the continuum's above which the integrator is said to gain energy."""
+VERDICT_PHASES = 16
+
+
+def _energy_verdict(engine: str, normal: str, damping: str, e: float, n: float, worst: float) -> str:
+    """Whether the stepped impact at N = ``n`` leaves with more energy than the continuum's, over the entry phase."""
+    if worst <= ENERGY_TOL:
+        return "never gains energy"
+    ref = reference_collision(normal=normal, damping=damping, restitution=e).energy_ratio
+    every = all(step_collision(engine=engine, normal=normal, damping=damping, restitution=e, steps_per_collision=n,
+                               phase=k / VERDICT_PHASES).energy_ratio > ref * (1.0 + ENERGY_TOL) for k in range(VERDICT_PHASES))
+    return f"gains energy in {'every' if every else 'some'} entry phase{'' if every else 's'} (up to {worst:.2%})"
 
 
 def _restitution_from_zeta(zeta: float, key: str) -> float:
@@ -122,6 +133,7 @@ def _entry(scene, pc, p, q, wall, v, tol: float, engine: str) -> dict:
         "dt_resolution": dt_res if dt_res > 0 else None, "steps_resolution": res.steps_per_collision if dt_res > 0 else None, "dt": dt, "steps_per_collision": n_bind,
         "binding": "resolution" if dt_res > 0 and dt_res <= dt_stab else "stability",
         "energy_gain": errs["energy_gain"], "gains_energy": errs["energy_gain"] > ENERGY_TOL,
+        "energy_verdict": _energy_verdict(engine, normal, damping, e, n_bind, errs["energy_gain"]),
         "errors_at_dt": {k: errs[k] for k in ("restitution", "peak_overlap", "duration")},
         "rules": [{"key": r.key, "label": r.label, "dt": r.dt, "source": r.source,
                    "ratio": None if r.dt is None else r.dt / dt,
