@@ -8,6 +8,7 @@
                               example) after an intended change of output (test extras); review with git diff
     python3 dev.py mpi-env    create .venv-mpi, the environment of ``dtcrit packing --backend slepc`` (below)
     python3 dev.py audit-figure  redraw README's ``dtcrit audit --plot`` figure (figures extra)
+    python3 dev.py collide-figure  redraw README's ``dtcrit collide --plot`` figure (figures extra)
 
 Every task creates the virtual environment ``.venv`` beside this file when it is missing,
 (re)installs the package whenever ``pyproject.toml`` or ``constraints.txt`` (the pinned versions)
@@ -48,6 +49,8 @@ DEMO_SCENE = "examples/paper_ellipsoids.toml"
 AUDIT_FIGURE = ("audit", "examples/packings/random_lognormal_60.dump", "--pair-style",
                 "gran/hertz/history 1e9 NULL 0 NULL 0.5 0", "--plot", "derivations/records/figures/audit_random_lognormal_60.png")
 """The ``dtcrit`` arguments that make README's "Audit your simulation" figure (``python3 dev.py audit-figure``)."""
+COLLIDE_FIGURE = ("collide", "examples/glass_spheres_hertz.toml", "--plot", "derivations/records/figures/collide_glass_spheres_hertz.png")
+"""The ``dtcrit`` arguments that make README's "Resolve collisions" figure (``python3 dev.py collide-figure``)."""
 
 
 def run(*cmd: str | os.PathLike, env: dict | None = None) -> int:
@@ -56,7 +59,7 @@ def run(*cmd: str | os.PathLike, env: dict | None = None) -> int:
 
 
 EXTRAS = {"demo": (), "test": ("test",), "generate": ("test",), "mpi-env": (), "golden": ("test",),
-          "audit-figure": ("figures",)}
+          "audit-figure": ("figures",), "collide-figure": ("figures",)}
 """The optional dependency groups of pyproject.toml each task installs: the demo runs on the runtime
 dependencies alone; the tests (and the derivation scripts behind ``generate``) need the ``test`` extra."""
 
@@ -250,8 +253,13 @@ def audit_figure() -> int:
     return run(PY, "-m", "dtcrit", *AUDIT_FIGURE, env=child_env())
 
 
+def collide_figure() -> int:
+    """Redraw README's ``dtcrit collide --plot`` figure on the Hertz example (``COLLIDE_FIGURE``)."""
+    return run(PY, "-m", "dtcrit", *COLLIDE_FIGURE, env=child_env())
+
+
 TASKS = {"demo": demo, "test": test, "generate": generate, "mpi-env": mpi_env, "golden": golden,
-         "audit-figure": audit_figure}
+         "audit-figure": audit_figure, "collide-figure": collide_figure}
 
 if __name__ == "__main__":
     if len(sys.argv) < 2 or sys.argv[1] not in TASKS:

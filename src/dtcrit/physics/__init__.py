@@ -16,6 +16,8 @@ one array entry per contact.  Modules:
 * ``walls`` -- a sphere on a fixed wall as each engine codes it (LAMMPS ``fix wall/gran``'s effective
   radius and material constants, YADE's wall and facet arms, the Hertz wall's tangent stiffness).
 * ``collision_laws`` -- the codes' normal collision laws (hooke, hertz; each damping model, clipping).
+* ``collision_rules`` -- the codes' rules for the step of a collision (LIGGGHTS Hertz fraction, EDEM
+  Rayleigh fractions, t_c/50, Burns et al. 2019).
 
 No SymPy is imported here.
 """

@@ -2,6 +2,8 @@
 the ``dtcrit step`` API (``timestep``) and the estimates other DEM codes use (``code_estimates``; their
 formulas and the contact physics are ``dtcrit.physics``); ``local_damping`` (the keys ``local_damping``,
 ``local_damping_law``: the step times ``1/sqrt(1 + alpha)``).
+``collide``: the ``dtcrit collide`` report (the step that resolves each collision of a scene,
+``dtcrit.collisions``).
 
 Runtime only (NumPy; SciPy on first use for polyhedra): scenes import ``bodies`` and
 ``integrators``, never ``symbolic``.

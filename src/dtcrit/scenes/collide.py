@@ -1,0 +1,183 @@
+"""``dtcrit collide``'s report: per contact of a scene, the step that resolves its collision against the
+linear stability step and the codes' rules.
+
+Per pair of particle types (their smallest sizes) and per wall: the elastic contact time ``t_c``
+(``contact_time``) and peak overlap at the largest impact speed, the linear stability step of the
+scene's integrator at the tangent stiffness of that peak (``scenes.pair_modes.pair_step``), the
+resolution step ``t_c/N_res`` (``resolution_step``), which of the two binds, the integrator's energy
+verdict at the binding step (``collision_errors``'s ``energy_gain``), and the codes' rules
+(``physics.collision_rules``) rated against the binding step.
+
+The scene's damping maps to the collision core's keys: a linear law's constant dashpot is the
+``hooke`` law with ``e = exp(-pi zeta/sqrt(1 - zeta^2))``, ``zeta = c_n/(2 sqrt(k_n m*))`` (any convention);
+a Hertz law with the ``liggghts`` or ``edem`` convention (the same ``2 sqrt(5/6) beta sqrt(S_n m*)``
+dashpot) is ``("hertz", "liggghts")`` with the scene's restitution; no damping is ``"none"``.
+Other Hertz damping (``pfc``, coefficients) is refused in one line naming it.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+from dtcrit.collisions import collision_errors, contact_time, reference_collision, resolution_step, step_collision
+from dtcrit.collisions.resolution import check_tol
+from dtcrit.collisions.stepping import scheme_of
+from dtcrit.errors import InputError
+from dtcrit.physics.collision_rules import code_rules
+from dtcrit.scenes.laws import resolve_pair, resolve_wall
+from dtcrit.scenes.pair_modes import pair_step
+
+__all__ = ["collide_report", "ENERGY_TOL"]
+
+ENERGY_TOL = 1e-9
+"""Relative exit-energy excess over the continuum's above which the integrator is said to gain energy."""
+VERDICT_PHASES = 16
+
+
+def _energy_verdict(engine: str, normal: str, damping: str, e: float, n: float, worst: float) -> str:
+    """Whether the stepped impact at N = ``n`` leaves with more energy than the continuum's, over the entry phase."""
+    if worst <= ENERGY_TOL:
+        return "never gains energy"
+    ref = reference_collision(normal=normal, damping=damping, restitution=e).energy_ratio
+    every = all(step_collision(engine=engine, normal=normal, damping=damping, restitution=e, steps_per_collision=n,
+                               phase=k / VERDICT_PHASES).energy_ratio > ref * (1.0 + ENERGY_TOL) for k in range(VERDICT_PHASES))
+    return f"gains energy in {'every' if every else 'some'} entry phase{'' if every else 's'} (up to {worst:.2%})"
+
+
+def _restitution_from_zeta(zeta: float, key: str) -> float:
+    if zeta >= 1.0:
+        raise InputError(key, f"normal damping ratio {zeta:.4g} >= 1: the contact does not rebound")
+    return 1.0 if zeta <= 0.0 else math.exp(-math.pi * zeta / math.sqrt(1.0 - zeta * zeta))
+
+
+def _damping_key(pc, wall, m_eff: float) -> tuple[str, str, float]:
+    """(normal, damping, restitution) of the core for a resolved contact (module docstring)."""
+    hertz = pc.delta_max is not None or (wall is not None and wall.model == "hertz")
+    key = f"wall[{wall.number}]" if wall is not None else "contact"
+    if not hertz:
+        zeta = pc.cn / (2.0 * math.sqrt(pc.kn * m_eff)) if pc.cn > 0 else 0.0
+        e = _restitution_from_zeta(zeta, key + ".damping_ratio")
+        return "hooke", ("none" if e == 1.0 else "liggghts"), e
+    conv = pc.convention
+    if pc.cn <= 0.0:
+        return "hertz", "none", 1.0
+    if conv not in ("liggghts", "edem") or pc.zeta is None:
+        what = f"damping convention {conv!r}" if pc.zeta is not None else "damping given as coefficients"
+        raise InputError(key + ".damping_convention", f"a Hertz collision with {what} is not modelled by dtcrit collide "
+                         "(supported: liggghts, edem with restitution or damping_ratio)")
+    return "hertz", "liggghts", _restitution_from_zeta(pc.zeta, key + ".damping_ratio")
+
+
+def _linearised_overlap(scene, pc, wall, m: float) -> float:
+    """The overlap whose tangent stiffness the scene resolved ``pc`` at (``scenes.laws``, ``scenes.hertz_walls``)."""
+    if wall is None:
+        return pc.delta_max
+    if wall.overlap is not None:
+        return wall.overlap
+    v0 = wall.velocity if wall.velocity is not None else scene.contact.velocity
+    return math.sqrt(15.0 * m * v0 * v0 / (8.0 * pc.kn))  # (4/15) k_n delta^2 = m v^2/2 at the peak
+
+
+def _hertz_terms(pc, d0: float, m: float, v: float) -> dict:
+    """``E* sqrt(R*)``, ``k1 = 8 G* sqrt(R*)`` and the peak overlap at ``v`` from the tangent stiffnesses at ``d0``."""
+    K = (2.0 / 3.0) * pc.kn / math.sqrt(d0)  # F = K delta^(3/2), k_n = (3/2) K sqrt(delta)
+    delta = (1.25 * m * v * v / K) ** 0.4
+    return dict(E_sqrtR=0.75 * K, k1=pc.ks / math.sqrt(d0), delta_max=delta, scale=math.sqrt(delta / d0))
+
+
+def _particle_props(parts) -> dict | None:
+    props = [(p.radii[0], p) for p in parts if p.radii]
+    if not props or any(p.youngs_modulus is None or p.poisson_ratio is None for _, p in props):
+        return None
+    r, p = min(props, key=lambda t: t[0])
+    density = p.shape_at(r).mass / (4.0 / 3.0 * math.pi * r ** 3)
+    return dict(radius=r, density=density, youngs_modulus=p.youngs_modulus, poisson_ratio=p.poisson_ratio)
+
+
+def _contacts(scene):
+    for i, j in scene.pair_numbers():
+        p, q = scene.particle(i), scene.particle(j)
+        yield resolve_pair(scene, i, j), p, q, None  # the smallest sizes: the shortest contact time
+    for w in scene.walls:
+        for i in w.particles:
+            yield resolve_wall(scene, w, i), scene.particle(i), None, w
+
+
+def _entry(scene, pc, p, q, wall, v, tol: float, engine: str) -> dict:
+    for part in (p, q):
+        if part is not None and part.kind != "sphere":
+            raise InputError(f"particle[{part.number}].shape", f"dtcrit collide models collisions of spheres, not {part.kind}")
+    m = pc.m_star if wall is None else p.mass_at(pc.radius_i)  # against a fixed wall: the particle's mass
+    normal, damping, e = _damping_key(pc, wall, m)
+    hz = _hertz_terms(pc, _linearised_overlap(scene, pc, wall, m), m, v) if normal == "hertz" else None
+    if hz is None:
+        t_c, peak = contact_time("hooke", m_eff=m, k=pc.kn), v * math.sqrt(m / pc.kn)
+    else:
+        t_c = contact_time("hertz", m_eff=m, E_eff=hz["E_sqrtR"], R_eff=1.0, v_impact=v)
+        peak = hz["delta_max"]
+        s, s4 = hz["scale"], math.sqrt(hz["scale"])
+        pc = replace(pc, kn=pc.kn * s, ks=pc.ks * s, cn=pc.cn * s4, cs=pc.cs * s4)
+    ps = pair_step(scheme_of(engine), pc, p.shape_at(pc.radius_i), q.shape_at(pc.radius_j) if q is not None else None,
+                   p.kind, q.kind if q is not None else None)
+    dt_stab = ps.dt_translation
+    res = resolution_step(engine=engine, normal=normal, damping=damping, restitution=e, tol=tol)
+    dt_res = t_c / res.steps_per_collision if math.isfinite(res.steps_per_collision) else 0.0
+    dt = min(dt_stab, dt_res) if dt_res > 0 else dt_stab
+    n_bind = t_c / dt
+    errs = collision_errors(engine=engine, normal=normal, damping=damping, restitution=e, steps_per_collision=n_bind)
+    rules = code_rules(t_c=t_c, m_star=m, v_max=v, hertz=hz, restitution=e,
+                       particle=_particle_props([p] if q is None else [p, q]))
+    return {
+        "pair": pc.label, "wall": pc.wall, "normal": normal, "damping": damping, "restitution": e,
+        "m_eff": m, "v_max": v, "t_c": t_c, "peak_overlap": peak, "dt_stability": dt_stab,
+        "dt_resolution": dt_res if dt_res > 0 else None, "steps_resolution": res.steps_per_collision if dt_res > 0 else None, "dt": dt, "steps_per_collision": n_bind,
+        "binding": "resolution" if dt_res > 0 and dt_res <= dt_stab else "stability",
+        "energy_gain": errs["energy_gain"], "gains_energy": errs["energy_gain"] > ENERGY_TOL,
+        "energy_verdict": _energy_verdict(engine, normal, damping, e, n_bind, errs["energy_gain"]),
+        "errors_at_dt": {k: errs[k] for k in ("restitution", "peak_overlap", "duration")},
+        "rules": [{"key": r.key, "label": r.label, "dt": r.dt, "source": r.source,
+                   "ratio": None if r.dt is None else r.dt / dt,
+                   "verdict": None if r.dt is None else ("safe" if r.dt <= dt else "UNSAFE")} for r in rules],
+    }
+
+
+def collide_report(scene, *, tol: float = 0.01, engine: str | None = None, v_max: float | None = None) -> dict:
+    """The collision report of a scene (module docstring).
+
+    Parameters
+    ----------
+    scene : dtcrit.scenes.model.Scene
+        The parsed scene (a ``linear``, ``yade`` or ``hertz`` contact law).
+    tol : float
+        Relative tolerance in (0, 1) on restitution and peak overlap.
+    engine : str, optional
+        Engine or integrator whose stepping is resolved (default: the scene's integrator).
+    v_max : float, optional
+        Largest impact speed [m/s] (default: the scene's ``[contact] velocity``).
+
+    Returns
+    -------
+    dict
+        ``integrator``, ``tol``, ``v_max``, ``pairs`` (one entry per contact) and ``dt`` (the smallest
+        binding step) [s].
+
+    Raises
+    ------
+    InputError
+        No impact speed, a law without collisions (bonds), an unsupported damping convention, a bad tolerance.
+    """
+    tol = check_tol(tol)
+    law = scene.contact
+    if law.model not in ("linear", "yade", "hertz"):
+        raise InputError("contact.model", f"dtcrit collide needs a colliding contact law (linear, yade or hertz), not {law.model!r}")
+    if law.rotational is not None:
+        raise InputError("contact.rolling", "rolling/twisting springs change a collision and are not modelled by dtcrit collide")
+    v = v_max if v_max is not None else law.velocity
+    if v is None:
+        raise InputError("contact.velocity", "dtcrit collide needs the largest impact speed: give [contact] velocity "
+                         "(Hertz) or --v-max [m/s]")
+    if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+        raise InputError("v_max", f"must be a positive finite speed (got {v!r})")
+    engine = engine or scene.integrator
+    pairs = [_entry(scene, pc, p, q, w, float(v), tol, engine) for pc, p, q, w in _contacts(scene)]
+    return {"integrator": engine, "tol": tol, "v_max": float(v), "pairs": pairs, "dt": min(e["dt"] for e in pairs)}
