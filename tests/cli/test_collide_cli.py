@@ -186,3 +186,30 @@ def test_hertz_wall_against_the_closed_form(tmp_path, capsys):
     assert w["restitution"] == pytest.approx(0.5, rel=1e-12)
     res = resolution_step(engine="velocity-verlet", normal="hertz", damping="liggghts", restitution=0.5, tol=0.01)
     assert w["dt_resolution"] == pytest.approx(float(t_c) / res.steps_per_collision, rel=1e-9)
+
+
+def test_the_collision_table_gives_the_speed(tmp_path, capsys):
+    """``[collision] v_max`` is the largest impact speed: the same entries as ``--v-max`` (t_c from the
+    closed form pi sqrt(m*/k) is speed-free; the peak overlap v sqrt(m*/k) scales with it), and
+    ``dtcrit step`` points to ``dtcrit collide`` at that speed."""
+    scene = tmp_path / "floor.toml"
+    scene.write_text(FLOOR.read_text() + "\n[collision]\nv_max = 3.0\n")
+    flag = _json(capsys, FLOOR, "--v-max", "3")
+    table = _json(capsys, scene)
+    assert table["v_max"] == 3.0 and table["pairs"] == flag["pairs"]
+    m = 7800.0 * 4.0 / 3.0 * math.pi * 0.002 ** 3
+    wall = next(p for p in table["pairs"] if p["pair"] == "1-wall1")
+    assert wall["peak_overlap"] == pytest.approx(3.0 * math.sqrt(m / 2.0e5), rel=1e-12)
+    assert _json(capsys, scene, "--v-max", "1.5")["v_max"] == 1.5  # the flag overrides the table
+    assert main(["step", str(scene)]) == 0
+    assert capsys.readouterr().out.strip().splitlines()[-1].startswith("impacts at 3 m/s: `dtcrit collide SCENE`")
+
+
+@pytest.mark.parametrize("table, needle", [("v_max = -1", "collision.v_max"), ("v_mx = 1", "collision.v_mx"),
+                                           ("", "collision.v_max"), ("v_max = nan", "collision.v_max")])
+def test_a_bad_collision_table_is_one_line(tmp_path, capsys, table, needle):
+    scene = tmp_path / "floor.toml"
+    scene.write_text(FLOOR.read_text() + f"\n[collision]\n{table}\n")
+    assert main(["collide", str(scene)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and needle in err

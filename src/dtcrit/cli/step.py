@@ -210,6 +210,7 @@ def run(args) -> int:
         print(json.dumps(result.to_json(), indent=2, allow_nan=False))
     else:
         print(format_text(result))
-        if getattr(scene.contact, "velocity", None) is not None:  # impacts: their resolution is another step
-            print(f"impacts at {scene.contact.velocity:g} m/s: `dtcrit collide SCENE` gives the step that resolves them")
+        speed = scene.collision_v_max if scene.collision_v_max is not None else getattr(scene.contact, "velocity", None)
+        if speed is not None:  # impacts: their resolution is another step
+            print(f"impacts at {speed:g} m/s: `dtcrit collide SCENE` gives the step that resolves them")
     return 0

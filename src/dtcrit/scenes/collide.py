@@ -153,7 +153,7 @@ def collide_report(scene, *, tol: float = 0.01, engine: str | None = None, v_max
     engine : str, optional
         Engine or integrator whose stepping is resolved (default: the scene's integrator).
     v_max : float, optional
-        Largest impact speed [m/s] (default: the scene's ``[contact] velocity``).
+        Largest impact speed [m/s] (default: the scene's ``[collision] v_max``, else its ``[contact] velocity``).
 
     Returns
     -------
@@ -172,10 +172,10 @@ def collide_report(scene, *, tol: float = 0.01, engine: str | None = None, v_max
         raise InputError("contact.model", f"dtcrit collide needs a colliding contact law (linear, yade or hertz), not {law.model!r}")
     if law.rotational is not None:
         raise InputError("contact.rolling", "rolling/twisting springs change a collision and are not modelled by dtcrit collide")
-    v = v_max if v_max is not None else law.velocity
+    v = v_max if v_max is not None else scene.collision_v_max if scene.collision_v_max is not None else law.velocity
     if v is None:
-        raise InputError("contact.velocity", "dtcrit collide needs the largest impact speed: give [contact] velocity "
-                         "(Hertz) or --v-max [m/s]")
+        raise InputError("contact.velocity", "dtcrit collide needs the largest impact speed: give [collision] v_max, "
+                         "[contact] velocity (Hertz) or --v-max [m/s]")
     if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
         raise InputError("v_max", f"must be a positive finite speed (got {v!r})")
     engine = engine or scene.integrator

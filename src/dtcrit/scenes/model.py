@@ -15,7 +15,7 @@ from dtcrit.scenes.damping_input import damping_kind
 # The vocabulary of a scene
 # ----------------------------------------------------------------------------------------------
 TOP_KEYS = ("integrator", "omega_max", "safety", "pairs", "title", "coordination_max", "overlap_max", "isolated", "particle", "contact",
-            "wall", "local_damping", "local_damping_law")
+            "wall", "local_damping", "local_damping_law", "collision")
 PAIRS_CHOICES = ("all", "unlike")
 
 CONTACT_MODELS = ("linear", "yade", "hertz", "bond")
@@ -322,6 +322,9 @@ class Scene:
     local_damping : tuple of (float, str) or None
         Local (Cundall) damping ``(alpha, law)``: the step times ``1/sqrt(1 + alpha)``
         (:mod:`dtcrit.scenes.local_damping`).
+    collision_v_max : float or None
+        The ``[collision]`` table's ``v_max``: the largest impact speed [m/s] ``dtcrit collide`` resolves
+        (:mod:`dtcrit.scenes.collide`).
     """
 
     source: str
@@ -338,6 +341,7 @@ class Scene:
     overlap_max: float = 0.05  # largest overlap in a packing, as a fraction of R_i + R_j (the dense sphere bound)
     isolated: bool = False  # the headline is the isolated-contact step (else the step for any packing)
     local_damping: tuple[float, str] | None = None  # (alpha, law): dtcrit.scenes.local_damping
+    collision_v_max: float | None = None  # [collision] v_max [m/s]: dtcrit.scenes.collide
 
     @property
     def identical(self) -> bool:

@@ -289,7 +289,7 @@ def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
     import dtcrit.scenes.local_damping as local_damping
 
     scene = Scene(source, integrator, tuple(particles), law, omega_max, safety, pairs, title, tuple(found), walls, coordination,
-                  overlap, isolated, local_damping.parse(doc))
+                  overlap, isolated, local_damping.parse(doc), _collision_v_max(doc))
     from dtcrit.scenes.laws import resolve_wall
 
     checks = [(f"pair {i}-{j}", resolve_pair(scene, i, j)) for i, j in scene.pair_numbers()]
@@ -302,6 +302,17 @@ def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
                 raise InputError(key, f"{where}: {name} = {value!r} is outside double precision")
     local_damping.check(scene, checks)
     return scene
+
+
+def _collision_v_max(doc: dict) -> float | None:
+    """The ``[collision]`` table's ``v_max`` [m/s] (the largest impact speed ``dtcrit collide`` resolves)."""
+    if "collision" not in doc:
+        return None
+    table = doc["collision"]
+    if not isinstance(table, dict):
+        raise InputError("collision", "must be a table: [collision] with v_max = SPEED")
+    _check_keys("collision.", table, ("v_max",), ("v_max",), "in [collision]")
+    return _number("collision.v_max", _required("collision.", table, "v_max", "largest impact speed [m/s]"))
 
 
 def parse_scene(text: str, source: str = "<scene>") -> Scene:
