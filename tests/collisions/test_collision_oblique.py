@@ -89,3 +89,22 @@ def test_mixed_stick_slip_is_refused_by_the_reference():
     damped = oblique_case(normal="hertz", damping="yade-mindlin", restitution=0.5, friction=0.1, tangential_ratio=2.0)
     with pytest.raises(InputError):
         reference_oblique(damped, "slide")
+
+
+@pytest.mark.parametrize("dt, radius, young, poisson", [(1e-6, 1e-3, 1e7, 0.3), (1e-8, 1e-1, 1e9, 0.3),
+                                                        (1e-4, 1e-4, 1e6, 0.2), (1e-7, 1e-2, 1e10, 0.45)])
+def test_only_the_dimensionless_groups_survive(dt, radius, young, poisson):
+    """Speeds, sizes and moduli decades apart (SI continuum of the harness) give dtcrit's scaled outcome.
+
+    What survives is mu, v_t/v_n, Poisson's ratio (k_t/k_n = 2 (1 - nu)/(2 - nu) here against the
+    harness's own E* and G*), the radius of gyration (2/5) and delta_el/R (1e-3 here).
+    """
+    base = design("hertz", "none", 0.0, dt=dt, steps_per_collision=100, phase=0.3, radius=radius, young=young,
+                  poisson=poisson)
+    for mode, (mu, ratio, harness) in CASES.items():  # sticking sees k_t/k_n; sliding does not
+        ref = harness(replace(base, tangential_speed=ratio * base.speed, friction=mu))
+        case = oblique_case(normal="hertz", damping="none", restitution=1.0, friction=mu, tangential_ratio=ratio,
+                            poisson=poisson)
+        got = reference_oblique(case, mode)
+        for name in ("restitution", "tangential_restitution", "spin"):
+            assert _close(getattr(got, name), getattr(ref, name), 1e-8, 1e-10), (mode, name)
