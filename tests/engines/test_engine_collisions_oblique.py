@@ -14,7 +14,8 @@ nu = 0.3, elastic peak overlap 1e-3 R (dtcrit's ``overlap_ratio``).
   dtcrit models both, and with them matches LAMMPS to ~1e-10.
 
 At N = 5, 12, 40 and three entry phases, dtcrit's stepped outcome equals the engines' to 1e-9
-relative (1e-12 absolute on the spin, which nearly vanishes at some phases).
+relative (1e-12 absolute on the spin, which nearly vanishes at some phases); also with LAMMPS's
+2021 ``tsuji`` dashpot (e = 0.5), tangential damping, ``limit_damping`` and a stick-slip case.
 """
 from __future__ import annotations
 
@@ -83,3 +84,34 @@ def test_engine_cases_are_the_regimes_the_continuum_reference_checks(mode):
     ref = reference_oblique(oblique_case(normal="hertz", damping="none", restitution=1.0, friction=mu,
                                          tangential_ratio=ratio), mode)
     assert ref.restitution == pytest.approx(1.0, abs=1e-3)
+
+
+DAMPED = [(1.0e4, 1.0, 0.5, False), (0.1, 2.0, 0.0, True), (0.3, 0.5, 0.3, False)]  # mu, v_t/v_n, gammat, clip
+
+
+def test_lammps_damped_and_stick_slip_oblique_impacts_equal_dtcrits_stepped_impact():
+    """LAMMPS 2021 ``tsuji`` (e = 0.5) with tangential damping, ``limit_damping``, and stick-slip (mu = 0.3).
+
+    dtcrit's key for Debian's 2021 ``tsuji`` is ``lammps-tsuji-2021``; 1e-9 relative (measured 2.6e-11).
+    """
+    from dtcrit.collisions.oblique import oblique_case, step_oblique
+
+    require_engine("lammps")
+    cases = []
+    for mu, ratio, gammat, clip in DAMPED:
+        for n in COARSE_N:
+            for p in PHASES:
+                base = design("hertz", "lammps-tsuji", 0.5, dt=DT, steps_per_collision=n, phase=p, clip=clip)
+                imp = replace(base, tangential_speed=ratio * base.speed, friction=mu, gammat_ratio=gammat)
+                cases.append(((mu, ratio, gammat, clip), n, p, imp))
+    outs = collisions_lammps.collide([c[3] for c in cases], DT)
+    bad = []
+    for ((mu, ratio, gammat, clip), n, p, _), got in zip(cases, outs):
+        c = oblique_case(normal="hertz", damping="lammps-tsuji-2021", restitution=0.5, friction=mu,
+                         tangential_ratio=ratio, gammat_ratio=gammat, clip=clip)
+        want = step_oblique(c, n, p)
+        for name in ("restitution", "tangential_restitution", "spin"):
+            a, b = getattr(got, name), getattr(want, name)
+            if abs(a - b) > 1e-9 * abs(b) + 1e-12:
+                bad.append(f"mu={mu} gammat={gammat} clip={clip} N={n} phase={p}: {name} engine {a!r} dtcrit {b!r}")
+    assert not bad, "\n".join(bad)
