@@ -16,7 +16,7 @@ API (units: ``restitution`` as the code takes it, see ``scaled.scaled_law``):
 * ``resolution_step(*, engine, normal, damping, restitution, tol=0.01, quantities=(...), clip=None)``.
 
 Modules: ``scaled``, ``laws``, ``reference``, ``stepping``, ``resolution``, ``tables``,
-``resolution_table``.
+``resolution_table``, ``oblique``.
 """
 from __future__ import annotations
 
@@ -27,6 +27,7 @@ from dtcrit.collisions.resolution import QUANTITIES, Resolution, resolve, worst_
 from dtcrit.collisions.laws import scaled_law
 from dtcrit.collisions.scaled import HERTZ_W0, ScaledLaw, scaled_from_physical
 from dtcrit.collisions.stepping import scheme_of, step_outcome
+from dtcrit.collisions.oblique import oblique_errors  # noqa: F401  (oblique impacts: tangential restitution, spin)
 from dtcrit.errors import InputError
 from dtcrit.physics.collision_laws import check_normal
 
