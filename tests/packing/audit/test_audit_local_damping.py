@@ -186,3 +186,17 @@ def test_yades_law_at_high_damping_warns_of_its_counterexample(tmp_path, capsys)
         assert main(["audit", _export(tmp_path / f"w{alpha}.json", alpha)]) == 0
         out, _ = capsys.readouterr()
         assert ("warning: at alpha >= 0.8" in out) is warned
+
+
+def test_dt_safe_is_not_called_a_proved_step_under_yades_law(capsys):
+    """Under YADE's law nothing is proved below the onset (derivations/records/local_damping.md): the text
+    says what dt_safe bounds; under PFC's law it stays the rigorous lower bound of a proved interval."""
+    dump = str(ROOT / "examples" / "packings" / "random_lognormal_60.dump")
+    style = "gran/hooke/history 1e5 NULL 0 NULL 0.5 0"
+    lines = {}
+    for law in ("yade", "pfc"):
+        assert main(["audit", dump, "--pair-style", style, "--integrator", "leapfrog", "--local-damping", "0.3",
+                     "--local-damping-law", law]) == 0
+        lines[law] = next(x for x in capsys.readouterr().out.splitlines() if x.startswith("dt_safe"))
+    assert "shown by simulation only" in lines["yade"] and "on the onset" in lines["yade"]
+    assert "(rigorous lower bound; " in lines["pfc"] and "simulation" not in lines["pfc"]

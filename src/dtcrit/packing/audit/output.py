@@ -79,6 +79,14 @@ def _ratio(x: float) -> str:
     return text
 
 
+def _safe_words(r: AuditReport) -> str:
+    """What ``dt_safe`` is: a rigorous lower bound, except under YADE's local damping law, where it bounds
+    the onset of instability and stability below the onset is shown by simulation only."""
+    if r.local_damping and r.local_damping.get("status") == "onset":
+        return "rigorous lower bound on the onset; stability below it is shown by simulation only"
+    return "rigorous lower bound"
+
+
 def format_audit(r: AuditReport) -> str:
     """The audit as text.
 
@@ -100,7 +108,7 @@ def format_audit(r: AuditReport) -> str:
         + (", dashpots in the damping matrix" if r.damped else ", no dashpots"),
         "",
         f"dt_crit = {r.dt_crit:.7g} s   ({r.method})",
-        f"dt_safe = {r.dt_safe:.7g} s   (rigorous lower bound; dt_safe/dt_crit = {_ratio(r.dt_safe / r.dt_crit)})",
+        f"dt_safe = {r.dt_safe:.7g} s   ({_safe_words(r)}; dt_safe/dt_crit = {_ratio(r.dt_safe / r.dt_crit)})",
     ]
     if r.damped:
         lines.append(f"undamped 2/omega_max = {r.dt_undamped:.7g} s")
