@@ -120,6 +120,9 @@ def test_step_points_to_collide(capsys):
     ([FLOOR], "contact.velocity"),
     ([GLASS, "--tol", "1"], "--tol"),
     ([GLASS, "--tol", "0"], "--tol"),
+    ([GLASS, "--tol", "1e-6"], "--tol: 1-1: no step resolves"),  # never a fall-back to the stability step
+    ([GLASS, "--v-max", "3000"], "--v-max: 1-1: the peak overlap"),  # beyond the radius: not Hertz
+    ([GLASS, "--engine", "foo"], "--engine"),
 ])
 def test_bad_input_is_one_line(argv, needle, capsys):
     try:

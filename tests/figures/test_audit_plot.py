@@ -142,3 +142,14 @@ def test_the_readme_figure_is_made_by_the_dev_py_command():
                  f"{100 * g.rotational_kinetic:.1g} % of its kinetic energy", f"{100 * audit.limiting_share:.3g} %",
                  ", ".join(str(i) for i in audit.limiting)):
         assert text in described
+
+
+def test_a_file_name_with_mathtext_signs_is_drawn_as_text(tmp_path, capsys):
+    """The snapshot's name is the figure's title: ``$...$`` in it is text, not a mathtext formula that
+    Matplotlib would fail to parse after the audit has run."""
+    dump = tmp_path / "run_$\\frac$.dump"
+    dump.write_bytes((ROOT / "examples" / "packings" / "random_lognormal_60.dump").read_bytes())
+    png = tmp_path / "a.png"
+    assert main(["audit", str(dump), "--pair-style", "gran/hertz/history 1e9 NULL 0 NULL 0.5 0",
+                 "--plot", str(png)]) == 0
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and "dt_crit" in capsys.readouterr().out

@@ -86,6 +86,7 @@ def run(args) -> int:
     int
         0; bad input raises ``InputError``, printed as one line with status 2.
     """
+    from dtcrit.errors import InputError
     from dtcrit.scenes.collide import collide_report
     from dtcrit.json_meta import envelope
     from dtcrit.scenes.scene import load_scene
@@ -96,7 +97,16 @@ def run(args) -> int:
         check_plot_path(args.plot)
     args.source_label = args.scene
     scene = load_scene(args.scene)
-    rep = collide_report(scene, tol=args.tol, engine=args.engine, v_max=args.v_max)
+    try:
+        rep = collide_report(scene, tol=args.tol, engine=args.engine, v_max=args.v_max)
+    except InputError as exc:  # a value a flag set is named by its flag, not by the scene file
+        flag = {"tol": "--tol", "engine": "--engine" if args.engine else None,
+                "integrator": "--engine" if args.engine else None,
+                "v_max": "--v-max" if args.v_max is not None else None}.get(exc.key or "")
+        if flag is None:
+            raise
+        args.source_label = None
+        raise InputError(flag, exc.reason) from None
     if args.plot:
         from dtcrit.figures.collide_plot import write_collide_plot
 

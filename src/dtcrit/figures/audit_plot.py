@@ -174,7 +174,7 @@ def draw_audit_plot(data: AuditFigureData):
     fig = plt.figure(figsize=(12.5, 5.4))
     _particles(fig.add_subplot(1, 2, 1), fig, data)
     _spectrum(fig.add_subplot(1, 2, 2), data)
-    fig.suptitle(data.title, fontsize=9)
+    fig.suptitle(data.title, fontsize=9, parse_math=False)  # a file name is text, never mathtext
     fig.subplots_adjust(left=0.06, right=0.8, wspace=0.35)
     return fig
 

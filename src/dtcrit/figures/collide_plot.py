@@ -68,8 +68,9 @@ def write_collide_plot(report: dict, path, points: int = 24) -> list[dict]:
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
     for c in curves:
-        line, = ax.loglog(c["N"], np.maximum(c["restitution"], 1e-12), label=f"{c['pair']}: restitution")
-        ax.loglog(c["N"], np.maximum(c["peak_overlap"], 1e-12), "--", color=line.get_color(), label=f"{c['pair']}: peak overlap")
+        name = str(c["pair"]).replace("$", r"\$")  # a wall's name is text, never mathtext
+        line, = ax.loglog(c["N"], np.maximum(c["restitution"], 1e-12), label=f"{name}: restitution")
+        ax.loglog(c["N"], np.maximum(c["peak_overlap"], 1e-12), "--", color=line.get_color(), label=f"{name}: peak overlap")
         ax.axvline(c["chosen"], color=line.get_color(), lw=0.8, ls=":")
     ax.axhline(report["tol"], color="k", lw=0.8)
     from matplotlib.ticker import NullFormatter, ScalarFormatter
@@ -78,7 +79,7 @@ def write_collide_plot(report: dict, path, points: int = 24) -> list[dict]:
     ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set_xlabel("steps per collision N = t_c/dt")
     ax.set_ylabel("worst relative error over the entry phase")
-    ax.set_title(f"{report['integrator']}: the chosen step (dotted), tolerance {report['tol']:g}")
+    ax.set_title(f"{report['integrator']}: the chosen step (dotted), tolerance {report['tol']:g}", parse_math=False)
     ax.legend(fontsize=7)
     fig.tight_layout()
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".png", dir=target.parent if str(target.parent) else ".")

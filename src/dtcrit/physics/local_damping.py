@@ -46,6 +46,29 @@ YADE_MARGIN_ALPHA = 0.8
 ``derivations/records/local_damping.md``): the onset is then no safe step."""
 
 
+def check_established(alpha: float, law: str, key: str = "local_damping") -> None:
+    """Refuse YADE's law from :data:`YADE_MARGIN_ALPHA` on, where no safe step is established.
+
+    Parameters
+    ----------
+    alpha : float
+        The local damping coefficient.
+    law : str
+        Its law (:data:`LAWS`).
+    key : str
+        The input named in the refusal.
+
+    Raises
+    ------
+    InputError
+        ``law == "yade"`` and ``alpha >= YADE_MARGIN_ALPHA``: runs grew at 0.93-0.95 of the onset.
+    """
+    if law == "yade" and alpha >= YADE_MARGIN_ALPHA:
+        raise InputError(key, f"local damping {alpha:g} with YADE's law: from {YADE_MARGIN_ALPHA:g} on, runs grew at "
+                              "0.93-0.95 of the onset 2/(omega_max sqrt(1 + alpha)) (derivations/records/local_damping.md), "
+                              "and no safe step is established")
+
+
 def check_alpha(alpha: float, key: str = "local_damping") -> float:
     """The local damping coefficient as a float in [0, 1), or an ``InputError`` naming ``key``.
 

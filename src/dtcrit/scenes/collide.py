@@ -115,14 +115,21 @@ def _entry(scene, pc, p, q, wall, v, tol: float, engine: str) -> dict:
     else:
         t_c = contact_time("hertz", m_eff=m, E_eff=hz["E_sqrtR"], R_eff=1.0, v_impact=v)
         peak = hz["delta_max"]
+        radius = min(r for r in (pc.radius_i, pc.radius_j) if r is not None and r > 0)
+        if not peak < radius:
+            raise InputError("v_max", f"{pc.label}: the peak overlap at {v:g} m/s, {peak:.4g} m, is not below the "
+                                      f"radius {radius:.4g} m: Hertz's law does not describe this impact")
         s, s4 = hz["scale"], math.sqrt(hz["scale"])
         pc = replace(pc, kn=pc.kn * s, ks=pc.ks * s, cn=pc.cn * s4, cs=pc.cs * s4)
     ps = pair_step(scheme_of(engine), pc, p.shape_at(pc.radius_i), q.shape_at(pc.radius_j) if q is not None else None,
                    p.kind, q.kind if q is not None else None)
     dt_stab = ps.dt_translation
     res = resolution_step(engine=engine, normal=normal, damping=damping, restitution=e, tol=tol)
-    dt_res = t_c / res.steps_per_collision if math.isfinite(res.steps_per_collision) else 0.0
-    dt = min(dt_stab, dt_res) if dt_res > 0 else dt_stab
+    if not math.isfinite(res.steps_per_collision):  # no step resolves it: never fall back to stability alone
+        raise InputError("tol", f"{pc.label}: no step resolves this collision within {tol:g} "
+                                f"({', '.join(res.quantities)}) with {engine}; raise --tol")
+    dt_res = t_c / res.steps_per_collision
+    dt = min(dt_stab, dt_res)
     n_bind = t_c / dt
     errs = collision_errors(engine=engine, normal=normal, damping=damping, restitution=e, steps_per_collision=n_bind)
     rules = code_rules(t_c=t_c, m_star=m, v_max=v, hertz=hz, restitution=e,

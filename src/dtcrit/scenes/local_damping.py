@@ -67,6 +67,7 @@ def parse(doc: dict[str, Any]) -> tuple[float, str] | None:
     if law is None:
         raise InputError("local_damping", "name the law as local_damping_law = \"yade\" or \"pfc\"")
     law = phys.check_law(law, "local_damping_law")
+    phys.check_established(value, law, "local_damping")
     return None if value == 0.0 else (value, law)
 
 
@@ -129,4 +130,8 @@ def apply(result: Any) -> Any:
     bound = (f"{result.bound}; x 1/sqrt(1 + alpha) = {factor:.6g} for local damping alpha = {alpha:g} (law {law}"
              f"): {what}")
     estimates = tuple(RatedEstimate(r.estimate, dt) for r in result.estimates)
-    return replace(result, dt_crit=dt, bound=bound, estimates=estimates)
+    dense = result.dense  # the packing step and the isolated-contact step are damped alike
+    if dense is not None and dense.dt is not None:
+        dense = replace(dense, dt=dense.dt * factor)
+    return replace(result, dt_crit=dt, bound=bound, estimates=estimates, dense=dense,
+                   dt_isolated=result.dt_isolated * factor)

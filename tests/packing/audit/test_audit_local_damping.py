@@ -179,13 +179,21 @@ def test_the_api_names_the_parameter(tmp_path):
     assert a.local_damping is not None and a.local_damping["law"] == "yade"
 
 
-def test_yades_law_at_high_damping_warns_of_its_counterexample(tmp_path, capsys):
+def test_yades_law_at_high_damping_is_refused(tmp_path, capsys):
     """derivations/records/local_damping.md: with YADE's law at alpha 0.8-0.9 runs on a 5-mass chain grew at
-    0.93-0.95 of the onset; the text says so from 0.8 on, not below."""
-    for alpha, warned in ((0.7, False), (0.85, True)):
-        assert main(["audit", _export(tmp_path / f"w{alpha}.json", alpha)]) == 0
-        out, _ = capsys.readouterr()
-        assert ("warning: at alpha >= 0.8" in out) is warned
+    0.93-0.95 of the onset, so no safe step is established there: refused in one line from 0.8 on (export,
+    flag and scene alike); PFC's law, proved for every alpha, is not."""
+    assert main(["audit", _export(tmp_path / "w0.7.json", 0.7)]) == 0
+    capsys.readouterr()
+    assert main(["audit", _export(tmp_path / "w0.85.json", 0.85)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "newton_damping" in err and "0.93-0.95" in err
+    dump = str(ROOT / "examples" / "packings" / "random_lognormal_60.dump")
+    base = ["audit", dump, "--pair-style", "gran/hooke/history 1e5 NULL 0 NULL 0.5 0", "--integrator", "leapfrog",
+            "--local-damping", "0.8", "--local-damping-law"]
+    assert main(base + ["yade"]) == 2 and "--local-damping" in capsys.readouterr().err
+    assert main(base + ["pfc"]) == 0
+    capsys.readouterr()
 
 
 def test_dt_safe_is_not_called_a_proved_step_under_yades_law(capsys):

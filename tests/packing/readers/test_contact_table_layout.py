@@ -84,6 +84,8 @@ def test_yade_engine_dump_and_table_match_the_yade_export(tmp_path):
     ("id1 id2 kn ks kn\n1 2 1 1 1\n", "contacts.txt:1: the header names the column kn twice"),
     ("# YADE\nid1 id2 kn ks gamma_n\n1 2 1 1 1\n", "contacts.txt:2: the column gamma_n looks like a contact term"),
     ("# a comment\n\nid1 id2 kn\n1 2 1\n", "contacts.txt:3: the header must name the columns"),
+    ("id1 id2 kn ks Cn\n1 2 1 1 1\n", "contacts.txt:1: the column Cn looks like a contact term"),  # any case
+    ("id1 id2 kn ks\n1 2 1 1\n\n2 1 1 1\n", "contacts.txt:4: this pair is listed already on line 2"),
 ])
 def test_bad_headers_are_one_line(text, expected, tmp_path, capsys):
     dump = _dump(tmp_path)

@@ -131,6 +131,7 @@ def resolve(meta: Mapping[str, Any], source: str, alpha: float | None, law: str 
                                           "at the on-step velocity estimate; PFC: sign of F.v at the half step)")
     if alpha == 0.0:
         return None
+    phys.check_established(alpha, law, key)
     if meta.get("clumps"):
         raise InputError(key, f"local damping {alpha:g} on clumps is not modelled (YADE rotates aspherical bodies "
                               "with its own scheme and damps their torques against a non-diagonal inertia)")
@@ -200,7 +201,4 @@ def text_lines(report: AuditReport) -> list[str]:
             "comes in windows, never an interval")
     lines = [f"local damping alpha = {ld['alpha']:g} ({_LAW_WORDS[ld['law']]}): dt_crit = 2/(omega_max sqrt(1 + alpha)) "
              f"= {ld['factor']:.6g} x undamped 2/omega_max = {report.dt_undamped:.6g} s", f"  dt_crit is {what}"]
-    if ld["law"] == "yade" and ld["alpha"] >= phys.YADE_MARGIN_ALPHA:
-        lines.append(f"  warning: at alpha >= {phys.YADE_MARGIN_ALPHA:g} runs with YADE's law grew at 0.93-0.95 x this onset "
-                     "on a 5-mass chain (derivations/records/local_damping.md): keep a margin below it")
     return lines

@@ -81,7 +81,8 @@ def _ratio(x: float) -> str:
 
 def _safe_words(r: AuditReport) -> str:
     """What ``dt_safe`` is: a rigorous lower bound, except under YADE's local damping law, where it bounds
-    the onset of instability and stability below the onset is shown by simulation only."""
+    the onset of instability and stability below the onset is shown by simulation only.
+    """
     if r.local_damping and r.local_damping.get("status") == "onset":
         return "rigorous lower bound on the onset; stability below it is shown by simulation only"
     return "rigorous lower bound"

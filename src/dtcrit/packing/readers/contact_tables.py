@@ -155,10 +155,12 @@ def _header(path: Path, lines: list[str]) -> tuple[int, list[str]]:
     if missing:
         raise InputError(f"{path}:{first + 1}", f"the header must name the columns {' '.join(REQUIRED)} "
                                                 f"(missing {' '.join(missing)})")
-    other = [c for c in header if c.lower() in SYNONYMS and c not in REQUIRED + OPTIONAL]
-    if other:
+    known = REQUIRED + OPTIONAL
+    other = [c for c in header if (c.lower() in SYNONYMS or c.lower() in known) and c not in known]
+    if other:  # a term under another name or case (Cn, KT): refused, never dropped
+        name = SYNONYMS.get(other[0].lower(), other[0].lower())
         raise InputError(f"{path}:{first + 1}", f"the column {other[0]} looks like a contact term, which this table "
-                                                f"would not read: name it {SYNONYMS[other[0].lower()]} (N/m, N s/m, "
+                                                f"would not read: name it {name} (N/m, N s/m, "
                                                 "N m/rad, N m s/rad, N) or drop it")
     twice = sorted({c for c in header if header.count(c) > 1})
     if twice:
@@ -192,6 +194,13 @@ def _read_contact_table(path: Path, packing: Packing) -> ContactTable:
         numbers.append(n + 1)
     if not pairs:
         raise InputError(f"{path}:{k + 1}", "the contact table has a header but no contacts")
+    seen: dict[tuple[int, int], int] = {}
+    for (i, j), line in zip(pairs, numbers):  # a contact listed twice would count its springs twice
+        key = (min(i, j), max(i, j))
+        if key in seen:
+            raise InputError(f"{path}:{line}", f"this pair is listed already on line {seen[key]}: each contact "
+                                               "goes on one line")
+        seen[key] = line
     ij = np.array(pairs, dtype=np.int64)
     _apart(path, packing, ij, numbers)
     data = np.array(rows, dtype=float).reshape(len(pairs), len(used) - 2)
