@@ -55,8 +55,8 @@ CASES = {
     "lammps-tsuji-2021": ("restitution = 0.5", lambda d: _alpha(0.5) * math.sqrt(MS * K * math.sqrt(d)), False),
     "lammps-coeff-restitution": ("restitution = 0.3", lambda d: math.sqrt(1.5) * 2.0 * math.sqrt(5.0 / 6.0) * _beta(0.3)
                                  * math.sqrt(MS * K * math.sqrt(d)), False),
-    "lammps-viscoelastic": ("damping_coefficient = 4.0e5", lambda d: 4.0e5 * math.sqrt(RS * d) * MS, False),
-    "lammps-mass-velocity": ("damping_coefficient = 2.0e4", lambda d: 2.0e4 * MS, False),
+    "lammps-viscoelastic": ("damping_coefficient = 5.0e9", lambda d: 5.0e9 * math.sqrt(RS * d) * MS, False),
+    "lammps-mass-velocity": ("damping_coefficient = 2.0e5", lambda d: 2.0e5 * MS, False),
     "yade-mindlin": ("restitution = 0.5", lambda d: 2.0 * _thornton(0.5) * math.sqrt(MS * 1.5 * K * math.sqrt(d)), True),
     "mercurydpm": ("restitution = 0.7", lambda d: math.sqrt(5.0) * _beta(0.7) * math.sqrt(MS * K * math.sqrt(d)), False),
 }
