@@ -29,6 +29,7 @@ def _impact(phase: float) -> Impact:
 
 
 def test_lammps_at_collides_step_lands_within_tol(capsys):
+    """Restitution and peak overlap within tol at collide's dt over 48 phases; some phase beyond it at 1.2 dt."""
     require_engine("lammps")
     assert main(["collide", str(SCENE), "--json"]) == 0
     (pair,) = json.loads(capsys.readouterr().out)["pairs"]

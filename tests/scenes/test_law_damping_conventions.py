@@ -82,7 +82,8 @@ def _continuum_restitution(eta, clip: bool, v: float) -> float:
 
     def out(_t, y):
         return y[0]
-    out.terminal, out.direction = True, -1
+    setattr(out, "terminal", True)  # solve_ivp reads these attributes of an event function
+    setattr(out, "direction", -1)
     t_c = 3.0 * (MS**2 / (RS * ES**2 * v)) ** 0.2
     t0 = 1e-6 * t_c
     sol = solve_ivp(rhs, (t0, 20.0 * t_c), [v * t0, v], method="DOP853", rtol=1e-12, atol=1e-20, events=out,
@@ -98,6 +99,7 @@ def _collide(capsys, path):
 
 @pytest.mark.parametrize("name", list(CASES))
 def test_collide_restitution_is_the_continuum_impact(tmp_path, capsys, name):
+    """The continuum restitution at v_max is the law's, solved here; a coefficient law is keyed by it."""
     _, eta, clip = CASES[name]
     pair = _collide(capsys, _scene(tmp_path, name))
     assert pair["damping_convention"] == name
@@ -118,6 +120,7 @@ def _shear_dashpot(name, cn, d):
 
 @pytest.mark.parametrize("name", list(CASES))
 def test_dashpots_at_the_peak_and_at_the_linearisation_overlap(tmp_path, capsys, name):
+    """The dashpots of collide at the peak overlap at v_max, and step's at the overlap of the impact at velocity."""
     _, eta, _ = CASES[name]
     path = _scene(tmp_path, name)
     pair = _collide(capsys, path)
@@ -164,6 +167,7 @@ def test_bad_damping_input_is_one_line(tmp_path, capsys, command, case, lines, n
 
 
 def test_a_linear_wall_under_a_lammps_law_is_refused(tmp_path, capsys):
+    """A linear wall in a scene whose Hertz convention is a LAMMPS law: not modelled, one line."""
     path = _scene(tmp_path, "lammps-tsuji")
     with open(path, "a") as fh:
         fh.write("[[wall]]\nkn = 1e5\nks = 1e4\n")

@@ -62,7 +62,8 @@ def _is_hertz(pc, wall) -> bool:
 def _law_key(scene, pc, wall, m_eff: float, hz: dict, v: float) -> tuple[str, str, float]:
     """(normal, damping, restitution) of the core under a law convention (``scenes.law_damping``).
 
-    A law that takes ``e`` is keyed by it; one that takes ``eta_n0`` by its continuum restitution at ``v``."""
+    A law that takes ``e`` is keyed by it; one that takes ``eta_n0`` by its continuum restitution at ``v``.
+    """
     law = LAW_CONVENTIONS[pc.convention]
     if law.takes == "restitution":
         e = (wall.restitution if wall is not None else scene.contact.restitution)

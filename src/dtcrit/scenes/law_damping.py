@@ -161,6 +161,7 @@ def check_law_input(prefix: str, convention: str | None, model: str, given: dict
                 raise InputError(prefix + key, "used only with a Hertz damping_convention that takes it "
                                  f"({', '.join(LAW_CONVENTIONS)}); not with {convention or 'the default'!r}")
         return None, None
+    assert convention is not None  # is_law_convention
     law = LAW_CONVENTIONS[convention]
     if given.get("damping_ratio") is not None:
         raise InputError(prefix + "damping_ratio", f"{convention} takes "

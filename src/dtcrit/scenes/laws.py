@@ -56,6 +56,15 @@ def _dashpots(conv, damping: str, cn, cs, zeta, kn: float, ks: float, m_eff: flo
     return cn, cs, zn, zs
 
 
+def _law_terms(conv, e, coefficient, factor, kn: float, ks: float, m_eff: float,
+               a: float | None) -> tuple[float, float, float | None, float | None]:
+    """(c_n, c_s, zeta_n, zeta_s) of a Hertz law convention at the tangent stiffnesses (``scenes.law_damping``)."""
+    cn, cs = law_dashpots(conv.name, restitution=e, coefficient=coefficient, tangential_factor=factor, kn=kn, ks=ks,
+                          m_eff=m_eff, contact_radius=a)
+    zn, zs = conv.ratios(cn, cs, kn, ks, m_eff)
+    return cn, cs, zn, zs
+
+
 def resolve_pair(scene, i: int, j: int, r1: float | None = None, r2: float | None = None) -> PairContact:
     """The linearised contact of particle types ``i`` and ``j`` at given radii (module docstring).
 
@@ -105,10 +114,8 @@ def resolve_pair(scene, i: int, j: int, r1: float | None = None, r2: float | Non
         kn, ks, extra = _hertz(scene, p, q, m_star, r1, r2, label)
     conv = _convention(law)
     if is_law_convention(conv.name, law.model):  # one code's collision law at the linearisation overlap
-        cn, cs = law_dashpots(conv.name, restitution=law.restitution, coefficient=law.damping_coefficient,
-                              tangential_factor=law.tangential_damping_factor, kn=kn, ks=ks, m_eff=m_star,
-                              contact_radius=math.sqrt(extra["r_star"] * extra["delta_max"]))
-        zn, zs = conv.ratios(cn, cs, kn, ks, m_star)
+        cn, cs, zn, zs = _law_terms(conv, law.restitution, law.damping_coefficient, law.tangential_damping_factor, kn, ks,
+                                    m_star, math.sqrt(extra["r_star"] * extra["delta_max"]))
     else:
         cn, cs, zn, zs = _dashpots(conv, law.damping, law.cn, law.cs, law.damping_ratio, kn, ks, m_star)
     kr, ktw, cr, ctw = _rotational(law, kn, ks, cs, p.shape_at(r1), q.shape_at(r2), r1, r2, m1, m2, extra.get("delta_max"), label)
@@ -197,10 +204,7 @@ def resolve_wall(scene, wall, i: int, r: float | None = None) -> PairContact:
     m_eff = conv.wall_mass * m
     _check_law_wall(scene, wall)
     if is_law_convention(conv.name, "hertz") and wall.model == "hertz":
-        cn, cs = law_dashpots(conv.name, restitution=wall.restitution, coefficient=None,
-                              tangential_factor=scene.contact.tangential_damping_factor, kn=kn, ks=ks, m_eff=m_eff,
-                              contact_radius=None)
-        zn, zs = conv.ratios(cn, cs, kn, ks, m_eff)
+        cn, cs, zn, zs = _law_terms(conv, wall.restitution, None, scene.contact.tangential_damping_factor, kn, ks, m_eff, None)
     else:
         cn, cs, zn, zs = _dashpots(conv, wall.damping, wall.cn, wall.cs, wall.damping_ratio, kn, ks, m_eff)
     return PairContact(i, 0, m_eff, kn, ks, cn, cs, wall.damping_ratio if wall.damping not in ("coefficients", "none") else None,
