@@ -85,8 +85,7 @@ def _continuum_restitution(eta, clip: bool, v: float) -> float:
     setattr(out, "terminal", True)  # solve_ivp reads these attributes of an event function
     setattr(out, "direction", -1)
     t_c = 3.0 * (MS**2 / (RS * ES**2 * v)) ** 0.2
-    t0 = 1e-6 * t_c
-    sol = solve_ivp(rhs, (t0, 20.0 * t_c), [v * t0, v], method="DOP853", rtol=1e-12, atol=1e-20, events=out,
+    sol = solve_ivp(rhs, (0.0, 20.0 * t_c), [0.0, v], method="DOP853", rtol=1e-12, atol=1e-20, events=out,
                     max_step=t_c / 200.0)
     return -float(sol.y_events[0][0][1]) / v
 
@@ -172,3 +171,30 @@ def test_a_linear_wall_under_a_lammps_law_is_refused(tmp_path, capsys):
     with open(path, "a") as fh:
         fh.write("[[wall]]\nkn = 1e5\nks = 1e4\n")
     _one_line_exit_2(capsys, ["collide", path], "wall[1].model")
+
+
+def test_hertz_wall_under_a_law_convention(tmp_path, capsys):
+    """A Hertz wall of the particle's material under tsuji (2021): ``m* = m``, ``R* = R``, its own restitution."""
+    path = _scene(tmp_path, "lammps-tsuji-2021")
+    with open(path, "a") as fh:
+        fh.write('[[wall]]\nmodel = "hertz"\nrestitution = 0.3\n')
+    assert main(["collide", path, "--v-max", str(V_MAX), "--json"]) == 0
+    wall = {p["pair"]: p for p in json.loads(capsys.readouterr().out)["pairs"]}["1-wall1"]
+    k_w = 4.0 / 3.0 * ES * math.sqrt(R)
+    d = (15.0 * M * V_MAX**2 / (16.0 * ES * math.sqrt(R))) ** 0.4
+    eta = _alpha(0.3) * math.sqrt(M * k_w * math.sqrt(d))
+    assert wall["peak_overlap"] == pytest.approx(d, rel=1e-10)
+    assert wall["cn_at_peak"] == pytest.approx(eta, rel=1e-9)
+    assert wall["cs_at_peak"] == pytest.approx(X_GAMMAT * eta, rel=1e-9)
+
+    def rhs(_t, y):
+        x = max(y[0], 0.0)
+        return [y[1], -(k_w * x**1.5 + _alpha(0.3) * math.sqrt(M * k_w * math.sqrt(x)) * y[1]) / M]
+
+    def out(_t, y):
+        return y[0]
+    setattr(out, "terminal", True)
+    setattr(out, "direction", -1)
+    sol = solve_ivp(rhs, (0.0, 1e-3), [0.0, V_MAX], method="DOP853", rtol=1e-12, atol=1e-20, events=out,
+                    max_step=1e-7)
+    assert wall["restitution_continuum"] == pytest.approx(-sol.y_events[0][0][1] / V_MAX, rel=2e-7)
