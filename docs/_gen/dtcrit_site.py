@@ -86,9 +86,40 @@ def reference_toctree(docs: Path = DOCS) -> str:
     return REFERENCE_TOCTREE if any((docs / "reference").glob("index.*")) else ""
 
 
+def record_stubs(docs: Path = DOCS) -> list[Path]:
+    """Write one page per derivation record and proof, including the committed Markdown file.
+
+    ``explanation/records/NAME.md`` includes ``derivations/records/NAME.md`` and
+    ``explanation/proofs/NAME.md`` includes ``derivations/proofs/NAME.md`` (MyST ``{include}``, with
+    the record's relative image paths rewritten), so the pages always show the committed records.
+
+    Parameters
+    ----------
+    docs : pathlib.Path
+        The documentation folder.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The stubs.
+    """
+    stubs = []
+    for kind in ("records", "proofs"):
+        out = docs / "explanation" / kind
+        for source in sorted((docs.parent / "derivations" / kind).glob("*.md")):
+            stub = out / source.name
+            rel = Path("..", "..", "..", "derivations", kind, source.name).as_posix()
+            write_if_changed(stub, f"```{{include}} {rel}\n:relative-images:\n:relative-docs: figures/\n```\n")
+            stubs.append(stub)
+        for stale in set(out.glob("*.md")) - set(stubs):
+            stale.unlink()
+    return stubs
+
+
 def _builder_inited(app) -> None:
     docs = Path(app.srcdir)
     copy_notebooks(docs)
+    record_stubs(docs)
     write_if_changed(docs / "_generated" / "reference_toctree.txt", reference_toctree(docs))
 
 
