@@ -7,8 +7,8 @@
     python3 dev.py golden     rewrite tests/golden (the outputs of ``dtcrit codegen`` and ``dtcrit step`` on every
                               example) after an intended change of output (test extras); review with git diff
     python3 dev.py mpi-env    create .venv-mpi, the environment of ``dtcrit packing --backend slepc`` (below)
-    python3 dev.py audit-figure  redraw README's ``dtcrit audit --plot`` figure (figures extra)
-    python3 dev.py collide-figure  redraw README's ``dtcrit collide --plot`` figure (figures extra)
+    python3 dev.py audit-figure  redraw the docs' ``dtcrit audit --plot`` figure (docs/howto/audit.md; figures extra)
+    python3 dev.py collide-figure  redraw the docs' ``dtcrit collide --plot`` figure (docs/howto/collide.md; figures extra)
     python3 dev.py docs       build the documentation site into docs/_build/html, warnings as errors (test extras);
                               open docs/_build/html/index.html
 
@@ -50,9 +50,9 @@ STAMP = VENV / ".dtcrit-installed"
 DEMO_SCENE = "examples/paper_ellipsoids.toml"
 AUDIT_FIGURE = ("audit", "examples/packings/random_lognormal_60.dump", "--pair-style",
                 "gran/hertz/history 1e9 NULL 0 NULL 0.5 0", "--plot", "derivations/records/figures/audit_random_lognormal_60.png")
-"""The ``dtcrit`` arguments that make README's "Audit your simulation" figure (``python3 dev.py audit-figure``)."""
+"""The ``dtcrit`` arguments that make the figure of ``docs/howto/audit.md`` (``python3 dev.py audit-figure``)."""
 COLLIDE_FIGURE = ("collide", "examples/glass_spheres_hertz.toml", "--plot", "derivations/records/figures/collide_glass_spheres_hertz.png")
-"""The ``dtcrit`` arguments that make README's "Resolve collisions" figure (``python3 dev.py collide-figure``)."""
+"""The ``dtcrit`` arguments that make the figure of ``docs/howto/collide.md`` (``python3 dev.py collide-figure``)."""
 
 
 def run(*cmd: str | os.PathLike, env: dict | None = None) -> int:
@@ -251,12 +251,12 @@ def golden() -> int:
 
 
 def audit_figure() -> int:
-    """Redraw README's ``dtcrit audit --plot`` figure on the example dump (``AUDIT_FIGURE``)."""
+    """Redraw the docs' ``dtcrit audit --plot`` figure on the example dump (``AUDIT_FIGURE``)."""
     return run(PY, "-m", "dtcrit", *AUDIT_FIGURE, env=child_env())
 
 
 def collide_figure() -> int:
-    """Redraw README's ``dtcrit collide --plot`` figure on the Hertz example (``COLLIDE_FIGURE``)."""
+    """Redraw the docs' ``dtcrit collide --plot`` figure on the Hertz example (``COLLIDE_FIGURE``)."""
     return run(PY, "-m", "dtcrit", *COLLIDE_FIGURE, env=child_env())
 
 
