@@ -11,6 +11,8 @@
     python3 dev.py collide-figure  redraw the docs' ``dtcrit collide --plot`` figure (docs/howto/collide.md; figures extra)
     python3 dev.py docs       build the documentation site into docs/_build/html, warnings as errors (test extras);
                               open docs/_build/html/index.html
+    python3 dev.py docs-bench rerun the benchmarks the docs' benchmarks page shows (dtcrit bench --quick --json and
+                              a small scale benchmark) into docs/benchmarks/data, to commit (test extras; minutes)
 
 Every task creates the virtual environment ``.venv`` beside this file when it is missing,
 (re)installs the package whenever ``pyproject.toml`` or ``constraints.txt`` (the pinned versions)
@@ -61,7 +63,7 @@ def run(*cmd: str | os.PathLike, env: dict | None = None) -> int:
 
 
 EXTRAS = {"demo": (), "test": ("test",), "generate": ("test",), "mpi-env": (), "golden": ("test",),
-          "audit-figure": ("figures",), "collide-figure": ("figures",), "docs": ("test",)}
+          "audit-figure": ("figures",), "collide-figure": ("figures",), "docs": ("test",), "docs-bench": ("test",)}
 """The optional dependency groups of pyproject.toml each task installs: the demo runs on the runtime
 dependencies alone; the tests (and the derivation scripts behind ``generate``) need the ``test`` extra."""
 
@@ -272,8 +274,15 @@ def docs() -> int:
     return run(PY, "-m", "sphinx", *DOCS_BUILD, *sys.argv[2:], "docs", "docs/_build/html", env=child_env())
 
 
+def docs_bench() -> int:
+    """Rerun the committed benchmarks of the docs (``docs/_gen/benchmarks.py``, ``run_benchmarks``)."""
+    code = "import sys; sys.path.insert(0, 'docs/_gen'); import benchmarks; print(benchmarks.run_benchmarks())"
+    return run(PY, "-c", code, env=child_env())
+
+
 TASKS = {"demo": demo, "test": test, "generate": generate, "mpi-env": mpi_env, "golden": golden,
-         "audit-figure": audit_figure, "collide-figure": collide_figure, "docs": docs}
+         "audit-figure": audit_figure, "collide-figure": collide_figure, "docs": docs,
+         "docs-bench": docs_bench}
 
 if __name__ == "__main__":
     if len(sys.argv) < 2 or sys.argv[1] not in TASKS:

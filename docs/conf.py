@@ -35,7 +35,8 @@ if (DOCS / "_gen" / "dtcrit_site.py").is_file():  # notebooks, records, gallery,
     extensions.append("dtcrit_site")
 
 root_doc = "index"
-exclude_patterns = ["_build", "_ext", "_gen", "_generated", "**/_generated/*.txt", "**.ipynb_checkpoints"]
+exclude_patterns = ["_build", "_ext", "_gen", "_generated", "**/_generated", "**/_generated/*", "**/data",
+                    "**.ipynb_checkpoints"]
 
 html_theme = "alabaster"
 html_title = "dtcrit"

@@ -6,10 +6,15 @@ At ``builder-inited`` (before Sphinx lists the sources) it copies the teaching n
 unchanged notebook is neither re-read nor re-executed.  It also writes ``_generated/reference_toctree.txt``,
 which ``index.md`` includes: the reference section's toctree when ``reference/index`` exists, else
 nothing (a toctree naming a missing page, or a glob matching none, is a warning, so an error here).
+The derivation records and proofs get one page each (``record_stubs``), the gallery's figures are drawn
+(``gallery.py``) and the benchmarks page is written (``benchmarks.py``).
 """
 from __future__ import annotations
 
 from pathlib import Path
+
+from benchmarks import build_benchmarks
+from gallery import build_gallery
 
 DOCS = Path(__file__).resolve().parents[1]
 ROOT = DOCS.parent
@@ -120,6 +125,8 @@ def _builder_inited(app) -> None:
     docs = Path(app.srcdir)
     copy_notebooks(docs)
     record_stubs(docs)
+    build_gallery(docs)
+    build_benchmarks(docs)
     write_if_changed(docs / "_generated" / "reference_toctree.txt", reference_toctree(docs))
 
 
