@@ -270,7 +270,8 @@ cached in ``docs/_build/.jupyter_cache``, so they are not re-run."""
 
 
 def docs() -> int:
-    """Build the site (``docs/``) into ``docs/_build/html`` with ``DOCS_BUILD``'s options."""
+    """Build the site (``docs/``) into a fresh ``docs/_build/html`` with ``DOCS_BUILD``'s options."""
+    shutil.rmtree(ROOT / "docs" / "_build" / "html", ignore_errors=True)  # no page of an earlier build survives
     return run(PY, "-m", "sphinx", *DOCS_BUILD, *sys.argv[2:], "docs", "docs/_build/html", env=child_env())
 
 

@@ -27,7 +27,7 @@ SCALE_ARGS = ["packing", "--scale", "1e3,1e4"]
 
 
 def cpu_description() -> dict:
-    """This machine's CPU model, logical cores and memory, from ``/proc/cpuinfo`` and ``/proc/meminfo``.
+    """The CPU model, logical cores and memory of the machine running this, from ``/proc/cpuinfo`` and ``/proc/meminfo``.
 
     Returns
     -------
@@ -76,7 +76,9 @@ def run_benchmarks(out: Path = DATA) -> Path:
     out.mkdir(parents=True, exist_ok=True)
     scratch = out / "_bench"
     start = time.time()
-    (out / "bench.json").write_text(_dtcrit([*BENCH_ARGS, "--out", str(scratch)], ROOT))
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else None
+    document = json.loads(_dtcrit([*BENCH_ARGS, "--out", str(scratch)], ROOT))
+    (out / "bench.json").write_text(json.dumps(document, separators=(",", ":")) + "\n")
     (scratch / "work_precision.png").replace(out / "work_precision.png")
     for leftover in scratch.iterdir():
         leftover.unlink()
@@ -84,7 +86,8 @@ def run_benchmarks(out: Path = DATA) -> Path:
     (out / "scale.txt").write_text(_dtcrit(SCALE_ARGS, ROOT))
     provenance = {"commands": ["dtcrit " + " ".join(BENCH_ARGS), "dtcrit " + " ".join(SCALE_ARGS)],
                   "date_utc": time.strftime("%Y-%m-%d %H:%M", time.gmtime(start)),
-                  "seconds": round(time.time() - start), "machine": cpu_description()}
+                  "seconds": round(time.time() - start), "load_average_at_start": load,
+                  "machine": cpu_description()}
     (out / "provenance.json").write_text(json.dumps(provenance, indent=1) + "\n")
     return out
 
@@ -182,7 +185,9 @@ def page_text(bench: dict, scale: str | None, provenance: dict | None, live: boo
         "cpu_model": bench["machine"].get("cpu"), "logical_cores": bench["machine"].get("cpus"),
         "platform": bench["machine"].get("platform")}
     m = bench["machine"]
-    lines = [*origin, "", "**Measured on:** " + _machine_lines(measured)[0] + f"; Python {m.get('python')}, "
+    load = (provenance or {}).get("load_average_at_start")
+    busy = f" (load average {load:.1f} when the run started)" if load is not None else ""
+    lines = [*origin, "", "**Measured on:** " + _machine_lines(measured)[0] + busy + f"; Python {m.get('python')}, "
              f"NumPy {m.get('numpy')}, SciPy {m.get('scipy')}, compiler {m.get('cc')}.", "",
              "**This site was built on:** " + _machine_lines(cpu_description())[0] + ".", "",
              f"Settings: `dtcrit bench --quick` (batch {bench['config'].get('n_batch')}, "
