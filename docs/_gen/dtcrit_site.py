@@ -121,6 +121,30 @@ def record_stubs(docs: Path = DOCS) -> list[Path]:
     return stubs
 
 
+HOWTO_ORDER = ("step", "own_integrator", "python_api", "audit", "audit_lammps", "audit_yade", "collide",
+               "codegen", "plan", "packing", "mpi")
+"""The how-to pages in the order a user meets the tasks; other pages of ``howto/`` follow by name."""
+
+
+def howto_toctree(docs: Path = DOCS) -> str:
+    """The index page's how-to toctree: the pages of ``HOWTO_ORDER`` that exist, then any others.
+
+    Parameters
+    ----------
+    docs : pathlib.Path
+        The documentation folder.
+
+    Returns
+    -------
+    str
+        MyST text for ``index.md`` to include.
+    """
+    present = sorted(p.stem for p in (docs / "howto").glob("*.md"))
+    names = [n for n in HOWTO_ORDER if n in present] + [n for n in present if n not in HOWTO_ORDER]
+    entries = "".join(f"howto/{n}\n" for n in names)
+    return f"```{{toctree}}\n:caption: How-to guides\n:maxdepth: 1\n\n{entries}```\n"
+
+
 def _builder_inited(app) -> None:
     docs = Path(app.srcdir)
     copy_notebooks(docs)
@@ -128,6 +152,7 @@ def _builder_inited(app) -> None:
     build_gallery(docs)
     build_benchmarks(docs)
     write_if_changed(docs / "_generated" / "reference_toctree.txt", reference_toctree(docs))
+    write_if_changed(docs / "_generated" / "howto_toctree.txt", howto_toctree(docs))
 
 
 def setup(app) -> dict:
