@@ -226,5 +226,7 @@ def build_benchmarks(docs: Path = DOCS) -> Path:
     bench = json.loads((data / "bench.json").read_text())
     scale = (data / "scale.txt").read_text() if (data / "scale.txt").is_file() else None
     provenance = json.loads((data / "provenance.json").read_text()) if (data / "provenance.json").is_file() else None
-    page.write_text(page_text(bench, scale, provenance, live))
+    text = page_text(bench, scale, provenance, live)
+    if not page.is_file() or page.read_text() != text:
+        page.write_text(text)
     return page
