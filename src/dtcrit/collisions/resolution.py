@@ -213,10 +213,11 @@ def descending_grid(n_top: float, spacing: float = 1.0 / GRID, n_bottom: float =
     return grid[grid >= n_bottom]
 
 
-def scan_down(sampled_ratio, worst_ratio, grid, chunk: int = 64) -> tuple[float, float | None]:
+def scan_down(sampled_ratio, worst_ratio, grid, chunk: int = 64,
+              refine_above: float = REFINE_ABOVE) -> tuple[float, float | None]:
     """Scan a descending grid of N to the first violation of the tolerance.
 
-    A grid point whose sampled ratio is at most ``REFINE_ABOVE`` is kept; above it the worst over the
+    A grid point whose sampled ratio is at most ``refine_above`` is kept; above it the worst over the
     continuous phase (``worst_ratio``) decides.
 
     Parameters
@@ -229,6 +230,8 @@ def scan_down(sampled_ratio, worst_ratio, grid, chunk: int = 64) -> tuple[float,
         Descending N.
     chunk : int
         About this many grid points are sampled per call of ``sampled_ratio``.
+    refine_above : float
+        Sampled ratio above which the phase is optimised (``REFINE_ABOVE`` for ``SAMPLE_PHASES`` phases).
 
     Returns
     -------
@@ -241,7 +244,7 @@ def scan_down(sampled_ratio, worst_ratio, grid, chunk: int = 64) -> tuple[float,
         ratios = sampled_ratio(part)
         for i, n in enumerate(part):
             r = ratios[i]
-            if r <= REFINE_ABOVE:
+            if r <= refine_above:
                 ok_n = float(n)
                 continue
             if r > 1.0 or worst_ratio(float(n)) > 1.0:
