@@ -258,6 +258,9 @@ class ContactLaw:
         Rolling and twisting springs (None: none).
     bond : dtcrit.scenes.bonds.BondLaw, optional
         The bond of ``model = "bond"``.
+    friction : float or None
+        The Coulomb coefficient ``[contact] friction``, when given (not in the step; ``dtcrit collide``'s
+        oblique impacts use it).
     """
 
     model: str  # linear | yade | hertz
@@ -273,6 +276,7 @@ class ContactLaw:
     ks_ratio: float | None = None  # yade: ks / kn
     rotational: Any = None  # dtcrit.scenes.rotational.RotationalLaw (None: no rotational springs)
     bond: Any = None  # dtcrit.scenes.bonds.BondLaw for model = "bond"
+    friction: float | None = None  # [contact] friction: dtcrit.scenes.collide_oblique
 
     @property
     def damping(self) -> str:
@@ -325,6 +329,10 @@ class Scene:
     collision_v_max : float or None
         The ``[collision]`` table's ``v_max``: the largest impact speed [m/s] ``dtcrit collide`` resolves
         (:mod:`dtcrit.scenes.collide`).
+    collision_angle : tuple of (str, float) or None
+        The ``[collision]`` table's obliquity: the key given (``collision.angle_deg`` or
+        ``collision.tangential_ratio``) and the impact's angle from the normal [deg]
+        (:mod:`dtcrit.scenes.collide_oblique`).
     """
 
     source: str
@@ -342,6 +350,7 @@ class Scene:
     isolated: bool = False  # the headline is the isolated-contact step (else the step for any packing)
     local_damping: tuple[float, str] | None = None  # (alpha, law): dtcrit.scenes.local_damping
     collision_v_max: float | None = None  # [collision] v_max [m/s]: dtcrit.scenes.collide
+    collision_angle: tuple[str, float] | None = None  # [collision] angle_deg/tangential_ratio: scenes.collide_oblique
 
     @property
     def identical(self) -> bool:
