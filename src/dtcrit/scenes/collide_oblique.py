@@ -15,9 +15,10 @@ oblique resolution step is ``collisions.oblique_resolution``'s; the errors at th
 
 Refused in one line: an angle with walls, with a pair of unequal particle types, with a linear or YADE
 law, without ``[contact] friction``, with an integrator of another map, and a contact that changes between
-sticking and sliding (``oblique_resolution.regime``; with a normal dashpot the force reaches zero before
-the spheres separate, so a damped contact always ends by slipping: only undamped contacts that stick or
-slide throughout are modelled).
+sticking and sliding (``oblique_resolution.regime``: the continuum sticks or slides throughout; with a
+normal dashpot the normal force reaches zero before the spheres separate, so a damped contact ends by
+slipping, and it is accepted when that slip starts within the last 1 % of the contact, as
+``reference_oblique`` accepts it).
 """
 from __future__ import annotations
 
@@ -123,15 +124,16 @@ def oblique_request(scene, angle_deg: float | None = None) -> ObliqueRequest | N
     if req is None or req[1] == 0.0:
         return None
     key, angle = req
+    asked = f"{key} = {angle:g} deg"
     if scene.walls:
-        raise InputError(f"wall[{scene.walls[0].number}]", f"an oblique impact ({key} = {angle:g} deg) is modelled for two "
+        raise InputError(f"wall[{scene.walls[0].number}]", f"an oblique impact ({asked}) is modelled for two "
                          "equal spheres, not against a wall")
     law = scene.contact
     if law.model != "hertz":
-        raise InputError("contact.model", f"an oblique impact ({key}) is modelled with a hertz law (Mindlin's tangential "
+        raise InputError("contact.model", f"an oblique impact ({asked}) is modelled with a hertz law (Mindlin's tangential "
                          f"spring), not {law.model!r}")
     if not law.friction:
-        raise InputError("contact.friction", f"an oblique impact ({key}) needs the friction coefficient: give "
+        raise InputError("contact.friction", f"an oblique impact ({asked}) needs the friction coefficient: give "
                          "[contact] friction > 0")
     for i, j in scene.pair_numbers():
         p, q = scene.particle(i), scene.particle(j)
@@ -139,7 +141,7 @@ def oblique_request(scene, angle_deg: float | None = None) -> ObliqueRequest | N
             _equal(getattr(p, a), getattr(q, a)) for a in ("youngs_modulus", "poisson_ratio")) and _equal(
             p.mass_at(p.radii[0]), q.mass_at(q.radii[0]))
         if not same:
-            raise InputError(f"particle[{j}]", f"pair {i}-{j}: an oblique impact ({key}) is modelled for two equal spheres "
+            raise InputError(f"particle[{j}]", f"pair {i}-{j}: an oblique impact ({asked}) is modelled for two equal spheres "
                              "(same radius, mass and elastic constants)")
     return ObliqueRequest(key, angle, float(law.friction))
 
