@@ -63,6 +63,7 @@ def test_the_scene_keys_and_the_flag_ask_for_the_same_impact(tmp_path, capsys):
 
 
 def test_text_output_names_the_oblique_step(tmp_path, capsys):
+    """The text report carries the oblique line."""
     assert main(["collide", str(_scene(tmp_path, ELASTIC)), "--angle", "60"]) == 0
     out = capsys.readouterr().out
     assert "oblique at 60 deg" in out and "dt_oblique = " in out and "sliding" in out
@@ -90,16 +91,19 @@ UNEQUAL = ELASTIC.replace("[contact]", '[[particle]]\nshape = "sphere"\nradius =
      "--angle: v_t/v_n = 0.1763: the contact sticks at first touch and slides before the last 1 %"),
 ])
 def test_bad_input_is_one_line(tmp_path, capsys, text, argv, needle):
+    """Angle out of [0, 90), both keys, walls, unequal spheres, no friction, another map, stick-slip."""
     err = _one_line_error(capsys, _scene(tmp_path, text), *argv)
     assert needle in err
 
 
 def test_a_linear_law_is_refused(capsys):
+    """The linear example (with a wall) asked for an angle."""
     err = _one_line_error(capsys, ROOT / "examples" / "spheres_on_a_floor.toml", "--v-max", "1", "--angle", "30")
     assert "wall[1]" in err or "contact.model" in err
 
 
 def test_a_linear_law_without_walls_is_refused(tmp_path, capsys):
+    """Mindlin's spring needs a Hertz law."""
     text = ('integrator = "velocity-verlet"\n[[particle]]\nshape = "sphere"\nradius = 1e-3\ndensity = 2500.0\n'
             '[contact]\nmodel = "linear"\nkn = 1e5\nks = 1e5\nfriction = 0.3\n')
     err = _one_line_error(capsys, _scene(tmp_path, text), "--v-max", "1", "--angle", "30")

@@ -143,7 +143,8 @@ def _continuum(angle, mu, regime):
 
 def _worst(dt, angle, mu, ref, tol):
     """Worst over the entry phase of max(|e_t/e_t_ref - 1|, |spin - spin_ref|)/tol: 96 phases, the three
-    worst refined by bounded optimisation."""
+    worst refined by bounded optimisation.
+    """
     def ratio(p):
         e_t, spin = _stepped(dt, angle, mu, p)
         return max(abs(e_t / ref[0] - 1.0), abs(spin - ref[1])) / tol
@@ -160,6 +161,7 @@ def _worst(dt, angle, mu, ref, tol):
 
 @pytest.fixture(scope="module")
 def reports(tmp_path_factory):
+    """The two scenes (sliding and sticking), written once."""
     out = {}
     for regime, (angle, mu) in CASES.items():
         path = tmp_path_factory.mktemp(regime) / "scene.toml"
@@ -180,7 +182,8 @@ def test_oblique_resolution_step_by_an_impact_stepped_here(regime, reports, caps
     At a few steps per collision (sliding: N_res ~ 4) the error is not monotone in the step: measured
     here it exceeds tol from 1.005x to 1.1x, is within it again at 1.15x-1.2x and exceeds it at 1.3x,
     so the violation is sought at 1.005x and 1.2x (the largest step whose every smaller step is within
-    tol has a violation just above it)."""
+    tol has a violation just above it).
+    """
     path, angle, mu = reports[regime]
     doc = _report(capsys, path, angle)
     (pair,) = doc["pairs"]
