@@ -64,7 +64,10 @@ def format_text(rep: dict) -> str:
     """
     lines = [f"collisions resolved by {rep['integrator']} within {rep['tol']:g} (restitution, peak overlap) at v_max = {rep['v_max']:g} m/s"]
     for e in rep["pairs"]:
-        lines += [f"pair {e['pair']}: {e['normal']} law, damping {e['damping']}, e = {e['restitution']:.4g}",
+        cont = "" if abs(e["restitution_continuum"] - e["restitution"]) < 5e-5 else f" (continuum impact: {e['restitution_continuum']:.4g})"
+        if e["damping"] in ("lammps-viscoelastic", "lammps-mass-velocity"):
+            cont = " (of the continuum impact at v_max, from damping_coefficient)"
+        lines += [f"pair {e['pair']}: {e['normal']} law, damping {e['damping']}, e = {e['restitution']:.4g}{cont}",
                   f"  t_c = {e['t_c']:.6g} s, peak overlap = {e['peak_overlap']:.6g} m",
                   f"  dt_stability = {e['dt_stability']:.6g} s, " + (f"dt_resolution = {e['dt_resolution']:.6g} s "
                   f"(N_res = {e['steps_resolution']:.4g})" if e["dt_resolution"] else "no step resolves it")

@@ -30,6 +30,9 @@ Sources (each read in the code's source or documentation; see README, "Damping c
   particle's, so at walls m* = m/2.
 * ``pfc`` -- PFC linear model: c_j = 2 beta_j sqrt(k_j m_c), the same critical damping ratio in
   each direction with the reduced mass.
+* Hertz contacts may also name one code's collision law (``lammps-tsuji``, ``lammps-tsuji-2021``,
+  ``lammps-coeff-restitution``, ``lammps-viscoelastic``, ``lammps-mass-velocity``, ``yade-mindlin``,
+  ``mercurydpm``): their dashpots are that law's at the linearisation overlap (``dtcrit.scenes.law_damping``).
 """
 from __future__ import annotations
 
@@ -151,11 +154,16 @@ CONVENTIONS: dict[str, Convention] = {
     "edem": Convention("edem", "EDEM Hertz-Mindlin (no slip): 2 sqrt(5/6) zeta sqrt(S_j m*)",
                        HERTZ_FACTOR, HERTZ_FACTOR, 1.0, "zeta", 1.0, ("hertz",)),
     "mercurydpm": Convention("mercurydpm", "MercuryDPM LinearViscoelastic, tangential dissipation 2/7 of normal",
-                             1.0, 1.0, 1.0, "two_sevenths", 1.0, ("linear", "yade")),
+                             1.0, 1.0, 1.0, "two_sevenths", 1.0, ("linear", "yade", "hertz")),
     "yade": Convention("yade", "YADE ViscElMat: c_t = 2 zeta sqrt(ks (2/7) m*); m* = m/2 at walls",
                        1.0, 1.0, 2.0 / 7.0, "zeta", 0.5, ("linear", "yade")),
     "pfc": Convention("pfc", "PFC linear: c_j = 2 beta sqrt(k_j m_c) in each direction", 1.0, 1.0, 1.0, "zeta", 1.0),
 }
+# Hertz conventions that name one code's collision law (dashpots: dtcrit.scenes.law_damping)
+CONVENTIONS.update({name: Convention(name, f"{name} collision law (dtcrit.scenes.law_damping)", 1.0, 1.0, 1.0, "law", 1.0,
+                                     ("hertz",))
+                    for name in ("lammps-tsuji", "lammps-tsuji-2021", "lammps-coeff-restitution", "lammps-viscoelastic",
+                                 "lammps-mass-velocity", "yade-mindlin")})
 DEFAULT_CONVENTION = {"linear": "lammps", "yade": "yade", "hertz": "liggghts"}
 
 

@@ -12,6 +12,10 @@ The scene's damping maps to the collision core's keys: a linear law's constant d
 ``hooke`` law with ``e = exp(-pi zeta/sqrt(1 - zeta^2))``, ``zeta = c_n/(2 sqrt(k_n m*))`` (any convention);
 a Hertz law with the ``liggghts`` or ``edem`` convention (the same ``2 sqrt(5/6) beta sqrt(S_n m*)``
 dashpot) is ``("hertz", "liggghts")`` with the scene's restitution; no damping is ``"none"``.
+A Hertz law convention (``scenes.law_damping``: ``lammps-tsuji(-2021)``, ``lammps-coeff-restitution``,
+``yade-mindlin``, ``mercurydpm`` with ``restitution``; ``lammps-viscoelastic``, ``lammps-mass-velocity`` with
+``damping_coefficient``) is its own core law, keyed by ``e`` or, for a coefficient, by the continuum restitution
+of the impact at ``v_max`` (``collisions.reference``); its dashpots scale to the peak overlap as ``delta^q``.
 Other Hertz damping (``pfc``, coefficients) is refused in one line naming it.
 """
 from __future__ import annotations
@@ -25,6 +29,7 @@ from dtcrit.collisions.stepping import scheme_of
 from dtcrit.errors import InputError
 from dtcrit.physics.collision_rules import code_rules
 from dtcrit.scenes.collide_oblique import oblique_plan, oblique_request
+from dtcrit.scenes.law_damping import LAW_CONVENTIONS, continuum_restitution, dashpot_exponent
 from dtcrit.scenes.laws import resolve_pair, resolve_wall
 from dtcrit.scenes.pair_modes import pair_step
 
@@ -51,9 +56,34 @@ def _restitution_from_zeta(zeta: float, key: str) -> float:
     return 1.0 if zeta <= 0.0 else math.exp(-math.pi * zeta / math.sqrt(1.0 - zeta * zeta))
 
 
+def _is_hertz(pc, wall) -> bool:
+    return pc.delta_max is not None or (wall is not None and wall.model == "hertz")
+
+
+def _law_key(scene, pc, wall, m_eff: float, hz: dict, v: float) -> tuple[str, str, float]:
+    """(normal, damping, restitution) of the core under a law convention (``scenes.law_damping``).
+
+    A law that takes ``e`` is keyed by it; one that takes ``eta_n0`` by its continuum restitution at ``v``.
+    """
+    law = LAW_CONVENTIONS[pc.convention]
+    if law.takes == "restitution":
+        e = (wall.restitution if wall is not None else scene.contact.restitution)
+        return ("hertz", "none", 1.0) if e is None else ("hertz", law.core, e)
+    coef = None if wall is not None else scene.contact.damping_coefficient
+    if not coef:
+        return "hertz", "none", 1.0
+    r_star = pc.r_star if pc.r_star is not None else pc.radius_i
+    e = continuum_restitution(pc.convention, restitution=None, coefficient=coef, m_eff=m_eff,
+                              E_eff=hz["E_sqrtR"] / math.sqrt(r_star), R_eff=r_star, v=v)
+    if not e > 0.0:
+        raise InputError("contact.damping_coefficient", f"{pc.label}: with eta_n0 = {coef:g} the impact at {v:g} m/s does not "
+                         "rebound (overdamped)")
+    return "hertz", law.core, min(e, 1.0)
+
+
 def _damping_key(pc, wall, m_eff: float) -> tuple[str, str, float]:
     """(normal, damping, restitution) of the core for a resolved contact (module docstring)."""
-    hertz = pc.delta_max is not None or (wall is not None and wall.model == "hertz")
+    hertz = _is_hertz(pc, wall)
     key = f"wall[{wall.number}]" if wall is not None else "contact"
     if not hertz:
         zeta = pc.cn / (2.0 * math.sqrt(pc.kn * m_eff)) if pc.cn > 0 else 0.0
@@ -109,8 +139,13 @@ def _entry(scene, pc, p, q, wall, v, tol: float, engine: str, oblique=None) -> d
         if part is not None and part.kind != "sphere":
             raise InputError(f"particle[{part.number}].shape", f"dtcrit collide models collisions of spheres, not {part.kind}")
     m = pc.m_star if wall is None else p.mass_at(pc.radius_i)  # against a fixed wall: the particle's mass
-    normal, damping, e = _damping_key(pc, wall, m)
-    hz = _hertz_terms(pc, _linearised_overlap(scene, pc, wall, m), m, v) if normal == "hertz" else None
+    hz = _hertz_terms(pc, _linearised_overlap(scene, pc, wall, m), m, v) if _is_hertz(pc, wall) else None
+    if hz is not None and pc.convention in LAW_CONVENTIONS:
+        normal, damping, e = _law_key(scene, pc, wall, m, hz, v)
+        q_c = dashpot_exponent(pc.convention)
+    else:
+        normal, damping, e = _damping_key(pc, wall, m)
+        q_c = 0.25
     if hz is None:
         t_c, peak = contact_time("hooke", m_eff=m, k=pc.kn), v * math.sqrt(m / pc.kn)
     else:
@@ -120,8 +155,8 @@ def _entry(scene, pc, p, q, wall, v, tol: float, engine: str, oblique=None) -> d
         if not peak < radius:
             raise InputError("v_max", f"{pc.label}: the peak overlap at {v:g} m/s, {peak:.4g} m, is not below the "
                                       f"radius {radius:.4g} m: Hertz's law does not describe this impact")
-        s, s4 = hz["scale"], math.sqrt(hz["scale"])
-        pc = replace(pc, kn=pc.kn * s, ks=pc.ks * s, cn=pc.cn * s4, cs=pc.cs * s4)
+        s, sq = hz["scale"], hz["scale"] ** (2.0 * q_c)  # springs ~ delta^(1/2), dashpots ~ delta^q
+        pc = replace(pc, kn=pc.kn * s, ks=pc.ks * s, cn=pc.cn * sq, cs=pc.cs * sq)
     ps = pair_step(scheme_of(engine), pc, p.shape_at(pc.radius_i), q.shape_at(pc.radius_j) if q is not None else None,
                    p.kind, q.kind if q is not None else None)
     dt_stab = ps.dt_translation
@@ -139,6 +174,9 @@ def _entry(scene, pc, p, q, wall, v, tol: float, engine: str, oblique=None) -> d
                        particle=_particle_props([p] if q is None else [p, q]))
     return {
         "pair": pc.label, "wall": pc.wall, "normal": normal, "damping": damping, "restitution": e,
+        "damping_convention": pc.convention,
+        "restitution_continuum": reference_collision(normal=normal, damping=damping, restitution=e).restitution,
+        "cn_at_peak": pc.cn, "cs_at_peak": pc.cs,
         "m_eff": m, "v_max": v, "t_c": t_c, "peak_overlap": peak, "dt_stability": dt_stab,
         "dt_resolution": dt_res if dt_res > 0 else None, "steps_resolution": res.steps_per_collision if dt_res > 0 else None, "dt": dt, "steps_per_collision": n_bind,
         "binding": "oblique-resolution" if obl is not None and obl.dt_resolution < min(dt_res, dt_stab) else

@@ -14,7 +14,9 @@ oblique resolution step is ``collisions.oblique_resolution``'s; the errors at th
 ``oblique_errors``'s (worst entry phase, ``REPORT_PHASES`` sampled phases then optimised).
 
 Refused in one line: an angle with walls, with a pair of unequal particle types, with a linear or YADE
-law, without ``[contact] friction``, with an integrator of another map, and a contact that changes between
+law, without ``[contact] friction``, with a law keyed by its damping coefficient (its restitution changes
+with the normal speed), with an integrator of another map, a sticking contact with the engine ``yade``
+(its incremental shear law equals LAMMPS's history only while sliding), and a contact that changes between
 sticking and sliding (``oblique_resolution.regime``: the continuum sticks or slides throughout; with a
 normal dashpot the normal force reaches zero before the spheres separate, so a damped contact ends by
 slipping, and it is accepted when that slip starts within the last 1 % of the contact, as
@@ -28,7 +30,7 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 from dtcrit.collisions.oblique import SAME_MAP, ObliqueCase, oblique_case, oblique_errors
-from dtcrit.collisions.oblique_resolution import ObliqueResolution, oblique_resolve
+from dtcrit.collisions.oblique_resolution import ObliqueResolution, oblique_resolve, regime
 from dtcrit.collisions.stepping import scheme_of
 from dtcrit.errors import InputError
 from dtcrit.inputs.values import number
@@ -132,6 +134,9 @@ def oblique_request(scene, angle_deg: float | None = None) -> ObliqueRequest | N
     if law.model != "hertz":
         raise InputError("contact.model", f"an oblique impact ({asked}) is modelled with a hertz law (Mindlin's tangential "
                          f"spring), not {law.model!r}")
+    if getattr(law, "damping_coefficient", None):
+        raise InputError("contact.damping_coefficient", f"an oblique impact ({asked}) under a law keyed by its "
+                         "coefficient is not modelled: its restitution changes with the normal speed v_max cos(angle)")
     if not law.friction:
         raise InputError("contact.friction", f"an oblique impact ({asked}) needs the friction coefficient: give "
                          "[contact] friction > 0")
@@ -278,6 +283,9 @@ def oblique_plan(request: ObliqueRequest, pc, p, *, damping: str, restitution: f
                         tangential_ratio=math.tan(math.radians(angle)), poisson=p.poisson_ratio,
                         gyration=min(shape.inertia) / (shape.mass * radius * radius),
                         gammat_ratio=pc.cs / pc.cn if pc.cn > 0 else 0.0, overlap_ratio=ratio)
+    if engine.lower().startswith("yade") and regime(case, key) == "stick":
+        raise InputError("integrator", f"an oblique impact ({key} = {angle:g} deg) that sticks is not modelled for YADE: "
+                         "its incremental shear law equals LAMMPS's history only while the contact slides")
     with _progress() as bar:
         res = oblique_resolve(case, tol, key, tick=bar.update)
     if not math.isfinite(res.steps_per_collision):

@@ -9,6 +9,7 @@ from __future__ import annotations
 from dtcrit.errors import InputError
 from dtcrit.physics.damping_conventions import (CONVENTIONS, DEFAULT_CONVENTION, Convention, damping_ratio_from_restitution,
                                                 liggghts_hertz)
+from dtcrit.scenes.law_damping import is_law_convention, law_convention
 
 __all__ = ["DAMPING_KEYS", "CONVENTIONS", "DEFAULT_CONVENTION", "convention_for", "damping_kind", "parse_damping"]
 
@@ -40,6 +41,8 @@ def convention_for(name: str | None, model: str, key: str = "contact.damping_con
         raise InputError(key, f"the {chosen!r} convention is defined for {', '.join(conv.models)} contacts, not {model}")
     if chosen == "liggghts" and model == "hertz":
         return liggghts_hertz()
+    if is_law_convention(chosen, model):
+        return law_convention(chosen)
     return conv
 
 

@@ -22,6 +22,7 @@ from dtcrit.physics import contact_laws as cl
 from dtcrit.physics.contact_laws import hertz_max_overlap
 from dtcrit.physics.damping_conventions import CONVENTIONS, DEFAULT_CONVENTION
 from dtcrit.scenes.damping_input import convention_for
+from dtcrit.scenes.law_damping import LAW_CONVENTIONS, is_law_convention, law_dashpots
 from dtcrit.scenes.model import PairContact, _harmonic
 
 __all__ = ["hertz_max_overlap", "resolve_pair", "resolve_wall", "wall_convention", "convention_of"]
@@ -51,6 +52,15 @@ def _dashpots(conv, damping: str, cn, cs, zeta, kn: float, ks: float, m_eff: flo
         cn, cs = cn or 0.0, cs or 0.0
     else:
         cn, cs = conv.dashpots(zeta or 0.0, kn, ks, m_eff)
+    zn, zs = conv.ratios(cn, cs, kn, ks, m_eff)
+    return cn, cs, zn, zs
+
+
+def _law_terms(conv, e, coefficient, factor, kn: float, ks: float, m_eff: float,
+               a: float | None) -> tuple[float, float, float | None, float | None]:
+    """(c_n, c_s, zeta_n, zeta_s) of a Hertz law convention at the tangent stiffnesses (``scenes.law_damping``)."""
+    cn, cs = law_dashpots(conv.name, restitution=e, coefficient=coefficient, tangential_factor=factor, kn=kn, ks=ks,
+                          m_eff=m_eff, contact_radius=a)
     zn, zs = conv.ratios(cn, cs, kn, ks, m_eff)
     return cn, cs, zn, zs
 
@@ -103,7 +113,11 @@ def resolve_pair(scene, i: int, j: int, r1: float | None = None, r2: float | Non
     else:
         kn, ks, extra = _hertz(scene, p, q, m_star, r1, r2, label)
     conv = _convention(law)
-    cn, cs, zn, zs = _dashpots(conv, law.damping, law.cn, law.cs, law.damping_ratio, kn, ks, m_star)
+    if is_law_convention(conv.name, law.model):  # one code's collision law at the linearisation overlap
+        cn, cs, zn, zs = _law_terms(conv, law.restitution, law.damping_coefficient, law.tangential_damping_factor, kn, ks,
+                                    m_star, math.sqrt(extra["r_star"] * extra["delta_max"]))
+    else:
+        cn, cs, zn, zs = _dashpots(conv, law.damping, law.cn, law.cs, law.damping_ratio, kn, ks, m_star)
     kr, ktw, cr, ctw = _rotational(law, kn, ks, cs, p.shape_at(r1), q.shape_at(r2), r1, r2, m1, m2, extra.get("delta_max"), label)
     return PairContact(i, j, m_star, kn, ks, cn, cs, law.damping_ratio if law.damping not in ("coefficients", "none") else None,
                        radius_i=r1, radius_j=r2, zeta_n=zn, zeta_s=zs, convention=conv.name, kr=kr, ktw=ktw, cr=cr, ctw=ctw,
@@ -188,10 +202,27 @@ def resolve_wall(scene, wall, i: int, r: float | None = None) -> PairContact:
         conv = wall_convention(scene.contact.damping_convention, scene.contact.model)
         kn, ks = wall.kn, wall.ks
     m_eff = conv.wall_mass * m
-    cn, cs, zn, zs = _dashpots(conv, wall.damping, wall.cn, wall.cs, wall.damping_ratio, kn, ks, m_eff)
+    _check_law_wall(scene, wall)
+    if is_law_convention(conv.name, "hertz") and wall.model == "hertz":
+        cn, cs, zn, zs = _law_terms(conv, wall.restitution, None, scene.contact.tangential_damping_factor, kn, ks, m_eff, None)
+    else:
+        cn, cs, zn, zs = _dashpots(conv, wall.damping, wall.cn, wall.cs, wall.damping_ratio, kn, ks, m_eff)
     return PairContact(i, 0, m_eff, kn, ks, cn, cs, wall.damping_ratio if wall.damping not in ("coefficients", "none") else None,
                        radius_i=r, zeta_n=zn, zeta_s=zs, convention=conv.name, wall=wall.name, wall_number=wall.number,
                        kr=wall.kr, ktw=wall.ktw, cr=wall.cr_value, ctw=wall.ctw_value)
+
+
+def _check_law_wall(scene, wall) -> None:
+    """Refuse a wall that a Hertz law convention does not describe (``dtcrit.scenes.law_damping``)."""
+    name, key = scene.contact.damping_convention, f"wall[{wall.number}]."
+    if not is_law_convention(name, scene.contact.model) or (wall.model != "hertz" and name == "mercurydpm"):
+        return
+    if wall.model != "hertz":
+        raise InputError(key + "model", f"a linear wall under the Hertz damping convention {name!r} is not modelled")
+    if wall.damping not in ("restitution", "none") or (LAW_CONVENTIONS[name].takes == "coefficient" and wall.damping != "none"):
+        raise InputError(key + ("cn" if wall.damping == "coefficients" else wall.damping),
+                         f"{name} takes {LAW_CONVENTIONS[name].takes}; a wall's "
+                         + ("restitution only" if LAW_CONVENTIONS[name].takes == "restitution" else "coefficient is not read"))
 
 
 def convention_of(scene, pc: PairContact):

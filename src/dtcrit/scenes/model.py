@@ -33,7 +33,7 @@ CONTACT_KEYS = {
     "yade": ("model", "youngs_modulus", "ks_ratio", "cn", "cs", "restitution", "damping_ratio", "damping_convention",
              "poisson_ratio", "friction"),
     "hertz": ("model", "youngs_modulus", "poisson_ratio", "velocity", "restitution", "damping_ratio", "damping_convention",
-              "curvature_radius", "friction"),
+              "curvature_radius", "friction", "damping_coefficient", "tangential_damping_factor"),
 }
 NOT_IN_THE_STEP = {
     "friction": "the friction coefficient caps the tangential force when a contact slides; the linear step is that "
@@ -258,6 +258,11 @@ class ContactLaw:
         Rolling and twisting springs (None: none).
     bond : dtcrit.scenes.bonds.BondLaw, optional
         The bond of ``model = "bond"``.
+    damping_coefficient : float or None
+        Hertz under ``lammps-viscoelastic`` / ``lammps-mass-velocity``: LAMMPS's ``eta_n0`` [1/(m s)] / [1/s]
+        (``dtcrit.scenes.law_damping``).
+    tangential_damping_factor : float or None
+        Hertz under a law convention: ``c_s/c_n`` (LAMMPS ``x_gammat``; ``dtcrit.scenes.law_damping``).
     friction : float or None
         The Coulomb coefficient ``[contact] friction``, when given (not in the step; ``dtcrit collide``'s
         oblique impacts use it).
@@ -276,11 +281,15 @@ class ContactLaw:
     ks_ratio: float | None = None  # yade: ks / kn
     rotational: Any = None  # dtcrit.scenes.rotational.RotationalLaw (None: no rotational springs)
     bond: Any = None  # dtcrit.scenes.bonds.BondLaw for model = "bond"
+    damping_coefficient: float | None = None  # hertz, law conventions taking eta_n0 (dtcrit.scenes.law_damping)
+    tangential_damping_factor: float | None = None  # hertz, law conventions: c_s/c_n
     friction: float | None = None  # [contact] friction: dtcrit.scenes.collide_oblique
 
     @property
     def damping(self) -> str:
-        """How damping was given: none | coefficients | restitution | damping_ratio."""
+        """How damping was given: none | coefficients | restitution | damping_ratio | coefficient (``eta_n0``)."""
+        if self.damping_coefficient is not None:
+            return "coefficient"
         return damping_kind(self.restitution, self.damping_ratio, self.cn, self.cs)
 
     @property
@@ -288,6 +297,8 @@ class ContactLaw:
         """Whether the law has any damping (coefficients, or a positive damping ratio)."""
         if self.damping == "coefficients":
             return True
+        if self.damping == "coefficient":
+            return (self.damping_coefficient or 0.0) > 0.0
         return (self.damping_ratio or 0.0) > 0.0
 
 

@@ -35,6 +35,7 @@ from dtcrit.inputs.files import read_bounded
 from dtcrit.scenes.damping_input import CONVENTIONS, convention_for, parse_damping
 from dtcrit.bodies.spec import build_shape, density_or_mass, table_dimensions, table_kind
 from dtcrit.scenes.fields import _check_keys, _choice, _number, _required, _short, _string, _type_name
+from dtcrit.scenes.law_damping import check_law_input
 from dtcrit.scenes.laws import resolve_pair
 from dtcrit.scenes.model import (
     CONTACT_ALL,
@@ -170,8 +171,11 @@ def _contact(table: Any, particles: list[Particle], out_warnings: list) -> tuple
     if cn is not None or cs is not None:
         raise InputError(prefix + ("cn" if cn is not None else "cs"), "a Hertz contact takes restitution or damping_ratio "
                          "(its dashpots scale with the overlap), not coefficients")
+    coef, factor = check_law_input(prefix, convention, model, {
+        "restitution": restitution, "damping_ratio": zeta if restitution is None else None,
+        **{k: _number(prefix + k, table[k], allow_zero=True) for k in ("damping_coefficient", "tangential_damping_factor") if k in table}})
     law = ContactLaw("hertz", restitution=restitution, damping_ratio=zeta, velocity=velocity, curvature_radius=radius,
-                     damping_convention=convention, rotational=rotational)
+                     damping_convention=convention, rotational=rotational, damping_coefficient=coef, tangential_damping_factor=factor)
     return law, particles
 
 
