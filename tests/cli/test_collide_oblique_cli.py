@@ -88,7 +88,7 @@ UNEQUAL = ELASTIC.replace("[contact]", '[[particle]]\nshape = "sphere"\nradius =
     (ELASTIC, ["--angle", "30", "--engine", "chrono"], "--engine"),
     (ELASTIC.replace("friction = 0.1", "friction = 0.5"), ["--angle", "5", "--engine", "yade"],
      "--engine: an oblique impact (angle = 5 deg) that sticks is not modelled for YADE"),
-    (ELASTIC.replace("friction = 0.1", 'friction = 0.1\ndamping_convention = "lammps-viscoelastic"\ndamping_coefficient = 1e5'),
+    (ELASTIC.replace("friction = 0.1", 'friction = 0.1\ndamping_convention = "lammps-viscoelastic"\ndamping_coefficient = 1e5\ntangential_damping_factor = 0'),
      ["--angle", "60"], "contact.damping_coefficient: an oblique impact"),
     (ELASTIC, ["--angle", "30"], "--angle: v_t/v_n = 0.5774: the contact slides at first touch and can stick later"),
     (ELASTIC.replace("friction = 0.1", "friction = 0.5\nrestitution = 0.9"), ["--angle", "10"],
