@@ -3,6 +3,7 @@
 dtcrit collide examples/glass_spheres_hertz.toml
 dtcrit collide examples/glass_spheres_hertz.toml --tol 0.001 --json
 dtcrit collide examples/spheres_on_a_floor.toml --v-max 2 --plot collide.png
+dtcrit collide SCENE --angle 60      (oblique impacts: tangential restitution and rebound spin)
 """
 from __future__ import annotations
 
@@ -40,6 +41,9 @@ def add_parser(subparsers) -> None:
     p.add_argument("--tol", type=_tol, default=0.01, help="relative tolerance on restitution and peak overlap, in (0, 1) (default 0.01)")
     p.add_argument("--engine", "--integrator", dest="engine", metavar="NAME", help="engine or integrator (default: the scene's)")
     p.add_argument("--v-max", type=number(what="speed"), metavar="V", help="largest impact speed [m/s] (default: [contact] velocity)")
+    p.add_argument("--angle", type=float, metavar="DEG", help="angle of the impact from the normal [deg], in [0, 90): "
+                   "also resolve the tangential restitution and rebound spin of two equal spheres (default: the "
+                   "scene's [collision] angle_deg or tangential_ratio)")
     p.add_argument("--plot", metavar="FILE.png", help="draw the error against steps per collision")
     p.add_argument("--json", action="store_true", help="print the report as JSON (schema dtcrit-collide/1)")
     p.set_defaults(run=run)
@@ -69,11 +73,23 @@ def format_text(rep: dict) -> str:
                   f"(N_res = {e['steps_resolution']:.4g})" if e["dt_resolution"] else "no step resolves it")
                   + f"; binding: {e['binding']}",
                   f"  dt = {e['dt']:.6g} s = t_c/{e['steps_per_collision']:.4g}; there the integrator {e['energy_verdict']}"]
+        if "oblique" in e:
+            lines += _oblique_lines(e["oblique"])
         for r in e["rules"]:
             tail = "not applicable" if r["dt"] is None else f"{r['dt']:.4g} s = {r['ratio']:.3g} x dt  {r['verdict']}"
             lines.append(f"    {r['label']:<48} {tail}")
     lines.append(f"step for every collision: {rep['dt']:.6g} s")
     return "\n".join(lines)
+
+
+def _oblique_lines(o: dict) -> list[str]:
+    err = o["errors_at_dt"]
+    return [f"  oblique at {o['angle_deg']:.4g} deg (v_t/v_n = {o['tangential_ratio']:.4g}, friction {o['friction']:g}, "
+            f"{o['regime']}): t_c = {o['t_c']:.6g} s, tangential restitution {o['reference']['tangential_restitution']:.4g}, "
+            f"spin {o['reference']['spin']:.4g} v_t/R",
+            f"    dt_oblique = {o['dt_resolution']:.6g} s (N_res = {o['steps_resolution']:.4g}); at dt: tangential "
+            f"restitution error {err['tangential_restitution']:.3g}, spin error {err['spin']:.3g} v_t/R"
+            + ("; binding" if o["binding"] else "")]
 
 
 def run(args) -> int:
@@ -101,11 +117,12 @@ def run(args) -> int:
     args.source_label = args.scene
     scene = load_scene(args.scene)
     try:
-        rep = collide_report(scene, tol=args.tol, engine=args.engine, v_max=args.v_max)
+        rep = collide_report(scene, tol=args.tol, engine=args.engine, v_max=args.v_max, angle_deg=args.angle)
     except InputError as exc:  # a value a flag set is named by its flag, not by the scene file
         flag = {"tol": "--tol", "engine": "--engine" if args.engine else None,
                 "integrator": "--engine" if args.engine else None,
-                "v_max": "--v-max" if args.v_max is not None else None}.get(exc.key or "")
+                "v_max": "--v-max" if args.v_max is not None else None,
+                "angle": "--angle"}.get(exc.key or "")
         if flag is None:
             raise
         args.source_label = None
@@ -115,7 +132,8 @@ def run(args) -> int:
 
         write_collide_plot(rep, args.plot)
     if args.json:
-        doc = envelope("dtcrit-collide/1", {"t_c": "s", "dt": "s", "peak_overlap": "m", "v_max": "m/s", "m_eff": "kg"})
+        doc = envelope("dtcrit-collide/1", {"t_c": "s", "dt": "s", "peak_overlap": "m", "v_max": "m/s", "m_eff": "kg",
+                                            "angle_deg": "deg", "v_normal": "m/s", "v_tangential": "m/s"})
         doc.update(rep)
         print(json.dumps(doc, indent=2, allow_nan=False))
     else:

@@ -16,7 +16,7 @@ API (units: ``restitution`` as the code takes it, see ``scaled.scaled_law``):
 * ``resolution_step(*, engine, normal, damping, restitution, tol=0.01, quantities=(...), clip=None)``.
 
 Modules: ``scaled``, ``laws``, ``reference``, ``stepping``, ``resolution``, ``tables``,
-``resolution_table``, ``oblique``.
+``resolution_table``, ``oblique``, ``oblique_resolution``.
 """
 from __future__ import annotations
 

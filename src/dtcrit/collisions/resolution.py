@@ -11,6 +11,9 @@ bisection.  A grid point is optimised over the phase only when its sampled error
 ``REFINE_ABOVE`` of the tolerance (the optimisation raised the sampled worst case by less than that
 in every case measured).  The guarantee rests
 on that grid: a violation narrower than ``1/GRID`` in N between two grid points can be missed.
+
+The search takes the errors as functions (``first_top``, ``descending_grid``, ``scan_down``,
+``bisect_down``), so that other impacts (``oblique_resolution``) are held to the same rule.
 """
 from __future__ import annotations
 
@@ -166,6 +169,116 @@ def _ratio(errs: dict, quantities, tol: float) -> float:
     return max(errs[q] for q in quantities) / tol
 
 
+def first_top(sampled_ratio, start: float = 4.0) -> float | None:
+    """The top of the downward scan: twice the first doubling of ``start`` whose sampled error is at most half the tolerance.
+
+    Parameters
+    ----------
+    sampled_ratio : callable
+        ``sampled_ratio(ns)`` -> array: the sampled worst error over ``tol`` at each N of the array ``ns``.
+    start : float
+        The first N tried.
+
+    Returns
+    -------
+    float or None
+        ``N_top``, or None when no doubling up to ``MAX_STEPS_PER_COLLISION/2`` reaches half the tolerance.
+    """
+    n_top = start
+    while sampled_ratio(np.array([n_top]))[0] > 0.5:
+        n_top *= 2.0
+        if n_top > MAX_STEPS_PER_COLLISION / 2:
+            return None
+    return n_top * 2.0
+
+
+def descending_grid(n_top: float, spacing: float = 1.0 / GRID, n_bottom: float = 1.0) -> np.ndarray:
+    """The geometric grid ``n_top (1 - spacing)^k`` down to ``n_bottom``.
+
+    Parameters
+    ----------
+    n_top : float
+        First (largest) N.
+    spacing : float
+        Relative spacing in (0, 1).
+    n_bottom : float
+        Smallest N kept.
+
+    Returns
+    -------
+    numpy.ndarray
+        The grid, descending.
+    """
+    grid = n_top * (1.0 - spacing) ** np.arange(int(math.log(n_top / n_bottom) / -math.log(1.0 - spacing)) + 1)
+    return grid[grid >= n_bottom]
+
+
+def scan_down(sampled_ratio, worst_ratio, grid, chunk: int = 64,
+              refine_above: float = REFINE_ABOVE) -> tuple[float, float | None]:
+    """Scan a descending grid of N to the first violation of the tolerance.
+
+    A grid point whose sampled ratio is at most ``refine_above`` is kept; above it the worst over the
+    continuous phase (``worst_ratio``) decides.
+
+    Parameters
+    ----------
+    sampled_ratio : callable
+        ``sampled_ratio(ns)`` -> array of sampled error over tolerance (as ``first_top``).
+    worst_ratio : callable
+        ``worst_ratio(n)`` -> the worst error over the continuous phase over tolerance at N = ``n``.
+    grid : array_like
+        Descending N.
+    chunk : int
+        About this many grid points are sampled per call of ``sampled_ratio``.
+    refine_above : float
+        Sampled ratio above which the phase is optimised (``REFINE_ABOVE`` for ``SAMPLE_PHASES`` phases).
+
+    Returns
+    -------
+    tuple of float and (float or None)
+        The last N kept (``grid[0]`` when none) and the first violation (None when none).
+    """
+    grid = np.asarray(grid, dtype=float)
+    ok_n, bad_n = float(grid[0]), None
+    for part in np.array_split(grid, max(1, grid.size // chunk)):
+        ratios = sampled_ratio(part)
+        for i, n in enumerate(part):
+            r = ratios[i]
+            if r <= refine_above:
+                ok_n = float(n)
+                continue
+            if r > 1.0 or worst_ratio(float(n)) > 1.0:
+                return ok_n, float(n)
+            ok_n = float(n)
+    return ok_n, bad_n
+
+
+def bisect_down(worst_ratio, ok_n: float, bad_n: float, bisections: int = BISECTIONS) -> float:
+    """Geometric bisection of the bracket ``[bad_n, ok_n]`` on ``worst_ratio``; the N kept.
+
+    Parameters
+    ----------
+    worst_ratio : callable
+        As ``scan_down``.
+    ok_n, bad_n : float
+        A kept N and the violation below it.
+    bisections : int
+        Number of halvings (in log N).
+
+    Returns
+    -------
+    float
+        The smallest N of the bracket found within the tolerance.
+    """
+    for _ in range(bisections):
+        mid = math.sqrt(ok_n * bad_n)
+        if worst_ratio(mid) > 1.0:
+            bad_n = mid
+        else:
+            ok_n = mid
+    return ok_n
+
+
 def resolve(scheme: str, law: ScaledLaw, tol: float, quantities) -> Resolution:
     """The resolution step (module docstring) of ``scheme`` on ``law``.
 
@@ -190,37 +303,23 @@ def resolve(scheme: str, law: ScaledLaw, tol: float, quantities) -> Resolution:
     bad = [q for q in quantities if q not in QUANTITIES]
     if bad or not quantities:
         raise InputError("quantities", f"must be among {', '.join(QUANTITIES)} (got {quantities!r})")
-    n_top = 4.0
-    while _ratio({k: v[0] for k, v in sampled_errors(scheme, law, [n_top]).items()}, quantities, tol) > 0.5:
-        n_top *= 2.0
-        if n_top > MAX_STEPS_PER_COLLISION / 2:
-            return Resolution(math.inf, 0.0, tol, quantities, {})
-    n_top *= 2.0
-    grid = n_top * (1.0 - 1.0 / GRID) ** np.arange(int(math.log(n_top) / -math.log(1.0 - 1.0 / GRID)) + 1)
-    grid = grid[grid >= 1.0]
-    ok_n, bad_n = n_top, None
-    for chunk in np.array_split(grid, max(1, grid.size // 64)):
-        samp = sampled_errors(scheme, law, chunk)
-        for i, n in enumerate(chunk):
-            r = _ratio({k: v[i] for k, v in samp.items()}, quantities, tol)
-            if r <= REFINE_ABOVE:
-                ok_n = float(n)
-                continue
-            if r > 1.0 or _ratio(worst_errors(scheme, law, float(n), quantities), quantities, tol) > 1.0:
-                bad_n = float(n)
-                break
-            ok_n = float(n)
-        if bad_n is not None:
-            break
+
+    def sampled_ratio(ns):
+        samp = sampled_errors(scheme, law, ns)
+        return np.array([_ratio({k: v[i] for k, v in samp.items()}, quantities, tol) for i in range(len(ns))])
+
+    def worst_ratio(n):
+        return _ratio(worst_errors(scheme, law, n, quantities), quantities, tol)
+
+    n_top = first_top(sampled_ratio)
+    if n_top is None:
+        return Resolution(math.inf, 0.0, tol, quantities, {})
+    ok_n, bad_n = scan_down(sampled_ratio, worst_ratio, descending_grid(n_top))
     if bad_n is not None:
-        for _ in range(BISECTIONS):
-            mid = math.sqrt(ok_n * bad_n)
-            if _ratio(worst_errors(scheme, law, mid, quantities), quantities, tol) > 1.0:
-                bad_n = mid
-            else:
-                ok_n = mid
+        ok_n = bisect_down(worst_ratio, ok_n, bad_n)
     worst = worst_errors(scheme, law, ok_n, quantities)
     return Resolution(ok_n, 1.0 / ok_n, tol, quantities, worst)
 
 
-__all__ = ["QUANTITIES", "SAMPLE_PHASES", "GRID", "Resolution", "sampled_errors", "worst_errors", "resolve", "check_tol"]
+__all__ = ["QUANTITIES", "SAMPLE_PHASES", "GRID", "Resolution", "sampled_errors", "worst_errors", "resolve", "check_tol",
+           "first_top", "descending_grid", "scan_down", "bisect_down"]

@@ -4,7 +4,8 @@ formulas and the contact physics are ``dtcrit.physics``); ``local_damping`` (the
 ``local_damping_law``: the step times ``1/sqrt(1 + alpha)``).
 ``collide``: the ``dtcrit collide`` report (the step that resolves each collision of a scene,
 ``dtcrit.collisions``); ``law_damping``: Hertz damping conventions that name one code's collision law
-(LAMMPS ``granular``, YADE Mindlin, MercuryDPM), their keys and dashpots.
+(LAMMPS ``granular``, YADE Mindlin, MercuryDPM), their keys and dashpots; ``collide_oblique``: its
+oblique impacts (``[collision] angle_deg`` or ``tangential_ratio``).
 
 Runtime only (NumPy; SciPy on first use for polyhedra): scenes import ``bodies`` and
 ``integrators``, never ``symbolic``.

@@ -28,6 +28,7 @@ from dtcrit.collisions.resolution import check_tol
 from dtcrit.collisions.stepping import scheme_of
 from dtcrit.errors import InputError
 from dtcrit.physics.collision_rules import code_rules
+from dtcrit.scenes.collide_oblique import oblique_plan, oblique_request
 from dtcrit.scenes.law_damping import LAW_CONVENTIONS, continuum_restitution, dashpot_exponent
 from dtcrit.scenes.laws import resolve_pair, resolve_wall
 from dtcrit.scenes.pair_modes import pair_step
@@ -133,7 +134,7 @@ def _contacts(scene):
             yield resolve_wall(scene, w, i), scene.particle(i), None, w
 
 
-def _entry(scene, pc, p, q, wall, v, tol: float, engine: str) -> dict:
+def _entry(scene, pc, p, q, wall, v, tol: float, engine: str, oblique=None) -> dict:
     for part in (p, q):
         if part is not None and part.kind != "sphere":
             raise InputError(f"particle[{part.number}].shape", f"dtcrit collide models collisions of spheres, not {part.kind}")
@@ -164,7 +165,9 @@ def _entry(scene, pc, p, q, wall, v, tol: float, engine: str) -> dict:
         raise InputError("tol", f"{pc.label}: no step resolves this collision within {tol:g} "
                                 f"({', '.join(res.quantities)}) with {engine}; raise --tol")
     dt_res = t_c / res.steps_per_collision
-    dt = min(dt_stab, dt_res)
+    obl = None if oblique is None else oblique_plan(oblique, pc, p, damping=damping, restitution=e, v=v, t_c=t_c, peak=peak,
+                                                    tol=tol, engine=engine)  # scenes.collide_oblique
+    dt = min(dt_stab, dt_res, math.inf if obl is None else obl.dt_resolution)
     n_bind = t_c / dt
     errs = collision_errors(engine=engine, normal=normal, damping=damping, restitution=e, steps_per_collision=n_bind)
     rules = code_rules(t_c=t_c, m_star=m, v_max=v, hertz=hz, restitution=e,
@@ -176,17 +179,20 @@ def _entry(scene, pc, p, q, wall, v, tol: float, engine: str) -> dict:
         "cn_at_peak": pc.cn, "cs_at_peak": pc.cs,
         "m_eff": m, "v_max": v, "t_c": t_c, "peak_overlap": peak, "dt_stability": dt_stab,
         "dt_resolution": dt_res if dt_res > 0 else None, "steps_resolution": res.steps_per_collision if dt_res > 0 else None, "dt": dt, "steps_per_collision": n_bind,
-        "binding": "resolution" if dt_res > 0 and dt_res <= dt_stab else "stability",
+        "binding": "oblique-resolution" if obl is not None and obl.dt_resolution < min(dt_res, dt_stab) else
+                   "resolution" if dt_res > 0 and dt_res <= dt_stab else "stability",
         "energy_gain": errs["energy_gain"], "gains_energy": errs["energy_gain"] > ENERGY_TOL,
         "energy_verdict": _energy_verdict(engine, normal, damping, e, n_bind, errs["energy_gain"]),
         "errors_at_dt": {k: errs[k] for k in ("restitution", "peak_overlap", "duration")},
         "rules": [{"key": r.key, "label": r.label, "dt": r.dt, "source": r.source,
                    "ratio": None if r.dt is None else r.dt / dt,
                    "verdict": None if r.dt is None else ("safe" if r.dt <= dt else "UNSAFE")} for r in rules],
+        **({} if obl is None else {"oblique": obl.report(dt)}),
     }
 
 
-def collide_report(scene, *, tol: float = 0.01, engine: str | None = None, v_max: float | None = None) -> dict:
+def collide_report(scene, *, tol: float = 0.01, engine: str | None = None, v_max: float | None = None,
+                   angle_deg: float | None = None) -> dict:
     """The collision report of a scene (module docstring).
 
     Parameters
@@ -199,6 +205,10 @@ def collide_report(scene, *, tol: float = 0.01, engine: str | None = None, v_max
         Engine or integrator whose stepping is resolved (default: the scene's integrator).
     v_max : float, optional
         Largest impact speed [m/s] (default: the scene's ``[collision] v_max``, else its ``[contact] velocity``).
+    angle_deg : float, optional
+        Angle of the impact from the normal [deg] in [0, 90) (default: the scene's ``[collision] angle_deg``
+        or ``tangential_ratio``): above zero, each pair also reports its oblique impact
+        (``scenes.collide_oblique``).
 
     Returns
     -------
@@ -224,5 +234,6 @@ def collide_report(scene, *, tol: float = 0.01, engine: str | None = None, v_max
     if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
         raise InputError("v_max", f"must be a positive finite speed (got {v!r})")
     engine = engine or scene.integrator
-    pairs = [_entry(scene, pc, p, q, w, float(v), tol, engine) for pc, p, q, w in _contacts(scene)]
+    oblique = oblique_request(scene, angle_deg)
+    pairs = [_entry(scene, pc, p, q, w, float(v), tol, engine, oblique) for pc, p, q, w in _contacts(scene)]
     return {"integrator": engine, "tol": tol, "v_max": float(v), "pairs": pairs, "dt": min(e["dt"] for e in pairs)}

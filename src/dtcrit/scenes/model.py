@@ -263,6 +263,9 @@ class ContactLaw:
         (``dtcrit.scenes.law_damping``).
     tangential_damping_factor : float or None
         Hertz under a law convention: ``c_s/c_n`` (LAMMPS ``x_gammat``; ``dtcrit.scenes.law_damping``).
+    friction : float or None
+        The Coulomb coefficient ``[contact] friction``, when given (not in the step; ``dtcrit collide``'s
+        oblique impacts use it).
     """
 
     model: str  # linear | yade | hertz
@@ -280,6 +283,7 @@ class ContactLaw:
     bond: Any = None  # dtcrit.scenes.bonds.BondLaw for model = "bond"
     damping_coefficient: float | None = None  # hertz, law conventions taking eta_n0 (dtcrit.scenes.law_damping)
     tangential_damping_factor: float | None = None  # hertz, law conventions: c_s/c_n
+    friction: float | None = None  # [contact] friction: dtcrit.scenes.collide_oblique
 
     @property
     def damping(self) -> str:
@@ -336,6 +340,10 @@ class Scene:
     collision_v_max : float or None
         The ``[collision]`` table's ``v_max``: the largest impact speed [m/s] ``dtcrit collide`` resolves
         (:mod:`dtcrit.scenes.collide`).
+    collision_angle : tuple of (str, float) or None
+        The ``[collision]`` table's obliquity: the key given (``collision.angle_deg`` or
+        ``collision.tangential_ratio``) and the impact's angle from the normal [deg]
+        (:mod:`dtcrit.scenes.collide_oblique`).
     """
 
     source: str
@@ -353,6 +361,7 @@ class Scene:
     isolated: bool = False  # the headline is the isolated-contact step (else the step for any packing)
     local_damping: tuple[float, str] | None = None  # (alpha, law): dtcrit.scenes.local_damping
     collision_v_max: float | None = None  # [collision] v_max [m/s]: dtcrit.scenes.collide
+    collision_angle: tuple[str, float] | None = None  # [collision] angle_deg/tangential_ratio: scenes.collide_oblique
 
     @property
     def identical(self) -> bool:

@@ -285,7 +285,10 @@ def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
     found: list[tuple[str, str]] = [("integrator", integrator_note)] if integrator_note else []
     walls = parse_walls(doc["wall"], len(particles), found) if "wall" in doc else ()
 
-    law, particles = _contact(_required("", doc, "contact", "the [contact] table"), particles, found)
+    contact = _required("", doc, "contact", "the [contact] table")
+    law, particles = _contact(contact, particles, found)
+    if isinstance(contact, dict) and "friction" in contact:  # checked by _contact; used by dtcrit collide's oblique impacts
+        law = replace(law, friction=float(contact["friction"]))
     if law.model == "hertz" and any(p.sizes is not None and p.sizes.kind == "lognormal" for p in particles):
         found.append(("contact.model", "warning: Hertz stiffness over a lognormal size range is evaluated at "
                       f"{len(next(p for p in particles if p.sizes is not None and p.sizes.kind == 'lognormal').radii)} "
@@ -293,7 +296,7 @@ def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
     import dtcrit.scenes.local_damping as local_damping
 
     scene = Scene(source, integrator, tuple(particles), law, omega_max, safety, pairs, title, tuple(found), walls, coordination,
-                  overlap, isolated, local_damping.parse(doc), _collision_v_max(doc))
+                  overlap, isolated, local_damping.parse(doc), *_collision(doc))
     from dtcrit.scenes.laws import resolve_wall
 
     checks = [(f"pair {i}-{j}", resolve_pair(scene, i, j)) for i, j in scene.pair_numbers()]
@@ -308,15 +311,23 @@ def scene_from_dict(doc: Any, source: str = "<scene>") -> Scene:
     return scene
 
 
-def _collision_v_max(doc: dict) -> float | None:
-    """The ``[collision]`` table's ``v_max`` [m/s] (the largest impact speed ``dtcrit collide`` resolves)."""
+def _collision(doc: dict) -> tuple[float | None, tuple[str, float] | None]:
+    """The ``[collision]`` table's ``v_max`` [m/s] (the largest impact speed ``dtcrit collide`` resolves) and
+    obliquity (``angle_deg`` or ``tangential_ratio``: :mod:`dtcrit.scenes.collide_oblique`).
+    """
     if "collision" not in doc:
-        return None
+        return None, None
     table = doc["collision"]
     if not isinstance(table, dict):
         raise InputError("collision", "must be a table: [collision] with v_max = SPEED")
-    _check_keys("collision.", table, ("v_max",), ("v_max",), "in [collision]")
-    return _number("collision.v_max", _required("collision.", table, "v_max", "largest impact speed [m/s]"))
+    from dtcrit.scenes.collide_oblique import ANGLE_KEYS, parse_angle
+
+    keys = ("v_max",) + ANGLE_KEYS
+    _check_keys("collision.", table, keys, keys, "in [collision]")
+    angle = parse_angle(table)
+    if angle is not None and "v_max" not in table:
+        return None, angle
+    return _number("collision.v_max", _required("collision.", table, "v_max", "largest impact speed [m/s]")), angle
 
 
 def parse_scene(text: str, source: str = "<scene>") -> Scene:
