@@ -14,6 +14,7 @@ __all__ = ["JSON_SCHEMA", "UNITS", "plan_json", "plan_text"]
 JSON_SCHEMA = "dtcrit-plan/1"
 UNITS = {"target_dt": "s", "binding.dt_crit": "s", "binding.dt_safe": "s", "density_scaling.dt_crit_scaled": "s",
          "density_scaling.added_mass": "kg", "density_scaling.yade_rule_dt_crit": "s",
+         "density_scaling.yade_unit_safety_dt_crit": "s",
          "density_scaling.size_classes.*.radius_min": "m", "density_scaling.size_classes.*.radius_max": "m",
          "density_scaling.size_classes.*.mass": "kg", "density_scaling.size_classes.*.added_mass": "kg",
          "density_scaling.size_classes.*.yade_rule_added_mass": "kg", "quasi_static.pressure": "Pa",
@@ -42,7 +43,9 @@ def _density(plan: SnapshotPlan) -> dict:
             "yade_rule_added_mass_fraction": _finite(d.yade_rule_added_mass_fraction),
             "yade_rule_dt_crit": _finite(d.yade_dt_crit_scaled),
             "yade_rule_stable": None if d.yade_dt_crit_scaled is None else bool(d.yade_dt_crit_scaled >= d.target_dt),
-            "yade_safety": d.yade_safety, "solves": d.solves, "size_classes": list(plan.size_classes)}
+            "yade_safety": d.yade_safety,
+            "yade_unit_safety_added_mass_fraction": _finite(d.yade_unit_safety_added_mass_fraction),
+            "yade_unit_safety_dt_crit": _finite(d.yade_unit_safety_dt_crit_scaled), "solves": d.solves, "size_classes": list(plan.size_classes)}
 
 
 def _stiffness(plan: SnapshotPlan) -> dict:
@@ -98,14 +101,14 @@ def _binding_lines(plan: SnapshotPlan) -> list[str]:
 
 def _density_lines(plan: SnapshotPlan) -> list[str]:
     d = plan.density
-    yade = ("n/a (YADE's stepper reads sphere contacts only)" if d.yade_rule_added_mass_fraction is None else
+    yade = ("n/a (YADE's stepper reads sphere contacts only)" if d.yade_dt_crit_scaled is None else
             f"{_pct(d.yade_rule_added_mass_fraction)}; its exact step {d.yade_dt_crit_scaled:.6g} s "
             f"({'stable' if d.yade_dt_crit_scaled >= d.target_dt else 'UNSTABLE'} at the target)")
     lines = ["", "density scaling (mass and inertia of each body times f >= 1):",
              f"  added mass {_pct(d.added_mass_fraction)} ({d.added_mass:.6g} kg), largest factor {d.factors.max():.5g}; "
              f"exact dt_crit of the scaled packing {d.dt_crit_scaled:.7g} s >= target",
              f"  (confirmed by the exact eigen-solve; start: the {d.bound.replace('_', '-')} bound's factors, "
-             f"{_pct(d.bound_added_mass_fraction)}; kept: {d.family}; {d.solves} solves)",
+             f"{_pct(d.bound_added_mass_fraction)}; kept: {d.family}; {d.solves} inertia counts and eigen-solves)",
              f"  YADE densityScaling rule (safety {d.yade_safety:g}): {yade}",
              f"  uniform factor {d.uniform_factor:.6g}: {_pct(d.uniform_added_mass_fraction)}",
              f"  {'radius [m]':<24}{'count':>6}{'added mass':>14}{'largest f':>11}{'YADE rule':>14}"]
