@@ -1,13 +1,10 @@
 """Text and JSON (schema ``dtcrit-plan/1``, ``src/dtcrit/schemas/dtcrit-plan-1.json``) of a plan."""
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from dtcrit.json_meta import envelope
 from dtcrit.physics.json_numbers import finite_or_none as _finite
-
-if TYPE_CHECKING:
-    from dtcrit.plan.report import SnapshotPlan
 
 __all__ = ["JSON_SCHEMA", "UNITS", "plan_json", "plan_text"]
 
@@ -23,7 +20,7 @@ UNITS = {"target_dt": "s", "binding.dt_crit": "s", "binding.dt_safe": "s", "dens
          "collisions.contact_time_stiffness": "s", "cost.duration": "s"}
 
 
-def _binding(plan: SnapshotPlan) -> dict:
+def _binding(plan: Any) -> dict:
     a = plan.audit
     return {"dt_crit": _finite(a.dt_crit), "dt_safe": _finite(a.dt_safe), "method": a.method,
             "limiting": {"ids": list(a.limiting), "energy_share": _finite(a.limiting_share),
@@ -32,7 +29,7 @@ def _binding(plan: SnapshotPlan) -> dict:
             "local_damping": None if a.local_damping is None else dict(a.local_damping)}
 
 
-def _density(plan: SnapshotPlan) -> dict:
+def _density(plan: Any) -> dict:
     d = plan.density
     ids = [plan.snapshot.packing.particle_id(p) for p in range(len(d.factors)) if d.free[p]]
     return {"ids": ids, "factors": [float(f) for f, free in zip(d.factors, d.free) if free],
@@ -48,7 +45,7 @@ def _density(plan: SnapshotPlan) -> dict:
             "yade_unit_safety_dt_crit": _finite(d.yade_unit_safety_dt_crit_scaled), "solves": d.solves, "size_classes": list(plan.size_classes)}
 
 
-def _stiffness(plan: SnapshotPlan) -> dict:
+def _stiffness(plan: Any) -> dict:
     s = plan.stiffness
     return {"factor": s.factor, "dt_crit_reduced": s.dt_crit_reduced, "hertz": s.hertz,
             "modulus_factor_fixed_overlap": s.modulus_factor_fixed_overlap,
@@ -57,12 +54,12 @@ def _stiffness(plan: SnapshotPlan) -> dict:
             "static_overlap_factor": s.static_overlap_factor, "dashpots_scaled": s.damped}
 
 
-def plan_json(plan: SnapshotPlan) -> dict:
+def plan_json(plan: Any) -> dict:
     """The plan as a JSON document (schema ``dtcrit-plan/1``; non-finite numbers as null).
 
     Parameters
     ----------
-    plan : SnapshotPlan
+    plan : dtcrit.plan.report.SnapshotPlan
         The plan.
 
     Returns
@@ -83,7 +80,7 @@ def _pct(x: float | None) -> str:
     return "n/a" if x is None else f"{100 * x:.4g} %"
 
 
-def _binding_lines(plan: SnapshotPlan) -> list[str]:
+def _binding_lines(plan: Any) -> list[str]:
     from dtcrit.packing.audit.mode_character import describe
 
     a = plan.audit
@@ -99,7 +96,7 @@ def _binding_lines(plan: SnapshotPlan) -> list[str]:
     return lines
 
 
-def _density_lines(plan: SnapshotPlan) -> list[str]:
+def _density_lines(plan: Any) -> list[str]:
     d = plan.density
     yade = ("n/a (YADE's stepper reads sphere contacts only)" if d.yade_dt_crit_scaled is None else
             f"{_pct(d.yade_rule_added_mass_fraction)}; its exact step {d.yade_dt_crit_scaled:.6g} s "
@@ -124,7 +121,7 @@ def _density_lines(plan: SnapshotPlan) -> list[str]:
     return lines
 
 
-def _stiffness_lines(plan: SnapshotPlan) -> list[str]:
+def _stiffness_lines(plan: Any) -> list[str]:
     s = plan.stiffness
     lines = ["", "stiffness reduction (every spring times s" + (", dashpots times sqrt(s)" if s.damped else "") + "):",
              f"  s = {s.factor:.6g}; exact dt_crit {s.dt_crit_reduced:.7g} s >= target"]
@@ -140,12 +137,12 @@ def _stiffness_lines(plan: SnapshotPlan) -> list[str]:
     return lines
 
 
-def plan_text(plan: SnapshotPlan) -> str:
+def plan_text(plan: Any) -> str:
     """The plan as text.
 
     Parameters
     ----------
-    plan : SnapshotPlan
+    plan : dtcrit.plan.report.SnapshotPlan
         The plan.
 
     Returns
