@@ -123,3 +123,36 @@ def test_dashpots_plan_is_stable_by_the_lagged_condition():
     assert not _stable_lagged(snap, np.ones(snap.packing.n), target)
     # a little less mass on every body that was scaled is already unstable: the plan is tight
     assert not _stable_lagged(snap, 1.0 + 0.9 * (plan.factors - 1.0), target)
+
+
+def _yade_export(path, damping):
+    """Five spheres of a YADE export (``dtcrit-yade-export/1``) with loaded contacts and local damping."""
+    import json
+
+    r, rho = 1e-3, 2650.0
+    mass = 4.0 / 3.0 * math.pi * r**3 * rho
+    d = 2 * r - 2e-6
+    pos = [(0.0, 0.0, 0.0), (d, 0.0, 0.0), (2 * d, 0.0, 0.0), (d, d, 0.0), (d, 0.6 * d, 0.8 * d)]
+    springs = ((1e5, 3e4), (2e5, 5e4), (7e4, 6e4), (1.5e5, 2e4))
+    bodies = [{"id": k, "pos": list(p), "radius": r, "mass": mass * (1 + 0.3 * k),
+               "inertia": [0.4 * mass * (1 + 0.3 * k) * r * r] * 3, "clump_id": None, "is_clump": False,
+               "fixed": False, "ori": [1, 0, 0, 0]} for k, p in enumerate(pos)]
+    inters = [{"id1": a, "id2": b, "kn": kn, "ks": ks, "kr": None, "ktw": None, "cn": None, "cs": None,
+               "fn": kn * 2e-6, "penetration": 2e-6, "shift2": [0.0, 0.0, 0.0],
+               "normal": list((np.subtract(pos[b], pos[a]) / np.linalg.norm(np.subtract(pos[b], pos[a]))).tolist())}
+              for (a, b), (kn, ks) in zip([(0, 1), (1, 2), (1, 3), (1, 4)], springs)]
+    path.write_text(json.dumps({"schema": "dtcrit-yade-export/1", "yade_version": "2023.02a", "dt": 1e-7, "iter": 3,
+                                "newton_damping": damping, "periodic": False, "cell_hsize": None,
+                                "avoid_granular_ratcheting": True, "bodies": bodies, "interactions": inters}))
+    return path
+
+
+def test_yade_export_with_local_damping(tmp_path):
+    """A YADE export with newton_damping 0.2: the plan's step is the audit's (times 1/sqrt(1.2)) and meets the target."""
+    snap = read_snapshot(_yade_export(tmp_path / "export.json", 0.2))
+    factor = 1.0 / math.sqrt(1.2)
+    dt_now = factor * 2.0 / math.sqrt(_omega2(snap, np.ones(snap.packing.n)))
+    plan = plan_density_scaling(snap, 2.0 * dt_now)
+    assert plan.dt_crit == pytest.approx(dt_now, rel=1e-9)
+    assert factor * 2.0 / math.sqrt(_omega2(snap, plan.factors)) >= 2.0 * dt_now
+    assert plan.yade_factors is not None and plan.added_mass_fraction < plan.yade_rule_added_mass_fraction

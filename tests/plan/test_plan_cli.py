@@ -130,3 +130,9 @@ def test_write_dump_into_missing_directory_writes_nothing(capsys, tmp_path, dt_n
                           "--write-dump", str(tmp_path / "no" / "such.dump"))
     assert err.startswith("dtcrit: --write-dump: ")
     assert not (tmp_path / "no").exists()
+
+
+def test_a_scene_is_refused(capsys):
+    """A scene has no packing whose exact step could confirm the masses: one line naming SNAPSHOT."""
+    err = _one_line_error(capsys, "plan", str(ROOT / "examples" / "glass_spheres_hertz.toml"), "--target-dt", "1e-5")
+    assert err.startswith("dtcrit: SNAPSHOT: plan needs a snapshot")

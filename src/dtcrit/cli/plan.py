@@ -110,14 +110,16 @@ def run_command(args) -> int:
 def _run(args) -> int:
     from dtcrit.cli.audit import _dump_flag
     from dtcrit.errors import InputError
-    from dtcrit.packing.audit.run import DumpReadError, read_snapshot
+    from dtcrit.packing.audit.run import DumpReadError
+    from dtcrit.plan.density import read_input
     from dtcrit.plan.report import plan_snapshot
 
     args.source_label = None
     try:
-        given = read_snapshot(args.snapshot, engine=args.engine, pair_style=args.pair_style, local=args.local,
-                              contact_table=args.contacts, density=args.density, snapshot_index=args.snapshot_index,
-                              liggghts_input=args.liggghts_input, walls=args.wall)
+        given = read_input(args.snapshot, dict(engine=args.engine, pair_style=args.pair_style, local=args.local,
+                                               contact_table=args.contacts, density=args.density,
+                                               snapshot_index=args.snapshot_index, liggghts_input=args.liggghts_input,
+                                               walls=args.wall))
     except DumpReadError as exc:
         raise InputError(_dump_flag(exc, args.snapshot), exc.reason) from None
     if args.write_dump:
