@@ -99,6 +99,9 @@ def write_scaled_dump(path, packing, factors, free) -> None:
     target = Path(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
     try:
+        mask = os.umask(0)
+        os.umask(mask)
+        os.chmod(tmp, 0o666 & ~mask)  # as an ordinary new file, not mkstemp's 0600
         with os.fdopen(fd, "w") as fh:
             fh.write(text)
         os.replace(tmp, target)

@@ -159,7 +159,7 @@ def _warnings(plan: DensityPlan, quasi: dict, gravity, velocity, collisions: dic
     after = quasi.get("inertial_number_after")
     if after is not None and after > quasi["limit"]:
         out.append(f"inertial number after scaling {after:.3g} > {quasi['limit']:g}: the flow is no longer quasi-static")
-    if collisions["steps_per_collision_stiffness"] < collisions["lammps_rule_steps"]:
+    if velocity is not None and collisions["steps_per_collision_stiffness"] < collisions["lammps_rule_steps"]:
         out.append(f"after stiffness reduction the shortest collision is resolved by "
                    f"{collisions['steps_per_collision_stiffness']:.3g} steps of the target (fewer than the "
                    f"{collisions['lammps_rule_steps']:g} of the LAMMPS granular examples)")
