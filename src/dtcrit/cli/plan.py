@@ -131,7 +131,7 @@ def _run(args) -> int:
     if args.write_dump:
         from dtcrit.plan.dump import check_dump_target
 
-        check_dump_target(given, args.write_dump)
+        check_dump_target(given, args.write_dump, per_type_law=bool(args.liggghts_input))
     plan = plan_snapshot(given, args.target_dt, max_factor=args.max_factor, duration=args.duration,
                          strain_rate=args.strain_rate, gravity=args.gravity, velocity=args.velocity,
                          integrator=args.integrator, local_damping=args.local_damping,
