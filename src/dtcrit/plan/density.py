@@ -91,7 +91,7 @@ class DensityPlan:
     max_factor : float
         The largest factor allowed.
     solves : int
-        Exact eigen-solves spent.
+        Inertia counts (``dtcrit.plan.exact.ScaledStep.certified_stable``) and exact eigen-solves spent.
     free : numpy.ndarray
         ``(N,)`` which bodies are free particles (walls and fixed bodies keep factor 1).
     masses : numpy.ndarray
@@ -348,7 +348,8 @@ def plan_density_scaling(snapshot: str | os.PathLike | Any, target_dt: float, ma
 
     results = {"uniform": (np.where(free, f_uniform, 1.0), dt_uniform)}
     families = {"bound interpolation": (lambda t: capped(1.0 + t * (f_bound - 1.0)), 1.0),
-                "bound demand": (lambda s: capped(np.maximum(1.0, s * raw)), 1.0)}
+                "bound demand": (lambda s: capped(np.maximum(1.0, s * raw)),
+                                 1.0 if f_bound.max() <= max_factor else max_factor / max(float(raw[raw > 0].min()), 1e-300))}
     if yade is not None:
         demand = np.where(free, yade, 1.0)
         families["YADE demand"] = (lambda s: capped(np.maximum(1.0, s * demand)),
