@@ -83,6 +83,7 @@ def test_text_names_the_binding_particles(capsys, dt_now):
     assert code == 0, err
     assert "binding step today" in out and "density scaling" in out and "stiffness reduction" in out
     assert "warning: gravity 9.81" in out
+    assert "not at rest under this contact law (unbalanced force ratio 0.121" in out  # the example is not relaxed
 
 
 def _one_line_error(capsys, *argv) -> str:

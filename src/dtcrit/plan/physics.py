@@ -5,7 +5,7 @@
 * **inertial number** ``I = gamma_dot d sqrt(rho / p)`` (GDR MiDi 2004; quasi-static below about
   ``1e-3``): ``d`` the mean diameter, ``rho`` the solid density ``sum m / sum V``, ``p`` the mean stress
   of the contact forces (Love-Weber, ``p = sum_c F_n (l_c . n_c) / (3 V_box)``, ``l_c`` the branch
-  vector).  The normal forces are the contacts' own (``force_n``) or, without them, the law's at the
+  vector between the centres, periodic image included).  The normal forces are the contacts' own (``force_n``) or, without them, the law's at the
   snapshot's overlaps: ``kn delta`` for linear springs, ``(2/3) kn delta`` for Hertz (``F = 4/3 E*
   sqrt(R*) delta^3/2`` and ``k = 2 E* sqrt(R* delta)``).  Scaling the masses by ``f`` scales ``rho``
   by ``f``, so ``I`` grows by ``sqrt(f)``: by ``sqrt(1 + added mass fraction)`` in the mean and
@@ -23,10 +23,13 @@ import math
 import numpy as np
 
 __all__ = ["QUASI_STATIC_LIMIT", "contact_durations", "hertz_durations", "inertial_number", "mean_pressure",
-           "resolution_steps", "size_classes"]
+           "resolution_steps", "size_classes", "unbalanced_force_ratio", "EQUILIBRIUM_LIMIT"]
 
 QUASI_STATIC_LIMIT = 1e-3
 """Inertial number below which a granular flow is quasi-static (GDR MiDi 2004, Eur. Phys. J. E 14, 341)."""
+EQUILIBRIUM_LIMIT = 1e-2
+"""Unbalanced force ratio above which a snapshot is not at rest: it will move and make or break contacts
+(YADE scripts wait for ``unbalancedForce() < 0.01`` or less before loading)."""
 
 
 def size_classes(radii: np.ndarray, masses: np.ndarray, factors: np.ndarray, free: np.ndarray,
@@ -111,7 +114,8 @@ def mean_pressure(packing, contacts, hertz: bool, free: np.ndarray) -> float | N
         return None
     volume = abs(float(np.linalg.det(packing.box.matrix)))
     both = free[contacts.i] & free[contacts.j]
-    branch = np.einsum("ck,ck->c", contacts.arm_i - contacts.arm_j, contacts.normal)
+    x = packing.positions
+    branch = np.einsum("ck,ck->c", x[contacts.j] + packing.box.shift(contacts.image) - x[contacts.i], contacts.normal)
     p = float(np.sum((normal_forces(contacts, hertz) * branch)[both])) / (3.0 * volume)
     return p if p > 0 and math.isfinite(p) else None
 
@@ -227,3 +231,36 @@ def resolution_steps(engine: str, integrator: str, hertz: bool) -> float:
         return float(resolution_step(engine=engine, normal=normal, damping="none", restitution=1.0).steps_per_collision)
     except InputError:
         return float(resolution_step(engine=integrator, normal=normal, damping="none", restitution=1.0).steps_per_collision)
+
+
+def unbalanced_force_ratio(packing, contacts, hertz: bool, free: np.ndarray) -> float | None:
+    """Mean net normal contact force on the free bodies over the mean contact force (YADE's ``unbalancedForce``).
+
+    YADE's ``utils.unbalancedForce``: the mean of the summed force on the bodies over the mean force of
+    the interactions; here of the normal forces (``normal_forces``; a dump carries no tangential history,
+    and a LAMMPS run from it starts with none).
+
+    Parameters
+    ----------
+    packing : dtcrit.packing.model.Packing
+        The bodies.
+    contacts : dtcrit.packing.contact_set.Contacts
+        The contacts (normals from ``i`` to ``j``, compressive forces positive).
+    hertz : bool
+        Whether the law is Hertzian.
+    free : numpy.ndarray
+        ``(N,)`` free bodies (walls are left out of the mean).
+
+    Returns
+    -------
+    float or None
+        The ratio (0: every free body at rest), None without a contact force.
+    """
+    f = normal_forces(contacts, hertz)
+    mean = float(np.abs(f).mean()) if f.size else 0.0
+    if not mean > 0:
+        return None
+    net = np.zeros((packing.n, 3))
+    np.add.at(net, contacts.i, -f[:, None] * contacts.normal)
+    np.add.at(net, contacts.j, f[:, None] * contacts.normal)
+    return float(np.linalg.norm(net[free], axis=1).mean() / mean)

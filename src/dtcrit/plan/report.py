@@ -112,11 +112,15 @@ def _cost(duration: float | None, n: int, dt_now: float, target: float) -> dict 
 
 
 def _quasi_static(given, plan: DensityPlan, strain_rate, hertz: bool) -> dict:
-    from dtcrit.plan.physics import QUASI_STATIC_LIMIT, inertial_number, mean_pressure
+    from dtcrit.plan.physics import (EQUILIBRIUM_LIMIT, QUASI_STATIC_LIMIT, inertial_number, mean_pressure,
+                                     unbalanced_force_ratio)
 
     out: dict[str, Any] = {"growth_mean": math.sqrt(1.0 + plan.added_mass_fraction), "growth_max": plan.growth,
                            "strain_rate": strain_rate, "pressure": None, "inertial_number_before": None,
-                           "inertial_number_after": None, "limit": QUASI_STATIC_LIMIT}
+                           "inertial_number_after": None, "limit": QUASI_STATIC_LIMIT,
+                           "unbalanced_force_ratio": unbalanced_force_ratio(given.packing, given.contacts, hertz,
+                                                                            plan.free),
+                           "equilibrium_limit": EQUILIBRIUM_LIMIT}
     if strain_rate is None:
         return out
     if not (math.isfinite(strain_rate) and strain_rate > 0):
@@ -171,6 +175,11 @@ def _warnings(plan: DensityPlan, quasi: dict, gravity, velocity, collisions: dic
                    f"energy, their collisions last up to {f_max ** (0.4 if hertz else 0.5):.4g} x longer "
                    f"(t_c ~ m^{'2/5' if hertz else '1/2'}) and overlap deeper: impacts "
                    f"are not what they were")
+    unbalanced = quasi.get("unbalanced_force_ratio")
+    if unbalanced is not None and unbalanced > quasi["equilibrium_limit"]:
+        out.append(f"the snapshot is not at rest under this contact law (unbalanced force ratio {unbalanced:.3g} > "
+                   f"{quasi['equilibrium_limit']:g}): it will move and make new contacts, and the planned step holds for "
+                   f"the contacts it has now; plan from a relaxed snapshot or keep a margin")
     after = quasi.get("inertial_number_after")
     if after is not None and after > quasi["limit"]:
         out.append(f"inertial number after scaling {after:.3g} > {quasi['limit']:g}: the flow is no longer quasi-static")
