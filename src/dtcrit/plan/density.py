@@ -5,10 +5,10 @@
 1. the *sufficient* per-body factors of the Gershgorin and block-diagonal bounds (``dtcrit.plan.bounds``):
    with either set the scaled packing is stable at the target, whatever the eigen-solver says;
 2. tightened with the *exact* critical step of the scaled packing (``dtcrit.plan.exact``, the audit's
-   solve): three monotone families of factors, each from 1 (no scaling) to a set known stable, are
-   bisected on their parameter -- the bound's factors interpolated towards 1, the bound's demand and
-   YADE's per-body demand each scaled by a common number and floored at 1 -- and the least added mass
-   over them and the exact uniform factor is kept;
+   solve): four monotone families of factors, each from 1 (no scaling) to a set known stable, are
+   bisected on their parameter -- the better bound's factors interpolated towards 1, each bound's
+   per-body demand and YADE's each scaled by a common number and floored at 1 -- and the least added
+   mass over them and the exact uniform factor is kept;
 3. every answer is one whose exact critical step is at least ``target x (1 + CONFIRM_MARGIN)``: a
    plan the exact solve did not confirm is never returned.
 
@@ -62,8 +62,8 @@ class DensityPlan:
     added_mass_fraction : float
         ``sum m_p (f_p - 1) / sum m_p`` over the free bodies.
     family : str
-        Which family gave the least added mass (``bound interpolation``, ``bound demand``,
-        ``YADE demand``, ``uniform``).
+        Which family gave the least added mass (``bound interpolation``, ``block_diagonal demand``,
+        ``gershgorin demand``, ``YADE demand``, ``uniform``).
     bound : str
         The bound whose factors are the guaranteed start (``gershgorin`` or ``block_diagonal``).
     bound_factors : numpy.ndarray
@@ -253,6 +253,26 @@ def scaled_step_of(given, integrator, local_damping, local_damping_law, method) 
     return ScaledStep(given.packing, given.contacts, integrator, 1.0 if local is None else local.factor, method)
 
 
+def _families(demands, bounds: dict, bound: str, free: np.ndarray, yade: np.ndarray | None,
+              max_factor: float) -> dict:
+    """The monotone families of factors, each ``name -> (phi, hi)`` with ``phi(0)`` no scaling (module docstring)."""
+    def capped(f: np.ndarray) -> np.ndarray:
+        return np.minimum(max_factor, f)
+
+    def threshold(d: np.ndarray, top: np.ndarray) -> tuple:
+        d = np.where(free, d, 0.0)
+        hi = 1.0 if top.max() <= max_factor else max_factor / max(float(d[d > 0].min(initial=1.0)), 1e-300)
+        return (lambda s: capped(np.maximum(1.0, s * d))), hi
+
+    f_bound = bounds[bound]
+    families = {"bound interpolation": ((lambda t: capped(1.0 + t * (f_bound - 1.0))), 1.0)}
+    for name in ("block_diagonal", "gershgorin"):
+        families[f"{name} demand"] = threshold(getattr(demands, name), bounds[name])
+    if yade is not None:
+        families["YADE demand"] = threshold(yade, np.full(1, np.inf))
+    return families
+
+
 def _confirmed(step: ScaledStep, factors: np.ndarray, target: float, max_factor: float) -> tuple[np.ndarray, float]:
     """The factors and their exact critical step, raised by 1 % of their excess at a time until it meets the target."""
     for _ in range(20):
@@ -339,22 +359,11 @@ def plan_density_scaling(snapshot: str | os.PathLike | Any, target_dt: float, ma
     bounds = {name: np.where(free, demands.factors(name), 1.0) for name in ("gershgorin", "block_diagonal")}
     bound = min(bounds, key=lambda name: added_fraction(packing.masses, bounds[name], free))
     f_bound = bounds[bound]
-    raw = np.where(free, getattr(demands, bound), 0.0)
     yade = yade_rule_factors(given, target, yade_safety)
     yade = None if yade is None else np.where(free, yade, 1.0)
 
-    def capped(f: np.ndarray) -> np.ndarray:
-        return np.minimum(max_factor, f)
-
     results = {"uniform": (np.where(free, f_uniform, 1.0), dt_uniform)}
-    families = {"bound interpolation": (lambda t: capped(1.0 + t * (f_bound - 1.0)), 1.0),
-                "bound demand": (lambda s: capped(np.maximum(1.0, s * raw)),
-                                 1.0 if f_bound.max() <= max_factor else max_factor / max(float(raw[raw > 0].min()), 1e-300))}
-    if yade is not None:
-        demand = np.where(free, yade, 1.0)
-        families["YADE demand"] = (lambda s: capped(np.maximum(1.0, s * demand)),
-                                   max(1.0, max_factor / max(float(demand.min()), 1e-300)))
-    for name, (phi, hi) in families.items():
+    for name, (phi, hi) in _families(demands, bounds, bound, free, yade, max_factor).items():
         found = _bisect(phi, ok, hi)
         if found is not None:
             results[name] = found
