@@ -156,3 +156,31 @@ def test_yade_export_with_local_damping(tmp_path):
     assert plan.dt_crit == pytest.approx(dt_now, rel=1e-9)
     assert factor * 2.0 / math.sqrt(_omega2(snap, plan.factors)) >= 2.0 * dt_now
     assert plan.yade_factors is not None and plan.added_mass_fraction < plan.yade_rule_added_mass_fraction
+
+
+@pytest.mark.parametrize("seed,spread,gamma,times", [(11, 0.2, 0.0, 1.5), (12, 0.5, 80.0, 3.0), (13, 0.35, 20.0, 6.0)])
+def test_random_packings_with_and_without_dashpots(tmp_path, seed, spread, gamma, times):
+    """Small generated packings, dashpots or none: the plan and the bound's factors alone are stable at the
+    target by the lagged condition, the unscaled packing is not.
+    """
+    packing = random_packing(24, cn=6.0, sizes="lognormal", spread=spread, radius=1e-3, density=2500.0, seed=seed)
+    path = tmp_path / "p.dump"
+    write_dump(path, packing)
+    snap = read_snapshot(path, pair_style=f"gran/hooke/history 1e5 NULL {gamma!r} NULL 0.5 0")
+    dt_now = _lagged_step(snap)
+    plan = plan_density_scaling(snap, times * dt_now)
+    assert plan.dt_crit == pytest.approx(dt_now, rel=1e-8)  # the audit's damped step, found independently
+    n = snap.packing.n
+    assert _stable_lagged(snap, plan.factors, plan.target_dt)
+    assert _stable_lagged(snap, plan.bound_factors, plan.target_dt)
+    assert not _stable_lagged(snap, np.ones(n), plan.target_dt)
+    assert plan.added_mass_fraction <= plan.uniform_added_mass_fraction
+
+
+def _lagged_step(snapshot) -> float:
+    """The critical step by bisection of the lagged condition (dense), to 1e-10."""
+    lo, hi = 0.0, 2.0 / math.sqrt(_omega2(snapshot, np.ones(snapshot.packing.n)))
+    while hi - lo > 1e-10 * hi:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if _stable_lagged(snapshot, np.ones(snapshot.packing.n), mid) else (lo, mid)
+    return lo
