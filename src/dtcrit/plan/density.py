@@ -329,6 +329,14 @@ def plan_density_scaling(snapshot: str | os.PathLike | Any, target_dt: float, ma
     InputError
         ``target_dt`` not above today's critical step (nothing to do), unreachable within ``max_factor``,
         or a term the plan does not model.
+
+    Examples
+    --------
+    >>> from dtcrit.plan import plan_density_scaling
+    >>> plan = plan_density_scaling("examples/packings/random_lognormal_60.dump", 1e-5,
+    ...                             pair_style="gran/hooke/history 1e5 NULL 0 NULL 0.5 0")
+    >>> plan.dt_crit_scaled >= 1e-5, plan.factors.shape, plan.added_mass_fraction < plan.yade_rule_added_mass_fraction
+    (True, (60,), True)
     """
     target = check_target(target_dt)
     if not (isinstance(max_factor, (int, float)) and math.isfinite(max_factor) and max_factor > 1):
