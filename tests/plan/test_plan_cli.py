@@ -157,3 +157,16 @@ def test_impact_resolution_with_a_velocity(capsys, dt_now):
     n_res = resolution_step(engine="lammps", normal="hooke", damping="none", restitution=1.0).steps_per_collision
     assert c["resolution_dt_now"] == pytest.approx(t_c / n_res, rel=1e-12)
     assert any("impacts at 0.3 m/s" in w for w in doc["warnings"])
+
+
+def test_plot_is_written_and_a_bad_path_refused_first(capsys, tmp_path, dt_now):
+    """--plot writes a PNG; a path that is not .png is one line before any work."""
+    pytest.importorskip("matplotlib")
+    png = tmp_path / "plan.png"
+    code, out, err = _run(capsys, "plan", EXAMPLE, "--pair-style", HOOKE, "--target-dt", repr(2 * dt_now),
+                          "--plot", str(png))
+    assert code == 0, err
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    err = _one_line_error(capsys, "plan", EXAMPLE, "--pair-style", HOOKE, "--target-dt", repr(2 * dt_now),
+                          "--plot", str(tmp_path / "plan.svg"))
+    assert err.startswith("dtcrit: --plot: ")
