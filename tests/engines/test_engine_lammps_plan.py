@@ -1,0 +1,53 @@
+"""``dtcrit plan`` on a polydisperse packing LAMMPS itself compressed, checked in LAMMPS.
+
+The packing (``support.engines.lammps_packing.compress``, 60 spheres, radii within +-30 %) is planned for
+2x and 5x its critical step; the scaled packing is written with the plan's masses
+(``dtcrit.plan.dump``) and run in LAMMPS (``fix nve/sphere``, a small kick): bounded at 0.99 x the
+plan's exact step, growing at 1.01 x, and the unscaled packing at the target blows up.  The plan's
+added mass is below YADE's rule's.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import scipy.linalg as sla
+
+from support.engines import require_engine
+from support.engines.lammps_packing import PackingSpec, compress, grows
+
+from dtcrit.packing.audit.run import read_snapshot
+from dtcrit.packing.operators.assembly import mass_diagonal, stiffness_matrix
+from dtcrit.plan import plan_density_scaling
+from dtcrit.plan.dump import format_scaled_dump
+
+HOOKE = "gran/hooke/history 1e4 NULL 0 NULL 0.5 0"
+STEPS = 6000
+
+
+@pytest.fixture(scope="module")
+def packing(tmp_path_factory):
+    """LAMMPS's dump of the compressed, relaxed packing, and the snapshot dtcrit reads from it."""
+    require_engine("lammps")
+    work = tmp_path_factory.mktemp("plan_lammps")
+    text = compress(PackingSpec(solid_fraction=0.65, seed=7), work)  # relaxed: unbalanced force ratio ~1e-10
+    path = work / "packing.dump"
+    path.write_text(text)
+    return text, read_snapshot(path, pair_style=HOOKE)
+
+
+@pytest.mark.parametrize("times", [2.0, 5.0])
+def test_scaled_packing_is_bounded_in_lammps_at_the_planned_step(packing, times):
+    """Bounded at 0.99 x dt_crit_scaled, growing at 1.01 x; unscaled at the target it blows up."""
+    text, snap = packing
+    k = stiffness_matrix(snap.packing, snap.contacts).toarray()
+    s = 1.0 / np.sqrt(mass_diagonal(snap.packing))
+    dt_now = 2.0 / math.sqrt(float(sla.eigh(s[:, None] * k * s[None, :], eigvals_only=True)[-1]))
+    plan = plan_density_scaling(snap, times * dt_now)
+    assert plan.dt_crit_scaled >= plan.target_dt
+    assert plan.added_mass_fraction < plan.yade_rule_added_mass_fraction
+    scaled = format_scaled_dump(snap.packing, plan.factors, plan.free)
+    assert not grows(scaled, HOOKE, 0.99 * plan.dt_crit_scaled, STEPS)
+    assert grows(scaled, HOOKE, 1.01 * plan.dt_crit_scaled, STEPS)
+    assert grows(text, HOOKE, plan.target_dt, STEPS)
