@@ -223,6 +223,14 @@ def timestep_function(pair_style: str, dump: str = "dtcrit.dump", **options):
     return dtcrit_timestep
 
 
+def _density_scaling():
+    try:
+        from . import density_scaling  # imported as part of the dtcrit.engine_scripts package
+    except ImportError:
+        import density_scaling  # run from this directory (on sys.path)
+    return density_scaling
+
+
 def _lammps_object(lmp):
     """The ``lammps.lammps`` instance (also accepts a ``PyLammps``, whose ``.lmp`` it is)."""
     if hasattr(lmp, "extract_global") and hasattr(lmp, "command"):
@@ -314,6 +322,13 @@ class DtcritLammpsHook:
             return None  # on_error="keep": the step stays
         lmp.command(f"timestep {dt!r}")
         return dt
+
+    def apply_density_scaling(self, factors, dt=None, safety: float = 1.0) -> float:
+        """Multiply the atoms' masses (and so their inertias) by the planned factors and set ``timestep
+        safety * dt`` (``density_scaling.apply_lammps``; once, before ``run``); returns the step.
+        """
+        return _density_scaling().apply_lammps(self.lmp, factors, dt, safety,
+                                               directory=os.path.dirname(self.dump_path))
 
     def run(self, nsteps: int, run_options: str = "") -> None:
         """``run nsteps`` in chunks of at most ``every`` steps, ``update`` before each (module docstring).

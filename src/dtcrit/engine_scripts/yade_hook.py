@@ -63,6 +63,14 @@ def _export_function():
     return export
 
 
+def _density_scaling():
+    try:
+        from . import density_scaling  # imported as part of the dtcrit.engine_scripts package
+    except ImportError:
+        import density_scaling  # this directory is on sys.path (see _export_function)
+    return density_scaling
+
+
 def _omega():
     from yade import wrapper
 
@@ -145,6 +153,12 @@ class DtcritHook:
         record["dt"] = dt
         self.history.append(record)
         return dt
+
+    def apply_density_scaling(self, factors, dt=None, safety: float = 1.0) -> dict:
+        """Multiply the bodies' masses and inertias by the planned factors and set ``O.dt = safety * dt``
+        (``density_scaling.apply_yade``; once, before the run: later audits see the scaled masses)."""
+        _export_function()  # puts this directory on sys.path when run outside the package
+        return _density_scaling().apply_yade(factors, dt, safety)
 
     def runner(self):
         """A PyRunner calling ``update`` every ``every`` steps (registered in ``__main__`` by label)."""
