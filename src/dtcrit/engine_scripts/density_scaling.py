@@ -31,12 +31,12 @@ as ``0.4 rmass radius^2`` every step, so scaling the mass scales the inertia wit
     variable dtcrit_factor atomfile "factors.txt"
     variable dtcrit_mass atom mass*(v_dtcrit_factor+(v_dtcrit_factor==0))
     set group all mass v_dtcrit_mass
-    variable dtcrit_mass delete
-    variable dtcrit_factor delete
     timestep 2.5e-06
 
 (atoms the file does not list read factor 0 and keep their mass; ``atomfile`` variables need an atom
-map, ``atom_modify map array`` or ``hash``, before ``read_data``).  ``apply_lammps`` does both
+map, ``atom_modify map array`` or ``hash``, before ``read_data``).  The two variables stay defined:
+``variable ... delete`` of both made LAMMPS 29Sep2021 crash on exit (measured), so a second
+application needs another ``label``.  ``apply_lammps`` does both
 through the LAMMPS Python module (``DtcritLammpsHook.apply_density_scaling``).  Run it once, after
 ``read_data`` and before ``run``.  Nothing from the caller ends up outside a double-quoted argument
 (the file path, refused when it holds a double quote or a line break) or a number written by
@@ -226,12 +226,13 @@ def lammps_commands(factor_file, dt=None, safety: float = 1.0, label: str = "dtc
     fac, mass = f"{label}_factor", f"{label}_mass"
     lines = [f"variable {fac} atomfile {_quoted(factor_file)}",
              f"variable {mass} atom mass*(v_{fac}+(v_{fac}==0))",
-             f"set group all mass v_{mass}",
-             f"variable {mass} delete",
-             f"variable {fac} delete"]
+             f"set group all mass v_{mass}"]
     if dt is not None:
         lines.append(f"timestep {_step(dt, safety)!r}")
     return lines
+
+
+_APPLIED = [0]  # applications in this process: each gets its own variable names
 
 
 def apply_lammps(lmp, factors, dt=None, safety: float = 1.0, directory=None) -> float:
@@ -256,9 +257,10 @@ def apply_lammps(lmp, factors, dt=None, safety: float = 1.0, directory=None) -> 
         LAMMPS's step after the call (``extract_global("dt")``).
     """
     folder = os.fspath(directory) if directory is not None else tempfile.mkdtemp(prefix="dtcrit_scaling_")
-    path = os.path.join(folder, "mass_factors.txt")
+    _APPLIED[0] += 1
+    path = os.path.join(folder, f"mass_factors_{_APPLIED[0]}.txt")
     with open(path, "w") as fh:
         fh.write(lammps_factor_file(factors))
-    for line in lammps_commands(path, dt, safety):
+    for line in lammps_commands(path, dt, safety, label=f"dtcrit{_APPLIED[0]}"):
         lmp.command(line)
     return float(lmp.extract_global("dt"))
