@@ -19,9 +19,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from support.engines import require_engine
+from support.engines import in_ci, require_engine
 from support.engines.lammps_packing import PackingSpec, compress
-from support.engines.scaled_packing import critical_step, gershgorin_factors, growth, model_from_dump
+from support.engines.scaled_packing import (critical_step, gershgorin_factors, growth, hook_run, lammps_python,
+                                            model_from_dump)
 from support.engines.yade_scaled import PackingRun, packing_runs
 
 KN = 1.0e4
@@ -130,3 +131,19 @@ def test_yade_density_scaling_against_the_factors(packing, yade_runs):
         assert run.bounded
     elif yade_step < 0.99 * target:
         assert run.growing
+
+
+def test_lammps_hook_applies_the_factors_through_the_python_module(packing):
+    """``DtcritLammpsHook.apply_density_scaling`` (LAMMPS Python module): the masses LAMMPS holds are the
+    factors times the dump's, the step is the target, and the run from the kick stays bounded.
+    """
+    python = lammps_python()
+    if python is None:
+        if in_ci():
+            pytest.fail("no Python with the LAMMPS module (apt-get install python3-lammps) -- engine tests are "
+                        "never skipped in CI (CI=true)", pytrace=False)
+        pytest.skip("no Python with the LAMMPS module (apt-get install python3-lammps)")
+    out = hook_run(python, packing["dump"], STYLE, packing["target"], STEPS, packing["factors"])
+    assert np.allclose(out["mass"], packing["model"].masses * packing["factors"], rtol=1e-15, atol=0.0)
+    assert out["returned"] == out["dt"] == packing["target"]
+    assert out["energy_ratio"] < BOUNDED

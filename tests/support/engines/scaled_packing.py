@@ -160,3 +160,80 @@ def _thermo(log: str) -> tuple[list[float], list[float]]:
             elif parts and parts[0] == "Loop":
                 break
     return energies, sorted(dts)
+
+
+def lammps_python() -> str | None:
+    """A Python that imports the LAMMPS module: ``$LAMMPS_PYTHON``, else a ``python3`` on PATH, else this
+    environment's base interpreter; None when there is none (``apt-get install python3-lammps``).
+    """
+    import os
+    import shutil
+    import subprocess
+    import sys
+
+    override = os.environ.get("LAMMPS_PYTHON")
+    on_path = [shutil.which("python3", path=d) for d in os.environ.get("PATH", "").split(os.pathsep)]
+    found = [override] if override else on_path
+    for cand in dict.fromkeys(c for c in [*found, getattr(sys, "_base_executable", None)] if c):
+        if subprocess.run([cand, "-c", "import lammps"], capture_output=True, timeout=60).returncode == 0:
+            return cand
+    return None
+
+
+_HOOK_DRIVER = r'''
+import json, sys
+cfg = json.load(open(sys.argv[1]))
+sys.path.insert(0, cfg["scripts"])
+from lammps import lammps
+from lammps_hook import DtcritLammpsHook
+
+lmp = lammps(cmdargs=["-log", "none", "-screen", "none", "-nocite"])
+lmp.commands_list(cfg["setup"])
+hook = DtcritLammpsHook(lmp, cfg["style"], dtcrit=["dtcrit-not-run"], directory=cfg["dir"])
+table = {int(k): f for k, f in cfg["factors"].items()}
+out = {"returned": hook.apply_density_scaling(table, cfg["dt"])}
+n = lmp.get_natoms()
+ids, mass = lmp.gather_atoms("id", 0, 1), lmp.gather_atoms("rmass", 1, 1)
+out["mass"] = {int(ids[k]): mass[k] for k in range(n)}
+lmp.command("run %d" % cfg["steps"])
+out["dt"] = lmp.extract_global("dt")
+out["energy"] = lmp.extract_variable("etot", None, 0)
+lmp.close()
+print("HOOK " + json.dumps(out))
+'''
+
+
+def hook_run(python: str, dump_text: str, pair_style: str, dt: float, steps: int, factors, *,
+             eps: float = 1e-6, seed: int = 3) -> dict:
+    """``DtcritLammpsHook.apply_density_scaling`` in the LAMMPS Python module on the dumped packing
+    (kicked as in ``growth``), then ``run steps``: the step it returned, the masses LAMMPS holds after
+    it (by atom id), the step after the run, and the kinetic energy at the end over the scaled initial one.
+    """
+    import json
+    import subprocess
+
+    x, radii, masses, length = _read_dump(dump_text)
+    rng = np.random.default_rng(seed)
+    v_scale = eps * radii.min() / dt
+    vel = np.concatenate([rng.standard_normal((len(x), 3)) * v_scale,
+                          rng.standard_normal((len(x), 3)) * v_scale / radii[:, None]], axis=1)
+    m = masses * np.asarray(factors, float)  # the kinetic energy right after the scaling
+    e0 = 0.5 * float(np.sum(m[:, None] * vel[:, :3] ** 2) + np.sum(0.4 * (m * radii**2)[:, None] * vel[:, 3:] ** 2))
+    with tempfile.TemporaryDirectory() as tmp:
+        work = Path(tmp)
+        (work / "case.data").write_text(_data_file(x, radii, masses, length, vel, masses=True))
+        setup = [ln.replace("read_data case.data", f'read_data "{work / "case.data"}"') for ln in _header(pair_style)]
+        setup += ["fix integ all nve/sphere", "timestep 1e-12", "compute ket all ke", "compute ker all erotate/sphere",
+                  "variable etot equal c_ket+c_ker", "thermo_style custom step v_etot"]
+        cfg = {"scripts": str(ENGINE_SCRIPTS), "setup": setup, "style": pair_style, "dir": str(work), "dt": dt,
+               "steps": int(steps), "factors": {str(k + 1): float(f) for k, f in enumerate(factors)}}
+        (work / "cfg.json").write_text(json.dumps(cfg))
+        (work / "driver.py").write_text(_HOOK_DRIVER)
+        done = subprocess.run([python, str(work / "driver.py"), str(work / "cfg.json")], capture_output=True,
+                              text=True, timeout=300)
+    lines = [ln for ln in done.stdout.splitlines() if ln.startswith("HOOK ")]
+    assert done.returncode == 0 and lines, done.stdout[-2000:] + done.stderr[-2000:]
+    out = json.loads(lines[-1][5:])
+    out["energy_ratio"] = out["energy"] / e0
+    out["mass"] = np.array([out["mass"][str(k + 1)] for k in range(len(masses))])
+    return out

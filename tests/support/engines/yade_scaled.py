@@ -10,8 +10,9 @@ force, so the packing LAMMPS relaxed without friction is in equilibrium in YADE 
 
 Each run (``PackingRun``) is one of
 
-* ``factors`` given: dtcrit's engine script ``density_scaling.apply_yade`` (``dtcrit/engine_scripts``,
-  run inside YADE) scales the bodies' mass and inertia and sets ``O.dt`` to the run's ``dt``;
+* ``factors`` given: dtcrit's YADE hook (``DtcritHook.apply_density_scaling``, i.e. the engine script
+  ``density_scaling.apply_yade``, from ``dtcrit/engine_scripts``, run inside YADE) scales the bodies'
+  mass and inertia and sets ``O.dt`` to the run's ``dt``;
 * ``yade_target``: ``GlobalStiffnessTimeStepper(targetDt=dt, densityScaling=True)`` with
   ``NewtonIntegrator.densityScaling`` (YADE's per-body rule, GlobalStiffnessTimeStepper.cpp:
   ``state.densityScaling = (dt_i / targetDt)^2`` from its diagonal estimate ``dt_i``; the
@@ -86,8 +87,9 @@ def scaled_run(k, p, r):
     info = {"mass0": [b.state.mass for b in O.bodies], "contacts": len(real)}
     if r["factors"] is not None:
         sys.path.insert(0, PAYLOAD["engine_scripts"])
-        import density_scaling
-        info["applied"] = density_scaling.apply_yade({bid: f for bid, f in enumerate(r["factors"])}, r["dt"])
+        import yade_hook  # the hook's method, which calls density_scaling.apply_yade
+        hook = yade_hook.DtcritHook(dtcrit=["dtcrit-not-run"], export_path="hook_scene.json")
+        info["applied"] = hook.apply_density_scaling({bid: f for bid, f in enumerate(r["factors"])}, r["dt"])
     else:
         O.dt = r["dt"]
     extra = []
