@@ -37,6 +37,7 @@ LAYERS = (
     ("dtcrit.packing", 6),  # packing.step, packing.audit.run, packing.distributed.step: the packing API
     ("dtcrit.paper", 6),  # the paper's printed formulas beside the verified ones (integrators, bodies)
     ("dtcrit.scenes", 7),
+    ("dtcrit.plan", 7),  # dtcrit plan: density scaling and stiffness reduction on the audit's snapshot (packing, collisions)
     ("dtcrit.codegen", 8),  # codegen.api: emit_code, the emission API
     ("dtcrit.bench", 9),
     ("dtcrit.figures", 9),

@@ -1,0 +1,16 @@
+"""``dtcrit plan``: what a simulation costs, and the least intrusive way to a larger step.
+
+Density scaling with per-body mass and inertia factors confirmed stable at the target step by the
+exact eigen-solve of the scaled packing (starting from factors the Gershgorin and block-diagonal
+bounds prove sufficient), compared with YADE's ``densityScaling`` rule and a uniform factor; the
+stiffness reduction that reaches the same step; the cost before and after.
+
+Runtime layer (NumPy/SciPy): imports ``packing`` (the audit's snapshot reader and eigen-solve),
+``physics`` and ``collisions``, never SymPy.
+
+Modules: ``bounds`` (sufficient per-body factors), ``exact`` (the scaled packing's exact step),
+``density`` (:func:`plan_density_scaling`).
+"""
+from dtcrit.plan.density import DensityPlan, plan_density_scaling
+
+__all__ = ["DensityPlan", "plan_density_scaling"]

@@ -1,0 +1,318 @@
+"""Density scaling with the least added mass that the exact eigen-solve confirms stable at a target step.
+
+:func:`plan_density_scaling` is the API behind ``dtcrit plan``'s density scaling:
+
+1. the *sufficient* per-body factors of the Gershgorin and block-diagonal bounds (``dtcrit.plan.bounds``):
+   with either set the scaled packing is stable at the target, whatever the eigen-solver says;
+2. tightened with the *exact* critical step of the scaled packing (``dtcrit.plan.exact``, the audit's
+   solve): three monotone families of factors, each from 1 (no scaling) to a set known stable, are
+   bisected on their parameter -- the bound's factors interpolated towards 1, the bound's demand and
+   YADE's per-body demand each scaled by a common number and floored at 1 -- and the least added mass
+   over them and the exact uniform factor is kept;
+3. every answer is one whose exact critical step is at least ``target x (1 + CONFIRM_MARGIN)``: a
+   plan the exact solve did not confirm is never returned.
+
+YADE's rule (``NewtonIntegrator.densityScaling`` with ``GlobalStiffnessTimeStepper.targetDt``,
+``pkg/dem/GlobalStiffnessTimeStepper.cpp`` ``findTimeStepFromBody``): each body's acceleration is
+multiplied by ``densityScaling = min(1.0001 x densityScaling, s (dt_b / targetDt)^2)``, ``dt_b`` its
+stepper step at the safety ``s`` (``dtcrit.packing.bounds.yade_stepper``), i.e. a mass factor
+``targetDt^2 / (s dt_b^2)`` where that exceeds 1.  On its first call the bodies that need no scaling
+get ``1/1.0001`` (0.01 % lighter) and each later call lightens them by 1.0001 more, up to
+``s (dt_b/targetDt)^2``; the rule here is the first call's with those bodies at 1.
+"""
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import numpy as np
+
+from dtcrit.errors import InputError
+from dtcrit.physics import rules_of_thumb as rot
+
+from dtcrit.plan.exact import ScaledStep, check_target, free_bodies, scaled_packing
+
+__all__ = ["CONFIRM_MARGIN", "DEFAULT_MAX_FACTOR", "DensityPlan", "plan_density_scaling", "yade_rule_factors"]
+
+CONFIRM_MARGIN = 1e-6
+"""A plan's exact critical step is at least ``target x (1 + CONFIRM_MARGIN)``: room for the eigen-solver's
+own rounding, so an independent solve of the scaled packing finds it at or above the target."""
+DEFAULT_MAX_FACTOR = 100.0
+"""The largest mass factor of any body (``--max-factor``)."""
+BISECTION_RTOL = 1e-3
+"""Each family's parameter is bisected to this relative width."""
+
+
+@dataclass(frozen=True)
+class DensityPlan:
+    """Per-body mass (and inertia) factors that make the packing stable at ``target_dt``.
+
+    Parameters
+    ----------
+    target_dt : float
+        The target step [s].
+    dt_crit : float
+        The packing's exact critical step today [s] (as ``dtcrit audit`` reports it).
+    factors : numpy.ndarray
+        ``(N,)`` factors >= 1 on each body's mass and principal moments, in the snapshot's body order.
+    dt_crit_scaled : float
+        The exact critical step of the scaled packing [s], >= ``target_dt``.
+    added_mass_fraction : float
+        ``sum m_p (f_p - 1) / sum m_p`` over the free bodies.
+    family : str
+        Which family gave the least added mass (``bound interpolation``, ``bound demand``,
+        ``YADE demand``, ``uniform``).
+    bound : str
+        The bound whose factors are the guaranteed start (``gershgorin`` or ``block_diagonal``).
+    bound_factors : numpy.ndarray
+        ``(N,)`` its sufficient factors (stable at the target by the bound alone).
+    bound_added_mass_fraction : float
+        Their added mass fraction.
+    uniform_factor : float
+        The least common factor of every free body that reaches the target (exact).
+    uniform_added_mass_fraction : float
+        ``uniform_factor - 1``.
+    yade_factors : numpy.ndarray or None
+        ``(N,)`` YADE's per-body factors (module docstring), None when the stepper cannot be computed.
+    yade_rule_added_mass_fraction : float or None
+        Their added mass fraction.
+    yade_dt_crit_scaled : float or None
+        The exact critical step of the packing scaled by YADE's rule [s] (below the target: unstable there).
+    yade_safety : float
+        The ``timestepSafetyCoefficient`` of YADE's rule.
+    integrator : str
+        The integrator planned for.
+    max_factor : float
+        The largest factor allowed.
+    solves : int
+        Exact eigen-solves spent.
+    free : numpy.ndarray
+        ``(N,)`` which bodies are free particles (walls and fixed bodies keep factor 1).
+    masses : numpy.ndarray
+        ``(N,)`` the unscaled masses [kg].
+    """
+
+    target_dt: float
+    dt_crit: float
+    factors: np.ndarray
+    dt_crit_scaled: float
+    added_mass_fraction: float
+    family: str
+    bound: str
+    bound_factors: np.ndarray
+    bound_added_mass_fraction: float
+    uniform_factor: float
+    uniform_added_mass_fraction: float
+    yade_factors: np.ndarray | None
+    yade_rule_added_mass_fraction: float | None
+    yade_dt_crit_scaled: float | None
+    yade_safety: float
+    integrator: str
+    max_factor: float
+    solves: int
+    free: np.ndarray = field(repr=False)
+    masses: np.ndarray = field(repr=False)
+
+    @property
+    def added_mass(self) -> float:
+        """The added mass [kg], ``sum m_p (f_p - 1)`` over the free bodies."""
+        return float(np.sum((self.masses * (self.factors - 1.0))[self.free]))
+
+    @property
+    def growth(self) -> float:
+        """``sqrt(max f_p)``: the largest growth of a body's inertial time ``sqrt(m)`` (and inertial number)."""
+        return math.sqrt(float(self.factors.max()))
+
+
+def added_fraction(masses: np.ndarray, factors: np.ndarray, free: np.ndarray) -> float:
+    """``sum m_p (f_p - 1) / sum m_p`` over the free bodies.
+
+    Parameters
+    ----------
+    masses, factors : numpy.ndarray
+        ``(N,)`` masses [kg] and factors.
+    free : numpy.ndarray
+        ``(N,)`` which bodies count.
+
+    Returns
+    -------
+    float
+        The added mass fraction.
+    """
+    m = masses[free]
+    return float(np.sum(m * (factors[free] - 1.0)) / np.sum(m))
+
+
+def yade_rule_factors(snapshot, target: float, safety: float = rot.YADE_GSTS_SAFETY) -> np.ndarray | None:
+    """YADE's per-body factors ``max(1, targetDt^2 / (s dt_b^2))`` at the target (module docstring).
+
+    Parameters
+    ----------
+    snapshot : dtcrit.packing.audit.results.Snapshot
+        The snapshot (a YADE export's own stepper input, else its sphere contacts).
+    target : float
+        ``targetDt`` [s].
+    safety : float
+        ``timestepSafetyCoefficient`` (YADE's default 0.8).
+
+    Returns
+    -------
+    numpy.ndarray or None
+        ``(N,)`` factors, or None when the stepper cannot be computed (bodies other than spheres).
+    """
+    from dtcrit.packing.bounds.yade_stepper import from_contacts, yade_stepper
+    from dtcrit.packing.bounds.yade_stepper_export import from_snapshot
+
+    inp = from_snapshot(snapshot) or from_contacts(snapshot.packing, snapshot.contacts)
+    step = yade_stepper(inp, safety)
+    if step.dt is None or step.per_body.shape != (snapshot.packing.n,):
+        return None
+    with np.errstate(divide="ignore"):
+        return np.maximum(1.0, target * target / (safety * step.per_body**2))
+
+
+def _bisect(phi: Callable[[float], np.ndarray], ok: Callable[[np.ndarray], tuple[bool, float]],
+            hi: float) -> tuple[np.ndarray, float] | None:
+    """The smallest ``s`` in ``[0, hi]`` (to ``BISECTION_RTOL``) whose ``phi(s)`` is confirmed; None if ``phi(hi)`` is not."""
+    good, dt = ok(phi(hi))
+    if not good:
+        return None
+    best, lo = (phi(hi), dt), 0.0
+    while hi - lo > BISECTION_RTOL * hi:
+        mid = 0.5 * (lo + hi)
+        f = phi(mid)
+        good, dt = ok(f)
+        if good:
+            hi, best = mid, (f, dt)
+        else:
+            lo = mid
+    return best
+
+
+def _read(snapshot, read: dict):
+    from dtcrit.packing.audit.results import Snapshot
+    from dtcrit.packing.audit.run import read_snapshot
+
+    if isinstance(snapshot, Snapshot):
+        return snapshot
+    return read_snapshot(snapshot, **read)
+
+
+def _scaled_step(given, integrator, local_damping, local_damping_law, method) -> ScaledStep:
+    from dtcrit.packing.audit import local_damping as damping
+
+    local = damping.resolve(given.meta, given.source, local_damping, local_damping_law)
+    integrator = integrator or given.convention.integrator
+    if local is not None and integrator not in damping.MODELLED_INTEGRATORS:
+        raise InputError("local_damping", f"local damping is modelled with {', '.join(damping.MODELLED_INTEGRATORS)} "
+                                          f"only, not {integrator!r}")
+    return ScaledStep(given.packing, given.contacts, integrator, 1.0 if local is None else local.factor, method)
+
+
+def _uniform(step: ScaledStep, target: float, free: np.ndarray, ok) -> tuple[float, float]:
+    """The exact uniform factor, nudged up until the exact step confirms it."""
+    f_u = step.uniform_factor(target) * (1.0 + 2.0 * CONFIRM_MARGIN)
+    for _ in range(40):
+        good, dt = ok(np.where(free, f_u, 1.0))
+        if good:
+            return f_u, dt
+        f_u *= 1.0 + 1e-5
+    raise InputError("target_dt", "the exact solve did not confirm a uniform factor (eigen-solver trouble)")
+
+
+def plan_density_scaling(snapshot: str | os.PathLike | Any, target_dt: float, max_factor: float = DEFAULT_MAX_FACTOR,
+                         *, integrator: str | None = None, local_damping: float | None = None,
+                         local_damping_law: str | None = None, yade_safety: float = rot.YADE_GSTS_SAFETY,
+                         method: str = "auto", **read: Any) -> DensityPlan:
+    """Per-body mass and inertia factors with the least added mass found, confirmed stable at ``target_dt``.
+
+    Parameters
+    ----------
+    snapshot : str or os.PathLike or Snapshot
+        A snapshot file (read with :func:`dtcrit.packing.audit.run.read_snapshot` and ``read``) or one already read.
+    target_dt : float
+        The target step [s].
+    max_factor : float
+        The largest factor of any body.
+    integrator : str, optional
+        Override the engine's integrator (the central-difference family: ``dtcrit.plan.exact.MODELLED``).
+    local_damping, local_damping_law : float and str, optional
+        Local damping as ``dtcrit audit`` takes it: the step times ``1/sqrt(1 + alpha)``.
+    yade_safety : float
+        ``timestepSafetyCoefficient`` of YADE's rule.
+    method : str
+        Eigen-solver of the exact solves.
+    **read
+        ``read_snapshot``'s keyword arguments for a file.
+
+    Returns
+    -------
+    DensityPlan
+        ``factors`` (ordered as the snapshot's bodies), ``dt_crit_scaled >= target_dt`` and the comparisons.
+
+    Raises
+    ------
+    InputError
+        ``target_dt`` not above today's critical step (nothing to do), unreachable within ``max_factor``,
+        or a term the plan does not model.
+    """
+    target = check_target(target_dt)
+    if not (isinstance(max_factor, (int, float)) and math.isfinite(max_factor) and max_factor > 1):
+        raise InputError("max_factor", f"must be a finite number above 1, got {max_factor!r}")
+    given = _read(snapshot, read)
+    step = _scaled_step(given, integrator, local_damping, local_damping_law, method)
+    dt_now = step.dt()
+    if dt_now >= target:
+        raise InputError("target_dt", f"nothing to do: the current critical step {dt_now:.6g} s already meets the "
+                                      f"target {target:.6g} s")
+    packing, free = given.packing, free_bodies(given.packing)
+    need = target * (1.0 + CONFIRM_MARGIN)
+
+    def ok(f: np.ndarray) -> tuple[bool, float]:
+        dt = step.dt(f)
+        return dt >= need, dt
+
+    f_uniform, dt_uniform = _uniform(step, target, free, ok)
+    if f_uniform > max_factor:
+        raise InputError("max_factor", f"the target {target:.6g} s is unreachable within a mass factor of {max_factor:g}: "
+                                       f"it takes {f_uniform:.6g} on every body (today's critical step {dt_now:.6g} s)")
+    from dtcrit.plan.bounds import body_demands
+
+    demands = body_demands(packing, given.contacts, step.undamped_target(target), dashpots=step.dashpots)
+    bounds = {name: np.where(free, demands.factors(name), 1.0) for name in ("gershgorin", "block_diagonal")}
+    bound = min(bounds, key=lambda name: added_fraction(packing.masses, bounds[name], free))
+    f_bound = bounds[bound]
+    raw = np.where(free, getattr(demands, bound), 0.0)
+    yade = yade_rule_factors(given, target, yade_safety)
+    yade = None if yade is None else np.where(free, yade, 1.0)
+
+    def capped(f: np.ndarray) -> np.ndarray:
+        return np.minimum(max_factor, f)
+
+    results = {"uniform": (np.where(free, f_uniform, 1.0), dt_uniform)}
+    families = {"bound interpolation": (lambda t: capped(1.0 + t * (f_bound - 1.0)), 1.0),
+                "bound demand": (lambda s: capped(np.maximum(1.0, s * raw)), 1.0)}
+    if yade is not None:
+        demand = np.where(free, yade, 1.0)
+        families["YADE demand"] = (lambda s: capped(np.maximum(1.0, s * demand)),
+                                   max(1.0, max_factor / max(float(demand.min()), 1e-300)))
+    for name, (phi, hi) in families.items():
+        found = _bisect(phi, ok, hi)
+        if found is not None:
+            results[name] = found
+    family = min(results, key=lambda name: added_fraction(packing.masses, results[name][0], free))
+    factors, dt_scaled = results[family]
+    yade_dt = step.dt(yade) if yade is not None else None
+    return DensityPlan(
+        target_dt=target, dt_crit=dt_now, factors=factors, dt_crit_scaled=dt_scaled,
+        added_mass_fraction=added_fraction(packing.masses, factors, free), family=family, bound=bound,
+        bound_factors=f_bound, bound_added_mass_fraction=added_fraction(packing.masses, f_bound, free),
+        uniform_factor=f_uniform, uniform_added_mass_fraction=f_uniform - 1.0, yade_factors=yade,
+        yade_rule_added_mass_fraction=None if yade is None else added_fraction(packing.masses, yade, free),
+        yade_dt_crit_scaled=yade_dt, yade_safety=yade_safety, integrator=step.integrator, max_factor=float(max_factor),
+        solves=step.solves, free=free, masses=packing.masses)
+
+
+__all__ += ["added_fraction", "scaled_packing"]

@@ -1,0 +1,182 @@
+"""The exact critical step of a packing with per-body mass factors, as ``dtcrit audit`` computes it.
+
+``ScaledStep`` holds a snapshot's packing and contacts, its engine's integrator and the local damping
+the audit applies (:mod:`dtcrit.packing.audit.local_damping`), and gives the critical step of the
+packing whose body ``p`` has mass ``f_p m_p`` and principal moments ``f_p I_p``: the audit's eigen-solve
+(:func:`dtcrit.packing.solvers.damped_step.damped_critical_dt`: ``2/omega_max`` without dashpots, the
+root of ``lambda_max(2h C~ + h^2 K~) = 4`` with them) times the local-damping factor ``1/sqrt(1 + alpha)``.
+Plain NumPy/SciPy.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from dtcrit.errors import InputError
+from dtcrit.packing.model import Contacts, Packing
+from dtcrit.packing.solvers.damped_step import CENTRED, LAGGED, damped_critical_dt
+
+__all__ = ["FIXED_MASS_RATIO", "MODELLED", "ScaledStep", "free_bodies", "scaled_packing"]
+
+MODELLED = LAGGED + CENTRED
+"""The integrators a plan is made for: the central-difference family, whose condition on the scaled
+masses is ``4 F M - 2h C - h^2 K > 0`` (``dtcrit.plan.bounds``)."""
+FIXED_MASS_RATIO = 1e100
+"""A body heavier than this times the lightest is a fixed body (a wall or a fixed YADE body enters
+with 1e150 times the largest free mass, ``dtcrit.packing.wall_bodies``): its factor stays 1 and its
+mass counts in no total."""
+
+
+def free_bodies(packing: Packing) -> np.ndarray:
+    """Which bodies are free particles (not walls or fixed bodies; ``FIXED_MASS_RATIO``).
+
+    Parameters
+    ----------
+    packing : Packing
+        The bodies.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N,)`` booleans.
+    """
+    return packing.masses <= FIXED_MASS_RATIO * float(packing.masses.min())
+
+
+def scaled_packing(packing: Packing, factors) -> Packing:
+    """The packing with body ``p``'s mass and principal moments times ``factors[p]``.
+
+    Parameters
+    ----------
+    packing : Packing
+        The bodies.
+    factors : array_like
+        ``(N,)`` positive factors.
+
+    Returns
+    -------
+    Packing
+        A new packing (positions, radii, ids, box unchanged).
+    """
+    f = np.asarray(factors, float).reshape(-1)
+    return replace(packing, masses=packing.masses * f, inertia=packing.inertia * f[:, None])
+
+
+@dataclass
+class ScaledStep:
+    """The exact critical step of a packing under per-body mass factors (module docstring).
+
+    Parameters
+    ----------
+    packing : Packing
+        The unscaled bodies.
+    contacts : Contacts
+        Their contacts with every term the engine applies.
+    integrator : str
+        The engine's integrator (one of ``MODELLED``).
+    local_factor : float
+        ``1/sqrt(1 + alpha)`` of the local damping the audit applies (1 without).
+    method : str
+        Eigen-solver (``dtcrit.packing.solvers.largest_mode``).
+    solves : int
+        Exact solves done so far (counted by :meth:`dt`).
+    """
+
+    packing: Packing
+    contacts: Contacts
+    integrator: str
+    local_factor: float = 1.0
+    method: str = "auto"
+    solves: int = field(default=0)
+
+    def __post_init__(self):
+        if self.integrator not in MODELLED:
+            raise InputError("integrator", f"a plan is made for the central-difference family ({', '.join(MODELLED)}); "
+                                           f"{self.integrator!r} is not modelled")
+
+    @property
+    def dashpots(self) -> bool:
+        """Whether the dashpots enter the stability condition (a lagged scheme with dashpots)."""
+        return self.integrator in LAGGED and self.contacts.damped
+
+    def dt(self, factors=None) -> float:
+        """The critical step [s] of the packing with ``factors`` (None: unscaled), as the audit reports it.
+
+        Parameters
+        ----------
+        factors : array_like or None
+            ``(N,)`` per-body factors.
+
+        Returns
+        -------
+        float
+            ``damped_critical_dt(...).dt x local_factor``.
+        """
+        packing = self.packing if factors is None else scaled_packing(self.packing, factors)
+        self.solves += 1
+        step = damped_critical_dt(packing, self.contacts, self.integrator, method=self.method)
+        return float(step.dt) * self.local_factor
+
+    def undamped_target(self, target: float) -> float:
+        """The step the packing without local damping must reach for the audit's step to be ``target``.
+
+        Parameters
+        ----------
+        target : float
+            The target step [s].
+
+        Returns
+        -------
+        float
+            ``target / local_factor`` [s].
+        """
+        return target / self.local_factor
+
+    def uniform_factor(self, target: float) -> float:
+        """The least common factor of every free body that reaches ``target``: exact, one eigen-solve.
+
+        ``lambda_max(B, f M) = lambda_max(B, M) / f`` for ``B = 2h C + h^2 K`` (``h^2 K`` without dashpots),
+        so ``f = max(1, lambda_max(B~) / 4)`` at ``h = target / local_factor``.
+
+        Parameters
+        ----------
+        target : float
+            The target step [s].
+
+        Returns
+        -------
+        float
+            The factor (>= 1).
+        """
+        from dtcrit.packing.operators.matrix_free import CombinedOperator
+        from dtcrit.packing.solvers.damped_step import scaled_matrices
+        from dtcrit.packing.solvers.largest_mode import largest_mode
+        import scipy.sparse.linalg as spla
+
+        h = self.undamped_target(target)
+        k, c = scaled_matrices(self.packing, self.contacts, "auto")
+        self.solves += 1
+        if not self.dashpots:
+            return max(1.0, largest_mode(k, self.method).value * h * h / 4.0)
+        a = CombinedOperator(c, 2.0 * h, k, h * h) if isinstance(k, spla.LinearOperator) else (2.0 * h) * c.tocsr() + (h * h) * k.tocsr()
+        return max(1.0, largest_mode(a, self.method).value / 4.0)
+
+
+def check_target(target: float) -> float:
+    """The target step as a positive finite float, else ``InputError('target_dt', ...)``.
+
+    Parameters
+    ----------
+    target : float
+        The target step [s].
+
+    Returns
+    -------
+    float
+        ``target``.
+    """
+    if not (isinstance(target, (int, float)) and math.isfinite(target) and target > 0):
+        raise InputError("target_dt", f"must be a positive finite number of seconds, got {target!r}")
+    return float(target)
