@@ -35,60 +35,98 @@ GROWING, BOUNDED = 1e3, 10.0  # LAMMPS: kinetic energy over its initial value
 GSTS_SAFETY = 0.8  # YADE's default timestepSafetyCoefficient
 
 
+FACTOR_SETS = ("gershgorin", "plan")
+
+
 @pytest.fixture(scope="module")
 def packing(tmp_path_factory):
-    """LAMMPS's packing, the model, its critical step, the target and the Gershgorin factors."""
+    """LAMMPS's packing, the model, its critical step, the target, the Gershgorin factors and dtcrit's plan."""
+    from dtcrit.plan import plan_density_scaling
+
     require_engine("lammps")
-    dump = compress(SPEC, tmp_path_factory.mktemp("scaled"))
+    work = tmp_path_factory.mktemp("scaled")
+    dump = compress(SPEC, work)
+    (work / "packing.dump").write_text(dump)
     model = model_from_dump(dump, KN, KT)
     dt_crit = critical_step(model)
     target = TARGET * dt_crit
-    return {"dump": dump, "model": model, "dt_crit": dt_crit, "target": target,
-            "factors": gershgorin_factors(model, target)}
+    plan = plan_density_scaling(work / "packing.dump", target, pair_style=STYLE)
+    return {"dump": dump, "work": work, "model": model, "dt_crit": dt_crit, "target": target, "plan": plan,
+            "factors": {"gershgorin": gershgorin_factors(model, target), "plan": plan.factors}}
 
 
 @pytest.fixture(scope="module")
 def yade_runs(packing):
-    """YADE at the target: with the factors, without them, and with YADE's own density scaling."""
+    """YADE at the target: without factors (writing dtcrit's export first), with the Gershgorin factors,
+    with YADE's own density scaling, then with dtcrit's plan of the export (YADE's conventions).
+    """
+    from dtcrit.plan import plan_density_scaling
+
     require_engine("yade")
-    target, factors = packing["target"], packing["factors"]
-    runs = [PackingRun(target, STEPS, factors=tuple(factors)), PackingRun(target, STEPS),
+    target, dump = packing["target"], packing["dump"]
+    export = packing["work"] / "packing.json"
+    runs = [PackingRun(target, STEPS, export=str(export)),
+            PackingRun(target, STEPS, factors=tuple(packing["factors"]["gershgorin"])),
             PackingRun(target, STEPS, yade_target=True, gsts_safety=GSTS_SAFETY)]
-    return dict(zip(("scaled", "unscaled", "yade_rule"), packing_runs(packing["dump"], KN, KT, runs)))
+    out = dict(zip(("unscaled", "gershgorin", "yade_rule"), packing_runs(dump, KN, KT, runs)))
+    plan = plan_density_scaling(export, target)
+    (out["plan"],) = packing_runs(dump, KN, KT, [PackingRun(target, STEPS, factors=tuple(plan.factors))])
+    out["plan_object"] = plan
+    return out
 
 
 def _added(masses, factors) -> float:
     return float(np.sum(masses * (np.asarray(factors) - 1.0)) / np.sum(masses))
 
 
-def test_factors_make_the_exact_step_reach_the_target(packing):
-    """The scaled packing's exact step (direct eigen-solve) is at least the target."""
-    model, factors = packing["model"], packing["factors"]
+@pytest.mark.parametrize("name", FACTOR_SETS)
+def test_factors_make_the_exact_step_reach_the_target(packing, name):
+    """The scaled packing's exact step (the model's direct eigen-solve) is at least the target."""
+    model, factors = packing["model"], packing["factors"][name]
     assert len(model.pairs) > 60 and np.ptp(model.radii) > 0.3 * model.radii.mean()
-    assert np.all(factors >= 1.0) and factors.max() > 1.0
+    assert factors.shape == model.masses.shape and np.all(factors >= 1.0) and factors.max() > 1.0
     assert critical_step(model, factors) >= packing["target"]
 
 
-def test_lammps_scaled_packing_bounded_at_the_target_unscaled_grows(packing):
-    """LAMMPS with the engine script's masses and step: bounded; without them at the same step: grows."""
-    dump, target = packing["dump"], packing["target"]
-    scaled, steps_used = growth(dump, STYLE, target, STEPS, packing["factors"])
+def test_plan_reads_the_packing_as_the_model_does(packing):
+    """Dtcrit's current step and its scaled step are the model's (independent assembly) to rounding."""
+    plan, model = packing["plan"], packing["model"]
+    assert plan.dt_crit == pytest.approx(packing["dt_crit"], rel=1e-9)
+    assert plan.dt_crit_scaled == pytest.approx(critical_step(model, plan.factors), rel=1e-9)
+    assert plan.added_mass_fraction == pytest.approx(_added(model.masses, plan.factors), rel=1e-12)
+
+
+@pytest.mark.parametrize("name", FACTOR_SETS)
+def test_lammps_scaled_packing_bounded_at_the_target(packing, name):
+    """LAMMPS with the engine script's masses and step: bounded at the target, never above it."""
+    scaled, steps_used = growth(packing["dump"], STYLE, packing["target"], STEPS, packing["factors"][name])
     assert scaled < BOUNDED, f"scaled packing grows at the target (x{scaled:.3g})"
-    assert steps_used and max(steps_used) <= target
-    unscaled, _ = growth(dump, STYLE, target, STEPS)
+    assert steps_used and max(steps_used) <= packing["target"]
+
+
+def test_lammps_unscaled_packing_grows_at_the_target(packing):
+    """Without the factors the same step blows up; just below the model's critical step it does not."""
+    unscaled, _ = growth(packing["dump"], STYLE, packing["target"], STEPS)
     assert unscaled > GROWING, f"unscaled packing bounded at the target (x{unscaled:.3g})"
-    below, _ = growth(dump, STYLE, 0.99 * packing["dt_crit"], STEPS)
+    below, _ = growth(packing["dump"], STYLE, 0.99 * packing["dt_crit"], STEPS)
     assert below < BOUNDED, "the model's critical step is LAMMPS's: bounded just below it"
 
 
-def test_yade_scaled_packing_bounded_at_the_target_unscaled_grows(packing, yade_runs):
-    """YADE with the engine script's masses, inertias and step: bounded; without them: grows."""
-    scaled, unscaled = yade_runs["scaled"], yade_runs["unscaled"]
-    mass0 = np.array(scaled.info["mass0"])
-    assert np.allclose(scaled.info["mass"], mass0 * packing["factors"], rtol=1e-15, atol=0.0)
-    assert scaled.info["applied"]["dt"] <= packing["target"] and scaled.dt_max <= packing["target"]
-    assert scaled.bounded, f"YADE grows with the factors at the target (growth {scaled.growth:.3g})"
-    assert unscaled.growing, f"YADE bounded without the factors at the target (growth {unscaled.growth:.3g})"
+@pytest.mark.parametrize("name", FACTOR_SETS)
+def test_yade_scaled_packing_bounded_at_the_target(packing, yade_runs, name):
+    """YADE with the hook's masses, inertias and step: bounded at the target (the plan: of the YADE export)."""
+    run = yade_runs[name]
+    factors = packing["factors"][name] if name != "plan" else yade_runs["plan_object"].factors
+    mass0 = np.array(run.info["mass0"])
+    assert np.allclose(run.info["mass"], mass0 * factors, rtol=1e-15, atol=0.0)
+    assert run.info["applied"]["dt"] <= packing["target"] and run.dt_max <= packing["target"]
+    assert run.bounded, f"YADE grows with the factors at the target (growth {run.growth:.3g})"
+
+
+def test_yade_unscaled_packing_grows_at_the_target(yade_runs):
+    """Without the factors YADE blows up at the target."""
+    run = yade_runs["unscaled"]
+    assert run.growing, f"YADE bounded without the factors at the target (growth {run.growth:.3g})"
 
 
 def _gsts_scaling(model, target: float, safety: float) -> np.ndarray:
@@ -110,23 +148,29 @@ def _gsts_scaling(model, target: float, safety: float) -> np.ndarray:
     return (1.41044 * safety * np.sqrt(squared) / target) ** 2
 
 
-def test_yade_density_scaling_against_the_factors(packing, yade_runs):
-    """YADE's rule at its own target: its per-body scaling as its source computes it, the mass it adds
-    and whether it is stable (the model's exact step of YADE's scaled packing says; YADE's run agrees).
+def test_yade_density_scaling_against_dtcrit_plan(packing, yade_runs):
+    """YADE's rule at its own target: its per-body scaling as its source computes it, whether it is
+    stable (the model's exact step of YADE's scaled packing says; YADE's run agrees) and the mass it adds,
+    more than dtcrit's plan (whose run above is bounded).
     """
-    model, target, factors = packing["model"], packing["target"], packing["factors"]
-    run = yade_runs["yade_rule"]
+    model, target = packing["model"], packing["target"]
+    run, plan = yade_runs["yade_rule"], yade_runs["plan_object"]
     scaling = np.array(run.info["density_scaling"])
     assert scaling == pytest.approx(_gsts_scaling(model, target, GSTS_SAFETY), rel=1e-6)
     assert run.dt_max <= target * (1 + 1e-15)
     yade_factors = 1.0 / scaling  # NewtonIntegrator multiplies the acceleration by densityScaling
-    yade_added, dtcrit_added = _added(model.masses, yade_factors), _added(model.masses, factors)
+    yade_added = _added(model.masses, yade_factors)
+    plan_added = _added(model.masses, plan.factors)
     yade_step = critical_step(model, yade_factors)
-    print(f"\ndensity scaling to {TARGET:g} x dt_crit = {target:.6e} s: added mass fraction "
-          f"YADE rule (safety {GSTS_SAFETY}) {yade_added:.4f}, exact step {yade_step / target:.4f} x target, "
-          f"YADE run {'bounded' if run.bounded else 'growing'} (growth {run.growth:.3g}); "
-          f"Gershgorin factors {dtcrit_added:.4f}, exact step {critical_step(model, factors) / target:.4f} x target; "
-          f"uniform factor {TARGET**2 - 1:.4f}")
+    gershgorin = packing["factors"]["gershgorin"]
+    print(f"\ndensity scaling to {TARGET:g} x dt_crit = {target:.6e} s, added mass fraction: "
+          f"YADE run (densityScaling read back, safety {GSTS_SAFETY}) {yade_added:.4f}, model step "
+          f"{yade_step / target:.4f} x target, run {'bounded' if run.bounded else 'growing'} "
+          f"(growth {run.growth:.3g}); dtcrit plan of the YADE export {plan_added:.4f} ({plan.family}), "
+          f"of the LAMMPS dump {packing['plan'].added_mass_fraction:.4f}; its YADE rule "
+          f"{plan.yade_rule_added_mass_fraction}; uniform {plan.uniform_added_mass_fraction:.4f}; "
+          f"Gershgorin (test) {_added(model.masses, gershgorin):.4f}")
+    assert plan_added < yade_added
     if yade_step > 1.01 * target:
         assert run.bounded
     elif yade_step < 0.99 * target:
@@ -134,8 +178,8 @@ def test_yade_density_scaling_against_the_factors(packing, yade_runs):
 
 
 def test_lammps_hook_applies_the_factors_through_the_python_module(packing):
-    """``DtcritLammpsHook.apply_density_scaling`` (LAMMPS Python module): the masses LAMMPS holds are the
-    factors times the dump's, the step is the target, and the run from the kick stays bounded.
+    """``DtcritLammpsHook.apply_density_scaling`` (LAMMPS Python module) with dtcrit's plan: the masses
+    LAMMPS holds are the factors times the dump's, the step is the target, the run from the kick is bounded.
     """
     python = lammps_python()
     if python is None:
@@ -143,7 +187,17 @@ def test_lammps_hook_applies_the_factors_through_the_python_module(packing):
             pytest.fail("no Python with the LAMMPS module (apt-get install python3-lammps) -- engine tests are "
                         "never skipped in CI (CI=true)", pytrace=False)
         pytest.skip("no Python with the LAMMPS module (apt-get install python3-lammps)")
-    out = hook_run(python, packing["dump"], STYLE, packing["target"], STEPS, packing["factors"])
-    assert np.allclose(out["mass"], packing["model"].masses * packing["factors"], rtol=1e-15, atol=0.0)
+    factors = packing["factors"]["plan"]
+    out = hook_run(python, packing["dump"], STYLE, packing["target"], STEPS, factors)
+    assert np.allclose(out["mass"], packing["model"].masses * factors, rtol=1e-15, atol=0.0)
     assert out["returned"] == out["dt"] == packing["target"]
     assert out["energy_ratio"] < BOUNDED
+
+
+@pytest.mark.xfail(reason="dtcrit.plan's YADE rule divides by the safety once more than YADE 2023.02a does "
+                          "(measured: state.densityScaling = (dt_b / targetDt)^2, dt_b already times the safety)",
+                   strict=False)
+def test_plan_yade_rule_is_the_densityscaling_yade_applies(yade_runs):
+    """The plan's ``yade_factors`` (of the YADE export) against YADE's own, read back after its run."""
+    measured = 1.0 / np.array(yade_runs["yade_rule"].info["density_scaling"])
+    assert yade_runs["plan_object"].yade_factors == pytest.approx(measured, rel=1e-6)

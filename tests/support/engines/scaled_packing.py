@@ -3,8 +3,11 @@ LAMMPS runs that apply the factors through dtcrit's shipped engine script.
 
 Independent of dtcrit's analysis: the stiffness is assembled here (``gran/hooke``'s linear springs,
 normal ``kn`` and tangential ``kt`` at the full-radius arms ``a_i = R_i n``, ``a_j = -R_j n``; the
-kinematics of ``support.dense_packing``, with the periodic box's nearest image), the critical step
-is a direct eigen-solve, and the factors come from Gershgorin's theorem:
+kinematics of ``support.dense_packing``, with the periodic box's nearest image; plus the geometric
+term of the repulsive normal force ``F = kn delta`` turning with the centre line, ``-(F / r) (1 - n n)``
+on the relative translation, which makes the model LAMMPS's own linearisation: its critical step
+equals ``dtcrit audit``'s to rounding on the 30-sphere packing), the critical step is a direct
+eigen-solve, and the factors come from Gershgorin's theorem:
 
 * ``M^-1 K`` (``M`` diagonal) has the eigenvalues of ``D^-1 M^-1 K D`` for any positive diagonal
   ``D``; with ``d = 1`` on translations and ``1 / R_b`` on body ``b``'s rotations (rotations as arc
@@ -58,7 +61,7 @@ class Model:
         return np.column_stack([m, m, m, inertia, inertia, inertia]).ravel()
 
 
-def model_from_dump(dump_text: str, kn: float, kt: float) -> Model:
+def model_from_dump(dump_text: str, kn: float, kt: float, preload: bool = True) -> Model:
     """The model of a ``write_dump ... id type x y z radius mass`` of a periodic packing (contacts: pairs
     closer than the sum of their radii, nearest image).
     """
@@ -82,6 +85,10 @@ def model_from_dump(dump_text: str, kn: float, kt: float) -> Model:
             g[:, 6 * j:6 * j + 3] = np.eye(3)
             g[:, 6 * j + 3:6 * j + 6] = -cross_matrix(-radii[j] * nrm)
             k += g.T @ (kn * nn + kt * (np.eye(3) - nn)) @ g
+            if preload:  # the repulsive normal force kn delta turning with the centre line: -(F / r) (1 - n n)
+                t = np.zeros((3, 6 * n))
+                t[:, 6 * i:6 * i + 3], t[:, 6 * j:6 * j + 3] = -np.eye(3), np.eye(3)
+                k -= t.T @ (kn * (radii[i] + radii[j] - dist) / dist * (np.eye(3) - nn)) @ t
     return Model(x, radii, masses, length, k, pairs)
 
 

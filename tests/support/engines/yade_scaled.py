@@ -19,7 +19,8 @@ Each run (``PackingRun``) is one of
   acceleration is multiplied by it, NewtonIntegrator.cpp), at ``gsts_safety``;
 * neither: the plain packing at ``dt``.
 
-The result is the ``RunResult`` of ``support.engines.yade`` (``bounded``, ``growing``), its ``info``
+With ``export`` the run first writes the packing as ``dtcrit/engine_scripts/yade_export.py`` sees it
+(after a second zero-length pass, so ``normalForce`` is that of the new ``kn``).  The result is the ``RunResult`` of ``support.engines.yade`` (``bounded``, ``growing``), its ``info``
 holding the masses before (``mass0``), after (``mass``), YADE's per-body ``density_scaling`` at the
 end of the run, and what the engine script returned (``applied``).
 """
@@ -51,6 +52,7 @@ class PackingRun:
     factors: tuple | None = None  # per body, in the dump's id order
     yade_target: bool = False
     gsts_safety: float = 0.8
+    export: str | None = None  # write dtcrit's YADE export of the packing here before the kick
     eps: float = 1.0e-6
     seed: int = 12345
 
@@ -83,7 +85,12 @@ def scaled_run(k, p, r):
     for i in real:
         i.phys.kn = p["kn"]
         i.phys.ks = p["ks"]
+    O.step()  # dt 1e-300 again: the forces of the new kn (CundallStrack recomputes kn * penetrationDepth)
     scale = sum(p["kn"] * i.geom.penetrationDepth for i in real) / len(real)
+    if r["export"] is not None:
+        sys.path.insert(0, PAYLOAD["engine_scripts"])
+        import yade_export
+        yade_export.export(r["export"])
     info = {"mass0": [b.state.mass for b in O.bodies], "contacts": len(real)}
     if r["factors"] is not None:
         sys.path.insert(0, PAYLOAD["engine_scripts"])
