@@ -50,7 +50,18 @@ class AddedMassData:
     target_dt: float | None
 
     def fraction(self, rule: str) -> float:
-        """Added mass of ``rule`` over the free particles' mass."""
+        """Added mass of a rule over the free particles' mass.
+
+        Parameters
+        ----------
+        rule : str
+            A key of ``added``.
+
+        Returns
+        -------
+        float
+            ``sum m_p (f_p - 1) / sum m_p`` over the free particles.
+        """
         return float(self.added[rule].sum() / self.mass.sum())
 
 
