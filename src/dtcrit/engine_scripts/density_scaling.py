@@ -1,9 +1,10 @@
 """Apply planned per-body mass and inertia factors in YADE or LAMMPS, with the step at or below the plan's.
 
-Runs inside the engines' own Python (standard library only, like ``yade_hook`` and ``lammps_hook``);
-dtcrit imports it too, to write LAMMPS inputs.  The factors come from ``dtcrit plan ... --json``
-(``density_scaling``: one factor per body, ordered as the snapshot's bodies) or from
-``dtcrit.plan.plan_density_scaling``; ``read_factors`` turns either form into ``{id: factor}``.
+Runs inside the engines' own Python (standard library only, like ``yade_hook`` and ``lammps_hook``,
+which call it from their ``apply_density_scaling``); any Python can use it to write LAMMPS inputs.
+The factors come from ``dtcrit plan ... --json`` (``density_scaling``: one factor per body, ordered
+as the snapshot's bodies) or from ``dtcrit.plan.plan_density_scaling`` (``zip(ids, plan.factors)``);
+``read_factors`` turns either form into ``{id: factor}``.
 
 A factor ``f`` multiplies a body's mass *and* its moments of inertia (density scaling: the shape and
 the contacts are unchanged, so every eigenvalue of ``M^-1 K`` that the body carries drops by up to
