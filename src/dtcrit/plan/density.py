@@ -82,6 +82,10 @@ class DensityPlan:
         The exact critical step of the packing scaled by YADE's rule [s] (below the target: unstable there).
     yade_safety : float
         The ``timestepSafetyCoefficient`` of YADE's rule.
+    yade_unit_safety_added_mass_fraction : float or None
+        The added mass fraction of YADE's rule at safety 1, ``max(1, (targetDt / dt_b)^2)``.
+    yade_unit_safety_dt_crit_scaled : float or None
+        The exact critical step of the packing scaled by that rule [s].
     integrator : str
         The integrator planned for.
     max_factor : float
@@ -109,6 +113,8 @@ class DensityPlan:
     yade_rule_added_mass_fraction: float | None
     yade_dt_crit_scaled: float | None
     yade_safety: float
+    yade_unit_safety_added_mass_fraction: float | None
+    yade_unit_safety_dt_crit_scaled: float | None
     integrator: str
     max_factor: float
     solves: int
@@ -191,7 +197,21 @@ def _bisect(phi: Callable[[float], np.ndarray], ok: Callable[[np.ndarray], tuple
     return best
 
 
-def _read(snapshot, read: dict):
+def read_input(snapshot, read: dict):
+    """The snapshot itself, or the file read with ``read_snapshot(snapshot, **read)``.
+
+    Parameters
+    ----------
+    snapshot : str or os.PathLike or Snapshot
+        A file or a snapshot already read.
+    read : dict
+        ``read_snapshot``'s keyword arguments.
+
+    Returns
+    -------
+    Snapshot
+        The snapshot.
+    """
     from dtcrit.packing.audit.results import Snapshot
     from dtcrit.packing.audit.run import read_snapshot
 
@@ -200,7 +220,25 @@ def _read(snapshot, read: dict):
     return read_snapshot(snapshot, **read)
 
 
-def _scaled_step(given, integrator, local_damping, local_damping_law, method) -> ScaledStep:
+def scaled_step_of(given, integrator, local_damping, local_damping_law, method) -> ScaledStep:
+    """The exact-step evaluator of a snapshot with its integrator and the audit's local damping.
+
+    Parameters
+    ----------
+    given : Snapshot
+        The snapshot.
+    integrator : str or None
+        Override of the engine's integrator.
+    local_damping, local_damping_law : float and str or None
+        As ``dtcrit audit`` takes them (``dtcrit.packing.audit.local_damping.resolve``).
+    method : str
+        Eigen-solver.
+
+    Returns
+    -------
+    ScaledStep
+        The evaluator.
+    """
     from dtcrit.packing.audit import local_damping as damping
 
     local = damping.resolve(given.meta, given.source, local_damping, local_damping_law)
@@ -211,9 +249,19 @@ def _scaled_step(given, integrator, local_damping, local_damping_law, method) ->
     return ScaledStep(given.packing, given.contacts, integrator, 1.0 if local is None else local.factor, method)
 
 
+def _confirmed(step: ScaledStep, factors: np.ndarray, target: float, max_factor: float) -> tuple[np.ndarray, float]:
+    """The factors and their exact critical step, raised by 1 % of their excess at a time until it meets the target."""
+    for _ in range(20):
+        dt = step.dt(factors)
+        if dt >= target:
+            return factors, dt
+        factors = np.minimum(max_factor, 1.0 + 1.01 * (factors - 1.0))
+    raise InputError("target_dt", f"the exact solve did not confirm a plan for {target:.6g} s (eigen-solver trouble)")
+
+
 def _uniform(step: ScaledStep, target: float, free: np.ndarray, ok) -> tuple[float, float]:
     """The exact uniform factor, nudged up until the exact step confirms it."""
-    f_u = step.uniform_factor(target) * (1.0 + 2.0 * CONFIRM_MARGIN)
+    f_u = step.uniform_factor(target) * (1.0 + 4.0 * CONFIRM_MARGIN)
     for _ in range(40):
         good, dt = ok(np.where(free, f_u, 1.0))
         if good:
@@ -261,8 +309,8 @@ def plan_density_scaling(snapshot: str | os.PathLike | Any, target_dt: float, ma
     target = check_target(target_dt)
     if not (isinstance(max_factor, (int, float)) and math.isfinite(max_factor) and max_factor > 1):
         raise InputError("max_factor", f"must be a finite number above 1, got {max_factor!r}")
-    given = _read(snapshot, read)
-    step = _scaled_step(given, integrator, local_damping, local_damping_law, method)
+    given = read_input(snapshot, read)
+    step = scaled_step_of(given, integrator, local_damping, local_damping_law, method)
     dt_now = step.dt()
     if dt_now >= target:
         raise InputError("target_dt", f"nothing to do: the current critical step {dt_now:.6g} s already meets the "
@@ -271,6 +319,9 @@ def plan_density_scaling(snapshot: str | os.PathLike | Any, target_dt: float, ma
     need = target * (1.0 + CONFIRM_MARGIN)
 
     def ok(f: np.ndarray) -> tuple[bool, float]:
+        proved = step.certified_stable(f, need)
+        if proved is not None:
+            return proved, math.nan
         dt = step.dt(f)
         return dt >= need, dt
 
@@ -303,16 +354,20 @@ def plan_density_scaling(snapshot: str | os.PathLike | Any, target_dt: float, ma
         if found is not None:
             results[name] = found
     family = min(results, key=lambda name: added_fraction(packing.masses, results[name][0], free))
-    factors, dt_scaled = results[family]
+    factors, dt_scaled = _confirmed(step, results[family][0], target, max_factor)
     yade_dt = step.dt(yade) if yade is not None else None
+    unit = yade_rule_factors(given, target, 1.0)
+    unit = None if unit is None else np.where(free, unit, 1.0)
     return DensityPlan(
         target_dt=target, dt_crit=dt_now, factors=factors, dt_crit_scaled=dt_scaled,
         added_mass_fraction=added_fraction(packing.masses, factors, free), family=family, bound=bound,
         bound_factors=f_bound, bound_added_mass_fraction=added_fraction(packing.masses, f_bound, free),
         uniform_factor=f_uniform, uniform_added_mass_fraction=f_uniform - 1.0, yade_factors=yade,
         yade_rule_added_mass_fraction=None if yade is None else added_fraction(packing.masses, yade, free),
-        yade_dt_crit_scaled=yade_dt, yade_safety=yade_safety, integrator=step.integrator, max_factor=float(max_factor),
-        solves=step.solves, free=free, masses=packing.masses)
+        yade_dt_crit_scaled=yade_dt, yade_safety=yade_safety,
+        yade_unit_safety_added_mass_fraction=None if unit is None else added_fraction(packing.masses, unit, free),
+        yade_unit_safety_dt_crit_scaled=None if unit is None else step.dt(unit), integrator=step.integrator, max_factor=float(max_factor),
+        solves=step.solves + step.certificates, free=free, masses=packing.masses)
 
 
-__all__ += ["added_fraction", "scaled_packing"]
+__all__ += ["added_fraction", "read_input", "scaled_packing", "scaled_step_of"]

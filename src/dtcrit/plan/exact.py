@@ -16,7 +16,7 @@ import numpy as np
 
 from dtcrit.errors import InputError
 from dtcrit.packing.model import Contacts, Packing
-from dtcrit.packing.solvers.damped_step import CENTRED, LAGGED, damped_critical_dt
+from dtcrit.packing.solvers.damped_step import CENTRED, LAGGED, damped_critical_dt, scaled_matrices
 
 __all__ = ["FIXED_MASS_RATIO", "MODELLED", "ScaledStep", "free_bodies", "scaled_packing"]
 
@@ -82,6 +82,8 @@ class ScaledStep:
         Eigen-solver (``dtcrit.packing.solvers.largest_mode``).
     solves : int
         Exact solves done so far (counted by :meth:`dt`).
+    certificates : int
+        Inertia counts done so far (:meth:`certified_stable`).
     """
 
     packing: Packing
@@ -90,6 +92,8 @@ class ScaledStep:
     local_factor: float = 1.0
     method: str = "auto"
     solves: int = field(default=0)
+    certificates: int = field(default=0)
+    _shifted: dict = field(default_factory=dict, repr=False)
 
     def __post_init__(self):
         if self.integrator not in MODELLED:
@@ -118,6 +122,46 @@ class ScaledStep:
         self.solves += 1
         step = damped_critical_dt(packing, self.contacts, self.integrator, method=self.method)
         return float(step.dt) * self.local_factor
+
+    def _b_matrix(self, h: float):
+        """``B~ = 2h C~ + h^2 K~`` (``h^2 K~`` without dashpots) of the unscaled packing, assembled, cached."""
+        if h not in self._shifted:
+            k, c = scaled_matrices(self.packing, self.contacts, "assembled")
+            b = (h * h) * k.tocsr()
+            self._shifted.clear()
+            self._shifted[h] = b + (2.0 * h) * c.tocsr() if self.dashpots else b
+        return self._shifted[h]
+
+    def certified_stable(self, factors, target: float) -> bool | None:
+        """Whether ``4 F M - B`` is proved positive definite at ``h = target / local_factor``: stable at ``target``.
+
+        The inertia count of ``dtcrit.packing.solvers.certificate.certify`` on ``4 I - F^-1/2 B~ F^-1/2``
+        (``LDL^T``, Sylvester's law of inertia): by ``dtcrit.packing.solvers.damped_step``'s condition the
+        scaled packing's critical step then exceeds ``target``.
+
+        Parameters
+        ----------
+        factors : array_like
+            ``(N,)`` per-body factors.
+        target : float
+            The step [s].
+
+        Returns
+        -------
+        bool or None
+            True: proved stable; False: not proved (a negative or zero pivot); None: too large to factorise
+            (``SPARSE_DOFS``), ask :meth:`dt`.
+        """
+        import scipy.sparse as sps
+
+        from dtcrit.packing.solvers.certificate import SPARSE_DOFS, certify
+
+        if self.packing.dofs > SPARSE_DOFS:
+            return None
+        b = self._b_matrix(self.undamped_target(target))
+        d = sps.diags(np.repeat(1.0 / np.sqrt(np.asarray(factors, float)), 6))
+        self.certificates += 1
+        return bool(certify(d @ b @ d, 4.0, 0.0, dense_dofs=0).certified)
 
     def undamped_target(self, target: float) -> float:
         """The step the packing without local damping must reach for the audit's step to be ``target``.
@@ -151,7 +195,6 @@ class ScaledStep:
             The factor (>= 1).
         """
         from dtcrit.packing.operators.matrix_free import CombinedOperator
-        from dtcrit.packing.solvers.damped_step import scaled_matrices
         from dtcrit.packing.solvers.largest_mode import largest_mode
         import scipy.sparse.linalg as spla
 

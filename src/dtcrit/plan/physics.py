@@ -1,0 +1,161 @@
+"""What a plan changes in the physics: added mass per size class, inertial number, collision durations.
+
+* **size classes**: the free bodies in ``bins`` equal-width radius bins, each with its mass, its added
+  mass under the plan and under YADE's rule;
+* **inertial number** ``I = gamma_dot d sqrt(rho / p)`` (GDR MiDi 2004; quasi-static below about
+  ``1e-3``): ``d`` the mean diameter, ``rho`` the solid density ``sum m / sum V``, ``p`` the mean stress
+  of the contact forces (Love-Weber, ``p = sum_c F_n (l_c . n_c) / (3 V_box)``, ``l_c`` the branch
+  vector).  The normal forces are the contacts' own (``force_n``) or, without them, the law's at the
+  snapshot's overlaps: ``kn delta`` for linear springs, ``(2/3) kn delta`` for Hertz (``F = 4/3 E*
+  sqrt(R*) delta^3/2`` and ``k = 2 E* sqrt(R* delta)``).  Scaling the masses by ``f`` scales ``rho``
+  by ``f``, so ``I`` grows by ``sqrt(f)``: by ``sqrt(1 + added mass fraction)`` in the mean and
+  ``sqrt(max f)`` for the heaviest-scaled body;
+* **collision duration** of each contact at the snapshot's stiffness, ``t_c = pi sqrt(m_eff / kn)``
+  (``dtcrit.collisions.contact_time``, linear), the shortest today, after density scaling (masses
+  ``f m``) and after stiffness reduction (``t_c / sqrt(s)``), and the steps per collision at each step.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["QUASI_STATIC_LIMIT", "contact_durations", "inertial_number", "mean_pressure", "size_classes"]
+
+QUASI_STATIC_LIMIT = 1e-3
+"""Inertial number below which a granular flow is quasi-static (GDR MiDi 2004, Eur. Phys. J. E 14, 341)."""
+
+
+def size_classes(radii: np.ndarray, masses: np.ndarray, factors: np.ndarray, free: np.ndarray,
+                 yade: np.ndarray | None = None, bins: int = 5) -> list[dict]:
+    """The free bodies in ``bins`` equal-width radius bins, with their mass and added mass.
+
+    Parameters
+    ----------
+    radii, masses, factors : numpy.ndarray
+        ``(N,)`` radii [m], masses [kg], planned factors.
+    free : numpy.ndarray
+        ``(N,)`` which bodies count.
+    yade : numpy.ndarray or None
+        ``(N,)`` YADE's factors, for its added mass per class.
+    bins : int
+        Number of bins (one when every radius is equal).
+
+    Returns
+    -------
+    list of dict
+        Per bin: ``radius_min``, ``radius_max`` [m], ``count``, ``mass`` [kg], ``added_mass`` [kg],
+        ``added_mass_fraction``, ``factor_max``, ``yade_rule_added_mass`` [kg] (None without YADE's factors).
+    """
+    r, m, f = radii[free], masses[free], factors[free]
+    y = None if yade is None else yade[free]
+    lo, hi = float(r.min()), float(r.max())
+    edges = np.linspace(lo, hi, bins + 1) if hi > lo else np.array([lo, hi])
+    which = np.clip(np.searchsorted(edges, r, side="right") - 1, 0, len(edges) - 2)
+    out = []
+    for b in range(len(edges) - 1):
+        sel = which == b
+        if not sel.any():
+            continue
+        added = float(np.sum(m[sel] * (f[sel] - 1.0)))
+        out.append({"radius_min": float(edges[b]), "radius_max": float(edges[b + 1]), "count": int(sel.sum()),
+                    "mass": float(m[sel].sum()), "added_mass": added, "added_mass_fraction": added / float(m[sel].sum()),
+                    "factor_max": float(f[sel].max()),
+                    "yade_rule_added_mass": None if y is None else float(np.sum(m[sel] * (y[sel] - 1.0)))})
+    return out
+
+
+def normal_forces(contacts, hertz: bool) -> np.ndarray:
+    """Each contact's normal force [N], compressive positive (module docstring).
+
+    Parameters
+    ----------
+    contacts : dtcrit.packing.contact_set.Contacts
+        The contacts (``force_n``, else ``kn`` and ``overlap``).
+    hertz : bool
+        Whether the law is Hertzian (``F = (2/3) kn delta``).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(C,)`` forces.
+    """
+    if contacts.force_n is not None:
+        return np.asarray(contacts.force_n, float)
+    return (2.0 / 3.0 if hertz else 1.0) * contacts.kn * contacts.overlap
+
+
+def mean_pressure(packing, contacts, hertz: bool, free: np.ndarray) -> float | None:
+    """The Love-Weber mean stress ``sum_c F_n (l_c . n_c) / (3 V)`` [Pa] of the box; None without a box.
+
+    Parameters
+    ----------
+    packing : dtcrit.packing.model.Packing
+        The bodies (its ``box`` gives ``V``).
+    contacts : dtcrit.packing.contact_set.Contacts
+        The contacts (arms, normals, forces).
+    hertz : bool
+        Whether the law is Hertzian.
+    free : numpy.ndarray
+        ``(N,)`` free bodies: contacts with a fixed body (wall) are left out.
+
+    Returns
+    -------
+    float or None
+        The mean stress [Pa], None without a box or a positive one.
+    """
+    if packing.box is None:
+        return None
+    volume = abs(float(np.linalg.det(packing.box.matrix)))
+    both = free[contacts.i] & free[contacts.j]
+    branch = np.einsum("ck,ck->c", contacts.arm_i - contacts.arm_j, contacts.normal)
+    p = float(np.sum((normal_forces(contacts, hertz) * branch)[both])) / (3.0 * volume)
+    return p if p > 0 and math.isfinite(p) else None
+
+
+def inertial_number(strain_rate: float, packing, free: np.ndarray, pressure: float) -> float:
+    """``I = gamma_dot d sqrt(rho / p)`` with the mean diameter and the solid density (module docstring).
+
+    Parameters
+    ----------
+    strain_rate : float
+        Shear strain rate [1/s].
+    packing : dtcrit.packing.model.Packing
+        The bodies (radii, masses).
+    free : numpy.ndarray
+        ``(N,)`` which bodies count.
+    pressure : float
+        Mean stress [Pa].
+
+    Returns
+    -------
+    float
+        The inertial number.
+    """
+    r, m = packing.radii[free], packing.masses[free]
+    rho = float(m.sum() / np.sum(4.0 / 3.0 * math.pi * r**3))
+    return strain_rate * 2.0 * float(r.mean()) * math.sqrt(rho / pressure)
+
+
+def contact_durations(packing, contacts, factors: np.ndarray | None = None) -> np.ndarray:
+    """Each contact's elastic duration ``pi sqrt(m_eff / kn)`` [s] at the snapshot's stiffness.
+
+    Parameters
+    ----------
+    packing : dtcrit.packing.model.Packing
+        The bodies.
+    contacts : dtcrit.packing.contact_set.Contacts
+        The contacts with ``kn``.
+    factors : numpy.ndarray or None
+        ``(N,)`` mass factors (None: unscaled).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(C,)`` durations (``inf`` for a contact without normal stiffness).
+    """
+    m = packing.masses if factors is None else packing.masses * factors
+    mi, mj = m[contacts.i], m[contacts.j]
+    m_eff = np.where(contacts.i == contacts.j, mi / 2.0, mi * mj / (mi + mj))
+    with np.errstate(divide="ignore"):
+        return math.pi * np.sqrt(m_eff / contacts.kn)

@@ -1,0 +1,243 @@
+"""The whole plan of a snapshot: the API behind ``dtcrit plan``.
+
+:func:`plan_snapshot` reads a snapshot as ``dtcrit audit`` does, audits it (the binding step and the
+particles and springs of its governing mode), plans the density scaling
+(:func:`dtcrit.plan.density.plan_density_scaling`) and the stiffness reduction
+(:mod:`dtcrit.plan.stiffness`) that reach the target step, and the cost and the change in the physics
+of each (:mod:`dtcrit.plan.physics`).  The frozen :class:`SnapshotPlan`'s ``to_json()`` is the document
+``dtcrit plan --json`` prints (schema ``dtcrit-plan/1``), ``to_text()`` its text.
+"""
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from dtcrit.errors import InputError
+from dtcrit.physics import rules_of_thumb as rot
+
+from dtcrit.plan.density import DEFAULT_MAX_FACTOR, DensityPlan, plan_density_scaling
+from dtcrit.plan.stiffness import StiffnessPlan
+
+__all__ = ["SnapshotPlan", "plan_snapshot"]
+
+
+@dataclass(frozen=True)
+class SnapshotPlan:
+    """A snapshot's plan (module docstring); the JSON form is ``dtcrit.plan.output.plan_json``.
+
+    Parameters
+    ----------
+    source, engine, integrator, law : str
+        The snapshot, the engine, the integrator planned for and the contact law in words.
+    n_particles, n_contacts : int
+        Free particles and contacts.
+    target_dt : float
+        The target step [s].
+    audit : SnapshotAudit
+        The audit of the snapshot as it is (``dt_crit``, the limiting particles, the governing mode).
+    density : DensityPlan
+        The density scaling.
+    size_classes : list of dict
+        Added mass per radius bin (:func:`dtcrit.plan.physics.size_classes`).
+    stiffness : StiffnessPlan
+        The stiffness reduction.
+    cost : dict or None
+        ``duration`` [s], steps and particle-steps today and at the target; None without a duration.
+    quasi_static : dict
+        ``growth_mean``, ``growth_max`` of the inertial number and, with a strain rate and a pressure,
+        ``inertial_number_before``, ``inertial_number_after``, ``pressure`` [Pa].
+    collisions : dict
+        Shortest contact duration [s] today, after density scaling and after stiffness reduction, and
+        the steps per collision at each step.
+    warnings : tuple of str
+        Where the scaling changes the physics.
+    snapshot : Snapshot
+        The snapshot read (not part of the JSON).
+    """
+
+    source: str
+    engine: str
+    integrator: str
+    law: str
+    n_particles: int
+    n_contacts: int
+    target_dt: float
+    audit: Any
+    density: DensityPlan
+    size_classes: list
+    stiffness: StiffnessPlan
+    cost: dict | None
+    quasi_static: dict
+    collisions: dict
+    warnings: tuple
+    snapshot: Any = field(repr=False, compare=False)
+
+    def to_json(self) -> dict:
+        """The JSON document ``dtcrit plan --json`` prints (schema ``dtcrit-plan/1``).
+
+        Returns
+        -------
+        dict
+            The envelope and the plan; non-finite numbers are ``None``.
+        """
+        from dtcrit.plan.output import plan_json
+
+        return plan_json(self)
+
+    def to_text(self) -> str:
+        """The text ``dtcrit plan`` prints.
+
+        Returns
+        -------
+        str
+            The plan without a final newline.
+        """
+        from dtcrit.plan.output import plan_text
+
+        return plan_text(self)
+
+
+def _cost(duration: float | None, n: int, dt_now: float, target: float) -> dict | None:
+    if duration is None:
+        return None
+    if not (math.isfinite(duration) and duration > 0):
+        raise InputError("duration", f"must be a positive finite number of seconds, got {duration!r}")
+    now, after = math.ceil(duration / dt_now), math.ceil(duration / target)
+    return {"duration": duration, "steps_now": now, "particle_steps_now": now * n, "steps_after": after,
+            "particle_steps_after": after * n, "speedup": now / after}
+
+
+def _quasi_static(given, plan: DensityPlan, strain_rate, hertz: bool) -> dict:
+    from dtcrit.plan.physics import QUASI_STATIC_LIMIT, inertial_number, mean_pressure
+
+    out: dict[str, Any] = {"growth_mean": math.sqrt(1.0 + plan.added_mass_fraction), "growth_max": plan.growth,
+                           "strain_rate": strain_rate, "pressure": None, "inertial_number_before": None,
+                           "inertial_number_after": None, "limit": QUASI_STATIC_LIMIT}
+    if strain_rate is None:
+        return out
+    if not (math.isfinite(strain_rate) and strain_rate > 0):
+        raise InputError("strain_rate", f"must be a positive finite number [1/s], got {strain_rate!r}")
+    p = mean_pressure(given.packing, given.contacts, hertz, plan.free)
+    if p is not None:
+        before = inertial_number(strain_rate, given.packing, plan.free, p)
+        out.update(pressure=p, inertial_number_before=before, inertial_number_after=before * out["growth_mean"])
+    return out
+
+
+def _collisions(given, plan: DensityPlan, stiffness: StiffnessPlan, dt_now: float) -> dict:
+    from dtcrit.plan.physics import contact_durations
+
+    both = plan.free[given.contacts.i] & plan.free[given.contacts.j]
+    if not both.any():
+        both = np.ones(given.contacts.count, bool)
+    now = float(contact_durations(given.packing, given.contacts)[both].min())
+    dens = float(contact_durations(given.packing, given.contacts, plan.factors)[both].min())
+    soft = now * stiffness.contact_duration_factor
+    t = plan.target_dt
+    return {"contact_time_now": now, "contact_time_density": dens, "contact_time_stiffness": soft,
+            "steps_per_collision_now": now / dt_now, "steps_per_collision_density": dens / t,
+            "steps_per_collision_stiffness": soft / t,
+            "lammps_rule_steps": float(rot.COLLISION_TIME_DIVISOR)}
+
+
+def _warnings(plan: DensityPlan, quasi: dict, gravity, velocity, collisions: dict) -> tuple[str, ...]:
+    out = []
+    f_max = float(plan.factors.max())
+    if gravity is not None:
+        out.append(f"gravity {gravity:g} m/s^2: with YADE's densityScaling the weight stays and the inertia grows, so "
+                   f"a body scaled by {f_max:.4g} falls at g/{f_max:.4g}; scaling the mass column (LAMMPS) scales the "
+                   f"weight too and the overlaps under self-weight by the same factor: gravity-driven motion is not "
+                   f"what it was")
+    if velocity is not None:
+        out.append(f"impacts at {velocity:g} m/s: the scaled bodies carry up to {f_max:.4g} x the momentum and kinetic "
+                   f"energy, their collisions last up to {math.sqrt(f_max):.4g} x longer and overlap deeper: impacts "
+                   f"are not what they were")
+    after = quasi.get("inertial_number_after")
+    if after is not None and after > quasi["limit"]:
+        out.append(f"inertial number after scaling {after:.3g} > {quasi['limit']:g}: the flow is no longer quasi-static")
+    if collisions["steps_per_collision_stiffness"] < collisions["lammps_rule_steps"]:
+        out.append(f"after stiffness reduction the shortest collision is resolved by "
+                   f"{collisions['steps_per_collision_stiffness']:.3g} steps of the target (fewer than the "
+                   f"{collisions['lammps_rule_steps']:g} of the LAMMPS granular examples)")
+    return tuple(out)
+
+
+def _is_hertz(law: str) -> bool:
+    text = law.lower()
+    return "hertz" in text or "mindlin" in text
+
+
+def plan_snapshot(snapshot: str | os.PathLike | Any, target_dt: float, *, max_factor: float = DEFAULT_MAX_FACTOR,
+                  duration: float | None = None, strain_rate: float | None = None, gravity: float | None = None,
+                  velocity: float | None = None, bins: int = 5, integrator: str | None = None,
+                  local_damping: float | None = None, local_damping_law: str | None = None,
+                  yade_safety: float = rot.YADE_GSTS_SAFETY, **read: Any) -> SnapshotPlan:
+    """The plan of a snapshot: binding step, density scaling, stiffness reduction, cost (module docstring).
+
+    Parameters
+    ----------
+    snapshot : str or os.PathLike or Snapshot
+        A snapshot file (read with :func:`dtcrit.packing.audit.run.read_snapshot` and ``read``) or one already read.
+    target_dt : float
+        The target step [s].
+    max_factor : float
+        The largest mass factor of any body.
+    duration : float, optional
+        Simulated time [s] for the cost.
+    strain_rate : float, optional
+        Shear strain rate [1/s] for the inertial number.
+    gravity : float, optional
+        Gravitational acceleration [m/s^2] the simulation applies (a warning: scaling changes its effect).
+    velocity : float, optional
+        Impact speed [m/s] in the simulation (a warning).
+    bins : int
+        Radius bins of the size classes.
+    integrator, local_damping, local_damping_law : optional
+        As ``dtcrit audit`` takes them.
+    yade_safety : float
+        ``timestepSafetyCoefficient`` of YADE's rule.
+    **read
+        ``read_snapshot``'s keyword arguments for a file.
+
+    Returns
+    -------
+    SnapshotPlan
+        The plan.
+
+    Raises
+    ------
+    InputError
+        Bad input, nothing to do, or a target unreachable within ``max_factor``.
+    """
+    from dtcrit.packing.audit.run import audit_snapshot
+    from dtcrit.plan.density import read_input, scaled_step_of
+    from dtcrit.plan.physics import size_classes
+    from dtcrit.plan.stiffness import stiffness_reduction
+
+    for key, value in (("gravity", gravity), ("velocity", velocity)):
+        if value is not None and not (math.isfinite(value) and value >= 0):
+            raise InputError(key, f"must be a finite number >= 0, got {value!r}")
+    if not (isinstance(bins, int) and bins >= 1):
+        raise InputError("bins", f"must be a whole number >= 1, got {bins!r}")
+    given = read_input(snapshot, read)
+    plan = plan_density_scaling(given, target_dt, max_factor, integrator=integrator, local_damping=local_damping,
+                                local_damping_law=local_damping_law, yade_safety=yade_safety)
+    audit = audit_snapshot(given, integrator=plan.integrator, local_damping=local_damping,
+                           local_damping_law=local_damping_law)
+    step = scaled_step_of(given, plan.integrator, local_damping, local_damping_law, "auto")
+    hertz = _is_hertz(given.law)
+    stiffness = stiffness_reduction(step, plan.target_dt, plan.dt_crit, hertz=hertz)
+    quasi = _quasi_static(given, plan, strain_rate, hertz)
+    collisions = _collisions(given, plan, stiffness, plan.dt_crit)
+    n_free = int(plan.free.sum())
+    return SnapshotPlan(
+        source=given.source, engine=given.convention.name, integrator=plan.integrator, law=given.law,
+        n_particles=n_free, n_contacts=given.contacts.count, target_dt=plan.target_dt, audit=audit, density=plan,
+        size_classes=size_classes(given.packing.radii, given.packing.masses, plan.factors, plan.free,
+                                  plan.yade_factors, bins),
+        stiffness=stiffness, cost=_cost(duration, n_free, plan.dt_crit, plan.target_dt), quasi_static=quasi,
+        collisions=collisions, warnings=_warnings(plan, quasi, gravity, velocity, collisions), snapshot=given)
