@@ -1,18 +1,22 @@
-"""Density scaling in LAMMPS and YADE: a polydisperse packing at twice its critical step.
+"""Density scaling in LAMMPS and YADE: a polydisperse packing at twice (and five times) its critical step.
 
 The packing is LAMMPS's own (``support.engines.lammps_packing.compress``: 30 spheres, radii +-30 %,
-relaxed without friction in a periodic box); its stiffness, critical step and rigorous per-body
-factors come from the test's model (``support.engines.scaled_packing``: ``gran/hooke`` springs
-``kn = 1e4``, ``kt = 2/7 kn`` -- LAMMPS's ``kt`` for ``NULL``, pair_gran docs -- a direct eigen-solve,
-Gershgorin's discs).  With the factors the exact step of the scaled packing is at least the target
-``2 x dt_crit``; applied in the engines by dtcrit's engine script (``density_scaling``: LAMMPS
-``set group all mass`` from an ``atomfile``, YADE ``state.mass`` and ``state.inertia``), runs from a
-small random kick at the target stay bounded, while the unscaled packing at the same step blows up.
+relaxed without friction in a periodic box).  The test's model (``support.engines.scaled_packing``:
+``gran/hooke`` springs ``kn = 1e4``, ``kt = 2/7 kn`` -- LAMMPS's ``kt`` for ``NULL``, pair_gran docs --
+and the normal preload's geometric term, assembled independently) gives the critical step by a
+direct eigen-solve and rigorous per-body factors from Gershgorin's discs.  Two factor sets are run:
+those, and dtcrit's plan (``dtcrit.plan.plan_density_scaling`` of LAMMPS's dump; for YADE, of
+YADE's own export of the same packing).  With either, the model's exact step of the scaled packing
+is at least the target ``2 x dt_crit``; applied in the engines by dtcrit's engine script
+(``density_scaling``: LAMMPS ``set group all mass`` from an ``atomfile``, also through the LAMMPS
+hook in the LAMMPS Python module; YADE ``state.mass`` and ``state.inertia`` through the YADE hook),
+runs from a small random kick at the target stay bounded, while the unscaled packing at the same step
+blows up.
 
 YADE's own rule (``GlobalStiffnessTimeStepper(targetDt, densityScaling=True)``) runs on the same
 packing at the same target: its per-body ``state.densityScaling`` read back after the run equals the
-stepper's formula evaluated here from its source (GlobalStiffnessTimeStepper.cpp), and the mass it
-adds is printed beside the factors' (``pytest -s``).
+stepper's formula evaluated here from its source (GlobalStiffnessTimeStepper.cpp); the mass it adds
+is more than the plan's (numbers printed with ``pytest -s``).
 """
 from __future__ import annotations
 
@@ -201,3 +205,20 @@ def test_plan_yade_rule_is_the_densityscaling_yade_applies(yade_runs):
     """The plan's ``yade_factors`` (of the YADE export) against YADE's own, read back after its run."""
     measured = 1.0 / np.array(yade_runs["yade_rule"].info["density_scaling"])
     assert yade_runs["plan_object"].yade_factors == pytest.approx(measured, rel=1e-6)
+
+
+def test_lammps_plan_at_five_times_the_critical_step(packing):
+    """Dtcrit's plan for 5 x dt_crit: the model's exact step of the scaled packing reaches it, LAMMPS
+    with the engine script's masses is bounded there, and without them grows.
+    """
+    from dtcrit.plan import plan_density_scaling
+
+    target = 5.0 * packing["dt_crit"]
+    plan = plan_density_scaling(packing["work"] / "packing.dump", target, pair_style=STYLE)
+    assert critical_step(packing["model"], plan.factors) >= target
+    scaled, steps_used = growth(packing["dump"], STYLE, target, STEPS, plan.factors)
+    assert scaled < BOUNDED and max(steps_used) <= target
+    unscaled, _ = growth(packing["dump"], STYLE, target, STEPS)
+    assert unscaled > GROWING
+    print(f"\n5 x dt_crit: added mass fraction dtcrit plan {plan.added_mass_fraction:.4f}, "
+          f"uniform {plan.uniform_added_mass_fraction:.4f}")
