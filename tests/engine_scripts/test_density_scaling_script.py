@@ -89,3 +89,14 @@ def test_a_path_stays_inside_its_quotes(path):
     first = lines[0]
     assert first == f'variable dtcrit_factor atomfile "{path}"' and first.count('"') == 2
     assert all('"' not in ln for ln in lines[1:])
+
+
+def test_read_plan_gives_the_factors_and_the_target(tmp_path):
+    """The plan file's ``density_scaling`` and ``target_dt``; a document without either is refused."""
+    path = tmp_path / "plan.json"
+    path.write_text(json.dumps({"target_dt": 2.5e-6, "density_scaling": {"ids": [4, 9], "factors": [3.0, 1.25]}}))
+    assert ds.read_plan(path) == ({4: 3.0, 9: 1.25}, 2.5e-6)
+    with pytest.raises(ValueError, match="density_scaling"):
+        ds.read_plan({"target_dt": 1e-6})
+    with pytest.raises(ValueError, match="planned step"):
+        ds.read_plan({"density_scaling": {"ids": [1], "factors": [2.0]}})

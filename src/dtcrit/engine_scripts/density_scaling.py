@@ -4,7 +4,8 @@ Runs inside the engines' own Python (standard library only, like ``yade_hook`` a
 which call it from their ``apply_density_scaling``); any Python can use it to write LAMMPS inputs.
 The factors come from ``dtcrit plan ... --json`` (``density_scaling``: one factor per body, ordered
 as the snapshot's bodies) or from ``dtcrit.plan.plan_density_scaling`` (``zip(ids, plan.factors)``);
-``read_factors`` turns either form into ``{id: factor}``.
+``read_factors`` turns either form into ``{id: factor}``, ``read_plan`` gives the plan file's factors
+and ``target_dt`` together.
 
 A factor ``f`` multiplies a body's mass *and* its moments of inertia (density scaling: the shape and
 the contacts are unchanged, so every eigenvalue of ``M^-1 K`` that the body carries drops by up to
@@ -49,7 +50,7 @@ import math
 import os
 import tempfile
 
-__all__ = ["read_factors", "apply_yade", "lammps_factor_file", "lammps_commands", "apply_lammps"]
+__all__ = ["read_factors", "read_plan", "apply_yade", "lammps_factor_file", "lammps_commands", "apply_lammps"]
 
 
 def _factor(value, where: str) -> float:
@@ -126,11 +127,44 @@ def read_factors(source) -> dict:
     return out
 
 
+def read_plan(source) -> tuple:
+    """The factors and the target step of a ``dtcrit plan --json`` document.
+
+    Parameters
+    ----------
+    source : str, os.PathLike or dict
+        The JSON file (path) or its parsed document (``target_dt`` [s] and ``density_scaling``).
+
+    Returns
+    -------
+    tuple
+        ``({id: factor}, target_dt)``, ready for ``apply_yade``, ``apply_lammps`` or a hook's
+        ``apply_density_scaling``.
+
+    Raises
+    ------
+    ValueError
+        No ``density_scaling`` or no finite positive ``target_dt`` in the document (``read_factors``'s
+        refusals besides).
+    """
+    if isinstance(source, (str, os.PathLike)):
+        import json
+
+        with open(source) as fh:
+            source = json.load(fh)
+    if not isinstance(source, dict) or not isinstance(source.get("density_scaling"), dict):
+        raise ValueError("not a dtcrit plan document: no 'density_scaling' object")
+    return read_factors(source), _step(source.get("target_dt"), 1.0)
+
+
 def _step(dt, safety) -> float:
     safety = float(safety)
     if not (0.0 < safety <= 1.0):
         raise ValueError(f"safety must lie in (0, 1], got {safety!r}")
-    step = safety * float(dt)
+    try:
+        step = safety * float(dt)
+    except (TypeError, ValueError):
+        raise ValueError(f"the planned step must be a number, got {dt!r}") from None
     if not (math.isfinite(step) and step > 0.0):
         raise ValueError(f"the planned step must be finite and positive, got {dt!r}")
     return step
