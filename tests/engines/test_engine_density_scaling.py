@@ -20,6 +20,8 @@ is more than the plan's (numbers printed with ``pytest -s``).
 """
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 
@@ -44,8 +46,11 @@ FACTOR_SETS = ("gershgorin", "plan")
 
 @pytest.fixture(scope="module")
 def packing(tmp_path_factory):
-    """LAMMPS's packing, the model, its critical step, the target, the Gershgorin factors and dtcrit's plan."""
-    from dtcrit.plan import plan_density_scaling
+    """LAMMPS's packing, the model, its critical step, the target, the Gershgorin factors and dtcrit's plan
+    (also written as its JSON document, ``plan.json``).
+    """
+    from dtcrit.plan.output import plan_json
+    from dtcrit.plan.report import plan_snapshot
 
     require_engine("lammps")
     work = tmp_path_factory.mktemp("scaled")
@@ -54,7 +59,9 @@ def packing(tmp_path_factory):
     model = model_from_dump(dump, KN, KT)
     dt_crit = critical_step(model)
     target = TARGET * dt_crit
-    plan = plan_density_scaling(work / "packing.dump", target, pair_style=STYLE)
+    planned = plan_snapshot(work / "packing.dump", target, pair_style=STYLE)
+    (work / "plan.json").write_text(json.dumps(plan_json(planned)))  # what `dtcrit plan --json` prints
+    plan = planned.density
     return {"dump": dump, "work": work, "model": model, "dt_crit": dt_crit, "target": target, "plan": plan,
             "factors": {"gershgorin": gershgorin_factors(model, target), "plan": plan.factors}}
 
@@ -182,8 +189,9 @@ def test_yade_density_scaling_against_dtcrit_plan(packing, yade_runs):
 
 
 def test_lammps_hook_applies_the_factors_through_the_python_module(packing):
-    """``DtcritLammpsHook.apply_density_scaling`` (LAMMPS Python module) with dtcrit's plan: the masses
-    LAMMPS holds are the factors times the dump's, the step is the target, the run from the kick is bounded.
+    """``DtcritLammpsHook.apply_density_scaling(*read_plan("plan.json"))`` (LAMMPS Python module), the plan's
+    JSON document: the masses LAMMPS holds are the factors times the dump's, the step is the target, the
+    run from the kick is bounded.
     """
     python = lammps_python()
     if python is None:
@@ -192,7 +200,7 @@ def test_lammps_hook_applies_the_factors_through_the_python_module(packing):
                         "never skipped in CI (CI=true)", pytrace=False)
         pytest.skip("no Python with the LAMMPS module (apt-get install python3-lammps)")
     factors = packing["factors"]["plan"]
-    out = hook_run(python, packing["dump"], STYLE, packing["target"], STEPS, factors)
+    out = hook_run(python, packing["dump"], STYLE, packing["work"] / "plan.json", STEPS)
     assert np.allclose(out["mass"], packing["model"].masses * factors, rtol=1e-15, atol=0.0)
     assert out["returned"] == out["dt"] == packing["target"]
     assert out["energy_ratio"] < BOUNDED

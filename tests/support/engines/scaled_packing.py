@@ -197,8 +197,9 @@ from lammps_hook import DtcritLammpsHook
 lmp = lammps(cmdargs=["-log", "none", "-screen", "none", "-nocite"])
 lmp.commands_list(cfg["setup"])
 hook = DtcritLammpsHook(lmp, cfg["style"], dtcrit=["dtcrit-not-run"], directory=cfg["dir"])
-table = {int(k): f for k, f in cfg["factors"].items()}
-out = {"returned": hook.apply_density_scaling(table, cfg["dt"])}
+from density_scaling import read_plan
+table, dt = read_plan(cfg["plan"])
+out = {"returned": hook.apply_density_scaling(table, dt)}
 n = lmp.get_natoms()
 ids, mass = lmp.gather_atoms("id", 0, 1), lmp.gather_atoms("rmass", 1, 1)
 out["mass"] = {int(ids[k]): mass[k] for k in range(n)}
@@ -210,21 +211,26 @@ print("HOOK " + json.dumps(out))
 '''
 
 
-def hook_run(python: str, dump_text: str, pair_style: str, dt: float, steps: int, factors, *,
-             eps: float = 1e-6, seed: int = 3) -> dict:
-    """``DtcritLammpsHook.apply_density_scaling`` in the LAMMPS Python module on the dumped packing
-    (kicked as in ``growth``), then ``run steps``: the step it returned, the masses LAMMPS holds after
-    it (by atom id), the step after the run, and the kinetic energy at the end over the scaled initial one.
+def hook_run(python: str, dump_text: str, pair_style: str, plan_file, steps: int, *, eps: float = 1e-6,
+             seed: int = 3) -> dict:
+    """``DtcritLammpsHook.apply_density_scaling(*read_plan(plan_file))`` in the LAMMPS Python module on
+    the dumped packing (kicked as in ``growth`` at the plan's ``target_dt``), then ``run steps``: the step
+    it returned, the masses LAMMPS holds after it (by atom id), the step after the run, and the kinetic
+    energy at the end over the scaled initial one.
     """
     import json
     import subprocess
 
+    doc = json.loads(Path(plan_file).read_text())
+    dt = float(doc["target_dt"])
+    given = dict(zip(doc["density_scaling"]["ids"], doc["density_scaling"]["factors"]))
     x, radii, masses, length = _read_dump(dump_text)
     rng = np.random.default_rng(seed)
     v_scale = eps * radii.min() / dt
     vel = np.concatenate([rng.standard_normal((len(x), 3)) * v_scale,
                           rng.standard_normal((len(x), 3)) * v_scale / radii[:, None]], axis=1)
-    m = masses * np.asarray(factors, float)  # the kinetic energy right after the scaling
+    factors = np.array([float(given.get(k + 1, 1.0)) for k in range(len(masses))])
+    m = masses * factors  # the kinetic energy right after the scaling
     e0 = 0.5 * float(np.sum(m[:, None] * vel[:, :3] ** 2) + np.sum(0.4 * (m * radii**2)[:, None] * vel[:, 3:] ** 2))
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
@@ -232,8 +238,8 @@ def hook_run(python: str, dump_text: str, pair_style: str, dt: float, steps: int
         setup = [ln.replace("read_data case.data", f'read_data "{work / "case.data"}"') for ln in _header(pair_style)]
         setup += ["fix integ all nve/sphere", "timestep 1e-12", "compute ket all ke", "compute ker all erotate/sphere",
                   "variable etot equal c_ket+c_ker", "thermo_style custom step v_etot"]
-        cfg = {"scripts": str(ENGINE_SCRIPTS), "setup": setup, "style": pair_style, "dir": str(work), "dt": dt,
-               "steps": int(steps), "factors": {str(k + 1): float(f) for k, f in enumerate(factors)}}
+        cfg = {"scripts": str(ENGINE_SCRIPTS), "setup": setup, "style": pair_style, "dir": str(work),
+               "steps": int(steps), "plan": str(Path(plan_file).resolve())}
         (work / "cfg.json").write_text(json.dumps(cfg))
         (work / "driver.py").write_text(_HOOK_DRIVER)
         done = subprocess.run([python, str(work / "driver.py"), str(work / "cfg.json")], capture_output=True,
