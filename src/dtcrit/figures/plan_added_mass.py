@@ -141,10 +141,11 @@ def draw_added_mass(data: AddedMassData):
     right.set_xlabel("particle radius [m]")
     right.set_ylabel("mass and inertia factor")
     right.axhline(1.0, color="black", lw=0.8)
-    left.legend(fontsize=8, loc="best")
+    fig.legend(*left.get_legend_handles_labels(), loc="lower center", ncol=len(data.added), fontsize=8,
+               frameon=False)
     title = "density scaling" + ("" if data.target_dt is None else f" to dt = {data.target_dt:.4g} s")
     fig.suptitle(title)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0.0, 0.07, 1.0, 1.0))
     return fig
 
 
