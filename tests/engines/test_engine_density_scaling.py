@@ -230,3 +230,50 @@ def test_lammps_plan_at_five_times_the_critical_step(packing):
     assert unscaled > GROWING
     print(f"\n5 x dt_crit: added mass fraction dtcrit plan {plan.added_mass_fraction:.4f}, "
           f"uniform {plan.uniform_added_mass_fraction:.4f}")
+
+
+YADE_CHECKS = r"""
+import json, sys
+sys.path.insert(0, sys.argv[1])
+import density_scaling as ds
+out = {}
+a = O.bodies.append(sphere((0, 0, 0), 1e-3))
+b = O.bodies.append(sphere((5e-3, 0, 0), 2e-3))
+clump, members = O.bodies.appendClumped([sphere((0, 9e-3, 0), 1e-3), sphere((1.5e-3, 9e-3, 0), 1e-3)])
+m0, i0 = O.bodies[b].state.mass, O.bodies[b].state.inertia[0]
+O.dt = 1.0
+for bad in ({99: 2.0}, {members[0]: 2.0}, {a: -1.0}):
+    try:
+        ds.apply_yade(bad, 1e-6)
+        out[str(bad)] = "applied"
+    except ValueError as exc:
+        out[str(bad)] = str(exc)
+out["dt_untouched"] = O.dt
+out["record"] = ds.apply_yade({b: 3.0, clump: 2.0}, 2e-6, safety=0.5)
+out["mass_ratio"] = O.bodies[b].state.mass / m0
+out["inertia_ratio"] = O.bodies[b].state.inertia[0] / i0
+out["dt"] = O.dt
+print("CHECKS " + json.dumps(out))
+"""
+
+
+def test_yade_engine_script_refuses_and_scales(tmp_path):
+    """Inside YADE: an unknown body, a clump member and a non-positive factor are refused before anything
+    changes; a clump and a sphere are scaled (mass and inertia by the factor) and ``O.dt = safety * dt``.
+    """
+    import subprocess
+
+    from support.paths import ENGINE_SCRIPTS
+
+    yade = require_engine("yade")
+    (tmp_path / "checks.py").write_text(YADE_CHECKS)
+    done = subprocess.run([yade, "-n", "-x", "checks.py", str(ENGINE_SCRIPTS)], cwd=tmp_path, capture_output=True,
+                          text=True, timeout=120)
+    lines = [ln for ln in done.stdout.splitlines() if ln.startswith("CHECKS ")]
+    assert done.returncode == 0 and lines, done.stdout[-2000:] + done.stderr[-2000:]
+    out = json.loads(lines[-1][7:])
+    refusals = [v for k, v in out.items() if k.startswith("{")]
+    assert [("no such body" in refusals[0]), ("clump member" in refusals[1]), ("positive" in refusals[2])] == [True] * 3
+    assert out["dt_untouched"] == 1.0
+    assert out["record"]["bodies"] == 2 and out["dt"] == 1e-6
+    assert out["mass_ratio"] == pytest.approx(3.0, rel=1e-15) and out["inertia_ratio"] == pytest.approx(3.0, rel=1e-15)
