@@ -11,7 +11,7 @@ import importlib
 import sys
 
 # Subcommands in the order ``dtcrit --help`` lists them.
-COMMANDS: tuple[str, ...] = ("step", "collide", "codegen", "packing", "audit", "impact", "figures", "bench", "notebooks")
+COMMANDS: tuple[str, ...] = ("step", "collide", "codegen", "packing", "audit", "plan", "impact", "figures", "bench", "notebooks")
 
 
 def one_line(text: str) -> str:

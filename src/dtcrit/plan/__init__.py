@@ -8,8 +8,11 @@ stiffness reduction that reaches the same step; the cost before and after.
 Runtime layer (NumPy/SciPy): imports ``packing`` (the audit's snapshot reader and eigen-solve),
 ``physics`` and ``collisions``, never SymPy.
 
-Modules: ``bounds`` (sufficient per-body factors), ``exact`` (the scaled packing's exact step),
-``density`` (:func:`plan_density_scaling`).
+Modules: ``bounds`` (sufficient per-body factors), ``exact`` (the scaled packing's exact step and its
+certified stability), ``density`` (:func:`plan_density_scaling`), ``stiffness`` (the stiffness
+reduction), ``physics`` (size classes, inertial number, contact durations), ``report``
+(:func:`dtcrit.plan.report.plan_snapshot`, the whole plan), ``output`` (text and JSON), ``dump``
+(``--write-dump``).
 """
 from dtcrit.plan.density import DensityPlan, plan_density_scaling
 

@@ -217,6 +217,10 @@ def read_input(snapshot, read: dict):
 
     if isinstance(snapshot, Snapshot):
         return snapshot
+    if str(snapshot).lower().endswith(".toml"):
+        raise InputError("snapshot", "plan needs a snapshot (a LAMMPS/LIGGGHTS dump or a YADE export), not a scene: the "
+                                     "planned masses are confirmed by the exact step of the scaled packing, which a scene "
+                                     "does not have (dtcrit step gives a scene's step)")
     return read_snapshot(snapshot, **read)
 
 

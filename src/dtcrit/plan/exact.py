@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
 
@@ -93,9 +94,9 @@ class ScaledStep:
     method: str = "auto"
     solves: int = field(default=0)
     certificates: int = field(default=0)
-    _shifted: dict = field(default_factory=dict, repr=False)
 
     def __post_init__(self):
+        self._shifted: dict[float, Any] = {}  # B~ at the last step asked (_b_matrix)
         if self.integrator not in MODELLED:
             raise InputError("integrator", f"a plan is made for the central-difference family ({', '.join(MODELLED)}); "
                                            f"{self.integrator!r} is not modelled")

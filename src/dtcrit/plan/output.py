@@ -1,19 +1,17 @@
 """Text and JSON (schema ``dtcrit-plan/1``, ``src/dtcrit/schemas/dtcrit-plan-1.json``) of a plan."""
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from dtcrit.json_meta import envelope
 from dtcrit.physics.json_numbers import finite_or_none as _finite
-
-if TYPE_CHECKING:
-    from dtcrit.plan.report import SnapshotPlan
 
 __all__ = ["JSON_SCHEMA", "UNITS", "plan_json", "plan_text"]
 
 JSON_SCHEMA = "dtcrit-plan/1"
 UNITS = {"target_dt": "s", "binding.dt_crit": "s", "binding.dt_safe": "s", "density_scaling.dt_crit_scaled": "s",
          "density_scaling.added_mass": "kg", "density_scaling.yade_rule_dt_crit": "s",
+         "density_scaling.yade_unit_safety_dt_crit": "s",
          "density_scaling.size_classes.*.radius_min": "m", "density_scaling.size_classes.*.radius_max": "m",
          "density_scaling.size_classes.*.mass": "kg", "density_scaling.size_classes.*.added_mass": "kg",
          "density_scaling.size_classes.*.yade_rule_added_mass": "kg", "quasi_static.pressure": "Pa",
@@ -22,7 +20,7 @@ UNITS = {"target_dt": "s", "binding.dt_crit": "s", "binding.dt_safe": "s", "dens
          "collisions.contact_time_stiffness": "s", "cost.duration": "s"}
 
 
-def _binding(plan: SnapshotPlan) -> dict:
+def _binding(plan: Any) -> dict:
     a = plan.audit
     return {"dt_crit": _finite(a.dt_crit), "dt_safe": _finite(a.dt_safe), "method": a.method,
             "limiting": {"ids": list(a.limiting), "energy_share": _finite(a.limiting_share),
@@ -31,7 +29,7 @@ def _binding(plan: SnapshotPlan) -> dict:
             "local_damping": None if a.local_damping is None else dict(a.local_damping)}
 
 
-def _density(plan: SnapshotPlan) -> dict:
+def _density(plan: Any) -> dict:
     d = plan.density
     ids = [plan.snapshot.packing.particle_id(p) for p in range(len(d.factors)) if d.free[p]]
     return {"ids": ids, "factors": [float(f) for f, free in zip(d.factors, d.free) if free],
@@ -42,10 +40,12 @@ def _density(plan: SnapshotPlan) -> dict:
             "yade_rule_added_mass_fraction": _finite(d.yade_rule_added_mass_fraction),
             "yade_rule_dt_crit": _finite(d.yade_dt_crit_scaled),
             "yade_rule_stable": None if d.yade_dt_crit_scaled is None else bool(d.yade_dt_crit_scaled >= d.target_dt),
-            "yade_safety": d.yade_safety, "solves": d.solves, "size_classes": list(plan.size_classes)}
+            "yade_safety": d.yade_safety,
+            "yade_unit_safety_added_mass_fraction": _finite(d.yade_unit_safety_added_mass_fraction),
+            "yade_unit_safety_dt_crit": _finite(d.yade_unit_safety_dt_crit_scaled), "solves": d.solves, "size_classes": list(plan.size_classes)}
 
 
-def _stiffness(plan: SnapshotPlan) -> dict:
+def _stiffness(plan: Any) -> dict:
     s = plan.stiffness
     return {"factor": s.factor, "dt_crit_reduced": s.dt_crit_reduced, "hertz": s.hertz,
             "modulus_factor_fixed_overlap": s.modulus_factor_fixed_overlap,
@@ -54,12 +54,12 @@ def _stiffness(plan: SnapshotPlan) -> dict:
             "static_overlap_factor": s.static_overlap_factor, "dashpots_scaled": s.damped}
 
 
-def plan_json(plan: SnapshotPlan) -> dict:
+def plan_json(plan: Any) -> dict:
     """The plan as a JSON document (schema ``dtcrit-plan/1``; non-finite numbers as null).
 
     Parameters
     ----------
-    plan : SnapshotPlan
+    plan : dtcrit.plan.report.SnapshotPlan
         The plan.
 
     Returns
@@ -80,7 +80,7 @@ def _pct(x: float | None) -> str:
     return "n/a" if x is None else f"{100 * x:.4g} %"
 
 
-def _binding_lines(plan: SnapshotPlan) -> list[str]:
+def _binding_lines(plan: Any) -> list[str]:
     from dtcrit.packing.audit.mode_character import describe
 
     a = plan.audit
@@ -96,16 +96,16 @@ def _binding_lines(plan: SnapshotPlan) -> list[str]:
     return lines
 
 
-def _density_lines(plan: SnapshotPlan) -> list[str]:
+def _density_lines(plan: Any) -> list[str]:
     d = plan.density
-    yade = ("n/a (YADE's stepper reads sphere contacts only)" if d.yade_rule_added_mass_fraction is None else
+    yade = ("n/a (YADE's stepper reads sphere contacts only)" if d.yade_dt_crit_scaled is None else
             f"{_pct(d.yade_rule_added_mass_fraction)}; its exact step {d.yade_dt_crit_scaled:.6g} s "
             f"({'stable' if d.yade_dt_crit_scaled >= d.target_dt else 'UNSTABLE'} at the target)")
     lines = ["", "density scaling (mass and inertia of each body times f >= 1):",
              f"  added mass {_pct(d.added_mass_fraction)} ({d.added_mass:.6g} kg), largest factor {d.factors.max():.5g}; "
              f"exact dt_crit of the scaled packing {d.dt_crit_scaled:.7g} s >= target",
              f"  (confirmed by the exact eigen-solve; start: the {d.bound.replace('_', '-')} bound's factors, "
-             f"{_pct(d.bound_added_mass_fraction)}; kept: {d.family}; {d.solves} solves)",
+             f"{_pct(d.bound_added_mass_fraction)}; kept: {d.family}; {d.solves} inertia counts and eigen-solves)",
              f"  YADE densityScaling rule (safety {d.yade_safety:g}): {yade}",
              f"  uniform factor {d.uniform_factor:.6g}: {_pct(d.uniform_added_mass_fraction)}",
              f"  {'radius [m]':<24}{'count':>6}{'added mass':>14}{'largest f':>11}{'YADE rule':>14}"]
@@ -121,7 +121,7 @@ def _density_lines(plan: SnapshotPlan) -> list[str]:
     return lines
 
 
-def _stiffness_lines(plan: SnapshotPlan) -> list[str]:
+def _stiffness_lines(plan: Any) -> list[str]:
     s = plan.stiffness
     lines = ["", "stiffness reduction (every spring times s" + (", dashpots times sqrt(s)" if s.damped else "") + "):",
              f"  s = {s.factor:.6g}; exact dt_crit {s.dt_crit_reduced:.7g} s >= target"]
@@ -137,12 +137,12 @@ def _stiffness_lines(plan: SnapshotPlan) -> list[str]:
     return lines
 
 
-def plan_text(plan: SnapshotPlan) -> str:
+def plan_text(plan: Any) -> str:
     """The plan as text.
 
     Parameters
     ----------
-    plan : SnapshotPlan
+    plan : dtcrit.plan.report.SnapshotPlan
         The plan.
 
     Returns
