@@ -21,6 +21,8 @@ is more than the plan's (numbers printed with ``pytest -s``).
 from __future__ import annotations
 
 import json
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -49,9 +51,6 @@ def packing(tmp_path_factory):
     """LAMMPS's packing, the model, its critical step, the target, the Gershgorin factors and dtcrit's plan
     (also written as its JSON document, ``plan.json``).
     """
-    from dtcrit.plan.output import plan_json
-    from dtcrit.plan.report import plan_snapshot
-
     require_engine("lammps")
     work = tmp_path_factory.mktemp("scaled")
     dump = compress(SPEC, work)
@@ -59,11 +58,15 @@ def packing(tmp_path_factory):
     model = model_from_dump(dump, KN, KT)
     dt_crit = critical_step(model)
     target = TARGET * dt_crit
-    planned = plan_snapshot(work / "packing.dump", target, pair_style=STYLE)
-    (work / "plan.json").write_text(json.dumps(plan_json(planned)))  # what `dtcrit plan --json` prints
-    plan = planned.density
+    done = subprocess.run([sys.executable, "-m", "dtcrit", "plan", str(work / "packing.dump"), "--pair-style", STYLE,
+                           "--target-dt", repr(target), "--json"], capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    (work / "plan.json").write_text(done.stdout)
+    plan = json.loads(done.stdout)
+    by_id = dict(zip(plan["density_scaling"]["ids"], plan["density_scaling"]["factors"]))
+    factors = np.array([by_id.get(k + 1, 1.0) for k in range(len(model.masses))])  # LAMMPS ids 1..N, dump order
     return {"dump": dump, "work": work, "model": model, "dt_crit": dt_crit, "target": target, "plan": plan,
-            "factors": {"gershgorin": gershgorin_factors(model, target), "plan": plan.factors}}
+            "factors": {"gershgorin": gershgorin_factors(model, target), "plan": factors}}
 
 
 @pytest.fixture(scope="module")
@@ -101,10 +104,11 @@ def test_factors_make_the_exact_step_reach_the_target(packing, name):
 
 def test_plan_reads_the_packing_as_the_model_does(packing):
     """Dtcrit's current step and its scaled step are the model's (independent assembly) to rounding."""
-    plan, model = packing["plan"], packing["model"]
-    assert plan.dt_crit == pytest.approx(packing["dt_crit"], rel=1e-9)
-    assert plan.dt_crit_scaled == pytest.approx(critical_step(model, plan.factors), rel=1e-9)
-    assert plan.added_mass_fraction == pytest.approx(_added(model.masses, plan.factors), rel=1e-12)
+    plan, model, factors = packing["plan"], packing["model"], packing["factors"]["plan"]
+    assert plan["target_dt"] == packing["target"]
+    assert plan["binding"]["dt_crit"] == pytest.approx(packing["dt_crit"], rel=1e-9)
+    assert plan["density_scaling"]["dt_crit_scaled"] == pytest.approx(critical_step(model, factors), rel=1e-9)
+    assert plan["density_scaling"]["added_mass_fraction"] == pytest.approx(_added(model.masses, factors), rel=1e-12)
 
 
 @pytest.mark.parametrize("name", FACTOR_SETS)
@@ -178,7 +182,7 @@ def test_yade_density_scaling_against_dtcrit_plan(packing, yade_runs):
           f"YADE run (densityScaling read back, safety {GSTS_SAFETY}) {yade_added:.4f}, model step "
           f"{yade_step / target:.4f} x target, run {'bounded' if run.bounded else 'growing'} "
           f"(growth {run.growth:.3g}); dtcrit plan of the YADE export {plan_added:.4f} ({plan.family}), "
-          f"of the LAMMPS dump {packing['plan'].added_mass_fraction:.4f}; its YADE rule "
+          f"of the LAMMPS dump {packing['plan']['density_scaling']['added_mass_fraction']:.4f}; its YADE rule "
           f"{plan.yade_rule_added_mass_fraction}; uniform {plan.uniform_added_mass_fraction:.4f}; "
           f"Gershgorin (test) {_added(model.masses, gershgorin):.4f}")
     assert plan_added < yade_added
@@ -189,8 +193,8 @@ def test_yade_density_scaling_against_dtcrit_plan(packing, yade_runs):
 
 
 def test_lammps_hook_applies_the_factors_through_the_python_module(packing):
-    """``DtcritLammpsHook.apply_density_scaling(*read_plan("plan.json"))`` (LAMMPS Python module), the plan's
-    JSON document: the masses LAMMPS holds are the factors times the dump's, the step is the target, the
+    """``DtcritLammpsHook.apply_density_scaling(*read_plan("plan.json"))`` (LAMMPS Python module) with the
+    output of ``dtcrit plan --json``: the masses LAMMPS holds are the factors times the dump's, the step is the target, the
     run from the kick is bounded.
     """
     python = lammps_python()
@@ -261,8 +265,6 @@ def test_yade_engine_script_refuses_and_scales(tmp_path):
     """Inside YADE: an unknown body, a clump member and a non-positive factor are refused before anything
     changes; a clump and a sphere are scaled (mass and inertia by the factor) and ``O.dt = safety * dt``.
     """
-    import subprocess
-
     from support.paths import ENGINE_SCRIPTS
 
     yade = require_engine("yade")
