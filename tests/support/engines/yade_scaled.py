@@ -10,9 +10,10 @@ force, so the packing LAMMPS relaxed without friction is in equilibrium in YADE 
 
 Each run (``PackingRun``) is one of
 
-* ``factors`` given: dtcrit's YADE hook (``DtcritHook.apply_density_scaling``, i.e. the engine script
-  ``density_scaling.apply_yade``, from ``dtcrit/engine_scripts``, run inside YADE) scales the bodies'
-  mass and inertia and sets ``O.dt`` to the run's ``dt``;
+* ``factors`` (per body id) or ``plan_file`` (a ``dtcrit plan --json`` document, read by the engine
+  script's ``read_plan``) given: dtcrit's YADE hook (``DtcritHook.apply_density_scaling``, i.e. the
+  engine script ``density_scaling.apply_yade``, from ``dtcrit/engine_scripts``, run inside YADE)
+  scales the bodies' mass and inertia and sets ``O.dt`` to the run's ``dt`` (the plan's ``target_dt``);
 * ``yade_target``: ``GlobalStiffnessTimeStepper(targetDt=dt, densityScaling=True)`` with
   ``NewtonIntegrator.densityScaling`` (YADE's per-body rule, GlobalStiffnessTimeStepper.cpp:
   ``state.densityScaling = (dt_i / targetDt)^2`` from its diagonal estimate ``dt_i``; the
@@ -53,6 +54,7 @@ class PackingRun:
     yade_target: bool = False
     gsts_safety: float = 0.8
     export: str | None = None  # write dtcrit's YADE export of the packing here before the kick
+    plan_file: str | None = None  # a `dtcrit plan --json` document: its factors and target_dt, by the hook
     eps: float = 1.0e-6
     seed: int = 12345
 
@@ -92,11 +94,15 @@ def scaled_run(k, p, r):
         import yade_export
         yade_export.export(r["export"])
     info = {"mass0": [b.state.mass for b in O.bodies], "contacts": len(real)}
-    if r["factors"] is not None:
+    if r["factors"] is not None or r["plan_file"] is not None:
         sys.path.insert(0, PAYLOAD["engine_scripts"])
+        import density_scaling
         import yade_hook  # the hook's method, which calls density_scaling.apply_yade
         hook = yade_hook.DtcritHook(dtcrit=["dtcrit-not-run"], export_path="hook_scene.json")
-        info["applied"] = hook.apply_density_scaling({bid: f for bid, f in enumerate(r["factors"])}, r["dt"])
+        if r["plan_file"] is not None:
+            info["applied"] = hook.apply_density_scaling(*density_scaling.read_plan(r["plan_file"]))
+        else:
+            info["applied"] = hook.apply_density_scaling({bid: f for bid, f in enumerate(r["factors"])}, r["dt"])
     else:
         O.dt = r["dt"]
     extra = []
