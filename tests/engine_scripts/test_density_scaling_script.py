@@ -100,3 +100,20 @@ def test_read_plan_gives_the_factors_and_the_target(tmp_path):
         ds.read_plan({"target_dt": 1e-6})
     with pytest.raises(ValueError, match="planned step"):
         ds.read_plan({"density_scaling": {"ids": [1], "factors": [2.0]}})
+
+
+def test_write_lammps_include_from_a_plan_file(tmp_path):
+    """``python3 density_scaling.py PLAN SCALED.in``: the include names its atomfile by base name."""
+    import subprocess
+    import sys
+
+    plan = tmp_path / "plan.json"
+    plan.write_text(json.dumps({"target_dt": 4e-6, "density_scaling": {"ids": [1, 2], "factors": [2.0, 1.0]}}))
+    done = subprocess.run([sys.executable, ds.__file__, str(plan), str(tmp_path / "scaled.in")], capture_output=True,
+                          text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    lines = (tmp_path / "scaled.in").read_text().splitlines()
+    assert lines[0].startswith("#") and lines[1] == 'variable dtcrit_factor atomfile "scaled.in.factors"'
+    assert lines[-1] == "timestep 4e-06"
+    assert ds.read_factors([tuple(r.split()) for r in (tmp_path / "scaled.in.factors").read_text().splitlines()[2:]]) \
+        == {1: 2.0, 2: 1.0}

@@ -119,8 +119,12 @@ def test_plan_reads_the_packing_as_the_model_does(packing):
 
 @pytest.mark.parametrize("name", FACTOR_SETS)
 def test_lammps_scaled_packing_bounded_at_the_target(packing, name):
-    """LAMMPS with the engine script's masses and step: bounded at the target, never above it."""
-    scaled, steps_used = growth(packing["dump"], STYLE, packing["target"], STEPS, packing["factors"][name])
+    """LAMMPS with the engine script's masses and step (the plan: ``include`` of the file written from its
+    JSON by ``write_lammps_include``): bounded at the target, never above it.
+    """
+    plan_file = packing["work"] / "plan.json" if name == "plan" else None
+    scaled, steps_used = growth(packing["dump"], STYLE, packing["target"], STEPS, packing["factors"][name],
+                                plan_file=plan_file)
     assert scaled < BOUNDED, f"scaled packing grows at the target (x{scaled:.3g})"
     assert steps_used and max(steps_used) <= packing["target"]
 

@@ -35,6 +35,8 @@ as ``0.4 rmass radius^2`` every step, so scaling the mass scales the inertia wit
     set group all mass v_dtcrit_mass
     timestep 2.5e-06
 
+``python3 density_scaling.py plan.json scaled.in`` (``write_lammps_include``) writes these lines to
+``scaled.in`` and the factors to ``scaled.in.factors``, for ``include scaled.in`` after ``read_data``
 (atoms the file does not list read factor 0 and keep their mass; ``atomfile`` variables need an atom
 map, ``atom_modify map array`` or ``hash``, before ``read_data``).  The two variables stay defined:
 ``variable ... delete`` of both made LAMMPS 29Sep2021 crash on exit (measured), so a second
@@ -50,7 +52,8 @@ import math
 import os
 import tempfile
 
-__all__ = ["read_factors", "read_plan", "apply_yade", "lammps_factor_file", "lammps_commands", "apply_lammps"]
+__all__ = ["read_factors", "read_plan", "apply_yade", "lammps_factor_file", "lammps_commands", "apply_lammps",
+           "write_lammps_include"]
 
 
 def _factor(value, where: str) -> float:
@@ -267,6 +270,36 @@ def lammps_commands(factor_file, dt=None, safety: float = 1.0, label: str = "dtc
     return lines
 
 
+def write_lammps_include(plan, include, safety: float = 1.0) -> list:
+    """Write a LAMMPS ``include`` file (and its ``atomfile`` beside it) from a ``dtcrit plan --json`` file.
+
+    Parameters
+    ----------
+    plan : str, os.PathLike or dict
+        The plan document (``read_plan``).
+    include : str or os.PathLike
+        The input file to write; the factors go to ``<include>.factors`` beside it, named in the file by
+        its base name (run LAMMPS from that folder).
+    safety : float
+        In (0, 1]; ``timestep safety * target_dt``.
+
+    Returns
+    -------
+    list of str
+        The commands written.
+    """
+    factors, dt = read_plan(plan)
+    include = os.fspath(include)
+    atomfile = include + ".factors"
+    lines = lammps_commands(os.path.basename(atomfile), dt, safety)
+    with open(atomfile, "w") as fh:
+        fh.write(lammps_factor_file(factors))
+    with open(include, "w") as fh:
+        fh.write("# dtcrit density scaling: each atom's mass (and so its inertia) times its factor, then the step\n")
+        fh.write("\n".join(lines) + "\n")
+    return lines
+
+
 _APPLIED = [0]  # applications in this process: each gets its own variable names
 
 
@@ -299,3 +332,11 @@ def apply_lammps(lmp, factors, dt=None, safety: float = 1.0, directory=None) -> 
     for line in lammps_commands(path, dt, safety, label=f"dtcrit{_APPLIED[0]}"):
         lmp.command(line)
     return float(lmp.extract_global("dt"))
+
+
+if __name__ == "__main__":  # python3 density_scaling.py PLAN.json SCALED.in
+    import sys
+
+    if len(sys.argv) != 3:
+        sys.exit("usage: python3 density_scaling.py PLAN.json SCALED.in  (then `include SCALED.in` after read_data)")
+    write_lammps_include(sys.argv[1], sys.argv[2])

@@ -107,12 +107,19 @@ def critical_step(model: Model, factors=None) -> float:
     return 2.0 / math.sqrt(lam)
 
 
-def growth(dump_text: str, pair_style: str, dt: float, steps: int, factors=None, *, eps: float = 1e-6,
-           seed: int = 3) -> tuple[float, list[float]]:
+def growth(dump_text: str, pair_style: str, dt: float, steps: int, factors=None, *, plan_file=None,
+           eps: float = 1e-6, seed: int = 3) -> tuple[float, list[float]]:
     """Largest kinetic energy over its first value, and the distinct steps LAMMPS ran at, for a run of
-    ``steps`` at ``dt`` from the dump (factors, when given, by atom id ``1..N``, applied by the engine
-    script).
+    ``steps`` at ``dt`` from the dump, scaled by the engine script: ``factors`` by atom id ``1..N``
+    (``lammps_factor_file``, ``lammps_commands``), or a ``dtcrit plan --json`` file (``plan_file``:
+    ``write_lammps_include`` and ``include``, the plan's own step).
     """
+    if plan_file is not None:
+        import json
+
+        doc = json.loads(Path(plan_file).read_text())["density_scaling"]
+        by_id = dict(zip(doc["ids"], doc["factors"]))
+        factors = [by_id.get(k + 1, 1.0) for k in range(len(_read_dump(dump_text)[1]))]
     x, radii, masses, length = _read_dump(dump_text)
     rng = np.random.default_rng(seed)
     v_scale = eps * radii.min() / dt
@@ -121,7 +128,10 @@ def growth(dump_text: str, pair_style: str, dt: float, steps: int, factors=None,
     lines = _header(pair_style) + ["fix integ all nve/sphere", f"timestep {dt!r}"]
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
-        if factors is not None:
+        if plan_file is not None:
+            engine_script().write_lammps_include(str(plan_file), str(work / "scaled.in"))
+            lines += ["include scaled.in", "write_dump all custom scaled.dump id mass modify format float %.17g"]
+        elif factors is not None:
             script = engine_script()
             table = {k + 1: float(f) for k, f in enumerate(factors)}
             (work / "factors.txt").write_text(script.lammps_factor_file(table))
