@@ -136,3 +136,23 @@ def test_a_scene_is_refused(capsys):
     """A scene has no packing whose exact step could confirm the masses: one line naming SNAPSHOT."""
     err = _one_line_error(capsys, "plan", str(ROOT / "examples" / "glass_spheres_hertz.toml"), "--target-dt", "1e-5")
     assert err.startswith("dtcrit: SNAPSHOT: plan needs a snapshot")
+
+
+def test_impact_resolution_with_a_velocity(capsys, dt_now):
+    """With --velocity: the shortest linear contact pi sqrt(m_eff/kn) over the resolution step's N_res."""
+    from dtcrit.collisions import resolution_step
+
+    code, out, err = _run(capsys, "plan", EXAMPLE, "--pair-style", HOOKE, "--target-dt", repr(2 * dt_now),
+                          "--velocity", "0.3", "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    jsonschema.validate(doc, SCHEMA)
+    c = doc["collisions"]
+    snap = read_snapshot(EXAMPLE, pair_style=HOOKE)
+    m = snap.packing.masses
+    m_eff = m[snap.contacts.i] * m[snap.contacts.j] / (m[snap.contacts.i] + m[snap.contacts.j])
+    t_c = float(np.min(math.pi * np.sqrt(m_eff / snap.contacts.kn)))
+    assert c["contact_time_now"] == pytest.approx(t_c, rel=1e-12)
+    n_res = resolution_step(engine="lammps", normal="hooke", damping="none", restitution=1.0).steps_per_collision
+    assert c["resolution_dt_now"] == pytest.approx(t_c / n_res, rel=1e-12)
+    assert any("impacts at 0.3 m/s" in w for w in doc["warnings"])

@@ -3,7 +3,7 @@
     dtcrit plan DUMP --pair-style 'gran/hooke/history 1e5 NULL 0 NULL 0.5 0' --target-dt 2e-5
     dtcrit plan EXPORT.json --target-dt DT          (a YADE export, as dtcrit audit reads it)
     ... [--max-factor 100] [--duration T] [--strain-rate RATE] [--gravity G] [--velocity V]
-    ... [--write-dump SCALED.dump] [--json]
+    ... [--write-dump SCALED.dump] [--json] [--plot FILE.png]
 
 The snapshot flags are ``dtcrit audit``'s own (``dtcrit.cli.audit``); the plan is
 :func:`dtcrit.plan.report.plan_snapshot`.
@@ -62,6 +62,8 @@ def add_parser(subparsers) -> None:
     p.add_argument("--write-dump", metavar="FILE", help="write the snapshot with the planned masses as a LAMMPS dump "
                                                          "(id type x y z radius mass) that dtcrit audit reads")
     p.add_argument("--json", action="store_true", help="print the plan as JSON (schema dtcrit-plan/1)")
+    p.add_argument("--plot", metavar="FILE.png", help="also draw the added mass of each particle (and its factor) "
+                                                      "against its radius, beside YADE's rule and the uniform factor")
     p.set_defaults(run=run_command)
 
 
@@ -84,7 +86,7 @@ def flag_of(key: str, args) -> str | None:
 
     own = {"target_dt": "--target-dt", "max_factor": "--max-factor", "duration": "--duration",
            "strain_rate": "--strain-rate", "gravity": "--gravity", "velocity": "--velocity",
-           "write_dump": "--write-dump"}
+           "write_dump": "--write-dump", "plot": "--plot"}
     return own.get(key) or audit.flag_of(key, args)
 
 
@@ -115,6 +117,10 @@ def _run(args) -> int:
     from dtcrit.plan.report import plan_snapshot
 
     args.source_label = None
+    if args.plot:
+        from dtcrit.figures.audit_plot import check_plot_path
+
+        check_plot_path(args.plot)  # before the work: a bad path is one line at once
     try:
         given = read_input(args.snapshot, dict(engine=args.engine, pair_style=args.pair_style, local=args.local,
                                                contact_table=args.contacts, density=args.density,
@@ -125,7 +131,7 @@ def _run(args) -> int:
     if args.write_dump:
         from dtcrit.plan.dump import check_dump_target
 
-        check_dump_target(given, args.write_dump)
+        check_dump_target(given, args.write_dump, per_type_law=bool(args.liggghts_input))
     plan = plan_snapshot(given, args.target_dt, max_factor=args.max_factor, duration=args.duration,
                          strain_rate=args.strain_rate, gravity=args.gravity, velocity=args.velocity,
                          integrator=args.integrator, local_damping=args.local_damping,
@@ -134,6 +140,10 @@ def _run(args) -> int:
         from dtcrit.plan.dump import write_scaled_dump
 
         write_scaled_dump(args.write_dump, given.packing, plan.density.factors, plan.density.free)
+    if args.plot:
+        from dtcrit.figures.plan_plot import write_plan_plot
+
+        write_plan_plot(plan, args.plot)
     if args.json:
         json.dump(plan.to_json(), sys.stdout, indent=2, sort_keys=True)
         sys.stdout.write("\n")

@@ -20,7 +20,7 @@ from dtcrit.errors import InputError
 __all__ = ["check_dump_target", "format_scaled_dump", "write_scaled_dump"]
 
 
-def check_dump_target(snapshot, path) -> None:
+def check_dump_target(snapshot, path, *, per_type_law: bool = False) -> None:
     """Refuse, before any work, a snapshot that has no dump form or a path that cannot be written.
 
     Parameters
@@ -29,6 +29,8 @@ def check_dump_target(snapshot, path) -> None:
         The snapshot.
     path : str or os.PathLike
         The dump to write.
+    per_type_law : bool
+        Whether the contact law is read per atom type (a LIGGGHTS input): the dump written keeps no types.
 
     Raises
     ------
@@ -40,6 +42,9 @@ def check_dump_target(snapshot, path) -> None:
     if export:
         raise InputError("write_dump", "writes a LAMMPS dump of spheres; a YADE export's planned factors go to YADE "
                                        "through its hook (the JSON's density_scaling.factors)")
+    if per_type_law:
+        raise InputError("write_dump", "writes every atom as type 1, but a LIGGGHTS input gives the law per atom type: "
+                                       "take the planned masses from --json (density_scaling.factors) instead")
     if not snapshot.packing.is_spheres or snapshot.packing.orientations is not None:
         raise InputError("write_dump", "a dump holds spheres only; this snapshot has other bodies")
     parent = Path(path).parent
@@ -99,6 +104,9 @@ def write_scaled_dump(path, packing, factors, free) -> None:
     target = Path(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
     try:
+        mask = os.umask(0)
+        os.umask(mask)
+        os.chmod(tmp, 0o666 & ~mask)  # as an ordinary new file, not mkstemp's 0600
         with os.fdopen(fd, "w") as fh:
             fh.write(text)
         os.replace(tmp, target)

@@ -17,7 +17,8 @@ UNITS = {"target_dt": "s", "binding.dt_crit": "s", "binding.dt_safe": "s", "dens
          "density_scaling.size_classes.*.yade_rule_added_mass": "kg", "quasi_static.pressure": "Pa",
          "quasi_static.strain_rate": "1/s", "stiffness_reduction.dt_crit_reduced": "s",
          "collisions.contact_time_now": "s", "collisions.contact_time_density": "s",
-         "collisions.contact_time_stiffness": "s", "cost.duration": "s"}
+         "collisions.contact_time_stiffness": "s", "collisions.velocity": "m/s", "collisions.resolution_dt_now": "s",
+         "collisions.resolution_dt_density": "s", "collisions.resolution_dt_stiffness": "s", "cost.duration": "s"}
 
 
 def _binding(plan: Any) -> dict:
@@ -131,9 +132,13 @@ def _stiffness_lines(plan: Any) -> list[str]:
     lines.append(f"  contact duration and impact peak overlap x {s.contact_duration_factor:.4g}; overlap under a "
                  f"given load x {s.static_overlap_factor:.4g}")
     c = plan.collisions
-    lines.append(f"  shortest contact pi sqrt(m/k): {c['contact_time_now']:.4g} s today ({c['steps_per_collision_now']:.3g} "
+    lines.append(f"  shortest contact ({c['law']}): {c['contact_time_now']:.4g} s today ({c['steps_per_collision_now']:.3g} "
                  f"steps of dt_crit); at the target: {c['steps_per_collision_density']:.3g} steps with density scaling, "
                  f"{c['steps_per_collision_stiffness']:.3g} with stiffness reduction")
+    if c["resolution_steps"] is not None:
+        lines.append(f"  an impact at {c['velocity']:g} m/s is resolved to 1 % by {c['resolution_steps']:.4g} steps per "
+                     f"collision: dt <= {c['resolution_dt_now']:.4g} s today, {c['resolution_dt_density']:.4g} s with "
+                     f"density scaling, {c['resolution_dt_stiffness']:.4g} s with stiffness reduction")
     return lines
 
 

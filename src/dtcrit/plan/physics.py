@@ -11,8 +11,10 @@
   by ``f``, so ``I`` grows by ``sqrt(f)``: by ``sqrt(1 + added mass fraction)`` in the mean and
   ``sqrt(max f)`` for the heaviest-scaled body;
 * **collision duration** of each contact at the snapshot's stiffness, ``t_c = pi sqrt(m_eff / kn)``
-  (``dtcrit.collisions.contact_time``, linear), the shortest today, after density scaling (masses
-  ``f m``) and after stiffness reduction (``t_c / sqrt(s)``), and the steps per collision at each step.
+  (``dtcrit.collisions.contact_time``, linear; Hertz at an impact speed from the modulus its ``kn`` and
+  overlap give), the shortest today, after density scaling (masses ``f m``) and after stiffness
+  reduction (``t_c / sqrt(s)``), the steps per collision at each step, and, for undamped contacts at
+  a given speed, the step that resolves an impact to 1 % (``dtcrit.collisions.resolution_step``).
 """
 from __future__ import annotations
 
@@ -20,7 +22,8 @@ import math
 
 import numpy as np
 
-__all__ = ["QUASI_STATIC_LIMIT", "contact_durations", "inertial_number", "mean_pressure", "size_classes"]
+__all__ = ["QUASI_STATIC_LIMIT", "contact_durations", "hertz_durations", "inertial_number", "mean_pressure",
+           "resolution_steps", "size_classes"]
 
 QUASI_STATIC_LIMIT = 1e-3
 """Inertial number below which a granular flow is quasi-static (GDR MiDi 2004, Eur. Phys. J. E 14, 341)."""
@@ -137,6 +140,42 @@ def inertial_number(strain_rate: float, packing, free: np.ndarray, pressure: flo
     return strain_rate * 2.0 * float(r.mean()) * math.sqrt(rho / pressure)
 
 
+def hertz_durations(packing, contacts, velocity: float, factors: np.ndarray | None = None) -> np.ndarray:
+    """Each contact's Hertz duration at the impact speed ``velocity`` [s] (``dtcrit.collisions.contact_time``).
+
+    ``E*`` from the snapshot's tangent stiffness ``kn = 2 E* sqrt(R* delta)`` at its overlap, ``R*`` the
+    contact's effective radius; ``t_c ~ (m*^2 / (R* E*^2 v))^(1/5)``.
+
+    Parameters
+    ----------
+    packing : dtcrit.packing.model.Packing
+        The bodies.
+    contacts : dtcrit.packing.contact_set.Contacts
+        The contacts (``kn``, ``overlap``, ``radius_eff``).
+    velocity : float
+        Relative normal impact speed [m/s].
+    factors : numpy.ndarray or None
+        ``(N,)`` mass factors.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(C,)`` durations (``inf`` where ``E*`` is not defined: no overlap or no stiffness).
+    """
+    from dtcrit.collisions import contact_time
+
+    m = packing.masses if factors is None else packing.masses * factors
+    mi, mj = m[contacts.i], m[contacts.j]
+    m_eff = mi * mj / (mi + mj)
+    out = np.full(contacts.count, np.inf)
+    for c in range(contacts.count):
+        r, d, k = contacts.radius_eff[c], contacts.overlap[c], contacts.kn[c]
+        if r > 0 and d > 0 and k > 0 and velocity > 0:
+            out[c] = contact_time("hertz", m_eff=float(m_eff[c]), E_eff=float(k / (2.0 * math.sqrt(r * d))),
+                                  R_eff=float(r), v_impact=float(velocity))
+    return out
+
+
 def contact_durations(packing, contacts, factors: np.ndarray | None = None) -> np.ndarray:
     """Each contact's elastic duration ``pi sqrt(m_eff / kn)`` [s] at the snapshot's stiffness.
 
@@ -159,3 +198,32 @@ def contact_durations(packing, contacts, factors: np.ndarray | None = None) -> n
     m_eff = np.where(contacts.i == contacts.j, mi / 2.0, mi * mj / (mi + mj))
     with np.errstate(divide="ignore"):
         return math.pi * np.sqrt(m_eff / contacts.kn)
+
+
+def resolution_steps(engine: str, integrator: str, hertz: bool) -> float:
+    """Steps per collision that resolve an undamped impact's restitution and peak overlap to 1 %.
+
+    ``dtcrit.collisions.resolution_step`` (``damping='none'``, restitution 1) of the engine's scheme.
+
+    Parameters
+    ----------
+    engine : str
+        The engine (``lammps``, ``liggghts``, ``yade``).
+    integrator : str
+        Its integrator (used when the engine's name is not a scheme ``dtcrit.collisions`` knows).
+    hertz : bool
+        Hertz (else linear) normal law.
+
+    Returns
+    -------
+    float
+        ``N_res``: the step must be at most ``t_c / N_res``.
+    """
+    from dtcrit.collisions import resolution_step
+    from dtcrit.errors import InputError
+
+    normal = "hertz" if hertz else "hooke"
+    try:
+        return float(resolution_step(engine=engine, normal=normal, damping="none", restitution=1.0).steps_per_collision)
+    except InputError:
+        return float(resolution_step(engine=integrator, normal=normal, damping="none", restitution=1.0).steps_per_collision)

@@ -128,23 +128,37 @@ def _quasi_static(given, plan: DensityPlan, strain_rate, hertz: bool) -> dict:
     return out
 
 
-def _collisions(given, plan: DensityPlan, stiffness: StiffnessPlan, dt_now: float) -> dict:
-    from dtcrit.plan.physics import contact_durations
+def _collisions(given, plan: DensityPlan, stiffness: StiffnessPlan, velocity, hertz: bool) -> dict:
+    from dtcrit.plan.physics import contact_durations, hertz_durations, resolution_steps
 
     both = plan.free[given.contacts.i] & plan.free[given.contacts.j]
     if not both.any():
         both = np.ones(given.contacts.count, bool)
-    now = float(contact_durations(given.packing, given.contacts)[both].min())
-    dens = float(contact_durations(given.packing, given.contacts, plan.factors)[both].min())
+    impact = hertz and velocity is not None and velocity > 0
+
+    def shortest(factors):
+        t = (hertz_durations(given.packing, given.contacts, velocity, factors) if impact else
+             contact_durations(given.packing, given.contacts, factors))
+        return float(t[both].min())
+
+    now, dens = shortest(None), shortest(plan.factors)
     soft = now * stiffness.contact_duration_factor
-    t = plan.target_dt
-    return {"contact_time_now": now, "contact_time_density": dens, "contact_time_stiffness": soft,
-            "steps_per_collision_now": now / dt_now, "steps_per_collision_density": dens / t,
-            "steps_per_collision_stiffness": soft / t,
-            "lammps_rule_steps": float(rot.COLLISION_TIME_DIVISOR)}
+    t, dt_now = plan.target_dt, plan.dt_crit
+    out: dict[str, Any] = {
+        "law": "hertz at the impact speed" if impact else "linear at the snapshot's stiffness",
+        "contact_time_now": now, "contact_time_density": dens, "contact_time_stiffness": soft,
+        "steps_per_collision_now": now / dt_now, "steps_per_collision_density": dens / t,
+        "steps_per_collision_stiffness": soft / t, "lammps_rule_steps": float(rot.COLLISION_TIME_DIVISOR),
+        "velocity": velocity, "resolution_steps": None, "resolution_dt_now": None, "resolution_dt_density": None,
+        "resolution_dt_stiffness": None}
+    if velocity is not None and not given.contacts.damped:
+        n_res = resolution_steps(given.convention.name, plan.integrator, hertz)
+        out.update(resolution_steps=n_res, resolution_dt_now=now / n_res, resolution_dt_density=dens / n_res,
+                   resolution_dt_stiffness=soft / n_res)
+    return out
 
 
-def _warnings(plan: DensityPlan, quasi: dict, gravity, velocity, collisions: dict) -> tuple[str, ...]:
+def _warnings(plan: DensityPlan, quasi: dict, gravity, velocity, collisions: dict, hertz: bool) -> tuple[str, ...]:
     out = []
     f_max = float(plan.factors.max())
     if gravity is not None:
@@ -154,15 +168,19 @@ def _warnings(plan: DensityPlan, quasi: dict, gravity, velocity, collisions: dic
                    f"what it was")
     if velocity is not None:
         out.append(f"impacts at {velocity:g} m/s: the scaled bodies carry up to {f_max:.4g} x the momentum and kinetic "
-                   f"energy, their collisions last up to {math.sqrt(f_max):.4g} x longer and overlap deeper: impacts "
+                   f"energy, their collisions last up to {f_max ** (0.4 if hertz else 0.5):.4g} x longer "
+                   f"(t_c ~ m^{'2/5' if hertz else '1/2'}) and overlap deeper: impacts "
                    f"are not what they were")
     after = quasi.get("inertial_number_after")
     if after is not None and after > quasi["limit"]:
         out.append(f"inertial number after scaling {after:.3g} > {quasi['limit']:g}: the flow is no longer quasi-static")
-    if collisions["steps_per_collision_stiffness"] < collisions["lammps_rule_steps"]:
-        out.append(f"after stiffness reduction the shortest collision is resolved by "
-                   f"{collisions['steps_per_collision_stiffness']:.3g} steps of the target (fewer than the "
-                   f"{collisions['lammps_rule_steps']:g} of the LAMMPS granular examples)")
+    n_res = collisions["resolution_steps"]
+    for option in ("density", "stiffness"):
+        steps = collisions[f"steps_per_collision_{option}"]
+        if n_res is not None and steps < n_res:
+            out.append(f"with {'density scaling' if option == 'density' else 'stiffness reduction'} the shortest "
+                       f"collision lasts {steps:.3g} steps of the target, fewer than the {n_res:.3g} that resolve an "
+                       f"impact's restitution and peak overlap to 1 % (dtcrit.collisions.resolution_step)")
     return tuple(out)
 
 
@@ -232,7 +250,7 @@ def plan_snapshot(snapshot: str | os.PathLike | Any, target_dt: float, *, max_fa
     hertz = _is_hertz(given.law)
     stiffness = stiffness_reduction(step, plan.target_dt, plan.dt_crit, hertz=hertz)
     quasi = _quasi_static(given, plan, strain_rate, hertz)
-    collisions = _collisions(given, plan, stiffness, plan.dt_crit)
+    collisions = _collisions(given, plan, stiffness, velocity, hertz)
     n_free = int(plan.free.sum())
     return SnapshotPlan(
         source=given.source, engine=given.convention.name, integrator=plan.integrator, law=given.law,
@@ -240,4 +258,4 @@ def plan_snapshot(snapshot: str | os.PathLike | Any, target_dt: float, *, max_fa
         size_classes=size_classes(given.packing.radii, given.packing.masses, plan.factors, plan.free,
                                   plan.yade_factors, bins),
         stiffness=stiffness, cost=_cost(duration, n_free, plan.dt_crit, plan.target_dt), quasi_static=quasi,
-        collisions=collisions, warnings=_warnings(plan, quasi, gravity, velocity, collisions), snapshot=given)
+        collisions=collisions, warnings=_warnings(plan, quasi, gravity, velocity, collisions, hertz), snapshot=given)
