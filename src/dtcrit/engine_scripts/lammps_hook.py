@@ -39,7 +39,9 @@ with ``run_hooked.py``::
 ``hook.run(n)`` runs ``n`` steps as ``run`` chunks of at most ``every`` steps, each ``start``/``stop``
 at the ends of the whole ``n`` (so ramps such as ``fix deform`` or ``v_ramp`` span the ``n`` steps as
 in one ``run n``), calling ``update`` before each chunk.  ``hook.update()`` audits and sets the step
-once, now.  ``hook.history`` lists, per call: ``step``, ``dt_before``, ``dt_crit``, ``dt_safe``,
+once, now.  ``hook.apply_density_scaling(factors, dt)`` applies the per-body factors of ``dtcrit
+plan`` once, before ``hook.run`` (each atom's mass, and so its inertia, and ``timestep dt``; needs an
+atom map; ``density_scaling.py`` in this directory, which also writes the lines for an input file).  ``hook.history`` lists, per call: ``step``, ``dt_before``, ``dt_crit``, ``dt_safe``,
 ``dt`` (the step set), ``limiting`` (the particle ids the governing mode sits on), ``seconds`` (the
 audit's wall time), or ``error`` or ``skipped``.  A snapshot without atoms, or (with ``local``) without
 contacts, has nothing to audit and keeps its step.  If dtcrit fails (non-zero exit, no JSON, a
@@ -89,6 +91,7 @@ import json
 import os
 import shutil
 import subprocess
+import sys
 import tempfile
 import time
 
@@ -223,6 +226,17 @@ def timestep_function(pair_style: str, dump: str = "dtcrit.dump", **options):
     return dtcrit_timestep
 
 
+def _density_scaling():
+    try:
+        from . import density_scaling  # imported as part of the dtcrit.engine_scripts package
+    except ImportError:
+        here = os.path.dirname(os.path.abspath(__file__))
+        if here not in sys.path:
+            sys.path.insert(0, here)
+        import density_scaling
+    return density_scaling
+
+
 def _lammps_object(lmp):
     """The ``lammps.lammps`` instance (also accepts a ``PyLammps``, whose ``.lmp`` it is)."""
     if hasattr(lmp, "extract_global") and hasattr(lmp, "command"):
@@ -314,6 +328,13 @@ class DtcritLammpsHook:
             return None  # on_error="keep": the step stays
         lmp.command(f"timestep {dt!r}")
         return dt
+
+    def apply_density_scaling(self, factors, dt=None, safety: float = 1.0) -> float:
+        """Multiply the atoms' masses (and so their inertias) by the planned factors and set ``timestep
+        safety * dt`` (``density_scaling.apply_lammps``; once, before ``run``); returns the step.
+        """
+        return _density_scaling().apply_lammps(self.lmp, factors, dt, safety,
+                                               directory=os.path.dirname(self.dump_path))
 
     def run(self, nsteps: int, run_options: str = "") -> None:
         """``run nsteps`` in chunks of at most ``every`` steps, ``update`` before each (module docstring).

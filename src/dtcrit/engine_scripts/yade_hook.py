@@ -17,7 +17,9 @@ in a subprocess, then sets ``O.dt = safety * min(dt_safe, dt_crit)`` from the JS
     O.engines = O.engines + [hook.runner()]         # after NewtonIntegrator: the next step uses the new dt
     O.run(100000, True)
 
-``hook.update()`` does the same once, now.  A scene without real interactions has nothing to audit
+``hook.update()`` does the same once, now.  ``hook.apply_density_scaling(factors, dt)`` applies the
+per-body factors of ``dtcrit plan`` once, before the run (mass and inertia of each body, ``O.dt =
+dt``; ``density_scaling.py`` in this directory); the audits that follow see the scaled masses.  A scene without real interactions has nothing to audit
 and keeps its step.  If dtcrit fails (non-zero exit, no JSON, a non-positive step) the hook stops the
 simulation (``O.pause()``) and raises ``RuntimeError`` with dtcrit's message, unless
 ``on_error="keep"``, which keeps the current step and records the failure.  ``hook.history`` lists,
@@ -61,6 +63,17 @@ def _export_function():
         sys.path.insert(0, here)
     from yade_export import export
     return export
+
+
+def _density_scaling():
+    try:
+        from . import density_scaling  # imported as part of the dtcrit.engine_scripts package
+    except ImportError:
+        here = os.path.dirname(os.path.abspath(__file__))
+        if here not in sys.path:
+            sys.path.insert(0, here)
+        import density_scaling
+    return density_scaling
 
 
 def _omega():
@@ -145,6 +158,11 @@ class DtcritHook:
         record["dt"] = dt
         self.history.append(record)
         return dt
+
+    def apply_density_scaling(self, factors, dt=None, safety: float = 1.0) -> dict:
+        """Multiply the bodies' masses and inertias by the planned factors and set ``O.dt = safety * dt``
+        (``density_scaling.apply_yade``; once, before the run: later audits see the scaled masses)."""
+        return _density_scaling().apply_yade(factors, dt, safety)
 
     def runner(self):
         """A PyRunner calling ``update`` every ``every`` steps (registered in ``__main__`` by label)."""

@@ -14,6 +14,7 @@ a ``write_figN(out, fine=...)`` that writes a PNG and the CSV of its data:
 :mod:`.audit_plot` draws ``dtcrit audit --plot`` (not a paper figure; data from
 :mod:`dtcrit.packing.audit.plot_data`).
 :mod:`.collide_plot` draws ``dtcrit collide --plot`` (the error against steps per collision).
+:mod:`.plan_added_mass` draws a density-scaling plan: added mass per particle against its size.
 
 :func:`make_figures` runs them; :mod:`.summary` builds the JSON summary of ``--json``.
 Matplotlib is needed only to draw (``pip install dtcrit[figures]``).
