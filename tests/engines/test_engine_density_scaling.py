@@ -220,9 +220,6 @@ def test_lammps_hook_applies_the_factors_through_the_python_module(packing):
     assert out["energy_ratio"] < BOUNDED
 
 
-@pytest.mark.xfail(reason="dtcrit.plan's YADE rule divides by the safety once more than YADE 2023.02a does "
-                          "(measured: state.densityScaling = (dt_b / targetDt)^2, dt_b already times the safety)",
-                   strict=False)
 def test_plan_yade_rule_is_the_densityscaling_yade_applies(packing, yade_runs):
     """The plan's ``yade_rule_added_mass_fraction`` (of the YADE export) against the mass YADE adds, read
     back after its run (every body is scaled here: no floor at 1 in play).

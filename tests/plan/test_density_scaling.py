@@ -1,9 +1,9 @@
 """Density scaling plans checked independently: the scaled packing's critical step from a dense
 ``scipy.linalg.eigh`` of the assembled ``M^-1/2 K M^-1/2`` with the factors applied (``2/sqrt(lambda_max)``
 for the undamped central difference; with dashpots the positive definiteness of ``4FM - 2hC - h^2 K``),
-and YADE's ``densityScaling`` rule computed here from its source (``GlobalStiffnessTimeStepper.cpp``,
-``findTimeStepFromBody``: ``densityScaling = min(1.0001 x densityScaling, safety (dt_b / targetDt)^2)``
-with ``dt_b = 1.41044 safety sqrt(min(m / max_a K_a, min_a I_a / K_rot,a))``).
+and YADE's ``densityScaling`` rule computed here as YADE 2023.02a applies it (read back from
+``state.densityScaling`` after a real run, ``tests/engines/test_engine_density_scaling.py``):
+``densityScaling = (dt_b / targetDt)^2`` with ``dt_b = 1.41044 safety sqrt(min(m / max_a K_a, min_a I_a / K_rot,a))``.
 
 Packings: ``examples/packings/random_lognormal_60.dump`` under linear springs, dashpots and Hertz, and a
 polydisperse packing generated here; targets 2x and 5x today's critical step.
@@ -62,7 +62,7 @@ def _yade_factors(snapshot, target, safety=YADE_SAFETY):
     with np.errstate(divide="ignore"):  # a body without contacts: YADE skips it (inf)
         sq = np.minimum(p.masses / k_t.max(axis=1), (p.inertia / k_r).min(axis=1))
     dt_b = YADE_SQRT2 * safety * np.sqrt(sq)
-    return 1.0 / np.minimum(1.0, safety * (dt_b / target) ** 2)
+    return 1.0 / np.minimum(1.0, (dt_b / target) ** 2)
 
 
 def _added(snapshot, factors) -> float:

@@ -14,11 +14,13 @@
 
 YADE's rule (``NewtonIntegrator.densityScaling`` with ``GlobalStiffnessTimeStepper.targetDt``,
 ``pkg/dem/GlobalStiffnessTimeStepper.cpp`` ``findTimeStepFromBody``): each body's acceleration is
-multiplied by ``densityScaling = min(1.0001 x densityScaling, s (dt_b / targetDt)^2)``, ``dt_b`` its
-stepper step at the safety ``s`` (``dtcrit.packing.bounds.yade_stepper``), i.e. a mass factor
-``targetDt^2 / (s dt_b^2)`` where that exceeds 1.  On its first call the bodies that need no scaling
-get ``1/1.0001`` (0.01 % lighter) and each later call lightens them by 1.0001 more, up to
-``s (dt_b/targetDt)^2``; the rule here is the first call's with those bodies at 1.
+multiplied by ``densityScaling = (dt_b / targetDt)^2``, ``dt_b`` its stepper step at the safety ``s``
+(``dtcrit.packing.bounds.yade_stepper``: ``1.41044 s sqrt(min(m/K, I/K_rot))``), i.e. a mass factor
+``targetDt^2 / dt_b^2`` where that exceeds 1.  That is what YADE 2023.02a applies, read back from
+``state.densityScaling`` after a run to 1e-6 (``tests/engines/test_engine_density_scaling.py``); a
+copy of the source read elsewhere (SudoDEM) multiplies by ``s`` once more, which YADE does not do.
+On its first call the bodies that need no scaling get ``1/1.0001`` (0.01 % lighter) and each later
+call lightens them by 1.0001 more; the rule here is the first call's with those bodies at 1.
 """
 from __future__ import annotations
 
@@ -152,7 +154,7 @@ def added_fraction(masses: np.ndarray, factors: np.ndarray, free: np.ndarray) ->
 
 
 def yade_rule_factors(snapshot, target: float, safety: float = rot.YADE_GSTS_SAFETY) -> np.ndarray | None:
-    """YADE's per-body factors ``max(1, targetDt^2 / (s dt_b^2))`` at the target (module docstring).
+    """YADE's per-body factors ``max(1, targetDt^2 / dt_b^2)`` at the target (module docstring).
 
     Parameters
     ----------
@@ -176,7 +178,7 @@ def yade_rule_factors(snapshot, target: float, safety: float = rot.YADE_GSTS_SAF
     if step.dt is None or step.per_body.shape != (snapshot.packing.n,):
         return None
     with np.errstate(divide="ignore"):
-        return np.maximum(1.0, target * target / (safety * step.per_body**2))
+        return np.maximum(1.0, target * target / step.per_body**2)
 
 
 def _bisect(phi: Callable[[float], np.ndarray], ok: Callable[[np.ndarray], tuple[bool, float]],
