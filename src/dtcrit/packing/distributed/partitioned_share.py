@@ -100,6 +100,8 @@ def partitioned_share(source, options: dict):
     except ValueError as exc:
         error = exc
     agree(error)
+    if share is None:  # agree raised on every rank if any failed
+        raise RuntimeError("partitioned_share: no share although every rank succeeded")
     held = ps.rows_held
     del ps
     release_memory()

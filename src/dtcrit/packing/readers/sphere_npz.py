@@ -135,7 +135,8 @@ def open_spheres(path) -> SphereFile:
         raise InputError("file", f"{source}: box.npy must be one record of {BOX_DTYPE.descr}")
     record = box_record.reshape(-1)[0]
     rows = np.memmap(source, dtype=SPHERE_DTYPE, mode="r", offset=offset, shape=shape)
-    box = Box(np.array(record["lo"], float), np.array(record["hi"], float), tuple(bool(p) for p in record["periodic"]))
+    flags = [bool(p) for p in record["periodic"]]
+    box = Box(np.array(record["lo"], float), np.array(record["hi"], float), (flags[0], flags[1], flags[2]))
     return SphereFile(rows, box, int(record["timestep"]), source)
 
 
