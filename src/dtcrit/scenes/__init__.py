@@ -3,9 +3,10 @@ the ``dtcrit step`` API (``timestep``) and the estimates other DEM codes use (``
 formulas and the contact physics are ``dtcrit.physics``); ``local_damping`` (the keys ``local_damping``,
 ``local_damping_law``: the step times ``1/sqrt(1 + alpha)``).
 ``collide``: the ``dtcrit collide`` report (the step that resolves each collision of a scene,
-``dtcrit.collisions``).
+``dtcrit.collisions``).  ``dense_tables``: the dense-packing bound's branch-and-bound values for known
+cases, shipped as generated data (``_generated/dense_phi_nodes.json``).
 
-Runtime only (NumPy; SciPy on first use for polyhedra): scenes import ``bodies`` and
+Runtime only (NumPy; SciPy on first use for polyhedra of more than 40 corners): scenes import ``bodies`` and
 ``integrators``, never ``symbolic``.
 """
 from dtcrit.physics.damping_conventions import damping_ratio_from_restitution
