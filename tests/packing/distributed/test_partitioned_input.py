@@ -13,6 +13,7 @@ import json
 import os
 import shutil
 import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -199,3 +200,23 @@ def test_the_sphere_file_holds_the_dump(tmp_path):
     assert spheres.box.periodic == (True, False, True) and np.array_equal(spheres.box.hi, box.hi)
     assert np.array_equal(np.stack([rows["x"], rows["y"], rows["z"]], 1), serial.positions)
     assert np.array_equal(rows["mass"], serial.masses) and np.array_equal(rows["id"], serial.ids)
+
+
+def test_a_byte_that_is_not_utf8_is_named_in_a_piece(tmp_path):
+    text = format_dump(random_packing(20, cn=6.0, seed=2))
+    path = tmp_path / "latin1.dump"
+    path.write_bytes(text.encode().replace(b"\n3 1 ", b"\n3 1 \xe9", 1))
+    header = header_at(path, 0, 1)
+    with pytest.raises(InputError) as piece:
+        rows_in_range(path, header.rows_start, path.stat().st_size, header.rows_start, path.stat().st_size,
+                      header.first_line)
+    assert piece.value.location.line == header.first_line + 2 and "not UTF-8" in str(piece.value)
+
+
+def test_partitioned_read_needs_the_slepc_backend():
+    proc = subprocess.run([sys.executable, "-m", "dtcrit", "packing", "--random", "20", "--kn", "1",
+                           "--partitioned-read"], capture_output=True, text=True, timeout=300,
+                          env={**os.environ, "PYTHONPATH": str(SRC)})
+    assert proc.returncode == 2 and proc.stdout == ""
+    (line,) = proc.stderr.splitlines()
+    assert "partitioned-read" in line and "--backend slepc" in line

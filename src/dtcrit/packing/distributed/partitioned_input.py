@@ -168,7 +168,7 @@ def _text_piece(source, density, snapshot) -> Piece:
     end = next((o for o in markers.offsets if o > header.rows_start), total)
     a, b = split_rows(end - header.rows_start, size, rank)
     lines = _collective(rows_in_range, source, header.rows_start, end, header.rows_start + a,
-                        header.rows_start + b, 0)
+                        header.rows_start + b, None)
     counts = np.array(comm.allgather(len(lines)))
     first = int(counts[:rank].sum())  # this piece's first row, 0-based, in the snapshot
     line0 = header.first_line + first

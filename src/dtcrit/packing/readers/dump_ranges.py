@@ -170,7 +170,7 @@ def header_at(path, offset: int, line: int) -> DumpHeader:
         return DumpHeader(step, count, box, columns, handle.tell(), lines.number + 1, source)
 
 
-def rows_in_range(path, start: int, end: int, a: int, b: int, first_line: int) -> list[str]:
+def rows_in_range(path, start: int, end: int, a: int, b: int, first_line: int | None) -> list[str]:
     """The text lines of bytes ``[start, end)`` whose first byte lies in ``[a, b)`` (a line starting
     before ``b`` is read to its end), decoded as UTF-8, line ends dropped.
 
@@ -182,8 +182,9 @@ def rows_in_range(path, start: int, end: int, a: int, b: int, first_line: int) -
         The bytes of the snapshot's rows (``start`` a line start).
     a, b : int
         This piece's share of ``[start, end)``.
-    first_line : int
-        1-based line of the piece's first line when it starts at ``a`` (errors name lines from it).
+    first_line : int or None
+        1-based line of the piece's first line (a byte that is not UTF-8 is named by its line from
+        it; None: by the file alone).
 
     Returns
     -------
@@ -209,8 +210,9 @@ def rows_in_range(path, start: int, end: int, a: int, b: int, first_line: int) -
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as exc:
-        raise InputError(None, f"byte {exc.start + 1} of the piece is not UTF-8 text: not a text dump",
-                         source=os.fspath(path), line=first_line + data.count(b"\n", 0, exc.start)) from None
+        line = None if first_line is None else first_line + data.count(b"\n", 0, exc.start)
+        raise InputError(None, f"byte {first + exc.start + 1} of the file is not UTF-8 text: not a text dump",
+                         source=os.fspath(path), line=line) from None
     out = text.split("\n")
     if out and out[-1] == "":
         out.pop()
