@@ -147,10 +147,9 @@ def _markers(source, comm):
 
 
 def _header(source, markers, snapshot, size: int):
-    from dtcrit.packing.readers.dump_ranges import header_at
-    from dtcrit.packing.readers.sphere_npz import _snapshot_start
+    from dtcrit.packing.readers.dump_ranges import header_at, snapshot_start
 
-    header = header_at(source, *_snapshot_start(markers, snapshot))
+    header = header_at(source, *snapshot_start(markers, snapshot))
     if header.box.cell is not None:
         raise InputError("box", "the partitioned read takes axis-aligned boxes only: a sheared (triclinic) cell "
                                 "runs without --partitioned-read")

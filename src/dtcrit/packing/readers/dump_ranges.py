@@ -21,12 +21,14 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 
+import numpy as np
+
 from dtcrit.errors import InputError
 from dtcrit.packing.model import Box, Packing
 from dtcrit.packing.readers.dump_stream import DumpSnapshot, _expect, _int_at, _Lines, _parse_box
 from dtcrit.packing.readers.lammps_dump import packing_from_snapshot
 
-__all__ = ["BLOCK", "MARKER", "DumpHeader", "Markers", "header_at", "piece_packing", "rows_in_range", "scan_markers"]
+__all__ = ["BLOCK", "MARKER", "DumpHeader", "Markers", "header_at", "piece_packing", "rows_in_range", "scan_markers", "snapshot_start"]
 
 BLOCK = 1 << 24
 """Bytes read at a time while scanning for snapshots (16 MiB; nothing of a block is kept)."""
@@ -100,6 +102,32 @@ def scan_markers(path, a: int, b: int) -> Markers:
 def _starts_with_marker(path) -> bool:
     with open(path, "rb") as handle:
         return handle.read(len(MARKER) + 3).removeprefix(b"\xef\xbb\xbf").startswith(MARKER)
+
+
+def snapshot_start(markers: Markers, snapshot: int) -> tuple[int, int]:
+    """``(offset, line)`` of snapshot ``snapshot`` (Python index) among the scanned snapshots.
+
+    Parameters
+    ----------
+    markers : Markers
+        The snapshots of the whole file (``scan_markers`` over all of it, or its pieces joined).
+    snapshot : int
+        The snapshot's index, Python style.
+
+    Returns
+    -------
+    tuple of int
+        Byte offset and 1-based line of its ``ITEM: TIMESTEP`` line.
+    """
+    if isinstance(snapshot, bool) or not isinstance(snapshot, (int, np.integer)):
+        raise InputError("snapshot", f"must be a whole number, got {snapshot!r}")
+    count = len(markers.offsets)
+    if count == 0:
+        raise InputError("file", "no 'ITEM: TIMESTEP' line: not a LAMMPS text dump")
+    if not -count <= snapshot < count:
+        raise InputError("snapshot", f"the file has {count} snapshot(s); index {snapshot} is out of range")
+    k = snapshot % count
+    return markers.offsets[k], markers.newlines_before[k] + 1
 
 
 @dataclass(frozen=True)

@@ -170,11 +170,11 @@ def convert_dump(dump, out, *, density: float | None = None, snapshot: int = -1)
     int
         The number of spheres written.
     """
-    from dtcrit.packing.readers.dump_ranges import header_at, piece_packing, rows_in_range, scan_markers
+    from dtcrit.packing.readers.dump_ranges import header_at, piece_packing, rows_in_range, scan_markers, snapshot_start
 
     size = os.path.getsize(dump)
     markers = scan_markers(dump, 0, size)
-    header = header_at(dump, *_snapshot_start(markers, snapshot))
+    header = header_at(dump, *snapshot_start(markers, snapshot))
     if header.box.cell is not None:
         raise InputError("file", f"{dump}: a sheared (triclinic) box; {FORMAT} holds axis-aligned boxes only")
     end = next((o for o in markers.offsets if o > header.rows_start), size)
@@ -204,19 +204,6 @@ def convert_dump(dump, out, *, density: float | None = None, snapshot: int = -1)
                 raise InputError(None, f"unexpected end of file: {header.count} atom rows announced, {written} found",
                                  source=os.fspath(dump), line=line)
     return written
-
-
-def _snapshot_start(markers, snapshot: int) -> tuple[int, int]:
-    """``(offset, line)`` of snapshot ``snapshot`` (Python index) among the scanned markers."""
-    if isinstance(snapshot, bool) or not isinstance(snapshot, (int, np.integer)):
-        raise InputError("snapshot", f"must be a whole number, got {snapshot!r}")
-    count = len(markers.offsets)
-    if count == 0:
-        raise InputError("file", "no 'ITEM: TIMESTEP' line: not a LAMMPS text dump")
-    if not -count <= snapshot < count:
-        raise InputError("snapshot", f"the file has {count} snapshot(s); index {snapshot} is out of range")
-    k = snapshot % count
-    return markers.offsets[k], markers.newlines_before[k] + 1
 
 
 def main(argv: list[str] | None = None) -> int:
