@@ -86,7 +86,10 @@ def files(tmp_path_factory):
     convert_dump(dump, npz)
     huge = folder / "huge.dump"
     huge.write_text(text.replace("ITEM: NUMBER OF ATOMS\n4000", f"ITEM: NUMBER OF ATOMS\n{INDEX_LIMIT // 6 + 1}"))
-    return dump, npz, huge
+    half_open = folder / "half_open.dump"  # walls (no wall contacts) on x and y: no images there
+    write_dump(half_open, Packing.spheres(fcc.positions[order], shuffled.radii, density=1.0, ids=shuffled.ids,
+                                          box=Box(fcc.box.lo, fcc.box.hi, (False, False, True))))
+    return dump, npz, huge, half_open
 
 
 @pytest.fixture(scope="module")
@@ -106,9 +109,9 @@ def _serial_pairs(path):
     return pairs[k], c.overlap[k], (packing.radii[c.i] + packing.radii[c.j])[k], packing.n
 
 
-@pytest.mark.parametrize("which", [0, 1], ids=["text dump", "npz sphere file"])
+@pytest.mark.parametrize("which", [0, 1, 3], ids=["text dump", "npz sphere file", "half-open box"])
 def test_two_ranks_read_the_serial_contact_list(files, probed, which):
-    pairs, overlap, reach, n = _serial_pairs(files[0])
+    pairs, overlap, reach, n = _serial_pairs(files[3 if which == 3 else 0])
     doc = probed[str(files[which])]
     i, j = np.array(doc["i"]), np.array(doc["j"])
     got = np.stack([np.minimum(i, j), np.maximum(i, j)], axis=1)
