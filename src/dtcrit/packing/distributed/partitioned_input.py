@@ -24,6 +24,7 @@ any row is read.
 from __future__ import annotations
 
 import os
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -346,6 +347,8 @@ class PartitionedSlab:
         The most sphere rows this rank held at once (read, sorted, own plus halo).
     label : str
         The packing's label.
+    seconds : dict
+        Wall time of ``read``, ``exchange`` (Morton sort, id check, halo) and ``contacts`` [s].
     """
 
     n: int
@@ -356,6 +359,7 @@ class PartitionedSlab:
     slab: SlabContacts
     rows_held: int
     label: str
+    seconds: dict
 
 
 def _local_slab(own: np.ndarray, halo: np.ndarray, lo: int, hi: int, n: int, box: Box, label: str):
@@ -394,8 +398,15 @@ def partitioned_slab(source, *, density: float | None = None, snapshot: int = -1
         This rank's spheres and contacts.
     """
     world()  # PETSc initialised, or the one-line install message
+    clock = [time.perf_counter()]
+
+    def lap() -> float:
+        clock.append(time.perf_counter())
+        return clock[-1] - clock[-2]
+
     piece = read_piece(source, density=density, snapshot=snapshot)
     held = len(piece.rows)
+    t_read = lap()
     own, lo, hi, moved = to_slabs(piece)
     del piece.rows
     _distinct_ids(own, os.fspath(source))
@@ -403,5 +414,8 @@ def partitioned_slab(source, *, density: float | None = None, snapshot: int = -1
     r_max = np.zeros(1)
     comm.Allreduce(np.array([own["radius"].max()]), r_max, op=MPI.MAX)
     halo = _halo(own, piece.box, 2.0 * float(r_max[0]) * (1.0 + tolerance) * (1.0 + SEARCH_MARGIN))
+    t_exchange = lap()
     local, glob, slab = _collective(_local_slab, own, halo, lo, hi, piece.n, piece.box, piece.label)
-    return PartitionedSlab(piece.n, lo, hi, local, glob, slab, max(held, moved, len(own) + len(halo)), piece.label)
+    seconds = {"read": t_read, "exchange": t_exchange, "contacts": lap()}
+    return PartitionedSlab(piece.n, lo, hi, local, glob, slab, max(held, moved, len(own) + len(halo)), piece.label,
+                           seconds)

@@ -90,10 +90,9 @@ def partitioned_share(source, options: dict):
         raise InputError("packing", "the partitioned read (--partitioned-read, or a .npz sphere file) reads a "
                                     "FILE: a --lattice or --random packing is generated whole")
     law = _law(options.get("kn"), options.get("ks"), options.get("youngs"), options.get("poisson", 0.25))
-    clock = time.perf_counter()
     ps = partitioned_slab(source, density=options.get("density"), snapshot=options.get("snapshot", -1))
-    t_read = time.perf_counter() - clock
     peak = peak_mib()
+    clock = time.perf_counter()
     share, error = None, None
     try:
         share = _share(ps, law)
@@ -102,9 +101,10 @@ def partitioned_share(source, options: dict):
     agree(error)
     if share is None:  # agree raised on every rank if any failed
         raise RuntimeError("partitioned_share: no share although every rank succeeded")
-    held = ps.rows_held
+    held, seconds = ps.rows_held, ps.seconds
     del ps
     release_memory()
-    share.times = {"input": t_read, "contacts": time.perf_counter() - clock - t_read}
+    share.times = {"input": seconds["read"] + seconds["exchange"],
+                   "contacts": seconds["contacts"] + time.perf_counter() - clock}
     share.peaks = {"input": peak, "contacts": peak_mib()}
     return share, held
