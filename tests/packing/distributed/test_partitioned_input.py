@@ -223,3 +223,15 @@ def test_partitioned_read_needs_the_slepc_backend():
     assert proc.returncode == 2 and proc.stdout == ""
     (line,) = proc.stderr.splitlines()
     assert "partitioned-read" in line and "--backend slepc" in line
+
+
+def test_the_converter_command(tmp_path):
+    dump, out = tmp_path / "p.dump", tmp_path / "p.npz"
+    write_dump(dump, random_packing(30, cn=6.0, seed=2), with_mass=False)
+    cmd = [sys.executable, "-m", "dtcrit.packing.readers.sphere_npz", str(dump), str(out)]
+    env = {**os.environ, "PYTHONPATH": str(SRC)}
+    bad = subprocess.run(cmd, capture_output=True, text=True, timeout=300, env=env)
+    assert bad.returncode == 2 and len(bad.stderr.splitlines()) == 1 and "--density" in bad.stderr
+    good = subprocess.run([*cmd, "--density", "2500"], capture_output=True, text=True, timeout=300, env=env)
+    assert good.returncode == 0 and "30 spheres" in good.stdout
+    assert len(open_spheres(out).rows) == 30
