@@ -22,7 +22,7 @@ import scipy.sparse.linalg as spla
 from dtcrit.bench.packing_scaling import jittered_fcc
 from dtcrit.errors import InputError
 from dtcrit.packing.detection.overlaps import find_sphere_contacts
-from dtcrit.packing.distributed.partitioned_input import INDEX_LIMIT, _check_count
+from dtcrit.packing.distributed.partitioned_read import INDEX_LIMIT, _check_count
 from dtcrit.packing.generators.random_packing import random_packing
 from dtcrit.packing.model import Box, LinearLaw, Packing, apply_law
 from dtcrit.packing.operators.assembly import mass_diagonal, scale_symmetric, stiffness_matrix

@@ -1,7 +1,7 @@
 """Partitioned input of the distributed route: each rank reads a piece of the file, then keeps its
 Morton slab of spheres and the halo around it; no rank ever holds the whole packing.
 
-1. Read (``read_piece``): a text dump is split into ``P`` byte ranges: each rank scans its range
+1. Read (``partitioned_read.read_piece``): a text dump is split into ``P`` byte ranges: each rank scans its range
    for snapshots (``dump_ranges.scan_markers``), every rank parses the chosen snapshot's header, and
    rank ``r`` parses the atom rows whose first byte lies in its ``r``-th share of the snapshot's rows
    (``dump_ranges.rows_in_range``, ``piece_packing``: the serial reader's columns and checks, errors
@@ -12,7 +12,8 @@ Morton slab of spheres and the halo around it; no rank ever holds the whole pack
    rebalance (a second all-to-all) leave rank ``r`` the particles ``lo <= p < hi`` of
    ``slab_contacts.split_rows``, the rows the serial ``slepc_backend.distribute`` gives it.
 3. Halo (``_halo``): each rank sends every other rank its particles within the contact reach of
-   that rank's bounding box (minimum image on periodic axes), as ``slab_contacts.halo`` selects.
+   one of that rank's ``HALO_BOXES`` boxes (bounding boxes of consecutive runs of its spheres along
+   the curve; minimum image on periodic axes, as ``slab_contacts.halo`` tests).
 4. Contacts (``partitioned_slab``): ``slab_contacts.slab_sphere_contacts`` on the rank's own
    particles and halo in global order, mapped back to the global numbering: the same list as the
    serial back-end's.  Atom ids are checked distinct by one more all-to-all (ids hashed to ranks).
@@ -32,196 +33,17 @@ import numpy as np
 from dtcrit.errors import InputError
 from dtcrit.packing.detection.overlaps import wrap_positions
 from dtcrit.packing.distributed.mpi_support import agree, world
+from dtcrit.packing.distributed.partitioned_read import ROW_DTYPE, Piece, collective, mpi, read_piece
 from dtcrit.packing.distributed.slab_contacts import (MORTON_BITS, SEARCH_MARGIN, SlabContacts, _spread_bits,
                                                       slab_sphere_contacts, split_rows)
 from dtcrit.packing.model import Box, Contacts, Packing
-from dtcrit.packing.readers.sphere_npz import is_sphere_file
 
-__all__ = ["INDEX_LIMIT", "ROW_DTYPE", "SAMPLES", "Piece", "PartitionedSlab", "partitioned_slab", "read_piece",
-           "to_slabs"]
+__all__ = ["HALO_BOXES", "SAMPLES", "PartitionedSlab", "partitioned_slab", "to_slabs"]
 
-INDEX_LIMIT = 2**31 - 1
-"""Largest index of this PETSc build (``PetscInt`` is 32-bit): ``6 N`` must not exceed it."""
 SAMPLES = 64
+HALO_BOXES = 16
+"""Boxes per rank that select its halo: bounding boxes of that many consecutive runs of its spheres."""
 """Keys each rank contributes to choose the sample sort's splitters."""
-ROW_DTYPE = np.dtype([("key", "<u8"), ("id", "<i8"), ("glob", "<i8"), ("x", "<f8", (3,)), ("radius", "<f8"),
-                      ("mass", "<f8")])
-"""A sphere in transit: Morton key, atom id (or row number), global index, centre [m], radius [m], mass [kg]."""
-
-
-@dataclass
-class Piece:
-    """The spheres one rank read, and what every rank shares about the packing.
-
-    Parameters
-    ----------
-    rows : numpy.ndarray
-        This rank's spheres, :data:`ROW_DTYPE` (keys and global indices not yet set).
-    n : int
-        Spheres in the packing.
-    box : Box
-        The box.
-    label : str
-        The packing's label (``NAME, timestep N``).
-    has_ids : bool
-        Whether the file gives atom ids (else ``id`` is the row's 1-based number).
-    """
-
-    rows: np.ndarray
-    n: int
-    box: Box
-    label: str
-    has_ids: bool
-
-
-def _mpi():
-    """The mpi4py communicator of ``PETSc.COMM_WORLD`` and the ``MPI`` module."""
-    from petsc4py import PETSc
-
-    from mpi4py import MPI
-
-    return PETSc.COMM_WORLD.tompi4py(), MPI
-
-
-def _check_count(n: int, size: int) -> None:
-    if 6 * n > INDEX_LIMIT:
-        raise InputError("packing", f"{n} spheres need {6 * n} DOFs, beyond this PETSc's 32-bit index limit "
-                                    f"2^31 - 1 = {INDEX_LIMIT} (at most {INDEX_LIMIT // 6} spheres)")
-    if n < size:
-        raise InputError("packing", f"{n} particles cannot be shared by {size} ranks (fewer ranks, please)")
-
-
-def _rows(packing: Packing, ids) -> np.ndarray:
-    out = np.zeros(packing.n, dtype=ROW_DTYPE)
-    out["id"], out["x"], out["radius"], out["mass"] = ids, packing.positions, packing.radii, packing.masses
-    return out
-
-
-def _collective(step, *args):
-    """``step(*args)`` on every rank; an ``InputError`` on any rank is raised everywhere (``agree``)."""
-    result, error = None, None
-    try:
-        result = step(*args)
-    except ValueError as exc:
-        error = exc
-    agree(error)
-    return result
-
-
-def _npz_piece(source, density, snapshot) -> Piece:
-    from dtcrit.packing.readers.sphere_npz import open_spheres
-
-    comm, _ = _mpi()
-    rank, size = comm.Get_rank(), comm.Get_size()
-    if density is not None:
-        raise InputError("density", "a dtcrit-spheres/1 file carries each sphere's mass: drop --density")
-    if snapshot not in (0, -1):
-        raise InputError("snapshot", "a dtcrit-spheres/1 file holds one snapshot (0 or -1)")
-    spheres = open_spheres(source)
-    n = len(spheres.rows)
-    _check_count(n, size)
-    lo, hi = split_rows(n, size, rank)
-    part = np.array(spheres.rows[lo:hi])
-    try:
-        packing = Packing.spheres(np.stack([part["x"], part["y"], part["z"]], axis=1), part["radius"],
-                                  masses=part["mass"], box=spheres.box)
-    except InputError as exc:
-        raise InputError("file", f"{source}: rows {lo + 1}..{hi}: {exc.reason}") from None
-    label = f"{os.path.basename(source)}, timestep {spheres.timestep}"
-    return Piece(_rows(packing, part["id"]), n, spheres.box, label, True)
-
-
-def _markers(source, comm):
-    """Every snapshot of the dump: each rank scans its byte range, the finds are gathered."""
-    from dtcrit.packing.readers.dump_ranges import Markers, scan_markers
-
-    rank, size = comm.Get_rank(), comm.Get_size()
-    total = os.path.getsize(source)
-    a, b = split_rows(total, size, rank)
-    found = _collective(scan_markers, source, a, b)
-    offsets, before, base = [], [], 0
-    for offs, lines, count in comm.allgather((found.offsets, found.newlines_before, found.newlines)):
-        offsets += offs
-        before += [base + k for k in lines]
-        base += count
-    return Markers(offsets, before, base), total
-
-
-def _header(source, markers, snapshot, size: int):
-    from dtcrit.packing.readers.dump_ranges import header_at, snapshot_start
-
-    header = header_at(source, *snapshot_start(markers, snapshot))
-    if header.box.cell is not None:
-        raise InputError("box", "the partitioned read takes axis-aligned boxes only: a sheared (triclinic) cell "
-                                "runs without --partitioned-read")
-    _check_count(header.count, size)
-    return header
-
-
-def _text_piece(source, density, snapshot) -> Piece:
-    from dtcrit.packing.readers.dump_ranges import piece_packing, rows_in_range
-
-    comm, _ = _mpi()
-    rank, size = comm.Get_rank(), comm.Get_size()
-    markers, total = _markers(source, comm)
-    header = _collective(_header, source, markers, snapshot, size)
-    end = next((o for o in markers.offsets if o > header.rows_start), total)
-    a, b = split_rows(end - header.rows_start, size, rank)
-    lines = _collective(rows_in_range, source, header.rows_start, end, header.rows_start + a,
-                        header.rows_start + b, None)
-    counts = np.array(comm.allgather(len(lines)))
-    first = int(counts[:rank].sum())  # this piece's first row, 0-based, in the snapshot
-    line0 = header.first_line + first
-
-    def parse():
-        keep = max(0, min(len(lines), header.count - first))
-        extra = [k for k in range(keep, len(lines)) if lines[k].strip()]
-        if extra:
-            raise InputError(None, f"expected 'ITEM: TIMESTEP', found '{lines[extra[0]].strip()[:60]}'",
-                             source=source, line=line0 + extra[0])
-        if rank == size - 1 and counts.sum() < header.count:
-            raise InputError(None, f"unexpected end of file: {header.count} atom rows announced, {counts.sum()} "
-                                   "found", source=source, line=header.first_line + int(counts.sum()))
-        if keep == 0:
-            return np.zeros(0, ROW_DTYPE), "id" in header.columns
-        packing = piece_packing(header, lines[:keep], line0, density)
-        ids = packing.ids if packing.ids is not None else np.arange(first + 1, first + keep + 1)
-        return _rows(packing, ids), packing.ids is not None
-
-    rows, has_ids = _collective(parse)
-    label = f"{os.path.basename(source)}, timestep {header.timestep}"
-    return Piece(rows, header.count, header.box, label, has_ids)
-
-
-def read_piece(source, *, density: float | None = None, snapshot: int = -1) -> Piece:
-    """The calling rank's piece of a text dump or a ``dtcrit-spheres/1`` file (module docstring, step 1; collective).
-
-    Parameters
-    ----------
-    source : str or os.PathLike
-        The dump, or a ``.npz`` sphere file.
-    density : float or None
-        Particle density [kg/m^3] for a dump without a ``mass`` column.
-    snapshot : int
-        Snapshot index, Python style (default the last).
-
-    Returns
-    -------
-    Piece
-        This rank's spheres and the packing's size, box and label.
-    """
-    source = os.fspath(source)
-    if not os.path.isfile(source):
-        _collective(_raise, InputError("file", f"cannot read {source}: no such file"))
-    if is_sphere_file(source):
-        return _collective(_npz_piece, source, density, snapshot)
-    return _text_piece(source, density, snapshot)
-
-
-def _raise(error: Exception):
-    raise error
-
-
 def _exchange(rows: np.ndarray, dest: np.ndarray, comm, MPI) -> np.ndarray:
     """Send each row to rank ``dest`` (an all-to-all of counts, then of the rows); received in rank order."""
     size = comm.Get_size()
@@ -257,7 +79,7 @@ def to_slabs(piece: Piece) -> tuple[np.ndarray, int, int, int]:
         ``(own, lo, hi, held)``: this rank's spheres ``lo <= p < hi`` in Morton order (``glob`` set) and
         the most rows it held at once.
     """
-    comm, MPI = _mpi()
+    comm, MPI = mpi()
     rank, size = comm.Get_rank(), comm.Get_size()
     rows = piece.rows
     x = wrap_positions(rows["x"], piece.box)
@@ -290,7 +112,7 @@ def to_slabs(piece: Piece) -> tuple[np.ndarray, int, int, int]:
 
 def _distinct_ids(own: np.ndarray, source: str) -> None:
     """Refuse an atom id given twice (ids hashed to ranks, one all-to-all)."""
-    comm, MPI = _mpi()
+    comm, MPI = mpi()
     mine = _exchange(own, (own["id"] % comm.Get_size()).astype(np.int64), comm, MPI)
     ids = np.sort(mine["id"])
     dup = np.flatnonzero(ids[1:] == ids[:-1])
@@ -298,27 +120,41 @@ def _distinct_ids(own: np.ndarray, source: str) -> None:
     agree(error)
 
 
+def _near_box(x: np.ndarray, lo: np.ndarray, hi: np.ndarray, slack: float, box: Box) -> np.ndarray:
+    """Which of the wrapped centres ``x`` lie within ``slack`` of the box ``[lo, hi]`` per axis
+    (minimum image on periodic axes), as ``slab_contacts.halo`` tests.
+    """
+    near = np.ones(len(x), bool)
+    for a in range(3):
+        c, h = 0.5 * (lo[a] + hi[a]), 0.5 * (hi[a] - lo[a])
+        dx = x[:, a] - c
+        if box.periodic[a]:
+            length = box.lengths[a]
+            if 2.0 * (h + slack) >= length:
+                continue
+            dx = dx - length * np.rint(dx / length)
+        near &= np.abs(dx) <= h + slack
+    return near
+
+
 def _halo(own: np.ndarray, box: Box, reach: float) -> np.ndarray:
-    """The spheres of other ranks within ``reach`` of this rank's bounding box (module docstring, step 3)."""
-    comm, MPI = _mpi()
+    """The spheres of other ranks within ``reach`` of one of this rank's ``HALO_BOXES`` boxes (module
+    docstring, step 3): the bounding boxes of consecutive runs of its Morton-ordered spheres, compact
+    even where the rank's slab straddles two octants of the curve.
+    """
+    comm, MPI = mpi()
     rank = comm.Get_rank()
     x = wrap_positions(own["x"], box)
-    boxes = comm.allgather((x.min(axis=0), x.max(axis=0)))
+    runs = [r for r in np.array_split(np.arange(len(x)), min(HALO_BOXES, len(x))) if len(r)]
+    boxes = comm.allgather([(x[r].min(axis=0), x[r].max(axis=0)) for r in runs])
     slack = reach * (1.0 + 1e-6)
     dest, pick = [], []
-    for s, (lo, hi) in enumerate(boxes):
+    for s, theirs in enumerate(boxes):
         if s == rank:
             continue
-        near = np.ones(len(x), bool)
-        for a in range(3):  # as slab_contacts.halo
-            c, h = 0.5 * (lo[a] + hi[a]), 0.5 * (hi[a] - lo[a])
-            dx = x[:, a] - c
-            if box.periodic[a]:
-                length = box.lengths[a]
-                if 2.0 * (h + slack) >= length:
-                    continue
-                dx = dx - length * np.rint(dx / length)
-            near &= np.abs(dx) <= h + slack
+        near = np.zeros(len(x), bool)
+        for lo, hi in theirs:
+            near |= _near_box(x, lo, hi, slack, box)
         k = np.flatnonzero(near)
         pick.append(k)
         dest.append(np.full(len(k), s, dtype=np.int64))
@@ -410,12 +246,12 @@ def partitioned_slab(source, *, density: float | None = None, snapshot: int = -1
     own, lo, hi, moved = to_slabs(piece)
     del piece.rows
     _distinct_ids(own, os.fspath(source))
-    comm, MPI = _mpi()
+    comm, MPI = mpi()
     r_max = np.zeros(1)
     comm.Allreduce(np.array([own["radius"].max()]), r_max, op=MPI.MAX)
     halo = _halo(own, piece.box, 2.0 * float(r_max[0]) * (1.0 + tolerance) * (1.0 + SEARCH_MARGIN))
     t_exchange = lap()
-    local, glob, slab = _collective(_local_slab, own, halo, lo, hi, piece.n, piece.box, piece.label)
+    local, glob, slab = collective(_local_slab, own, halo, lo, hi, piece.n, piece.box, piece.label)
     seconds = {"read": t_read, "exchange": t_exchange, "contacts": lap()}
     return PartitionedSlab(piece.n, lo, hi, local, glob, slab, max(held, moved, len(own) + len(halo)), piece.label,
                            seconds)
