@@ -244,6 +244,7 @@ def generate() -> int:
     env = child_env()
     # the collision tables before the records: derivations/collision_findings.py reads them
     return (run(PY, "-m", "dtcrit.symbolic.regenerate", env=env) or run(PY, "-m", "dtcrit.collisions.tables", env=env)
+            or run(PY, "-m", "dtcrit.bench.dense_table_writer", env=env)
             or run(PY, "derivations/run_all.py", *sys.argv[2:], env=env))
 
 

@@ -6,6 +6,7 @@ references), ``routes`` (every route as a callable over arrays of (k, c, A)), ``
 in-place closed forms), ``c_kernel`` (the closed forms emitted as C), ``paper_forms`` (the paper's
 printed forms in float64), ``bisection`` and ``amplification`` (the direct routes),
 ``simulation_check`` (section 3), ``config`` (the quick and full sizes), ``runner`` (``run_bench``)
-and ``report`` (Markdown, CSV, PNG).
+and ``report`` (Markdown, CSV, PNG); ``dense_table_writer`` writes the dense-packing bound's start-up
+table (``dtcrit.scenes.dense_tables``).
 Nothing is imported here: the reference step needs SymPy, the command line must not.
 """

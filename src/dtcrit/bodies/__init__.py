@@ -6,8 +6,9 @@ Shapes (one module per family): :mod:`~dtcrit.bodies.smooth` (sphere, ellipsoid,
 ``kind``, ``mass``, ``volume``, ``density``, ``inertia`` (principal moments ``(I_xx, I_yy, I_zz)``
 about the centre, local frame), ``half_lengths``, ``max_arm``, ``equivalent_radius``, ``vertices``,
 ``surface_points(n)``, ``support(direction)``, ``satisfies_paper_assumptions`` and
-``assumption_issues``.  NumPy only at import; ``scipy.spatial`` (Qhull) is imported on first use
-by polyhedra (:mod:`~dtcrit.bodies.hull`).
+``assumption_issues``.  NumPy only at import; a polyhedron of up to 40 corners finds its hull in
+NumPy (:mod:`~dtcrit.bodies.small_hull`), a larger one imports ``scipy.spatial`` (Qhull) on first use
+(:mod:`~dtcrit.bodies.hull`).
 """
 from dtcrit.bodies.checks import ORDER_RTOL, SUPERQUADRIC_EPS_MAX, SUPERQUADRIC_EPS_MIN, SYMMETRY_RTOL, AssumptionWarning
 from dtcrit.bodies.clump import Clump

@@ -37,7 +37,7 @@ class HullError(ValueError):
 
 def connected_components(n: int, first, second) -> np.ndarray:
     """Component label of each of ``n`` nodes joined by the edges ``(first[k], second[k])``: the
-    smallest node of its component (``scipy.sparse.csgraph.connected_components``).
+    smallest node of its component (NumPy label propagation, ``small_hull.components``).
 
     Parameters
     ----------
@@ -51,16 +51,9 @@ def connected_components(n: int, first, second) -> np.ndarray:
     numpy.ndarray
         The label of each node.
     """
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components as components
+    from dtcrit.bodies.small_hull import components
 
-    first = np.asarray(first, dtype=int)
-    second = np.asarray(second, dtype=int)
-    graph = coo_matrix((np.ones(first.size), (first, second)), shape=(n, n))
-    _, label = components(graph, directed=False)
-    smallest = np.full(label.max() + 1 if n else 0, n, dtype=int)
-    np.minimum.at(smallest, label, np.arange(n))
-    return smallest[label]
+    return components(int(n), first, second)
 
 
 def nearest_neighbours(queries, points) -> tuple[np.ndarray, np.ndarray]:
@@ -78,12 +71,17 @@ def nearest_neighbours(queries, points) -> tuple[np.ndarray, np.ndarray]:
     tuple of numpy.ndarray
         Distances and indices, each (M,).
     """
-    from scipy.spatial import cKDTree
+    from dtcrit.bodies.small_hull import BRUTE_PAIRS, nearest
 
     p = np.atleast_2d(np.asarray(points, dtype=float))
     if p.shape[0] == 0:
         raise ValueError("nearest_neighbours needs at least one point")
-    dist, index = cKDTree(p).query(np.atleast_2d(np.asarray(queries, dtype=float)))
+    q = np.atleast_2d(np.asarray(queries, dtype=float))
+    if q.shape[0] * p.shape[0] <= BRUTE_PAIRS:  # direct distances: no SciPy import for small sets
+        return nearest(q, p)
+    from scipy.spatial import cKDTree
+
+    dist, index = cKDTree(p).query(q)
     return np.asarray(dist, dtype=float), np.asarray(index, dtype=int)
 
 
@@ -112,10 +110,14 @@ def _qhull(q: np.ndarray, what: str):
 
 
 def _ring(xy: np.ndarray, index: np.ndarray, tol: float) -> np.ndarray:
-    """Corners of the 2-D points ``xy`` counter-clockwise, dropping points within ``tol`` of an edge."""
-    hull = _qhull(xy, "collinear")
-    ring = list(index[hull.vertices])  # Qhull: counter-clockwise in 2-D
-    pts = {int(i): xy[k] for k, i in zip(hull.vertices, index[hull.vertices])}
+    """Corners of the 2-D points ``xy`` counter-clockwise, dropping points within ``tol`` of an edge
+    (Qhull, or the monotone chain of ``small_hull.ccw_order`` for a few points).
+    """
+    from dtcrit.bodies.small_hull import SMALL_POINTS, ccw_order
+
+    corners = ccw_order(xy) if len(xy) <= SMALL_POINTS else _qhull(xy, "collinear").vertices
+    ring = list(index[corners])  # counter-clockwise in 2-D
+    pts = {int(i): xy[k] for k, i in zip(corners, index[corners])}
     changed = True
     while changed and len(ring) > 3:
         changed = False
@@ -209,9 +211,14 @@ class Hull3D:
 
 def _distinct_points(q: np.ndarray, tol: float) -> np.ndarray:
     """Representative (smallest index) of each group of points within ``tol`` of each other."""
-    from scipy.spatial import cKDTree
+    from dtcrit.bodies.small_hull import SMALL_POINTS, close_pairs
 
-    pairs = cKDTree(q).query_pairs(tol, output_type="ndarray")
+    if q.shape[0] <= SMALL_POINTS:
+        pairs = close_pairs(q, tol)
+    else:
+        from scipy.spatial import cKDTree
+
+        pairs = cKDTree(q).query_pairs(tol, output_type="ndarray")
     return connected_components(q.shape[0], pairs[:, 0], pairs[:, 1]) if pairs.size else np.arange(q.shape[0])
 
 
@@ -228,6 +235,25 @@ def _merged_faces(q: np.ndarray, hull, tol: float) -> list[np.ndarray]:
     same = (dist_fg <= tol) & (dist_gf <= tol)
     label = connected_components(simp.shape[0], f[same], g[same])
     return [np.flatnonzero(label == first) for first in np.flatnonzero(label == np.arange(simp.shape[0]))]
+
+
+def _face_planes(q: np.ndarray, tol: float) -> list:
+    """``(outward unit normal, indices of the points on it)`` per planar face: by
+    ``small_hull.planar_faces`` for a few points, else Qhull's facets merged (``_merged_faces``).
+    """
+    from dtcrit.bodies.small_hull import SMALL_POINTS, planar_faces
+
+    if q.shape[0] <= SMALL_POINTS:
+        found = planar_faces(q, tol)
+        if not found:
+            raise HullError("the points are coplanar or degenerate (no full-dimensional hull)")
+        return found
+    hull = _qhull(q, "coplanar or degenerate")
+    out = []
+    for group in _merged_faces(q, hull, tol):
+        normal = hull.equations[group, :3].sum(axis=0)
+        out.append((normal / np.linalg.norm(normal), np.unique(hull.simplices[group])))
+    return out
 
 
 def convex_hull_3d(points, rtol: float = HULL_RTOL) -> Hull3D:
@@ -259,15 +285,11 @@ def convex_hull_3d(points, rtol: float = HULL_RTOL) -> Hull3D:
     keep = np.flatnonzero(rep == np.arange(q_all.shape[0]))
     if keep.size < 4:
         raise HullError(f"a 3-D hull needs at least 4 distinct points (got {keep.size})")
-    hull = _qhull(q_all[keep], "coplanar or degenerate")
     q = q_all[keep]
     faces: list = []
     normals: Any = []  # rows appended per face, then one array
     offsets: list = []
-    for group in _merged_faces(q, hull, tol):
-        normal = hull.equations[group, :3].sum(axis=0)
-        normal /= np.linalg.norm(normal)
-        on = np.unique(hull.simplices[group])
+    for normal, on in _face_planes(q, tol):
         u = np.cross(normal, np.eye(3)[int(np.argmin(np.abs(normal)))])
         u /= np.linalg.norm(u)
         v = np.cross(normal, u)  # (u, v, normal) right-handed: counter-clockwise seen from outside

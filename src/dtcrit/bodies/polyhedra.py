@@ -136,7 +136,7 @@ class ConvexPolyhedron(_PolyhedralShape):
     --------
     >>> from dtcrit import ConvexPolyhedron
     >>> corners = [(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]
-    >>> cube = ConvexPolyhedron(corners, density=1.0)   # the hull of the corners (Qhull)
+    >>> cube = ConvexPolyhedron(corners, density=1.0)   # the hull of the corners
     >>> round(cube.volume, 12), round(cube.max_arm ** 2, 12)
     (8.0, 3.0)
     """

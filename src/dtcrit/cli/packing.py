@@ -77,6 +77,9 @@ def add_parser(subparsers) -> None:
     run.add_argument("--backend", choices=("serial", "slepc"), default="serial",
                      help="serial (this process), or slepc: PETSc/SLEPc Krylov-Schur on the processes of "
                           "mpirun -n P .venv-mpi/bin/dtcrit packing ... (python3 dev.py mpi-env builds .venv-mpi)")
+    run.add_argument("--partitioned-read", action="store_true", default=None,
+                     help="with --backend slepc: each rank reads only its piece of the dump FILE and keeps its "
+                          "Morton slab (automatic for a .npz sphere file)")
     p.set_defaults(run=run_command)
 
 
@@ -153,6 +156,8 @@ def _packing_options(args) -> dict:
 def _run(args) -> int:
     if args.backend == "slepc":
         return _run_slepc(args)
+    if args.partitioned_read:
+        raise ValueError("partitioned-read: reads a FILE in pieces for --backend slepc only")
     if args.scale:
         from dtcrit.bench.packing_scaling import parse_sizes, run_sizes
 
@@ -207,7 +212,7 @@ def _slepc_report(args) -> int:
         if getattr(args, key) != default:
             raise ValueError(f"{flag[2:]}: not used with --backend slepc (it reports omega_max, dt_crit and "
                              "dt_safe; the serial backend has the estimates, routes and certificate)")
-    step = distributed_packing_step(args.file, **_packing_options(args))
+    step = distributed_packing_step(args.file, **_packing_options(args), partitioned=args.partitioned_read)
     if step.rank != 0:
         return 0
     if args.json:

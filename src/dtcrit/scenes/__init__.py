@@ -5,9 +5,11 @@ formulas and the contact physics are ``dtcrit.physics``); ``local_damping`` (the
 ``collide``: the ``dtcrit collide`` report (the step that resolves each collision of a scene,
 ``dtcrit.collisions``); ``law_damping``: Hertz damping conventions that name one code's collision law
 (LAMMPS ``granular``, YADE Mindlin, MercuryDPM), their keys and dashpots; ``collide_oblique``: its
-oblique impacts (``[collision] angle_deg`` or ``tangential_ratio``).
+oblique impacts (``[collision] angle_deg`` or ``tangential_ratio``).  ``dense_tables``: the dense-packing
+bound's branch-and-bound values for known cases, shipped as generated data
+(``_generated/dense_phi_nodes.json``).
 
-Runtime only (NumPy; SciPy on first use for polyhedra): scenes import ``bodies`` and
+Runtime only (NumPy; SciPy on first use for polyhedra of more than 40 corners): scenes import ``bodies`` and
 ``integrators``, never ``symbolic``.
 """
 from dtcrit.physics.damping_conventions import damping_ratio_from_restitution

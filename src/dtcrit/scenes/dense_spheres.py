@@ -26,7 +26,7 @@ import math
 from dataclasses import dataclass, field
 import numpy as np
 from dtcrit.scenes.dense_cells import _species_geometry, _trivial
-from dtcrit.scenes.dense_phi import _phi_bound
+from dtcrit.scenes.dense_tables import phi_upper
 
 
 @dataclass
@@ -208,7 +208,7 @@ def dense_omega2_bound(kn, ks, masses, radii, inertia=None, z=12, *, kr: float =
             seed = int(np.argmax(np.where(active, trivial, -1.0)))
             zs, ps = int(z_eff[active].max()), float(psi[active].min())
             if not np.isfinite(node_bound(pars[seed], zs, ps)):
-                nodes.append((pars[seed].copy(), zs, ps, _phi_bound(zs, ps, tuple(pars[seed]), rtol, n_theta)[0]))
+                nodes.append((pars[seed].copy(), zs, ps, phi_upper(zs, ps, tuple(pars[seed]), rtol, n_theta, _domination)))
         ub = np.array([min(trivial[s], node_bound(pars[s], int(z_eff[s]), float(psi[s]))) if active[s] else 0.0
                        for s in range(len(m))])
         how = ["trivial (z lambda_max(Q))" if ub[s] == trivial[s] else "dominated by a computed node"
@@ -221,7 +221,7 @@ def dense_omega2_bound(kn, ks, masses, radii, inertia=None, z=12, *, kr: float =
                 break
             phi = node_bound(pars[s], int(z_eff[s]), float(psi[s]), exact=True)
             if not np.isfinite(phi):
-                phi = _phi_bound(int(z_eff[s]), float(psi[s]), tuple(pars[s]), rtol, n_theta)[0]
+                phi = phi_upper(int(z_eff[s]), float(psi[s]), tuple(pars[s]), rtol, n_theta, _domination)
                 nodes.append((pars[s].copy(), int(z_eff[s]), float(psi[s]), phi))
             if phi < ub[s]:
                 ub[s], how[s] = phi, "branch and bound"

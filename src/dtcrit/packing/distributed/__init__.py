@@ -1,5 +1,7 @@
 """The distributed back-end: PETSc matrices and SLEPc Krylov-Schur under MPI (``--backend slepc``).
 
 Modules: ``step`` (``distributed_packing_step``, the API), ``slepc_backend`` (the solve), ``slepc_result`` (what it reports), ``mpi_support`` (MPI through petsc4py), ``slab_contacts`` (the contacts one
-rank needs).
+rank needs), ``partitioned_input`` (each rank keeps its Morton slab and halo of a file read in pieces by
+``partitioned_read``)
+and ``partitioned_share`` (the solve's share of a rank from it).
 """

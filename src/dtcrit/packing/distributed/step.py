@@ -103,7 +103,7 @@ def distributed_packing_step(source: str | os.PathLike | None = None, *, lattice
                              seed: int = 0, radius: float = DEFAULT_RADIUS, density: float | None = None,
                              kn: float | None = None, ks: float | None = None, youngs: float | None = None,
                              poisson: float = 0.25, snapshot: int = -1, integrator: str = "velocity-verlet",
-                             damping_ratio: float = 0.0) -> DistributedStep:
+                             damping_ratio: float = 0.0, partitioned: bool | None = None) -> DistributedStep:
     """The critical step of a packing by PETSc and SLEPc on the processes of an MPI launcher (collective).
 
     Parameters
@@ -114,6 +114,9 @@ def distributed_packing_step(source: str | os.PathLike | None = None, *, lattice
         Integrator of the damped bound.
     damping_ratio : float
         Modal damping ratio of the highest mode (finite, at least 0).
+    partitioned : bool or None
+        Read ``source`` in pieces, each rank only its Morton slab and halo
+        (``dtcrit.packing.distributed.partitioned_input``); None: for a ``.npz`` sphere file only.
 
     Returns
     -------
@@ -136,12 +139,17 @@ def distributed_packing_step(source: str | os.PathLike | None = None, *, lattice
     """
     from dtcrit.packing.distributed import slepc_backend as sb
     from dtcrit.packing.distributed.mpi_support import world
+    from dtcrit.packing.distributed.partitioned_share import partitioned_share, wants_partitioned
     from dtcrit.packing.solvers.integrator_step import integrator_dt
     from dtcrit.packing.step import packing_input
 
     _, rank, _ = world()
     integrator_dt(1.0, integrator, damping_ratio)  # bad names and ratios fail before the work
     clock = time.perf_counter()
+    if wants_partitioned(source, partitioned):
+        share, _ = partitioned_share(source, dict(lattice=lattice, random=random, density=density, kn=kn, ks=ks,
+                                                  youngs=youngs, poisson=poisson, snapshot=snapshot))
+        return _finish(rank, sb.analyse_share(share), integrator, damping_ratio)
     given = packing_input(source, lattice=lattice, cells=cells, random=random, cn=cn, sizes=sizes, spread=spread,
                           seed=seed, radius=radius, density=density, kn=kn, ks=ks, youngs=youngs, poisson=poisson,
                           snapshot=snapshot, check_memory=False)
@@ -149,6 +157,13 @@ def distributed_packing_step(source: str | os.PathLike | None = None, *, lattice
     del given  # the O(N) input is not needed by the matrix and the solve
     result = sb.analyse_share(share)
     del share
+    return _finish(rank, result, integrator, damping_ratio)
+
+
+def _finish(rank: int, result: SlepcResult, integrator: str, damping_ratio: float) -> DistributedStep:
+    """The step of a solved share, with the integrator's step (refusing a packing without a vibrating mode)."""
+    from dtcrit.packing.solvers.integrator_step import integrator_dt
+
     if result.n_contacts == 0:
         raise InputError("packing", "no two particles touch: no contact limits the step (nothing to analyse)")
     if not result.omega_max > 0:
