@@ -4,6 +4,8 @@ formulas and the contact physics are ``dtcrit.physics``); ``local_damping`` (the
 ``local_damping_law``: the step times ``1/sqrt(1 + alpha)``).
 ``collide``: the ``dtcrit collide`` report (the step that resolves each collision of a scene,
 ``dtcrit.collisions``).
+``keys``: the scene-key registry (every key of every table, described; the reference pages are generated
+from it).
 
 Runtime only (NumPy; SciPy on first use for polyhedra): scenes import ``bodies`` and
 ``integrators``, never ``symbolic``.

@@ -37,6 +37,7 @@ from dtcrit.bodies.spec import build_shape, density_or_mass, table_dimensions, t
 from dtcrit.scenes.fields import _check_keys, _choice, _number, _required, _short, _string, _type_name
 from dtcrit.scenes.laws import resolve_pair
 from dtcrit.scenes.model import (
+    COLLISION_KEYS,
     CONTACT_ALL,
     CONTACT_KEYS,
     CONTACT_MODELS,
@@ -311,7 +312,7 @@ def _collision_v_max(doc: dict) -> float | None:
     table = doc["collision"]
     if not isinstance(table, dict):
         raise InputError("collision", "must be a table: [collision] with v_max = SPEED")
-    _check_keys("collision.", table, ("v_max",), ("v_max",), "in [collision]")
+    _check_keys("collision.", table, COLLISION_KEYS, COLLISION_KEYS, "in [collision]")
     return _number("collision.v_max", _required("collision.", table, "v_max", "largest impact speed [m/s]"))
 
 
