@@ -253,14 +253,14 @@ def generate(app=None) -> None:
 
 
 class _LiteralFlags(Transform):
-    """Keep ``--flag`` as typed on the command-line page: no smart quotes there (``--`` is not a dash)."""
+    """Keep ``--flag`` as typed on the reference pages: no smart quotes there (``--`` is not a dash)."""
 
     default_priority = 700  # before Sphinx's SmartQuotes (750)
 
     def apply(self, **kwargs) -> None:
-        """Switch smart quotes off for the command-line page (Sphinx's documented workaround)."""
+        """Switch smart quotes off for the reference pages (Sphinx's documented workaround)."""
         env = self.document.settings.env
-        if env.docname == "reference/cli":
+        if env.docname.startswith("reference/"):
             self.document.settings.smart_quotes = False
 
 
