@@ -9,6 +9,8 @@
     python3 dev.py mpi-env    create .venv-mpi, the environment of ``dtcrit packing --backend slepc`` (below)
     python3 dev.py audit-figure  redraw README's ``dtcrit audit --plot`` figure (figures extra)
     python3 dev.py collide-figure  redraw README's ``dtcrit collide --plot`` figure (figures extra)
+    python3 dev.py docs       build the documentation site into docs/_build/html, warnings as errors (test extras);
+                              open docs/_build/html/index.html
 
 Every task creates the virtual environment ``.venv`` beside this file when it is missing,
 (re)installs the package whenever ``pyproject.toml`` or ``constraints.txt`` (the pinned versions)
@@ -59,7 +61,7 @@ def run(*cmd: str | os.PathLike, env: dict | None = None) -> int:
 
 
 EXTRAS = {"demo": (), "test": ("test",), "generate": ("test",), "mpi-env": (), "golden": ("test",),
-          "audit-figure": ("figures",), "collide-figure": ("figures",)}
+          "audit-figure": ("figures",), "collide-figure": ("figures",), "docs": ("test",)}
 """The optional dependency groups of pyproject.toml each task installs: the demo runs on the runtime
 dependencies alone; the tests (and the derivation scripts behind ``generate``) need the ``test`` extra."""
 
@@ -258,8 +260,20 @@ def collide_figure() -> int:
     return run(PY, "-m", "dtcrit", *COLLIDE_FIGURE, env=child_env())
 
 
+DOCS_BUILD = ("-b", "html", "-W", "--keep-going", "-n", "-E", "-q")
+"""``sphinx-build`` options of the site (``python3 dev.py docs`` and ``tests/docs/conftest.py``): warnings
+are errors (all reported before failing), every cross-reference must resolve, and every page is re-read
+(an incremental build would not repeat an unchanged page's warnings); the notebooks' executions are
+cached in ``docs/_build/.jupyter_cache``, so they are not re-run."""
+
+
+def docs() -> int:
+    """Build the site (``docs/``) into ``docs/_build/html`` with ``DOCS_BUILD``'s options."""
+    return run(PY, "-m", "sphinx", *DOCS_BUILD, *sys.argv[2:], "docs", "docs/_build/html", env=child_env())
+
+
 TASKS = {"demo": demo, "test": test, "generate": generate, "mpi-env": mpi_env, "golden": golden,
-         "audit-figure": audit_figure, "collide-figure": collide_figure}
+         "audit-figure": audit_figure, "collide-figure": collide_figure, "docs": docs}
 
 if __name__ == "__main__":
     if len(sys.argv) < 2 or sys.argv[1] not in TASKS:
