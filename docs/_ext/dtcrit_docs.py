@@ -264,6 +264,44 @@ class _LiteralFlags(Transform):
             self.document.settings.smart_quotes = False
 
 
+def _find(dotted: str) -> bool:
+    """True when ``dotted`` names an importable module or an attribute of one (``a.b.c``)."""
+    import importlib
+
+    parts = dotted.split(".")
+    for cut in range(len(parts), 0, -1):
+        try:
+            obj = importlib.import_module(".".join(parts[:cut]))
+        except ImportError:
+            continue
+        for name in parts[cut:]:
+            if not hasattr(obj, name):
+                return False
+            obj = getattr(obj, name)
+        return True
+    return False
+
+
+def _code_reference(app, env, node, contnode):
+    """A Python cross-reference to dtcrit code the reference does not document, shown as plain code.
+
+    Docstrings name internal functions and modules (``:func:`check_integrator```); the API page
+    documents the public names only.  A target that exists in the code (absolute, relative to the
+    docstring's module, or under ``dtcrit``) is rendered unlinked; one that does not exist stays a
+    warning (a broken reference).
+    """
+    if node.get("refdomain") != "py":
+        return None
+    target = node["reftarget"].lstrip("~.")
+    where = re.search(r"docstring of ([\w.]+)", node.source or "")
+    owner = (where.group(1) if where else node.get("py:module") or "").split(".")
+    scopes = {".".join(owner[:cut]) for cut in range(1, len(owner) + 1)} | {"dtcrit"}
+    candidates = [target, *(f"{scope}.{target}" for scope in scopes)]
+    if any(_find(name) for name in candidates if name.startswith("dtcrit")):
+        return contnode
+    return None
+
+
 def _configure(app, config) -> None:
     config.numpydoc_show_class_members = False
     config.numpydoc_class_members_toctree = False
@@ -288,4 +326,5 @@ def setup(app):
     app.add_transform(_LiteralFlags)
     app.connect("config-inited", _configure)
     app.connect("builder-inited", generate)
+    app.connect("missing-reference", _code_reference)
     return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
