@@ -26,8 +26,8 @@ from urllib.parse import urldefrag, urlsplit
 import pytest
 from support.paths import REPO_ROOT
 
-KINDS = ("tutorials", "how-to", "reference", "explanation")
-"""Folders of the site, one per kind of page: one page of each must render."""
+KINDS = ("tutorials", "howto", "reference", "explanation", "gallery")
+"""Folders of the site, one per kind of page (and the gallery): one page of each must render."""
 SCREENSHOT = REPO_ROOT / "docs" / "_build" / "screenshots" / "index.png"
 CHROMIUM_FLAGS = ("--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
                   "--disable-background-networking", "--disable-component-update", "--disable-sync",
@@ -98,13 +98,20 @@ return [document.title, document.body ? document.body.innerText.length : 0, imgs
 """
 
 
+_PAINTED = """
+const done = arguments[arguments.length - 1];
+document.fonts.ready.then(() => requestAnimationFrame(() => requestAnimationFrame(() => done(true))));
+"""
+"""Resolves once the fonts are loaded and two frames are painted (the screenshot shows the page)."""
+
+
 def _open(browser, url: str) -> dict:
     """Load ``url`` and wait until its images have finished loading; what the page holds."""
     browser.get(url)
     deadline = time.monotonic() + 15
     while True:
         title, length, imgs, links, ids = browser.execute_script(_PAGE_STATE)
-        if all(width >= 0 for _, width in imgs) or time.monotonic() > deadline:
+        if (length > 0 and all(width >= 0 for _, width in imgs)) or time.monotonic() > deadline:
             return {"title": title, "text": length, "imgs": imgs, "links": links, "ids": set(ids)}
         time.sleep(0.1)
 
@@ -139,18 +146,15 @@ def _is_page(url: str) -> bool:
     return (path.endswith(".html") or path.endswith("/")) and "/_sources/" not in path and "/_static/" not in path
 
 
-def _page_url(site: str, url: str) -> str:
-    return url + "index.html" if url.endswith("/") else url
-
-
 def test_the_index_renders_and_its_screenshot_is_written(site, browser):
     """The index has a title and text; its screenshot is written for a person to look at."""
     page = _open(browser, site + "index.html")
     assert page["title"] and page["text"] > 200
     SCREENSHOT.parent.mkdir(parents=True, exist_ok=True)
     SCREENSHOT.unlink(missing_ok=True)
+    browser.execute_async_script(_PAINTED)
     assert browser.save_screenshot(str(SCREENSHOT))
-    assert SCREENSHOT.stat().st_size > 10_000
+    assert SCREENSHOT.stat().st_size > 10_000, "the screenshot is blank (a white page is about 8 kB)"
 
 
 @pytest.mark.parametrize("kind", KINDS)
@@ -176,7 +180,15 @@ def test_every_image_loads(crawl):
     assert not broken, "images that did not load:\n" + "\n".join(broken)
 
 
-def test_every_internal_link_resolves(crawl, site):
+def _has_element(browser, crawl: dict, url: str, fragment: str) -> bool:
+    """Whether page ``url`` has an element ``#fragment``; a miss is checked once more on a fresh load."""
+    if url in crawl and fragment in crawl[url]["ids"]:
+        return True
+    crawl[url] = _open(browser, url)
+    return fragment in crawl[url]["ids"]
+
+
+def test_every_internal_link_resolves(crawl, site, browser):
     """Every link to the site reaches a page (HTTP 200) and, with a #fragment, an element of that id."""
     broken, checked = [], {}
     for url, page in crawl.items():
@@ -188,7 +200,7 @@ def test_every_internal_link_resolves(crawl, site):
                 checked[target] = _status(target)
             if checked[target] != 200:
                 broken.append(f"{url} -> {link} (HTTP {checked[target]})")
-            elif fragment and _is_page(target) and fragment not in crawl.get(_page_url(site, target), {}).get("ids", {fragment}):
+            elif fragment and _is_page(target) and not _has_element(browser, crawl, target, fragment):
                 broken.append(f"{url} -> {link} (no element #{fragment})")
     assert checked, "no internal link found"
     assert not broken, f"{len(broken)} broken internal links:\n" + "\n".join(sorted(set(broken))[:50])
