@@ -67,6 +67,8 @@ def _kind(schema: dict, node: dict, seen: tuple[str, ...]) -> str:
     for key in ("oneOf", "anyOf"):
         if key in node:
             return " or ".join(dict.fromkeys(_kind(schema, n, seen) for n in node[key]))
+    if node.get("allOf") and "type" not in node:
+        return _kind(schema, node["allOf"][0], seen)
     kind = node.get("type", "any")
     kind = " or ".join(kind) if isinstance(kind, list) else kind
     if "array" in kind and isinstance(node.get("items"), dict):
@@ -78,13 +80,17 @@ def _children(schema: dict, node: dict, path: str, seen: tuple[str, ...]) -> lis
     node, seen = _resolve(schema, node, seen)
     rows: list[SchemaRow] = []
     required = set(node.get("required", ()))
-    for key, child in node.get("properties", {}).items():
+    properties = node.get("properties", {})
+    for key, child in properties.items():
         full = f"{path}.{key}" if path else key
         resolved, _ = _resolve(schema, child, seen)
         description = child.get("description") or resolved.get("description", "")
         rows.append(SchemaRow(full, _kind(schema, child, seen), key in required, description))
         rows += _children(schema, child, full, seen)
     extra = node.get("additionalProperties")
+    kind = _kind(schema, extra, seen) if isinstance(extra, dict) else "any"
+    for key in sorted(required - set(properties)):  # required, described by its parent
+        rows.append(SchemaRow(f"{path}.{key}" if path else key, kind, True, ""))
     if isinstance(extra, dict):
         rows += _children(schema, extra, f"{path}.*", seen)
     for pattern, child in node.get("patternProperties", {}).items():
@@ -164,9 +170,9 @@ def schema_page(path: Path) -> tuple[str, str]:
              f"Schema: ``src/dtcrit/schemas/{path.name}`` (JSON Schema draft 2020-12).  Nested keys are "
              "dotted paths: ``a.b`` a key of the object ``a``, ``a[]`` an item of the array ``a``, ``a.*`` "
              "any key of the object ``a``.  **required** marks keys every document holds.", ""]
-    rows = [(f"``{row.path}``", text(row.kind), "**required**" if row.required else "", text(row.description))
+    rows = [(f"``{row.path}``", text(row.kind) + (" (**required**)" if row.required else ""), text(row.description))
             for row in schema_rows(schema)]
-    lines += _table(("key", "type", "", "meaning"), rows, "25 15 8 52")
+    lines += _table(("key", "type", "meaning"), rows, "30 20 50")
     return f"json-{name}", "\n".join(lines)
 
 
