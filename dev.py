@@ -7,10 +7,12 @@
     python3 dev.py golden     rewrite tests/golden (the outputs of ``dtcrit codegen`` and ``dtcrit step`` on every
                               example) after an intended change of output (test extras); review with git diff
     python3 dev.py mpi-env    create .venv-mpi, the environment of ``dtcrit packing --backend slepc`` (below)
-    python3 dev.py audit-figure  redraw README's ``dtcrit audit --plot`` figure (figures extra)
-    python3 dev.py collide-figure  redraw README's ``dtcrit collide --plot`` figure (figures extra)
+    python3 dev.py audit-figure  redraw the docs' ``dtcrit audit --plot`` figure (docs/howto/audit.md; figures extra)
+    python3 dev.py collide-figure  redraw the docs' ``dtcrit collide --plot`` figure (docs/howto/collide.md; figures extra)
     python3 dev.py docs       build the documentation site into docs/_build/html, warnings as errors (test extras);
                               open docs/_build/html/index.html
+    python3 dev.py docs-bench rerun the benchmarks the docs' benchmarks page shows (dtcrit bench --quick --json and
+                              a small scale benchmark) into docs/benchmarks/data, to commit (test extras; minutes)
 
 Every task creates the virtual environment ``.venv`` beside this file when it is missing,
 (re)installs the package whenever ``pyproject.toml`` or ``constraints.txt`` (the pinned versions)
@@ -50,9 +52,9 @@ STAMP = VENV / ".dtcrit-installed"
 DEMO_SCENE = "examples/paper_ellipsoids.toml"
 AUDIT_FIGURE = ("audit", "examples/packings/random_lognormal_60.dump", "--pair-style",
                 "gran/hertz/history 1e9 NULL 0 NULL 0.5 0", "--plot", "derivations/records/figures/audit_random_lognormal_60.png")
-"""The ``dtcrit`` arguments that make README's "Audit your simulation" figure (``python3 dev.py audit-figure``)."""
+"""The ``dtcrit`` arguments that make the figure of ``docs/howto/audit.md`` (``python3 dev.py audit-figure``)."""
 COLLIDE_FIGURE = ("collide", "examples/glass_spheres_hertz.toml", "--plot", "derivations/records/figures/collide_glass_spheres_hertz.png")
-"""The ``dtcrit`` arguments that make README's "Resolve collisions" figure (``python3 dev.py collide-figure``)."""
+"""The ``dtcrit`` arguments that make the figure of ``docs/howto/collide.md`` (``python3 dev.py collide-figure``)."""
 
 
 def run(*cmd: str | os.PathLike, env: dict | None = None) -> int:
@@ -61,7 +63,7 @@ def run(*cmd: str | os.PathLike, env: dict | None = None) -> int:
 
 
 EXTRAS = {"demo": (), "test": ("test",), "generate": ("test",), "mpi-env": (), "golden": ("test",),
-          "audit-figure": ("figures",), "collide-figure": ("figures",), "docs": ("test",)}
+          "audit-figure": ("figures",), "collide-figure": ("figures",), "docs": ("test",), "docs-bench": ("test",)}
 """The optional dependency groups of pyproject.toml each task installs: the demo runs on the runtime
 dependencies alone; the tests (and the derivation scripts behind ``generate``) need the ``test`` extra."""
 
@@ -251,12 +253,12 @@ def golden() -> int:
 
 
 def audit_figure() -> int:
-    """Redraw README's ``dtcrit audit --plot`` figure on the example dump (``AUDIT_FIGURE``)."""
+    """Redraw the docs' ``dtcrit audit --plot`` figure on the example dump (``AUDIT_FIGURE``)."""
     return run(PY, "-m", "dtcrit", *AUDIT_FIGURE, env=child_env())
 
 
 def collide_figure() -> int:
-    """Redraw README's ``dtcrit collide --plot`` figure on the Hertz example (``COLLIDE_FIGURE``)."""
+    """Redraw the docs' ``dtcrit collide --plot`` figure on the Hertz example (``COLLIDE_FIGURE``)."""
     return run(PY, "-m", "dtcrit", *COLLIDE_FIGURE, env=child_env())
 
 
@@ -268,12 +270,20 @@ cached in ``docs/_build/.jupyter_cache``, so they are not re-run."""
 
 
 def docs() -> int:
-    """Build the site (``docs/``) into ``docs/_build/html`` with ``DOCS_BUILD``'s options."""
+    """Build the site (``docs/``) into a fresh ``docs/_build/html`` with ``DOCS_BUILD``'s options."""
+    shutil.rmtree(ROOT / "docs" / "_build" / "html", ignore_errors=True)  # no page of an earlier build survives
     return run(PY, "-m", "sphinx", *DOCS_BUILD, *sys.argv[2:], "docs", "docs/_build/html", env=child_env())
 
 
+def docs_bench() -> int:
+    """Rerun the committed benchmarks of the docs (``docs/_gen/benchmarks.py``, ``run_benchmarks``)."""
+    code = "import sys; sys.path.insert(0, 'docs/_gen'); import benchmarks; print(benchmarks.run_benchmarks())"
+    return run(PY, "-c", code, env=child_env())
+
+
 TASKS = {"demo": demo, "test": test, "generate": generate, "mpi-env": mpi_env, "golden": golden,
-         "audit-figure": audit_figure, "collide-figure": collide_figure, "docs": docs}
+         "audit-figure": audit_figure, "collide-figure": collide_figure, "docs": docs,
+         "docs-bench": docs_bench}
 
 if __name__ == "__main__":
     if len(sys.argv) < 2 or sys.argv[1] not in TASKS:

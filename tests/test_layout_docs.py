@@ -1,7 +1,8 @@
-"""The README's layout section and the package docstrings name modules that exist.
+"""The documentation's layout page and the package docstrings name modules that exist.
 
-The layout block (README, "How the code is laid out") gives one path per line, nested by indentation,
-with the modules of a package listed in square brackets; every package docstring's ``Modules``
+The layout block (``docs/explanation/code_layout.md``, "How the code is laid out") gives one path per
+line, nested by indentation, with the modules of a package listed in square brackets (every module and
+subpackage of a listed package is listed or has an entry of its own); every package docstring's ``Modules``
 paragraph names its modules in double back-quotes (names in parentheses describe, they are not
 modules), and every ``:mod:`` reference in a package docstring resolves to a module.
 """
@@ -17,6 +18,7 @@ from support.paths import REPO_ROOT, SRC
 PACKAGE = SRC / "dtcrit"
 INITS = sorted(PACKAGE.rglob("__init__.py"))
 DESCRIPTION_COLUMN = 21  # the layout block's descriptions start in this column
+LAYOUT_PAGE = REPO_ROOT / "docs" / "explanation" / "code_layout.md"
 
 
 def _exists(folder: Path, name: str) -> bool:
@@ -24,9 +26,7 @@ def _exists(folder: Path, name: str) -> bool:
 
 
 def _layout_block() -> list[str]:
-    text = (REPO_ROOT / "README.md").read_text()
-    section = text.split("## How the code is laid out", 1)[1]
-    return section.split("```", 2)[1].splitlines()[1:]
+    return LAYOUT_PAGE.read_text().split("```", 2)[1].splitlines()[1:]
 
 
 def _layout_entries() -> list[tuple[Path, list[str], str]]:
@@ -61,9 +61,27 @@ def test_the_layout_block_is_found():
 
 @pytest.mark.parametrize("path, listed, line", _layout_entries(), ids=lambda v: str(v)[-40:] if isinstance(v, str) else None)
 def test_each_layout_entry_exists_with_its_modules(path, listed, line):
-    assert path.exists(), f"README layout names {path.relative_to(REPO_ROOT)}, which does not exist: {line!r}"
+    assert path.exists(), f"the layout page names {path.relative_to(REPO_ROOT)}, which does not exist: {line!r}"
     missing = [n for n in listed if not _exists(path, n)]
-    assert not missing, f"{path.relative_to(REPO_ROOT)}: README lists modules that do not exist: {missing}"
+    assert not missing, f"{path.relative_to(REPO_ROOT)}: the layout page lists modules that do not exist: {missing}"
+
+
+def _modules(folder: Path) -> set[str]:
+    """The public modules and subpackages of a package folder (names without a leading underscore)."""
+    return ({p.stem for p in folder.glob("*.py") if not p.stem.startswith("_")}
+            | {p.name for p in folder.iterdir() if (p / "__init__.py").is_file() and not p.name.startswith("_")})
+
+
+def test_the_layout_lists_every_module():
+    """Every module of a package whose modules the page lists, and every top-level module or
+    package of ``dtcrit``, is on the page (listed, or an entry of its own): a new module must be added."""
+    entries = _layout_entries()
+    paths = {path for path, _, _ in entries}
+    unlisted = [f"{folder.relative_to(REPO_ROOT)}/{name}" for folder, listed, _ in entries if listed
+                for name in sorted(_modules(folder)) if name not in listed and folder / name not in paths]
+    top = {p.with_suffix("") if p.suffix == ".py" else p for p in paths}
+    unlisted += [f"src/dtcrit/{name}" for name in sorted(_modules(PACKAGE)) if PACKAGE / name not in top]
+    assert not unlisted, "modules missing from docs/explanation/code_layout.md: " + ", ".join(unlisted)
 
 
 def _top_level_names(paragraph: str) -> list[str]:
@@ -104,8 +122,10 @@ def test_the_package_docstrings_list_modules():
 
 
 def _named_test_files() -> list[tuple[str, str]]:
-    """(file, named test path) for every ``tests/...py`` path the README, the sources and dev.py name."""
-    texts = [REPO_ROOT / "README.md", REPO_ROOT / "dev.py", *sorted(PACKAGE.rglob("*.py"))]
+    """(file, named test path) for every ``tests/...py`` path the README, the docs, the sources and dev.py name."""
+    docs = sorted(p for p in (REPO_ROOT / "docs").rglob("*.md") if "_build" not in p.parts)
+    texts = [REPO_ROOT / "README.md", REPO_ROOT / "dev.py", *docs,
+             *sorted(PACKAGE.rglob("*.py"))]
     return [(str(p.relative_to(REPO_ROOT)), m) for p in texts
             for m in sorted(set(re.findall(r"tests/[\w/]+\.py", p.read_text())))]
 

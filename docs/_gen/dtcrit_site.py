@@ -6,10 +6,15 @@ At ``builder-inited`` (before Sphinx lists the sources) it copies the teaching n
 unchanged notebook is neither re-read nor re-executed.  It also writes ``_generated/reference_toctree.txt``,
 which ``index.md`` includes: the reference section's toctree when ``reference/index`` exists, else
 nothing (a toctree naming a missing page, or a glob matching none, is a warning, so an error here).
+The derivation records and proofs get one page each (``record_stubs``), the gallery's figures are drawn
+(``gallery.py``) and the benchmarks page is written (``benchmarks.py``).
 """
 from __future__ import annotations
 
 from pathlib import Path
+
+from benchmarks import build_benchmarks
+from gallery import build_gallery
 
 DOCS = Path(__file__).resolve().parents[1]
 ROOT = DOCS.parent
@@ -116,11 +121,38 @@ def record_stubs(docs: Path = DOCS) -> list[Path]:
     return stubs
 
 
+HOWTO_ORDER = ("step", "own_integrator", "python_api", "audit", "audit_lammps", "audit_yade", "collide",
+               "codegen", "plan", "packing", "mpi")
+"""The how-to pages in the order a user meets the tasks; other pages of ``howto/`` follow by name."""
+
+
+def howto_toctree(docs: Path = DOCS) -> str:
+    """The index page's how-to toctree: the pages of ``HOWTO_ORDER`` that exist, then any others.
+
+    Parameters
+    ----------
+    docs : pathlib.Path
+        The documentation folder.
+
+    Returns
+    -------
+    str
+        MyST text for ``index.md`` to include.
+    """
+    present = sorted(p.stem for p in (docs / "howto").glob("*.md"))
+    names = [n for n in HOWTO_ORDER if n in present] + [n for n in present if n not in HOWTO_ORDER]
+    entries = "".join(f"howto/{n}\n" for n in names)
+    return f"```{{toctree}}\n:caption: How-to guides\n:maxdepth: 1\n\n{entries}```\n"
+
+
 def _builder_inited(app) -> None:
     docs = Path(app.srcdir)
     copy_notebooks(docs)
     record_stubs(docs)
+    build_gallery(docs)
+    build_benchmarks(docs)
     write_if_changed(docs / "_generated" / "reference_toctree.txt", reference_toctree(docs))
+    write_if_changed(docs / "_generated" / "howto_toctree.txt", howto_toctree(docs))
 
 
 def setup(app) -> dict:

@@ -1,7 +1,7 @@
 """The documentation site, built once per test run: the ``built_site`` fixture.
 
 The site is built with ``sphinx-build`` and ``dev.py``'s options (``DOCS_BUILD``: warnings as errors,
-``--keep-going``, nitpicky, every page re-read) into ``docs/_build/html``, the folder
+``--keep-going``, nitpicky, every page re-read) into a fresh ``docs/_build/html``, the folder
 ``python3 dev.py docs`` writes; the notebooks' executions come from the jupyter-cache in
 ``docs/_build/.jupyter_cache`` when their code is unchanged.  Under pytest-xdist the first worker to
 ask builds while the others wait on a lock, then every worker reuses that build (the run is
@@ -12,6 +12,7 @@ from __future__ import annotations
 import importlib.util
 import json
 import os
+import shutil
 import subprocess
 import sys
 from contextlib import contextmanager
@@ -74,6 +75,7 @@ def build_site() -> dict:
     import time
 
     warnings = BUILD / "warnings.txt"
+    shutil.rmtree(HTML, ignore_errors=True)  # no page of an earlier build survives
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [str(REPO_ROOT / "src"),
                                                                      os.environ.get("PYTHONPATH")])))
     start = time.perf_counter()

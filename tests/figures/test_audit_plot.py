@@ -121,19 +121,19 @@ def test_labels_are_pushed_apart_and_kept_in_order():
     assert np.all(np.diff(y) >= 0.05 - 1e-12) and y[-1] <= 1.0 + 1e-12
 
 
-def test_the_readme_figure_is_made_by_the_dev_py_command():
-    """README shows the command ``python3 dev.py audit-figure`` runs, the committed PNG it writes, and the
+def test_the_docs_figure_is_made_by_the_dev_py_command():
+    """The audit how-to page (``docs/howto/audit.md``) shows the command ``python3 dev.py audit-figure`` runs, the committed PNG it writes, and the
     governing mode's figures the audit gives today.
     """
     spec = importlib.util.spec_from_file_location("dev_tasks", ROOT / "dev.py")
     assert spec is not None and spec.loader is not None
     dev = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(dev)
-    readme = (ROOT / "README.md").read_text()
+    readme = (ROOT / "docs" / "howto" / "audit.md").read_text()
     args = dev.AUDIT_FIGURE
     assert "$ dtcrit " + " ".join(shlex.quote(a) for a in args) + "\n" in readme
     png = args[args.index("--plot") + 1]
-    assert f"]({png})" in readme and (ROOT / png).read_bytes()[:8] == PNG_SIGNATURE
+    assert f"](../../{png})" in readme and (ROOT / png).read_bytes()[:8] == PNG_SIGNATURE
     audit = audit_snapshot(ROOT / args[1], pair_style=args[args.index("--pair-style") + 1])
     g = audit.governing_mode
     assert g is not None

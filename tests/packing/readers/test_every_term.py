@@ -364,11 +364,11 @@ def test_gran_argument_is_modelled_or_refused_naming_it(key):
         assert float(getattr(terms, name)[0]) == pytest.approx(value, rel=1e-12), (key, name)
 
 
-# ---- the README's list --------------------------------------------------------------------------------
+# ---- the docs' list ------------------------------------------------------------------------------------
 
 
 def refusals_block() -> str:
-    """The README's list of refused inputs, generated from the decision tables."""
+    """The docs' list of refused inputs (``docs/explanation/audit_conventions.md``), generated from the decision tables."""
     lines = ["YADE exports (`src/dtcrit/packing/readers/yade_terms.py`):", ""]
     lines += [f"* `{key}`: {text}" for key, text in (line.split(": ", 1) for line in yt.refusal_lines())]
     lines += ["", "LAMMPS `pair_style gran/*` (`src/dtcrit/packing/conventions/pair_styles.py`):", ""]
@@ -378,7 +378,7 @@ def refusals_block() -> str:
     return "\n".join(lines)
 
 
-def test_readme_lists_every_refusal():
-    text = (SRC.parent / "README.md").read_text()
+def test_the_docs_list_every_refusal():
+    text = (SRC.parent / "docs" / "explanation" / "audit_conventions.md").read_text()
     block = text.split("<!-- refusals:start -->\n", 1)[1].split("\n<!-- refusals:end -->", 1)[0]
-    assert block == refusals_block(), "regenerate the README block with refusals_block():\n" + refusals_block()
+    assert block == refusals_block(), "regenerate the docs' block with refusals_block():\n" + refusals_block()
