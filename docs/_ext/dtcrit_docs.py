@@ -1,6 +1,6 @@
 """Sphinx extension ``dtcrit_docs``: the reference pages, generated from the code at build time.
 
-On ``builder-inited`` it writes reStructuredText into ``docs/reference/_generated/`` (git-ignored;
+On ``builder-inited`` it writes reStructuredText into ``docs/reference/generated/`` (git-ignored;
 a file is rewritten only when its text changes, so an unchanged page is not rebuilt):
 
 * ``scene-keys.rst`` -- every table and key of a scene file, from ``dtcrit.scenes.keys.scene_tables``;
@@ -24,7 +24,7 @@ from pathlib import Path
 from docutils.transforms import Transform
 
 ROOT = Path(__file__).resolve().parents[2]
-GENERATED = ROOT / "docs" / "reference" / "_generated"
+GENERATED = ROOT / "docs" / "reference" / "generated"
 SCHEMAS = ROOT / "src" / "dtcrit" / "schemas"
 if str(ROOT / "src") not in sys.path:  # a build from a fresh clone, dtcrit not installed
     sys.path.insert(0, str(ROOT / "src"))

@@ -113,7 +113,7 @@ def reference(built_site) -> Path:
 
 def test_every_scene_key_is_on_the_scene_keys_page(reference):
     """Each table of the registry has its section, holding every key of the table."""
-    sections = {s.heading: s for s in _sections(reference / "_generated" / "scene-keys.html")}
+    sections = {s.heading: s for s in _sections(reference / "generated" / "scene-keys.html")}
     tables = scene_tables()
     assert sum(len(t.keys) for t in tables) > 80
     for table in tables:
@@ -127,7 +127,7 @@ def test_every_schema_property_is_on_its_json_page(reference, schema):
     """Every property name of the schema, at any depth, is a key on its page."""
     names = _property_names(json.loads(schema.read_text()))
     assert len(names) > 5
-    page = _sections(reference / "_generated" / f"json-{schema.stem}.html")[0]
+    page = _sections(reference / "generated" / f"json-{schema.stem}.html")[0]
     leaves = {code.rsplit(".", 1)[-1].removesuffix("[]") for code in page.codes}
     missing = sorted(names - leaves)
     assert not missing, f"{schema.name}: properties missing from the page: {missing}"
@@ -135,7 +135,7 @@ def test_every_schema_property_is_on_its_json_page(reference, schema):
 
 def test_every_json_document_is_listed(reference):
     """The JSON index links every document."""
-    index = (reference / "_generated" / "json.html").read_text()
+    index = (reference / "generated" / "json.html").read_text()
     for schema in SCHEMAS:
         assert f"json-{schema.stem}.html" in index
 
@@ -159,7 +159,7 @@ def test_every_public_name_is_on_the_api_page(reference):
     """Every name of ``dtcrit.__all__`` has its autodoc entry."""
     import dtcrit
 
-    html = (reference / "_generated" / "api.html").read_text()
+    html = (reference / "generated" / "api.html").read_text()
     missing = [name for name in dtcrit.__all__ if f'id="dtcrit.{name}"' not in html
                and f'id="module-dtcrit.{name}"' not in html]
     assert not missing, f"public names missing from the API page: {missing}"
@@ -170,7 +170,7 @@ def test_the_code_to_integrator_table_and_engine_conventions_are_on_their_page(r
     from dtcrit.integrators import engines as codes
     from dtcrit.packing.conventions import engines as conventions
 
-    page = _sections(reference / "_generated" / "engines.html")[0]
+    page = _sections(reference / "generated" / "engines.html")[0]
     expected = set(codes.ENGINES) | set(codes.AMBIGUOUS) | set(conventions.ENGINES)
     expected |= {scheme for scheme, _, _ in codes.ENGINES.values()}
     assert expected <= page.codes, sorted(expected - page.codes)
