@@ -186,8 +186,23 @@ def json_index(names: list[str]) -> str:
     return "\n".join(lines + [f"   {name}" for name in names] + [""])
 
 
+API_GROUPS = {
+    "bodies": "Shapes and contact kinematics", "scenes": "Scenes (``dtcrit step``)",
+    "packing": "Packings and simulation snapshots (``dtcrit packing``, ``dtcrit audit``)",
+    "codegen": "Code for your simulator (``dtcrit codegen``)", "paper": "The paper's printed formulas",
+    "errors": "Errors", "integrators": "The exact step of one contact", "impact": "The 1-D impact (``dtcrit impact``)",
+}
+"""Top-level package of a public name -> the API page's section (in the order ``dtcrit._API`` lists them)."""
+
+
 def api_page() -> str:
-    """The public API: autodoc entries for every name of ``dtcrit.__all__``, grouped as ``dtcrit._API`` is."""
+    """The public API: autodoc entries for every name of ``dtcrit.__all__``, grouped by package.
+
+    Returns
+    -------
+    str
+        The page (reStructuredText).
+    """
     import inspect
 
     import dtcrit
@@ -196,16 +211,21 @@ def api_page() -> str:
              "``import dtcrit`` exposes these names (``dtcrit.__all__``); each returns or is what its "
              "command prints, and each result's ``to_json()`` is the command's ``--json`` document.", "",
              ".. currentmodule:: dtcrit", ""]
-    for name in dtcrit.__all__:
-        obj = getattr(dtcrit, name)
-        if inspect.ismodule(obj):
-            lines += [f".. automodule:: {obj.__name__}", "   :members:", "", ".. currentmodule:: dtcrit", ""]
-        elif inspect.isclass(obj):
-            lines += [f".. autoclass:: {name}", "   :members:", ""]
-        elif callable(obj):
-            lines += [f".. autofunction:: {name}", ""]
-        else:
-            lines += [f".. autodata:: {name}", "   :no-value:", ""]
+    groups: dict[str, list[str]] = {}
+    for name in dtcrit._API:  # the order the package lists its API in, which is dtcrit.__all__ sorted
+        groups.setdefault(dtcrit._API[name].split(".")[0], []).append(name)
+    for package in groups:
+        lines += _title(API_GROUPS.get(package, package), "-")
+        for name in groups[package]:
+            obj = getattr(dtcrit, name)
+            if inspect.ismodule(obj):
+                lines += [f".. automodule:: {obj.__name__}", "   :members:", "", ".. currentmodule:: dtcrit", ""]
+            elif inspect.isclass(obj):
+                lines += [f".. autoclass:: {name}", "   :members:", ""]
+            elif callable(obj):
+                lines += [f".. autofunction:: {name}", ""]
+            else:
+                lines += [f".. autodata:: {name}", "   :no-value:", ""]
     return "\n".join(lines)
 
 
