@@ -4,6 +4,7 @@ On ``builder-inited`` it writes reStructuredText into ``docs/reference/generated
 a file is rewritten only when its text changes, so an unchanged page is not rebuilt):
 
 * ``scene-keys.rst`` -- every table and key of a scene file, from ``dtcrit.scenes.keys.scene_tables``;
+* ``bodies-file.rst`` -- every key of a ``dtcrit-bodies/1`` file, from ``dtcrit.scenes.keys.bodies_file_tables``;
 * ``json-*.rst`` -- every JSON document, every property (nested ones as dotted paths), from
   ``src/dtcrit/schemas/*.json``;
 * ``api.rst`` -- the public Python API (``dtcrit.__all__``) with autodoc and numpydoc;
@@ -144,21 +145,35 @@ def _title(title: str, char: str = "=") -> list[str]:
     return [title, char * len(title), ""]
 
 
-def scene_keys_page() -> str:
-    """The scene-key reference: one table per scene table, every key with what it means."""
-    from dtcrit.scenes.keys import scene_tables
-
-    lines = [".. _scene-keys:", "", *_title("Scene keys"),
-             "Every key a scene file (TOML) may hold, table by table, generated from the scene-key "
-             "registry ``dtcrit.scenes.keys`` (which reads the parsers' own key lists).  Units are in "
-             "brackets; ``[-]`` is dimensionless.", ""]
-    for table in scene_tables():
-        lines += [f".. _scene-keys-{table.anchor}:", "", *_title(f"``{table.name}``", "-")]
+def _key_tables(tables) -> list[str]:
+    lines: list[str] = []
+    for table in tables:
+        lines += [f".. _keys-{table.anchor}:", "", *_title(f"``{table.name}``", "-")]
         header = ("key", table.applies_to, "meaning") if table.applies_to else ("key", "meaning")
         rows = [(f"``{k.name}``", k.applies, k.description) if table.applies_to else (f"``{k.name}``", k.description)
                 for k in table.keys]
         lines += _table(header, rows, "20 15 65" if table.applies_to else "25 75")
-    return "\n".join(lines)
+    return lines
+
+
+def scene_keys_page() -> str:
+    """The scene-key reference: one table per scene table, every key with what it means."""
+    from dtcrit.scenes.keys import scene_tables
+
+    return "\n".join([".. _scene-keys:", "", *_title("Scene keys"),
+                      "Every key a scene file (TOML) may hold, table by table, generated from the scene-key "
+                      "registry ``dtcrit.scenes.keys`` (which reads the parsers' own key lists).  Units are in "
+                      "brackets; ``[-]`` is dimensionless.", "", *_key_tables(scene_tables())])
+
+
+def bodies_file_page() -> str:
+    """The ``dtcrit-bodies/1`` file reference (``dtcrit packing BODIES.json``), every key described."""
+    from dtcrit.scenes.keys import bodies_file_tables
+
+    return "\n".join([".. _bodies-file:", "", *_title("Bodies file (``dtcrit-bodies/1``)"),
+                      "The JSON file of non-spherical bodies ``dtcrit packing BODIES.json`` reads, generated from "
+                      "the reader's key lists (``dtcrit.packing.readers.bodies_file``) with the descriptions of "
+                      "``dtcrit.scenes.keys``.", "", *_key_tables(bodies_file_tables())])
 
 
 def schema_page(path: Path) -> tuple[str, str]:
@@ -268,6 +283,7 @@ def generate(app=None) -> None:
     """
     GENERATED.mkdir(parents=True, exist_ok=True)
     _write("scene-keys", scene_keys_page())
+    _write("bodies-file", bodies_file_page())
     names = []
     for path in sorted(SCHEMAS.glob("*.json")):
         name, body = schema_page(path)

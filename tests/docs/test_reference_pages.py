@@ -17,7 +17,7 @@ import pytest
 from support.paths import SRC
 
 from dtcrit.cli import build_parser
-from dtcrit.scenes.keys import scene_tables
+from dtcrit.scenes.keys import bodies_file_tables, scene_tables
 
 SCHEMAS = sorted((SRC / "dtcrit" / "schemas").glob("*.json"))
 HEADINGS = {f"h{n}" for n in range(1, 7)}
@@ -111,11 +111,12 @@ def reference(built_site) -> Path:
     return Path(built_site) / "reference"
 
 
-def test_every_scene_key_is_on_the_scene_keys_page(reference):
-    """Each table of the registry has its section, holding every key of the table."""
-    sections = {s.heading: s for s in _sections(reference / "generated" / "scene-keys.html")}
-    tables = scene_tables()
-    assert sum(len(t.keys) for t in tables) > 80
+@pytest.mark.parametrize("page, tables, least", [("scene-keys", scene_tables, 80), ("bodies-file", bodies_file_tables, 20)])
+def test_every_key_of_the_registry_is_on_its_page(reference, page, tables, least):
+    """Each table of the registry (scene files, bodies files) has its section, holding every key of the table."""
+    sections = {s.heading: s for s in _sections(reference / "generated" / f"{page}.html")}
+    tables = tables()
+    assert sum(len(t.keys) for t in tables) > least
     for table in tables:
         assert table.name in sections, f"no section for {table.name}"
         missing = [k.name for k in table.keys if k.name not in sections[table.name].codes]

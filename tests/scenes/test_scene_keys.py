@@ -5,6 +5,7 @@ found in the registry under their table, and a key the registry does not list is
 """
 from __future__ import annotations
 
+import json
 import tomllib
 
 import pytest
@@ -12,7 +13,7 @@ from support.paths import REPO_ROOT
 
 from dtcrit.errors import InputError
 from dtcrit.scenes import parse_scene
-from dtcrit.scenes.keys import scene_tables
+from dtcrit.scenes.keys import bodies_file_tables, scene_tables
 
 TABLES = {t.anchor: {k.name for k in t.keys} for t in scene_tables()}
 EXAMPLES = sorted((REPO_ROOT / "examples").glob("*.toml"))
@@ -58,3 +59,16 @@ def test_a_key_outside_the_registry_is_refused():
     with pytest.raises(InputError) as info:
         parse_scene(text.replace("[contact]", "[contact]\nstiffness_factor_xyz = 1.0"))
     assert "stiffness_factor_xyz" in str(info.value)
+
+
+@pytest.mark.parametrize("path", sorted((REPO_ROOT / "examples" / "packings").glob("*.json")), ids=lambda p: p.stem)
+def test_every_key_of_an_example_bodies_file_is_in_the_registry(path):
+    """Each key of the example bodies file, under its table, is one the bodies-file registry lists."""
+    doc = json.loads(path.read_text())
+    tables = {t.name: {k.name for k in t.keys} for t in bodies_file_tables()}
+    used = [("top level", k) for k in doc] + [("box", k) for k in (doc.get("box") or {})]
+    used += [("bodies[]", k) for body in doc["bodies"] for k in body]
+    used += [("bodies[].shape", k) for body in doc["bodies"] for k in body["shape"]]
+    used += [("contacts[]", k) for contact in doc.get("contacts", []) for k in contact]
+    assert len(used) > 10
+    assert not [f"{table}: {key}" for table, key in used if key not in tables[table]]

@@ -17,7 +17,7 @@ from dtcrit.scenes.model import COLLISION_KEYS, CONTACT_ALL, CONTACT_KEYS, TOP_K
 from dtcrit.scenes.sizes import LOGNORMAL_KEYS
 from dtcrit.scenes.walls import KEY_DESCRIPTIONS as WALL_DESCRIPTIONS, WALL_KEYS
 
-__all__ = ["SceneKey", "SceneTable", "scene_tables", "DESCRIPTIONS"]
+__all__ = ["SceneKey", "SceneTable", "scene_tables", "bodies_file_tables", "DESCRIPTIONS", "BODIES_DESCRIPTIONS"]
 
 _TOP = {
     "integrator": "the time integrator: a scheme of ``dtcrit.integrators.schemes`` (``velocity-verlet``, "
@@ -160,6 +160,39 @@ _INTEGRATOR = {
 }
 
 
+_BODIES_TOP = {
+    "schema": "``\"dtcrit-bodies/1\"`` (required)",
+    "box": "the simulation box, or null for none",
+    "bodies": "the bodies, one object each (required)",
+    "contacts": "optional: each touching pair's springs; every listed pair must touch and every touching pair "
+                "must be listed (``kn = ks = 0`` leaves one out).  Without it ``--kn``/``--ks`` (or ``--youngs``) apply",
+}
+_BODIES_BOX = {
+    "lo": "lower corner ``[x, y, z]`` [m]",
+    "hi": "upper corner ``[x, y, z]`` [m]",
+    "periodic": "per axis, whether the box is periodic ``[bool, bool, bool]``",
+}
+_BODIES_BODY = {
+    "id": "a distinct integer: the body's name in messages and contacts",
+    "shape": "the body's shape: the keys of a scene's ``[[particle]]`` table (below), one particle",
+    "position": "``[x, y, z]`` [m]: the origin of the frame the shape's dimensions are given in (the centre of a "
+                "sphere, ellipsoid, superquadric or box; the origin of a polyhedron's ``vertices`` or a clump's "
+                "``spheres``)",
+    "orientation": "optional unit quaternion ``[qw, qx, qy, qz]`` [-], body to world (``v_world = R(q) v_body``, "
+                   "Peng et al. 2020, Eq. (7)); default ``[1, 0, 0, 0]``",
+}
+_BODIES_CONTACT = {
+    "id1": "the id of the first body",
+    "id2": "the id of the second body",
+    "kn": "normal stiffness of the contact [N/m]",
+    "ks": "tangential stiffness of the contact [N/m]",
+}
+BODIES_DESCRIPTIONS: dict[str, dict[str, str]] = {
+    "bodies-top": _BODIES_TOP, "bodies-box": _BODIES_BOX, "bodies-body": _BODIES_BODY, "bodies-contact": _BODIES_CONTACT,
+}
+"""Table anchor -> key -> description of a ``dtcrit-bodies/1`` file (``dtcrit packing BODIES.json``)."""
+
+
 @dataclass(frozen=True)
 class SceneKey:
     """One key of a scene table.
@@ -223,7 +256,7 @@ def _models_of(key: str) -> str:
 
 
 def _describe(anchor: str, key: str, fallback: dict[str, str] | None = None) -> str:
-    for table in (DESCRIPTIONS[anchor], WALL_DESCRIPTIONS if anchor == "wall" else {}, fallback or {}):
+    for table in (DESCRIPTIONS.get(anchor) or BODIES_DESCRIPTIONS[anchor], WALL_DESCRIPTIONS if anchor == "wall" else {}, fallback or {}):
         if key in table:
             return table[key]
     raise KeyError(f"scene key {key!r} of table {anchor!r} has no description in dtcrit.scenes.keys")
@@ -264,3 +297,38 @@ def scene_tables() -> tuple[SceneTable, ...]:
         SceneTable("[integrator]", "integrator", keys("integrator", user_rules.KEYS)),
     )
 
+
+
+def bodies_file_tables() -> tuple[SceneTable, ...]:
+    """Every table of a ``dtcrit-bodies/1`` file (``dtcrit packing BODIES.json``) with every key its reader accepts.
+
+    Returns
+    -------
+    tuple of SceneTable
+        Top level, ``box``, ``bodies[]``, ``bodies[].shape`` (a ``[[particle]]`` table without size
+        distributions or elastic constants) and ``contacts[]``, from the reader's key lists
+        (``dtcrit.packing.readers.bodies_file``, ``bodies_array``).
+
+    Raises
+    ------
+    KeyError
+        A key the reader accepts has no description here.
+
+    Examples
+    --------
+    >>> [t.name for t in bodies_file_tables()][:2]
+    ['top level', 'box']
+    """
+    from dtcrit.packing.readers import bodies_array, bodies_file
+
+    def keys(anchor, names, fallback=None, applies=lambda key: ""):
+        return tuple(SceneKey(k, _describe(anchor, k, fallback), applies(k)) for k in names)
+
+    shape_keys = tuple(k for k in PARTICLE_ALL if k not in bodies_array.REFUSED_SHAPE_KEYS)
+    return (
+        SceneTable("top level", "bodies-top", keys("bodies-top", bodies_file.TOP_KEYS)),
+        SceneTable("box", "bodies-box", keys("bodies-box", bodies_file.BOX_KEYS)),
+        SceneTable("bodies[]", "bodies-body", keys("bodies-body", bodies_array.BODY_KEYS)),
+        SceneTable("bodies[].shape", "bodies-shape", keys("particle", shape_keys, None, _shapes_of), "shapes"),
+        SceneTable("contacts[]", "bodies-contact", keys("bodies-contact", bodies_file.CONTACT_KEYS)),
+    )
