@@ -11,15 +11,15 @@ pages come from the extension ``dtcrit_docs`` in ``docs/_ext`` when it exists.
 """
 from __future__ import annotations
 
-import hashlib
 import os
-import shutil
 import sys
 from pathlib import Path
 
 DOCS = Path(__file__).resolve().parent
 ROOT = DOCS.parent
 sys.path[:0] = [str(DOCS / "_ext"), str(DOCS / "_gen"), str(ROOT / "src")]
+
+import notebook_cache  # noqa: E402 - from docs/_gen, on the path just above
 
 project = "dtcrit"
 author = "the dtcrit authors"
@@ -49,26 +49,11 @@ html_static_path: list[str] = []
 myst_enable_extensions = ["dollarmath", "colon_fence", "deflist"]
 myst_heading_anchors = 3
 
-# The notebooks: jupytext percent-format sources, executed once and cached.  jupyter-cache keys a
-# notebook on its code cells only, so the cache lives in a folder named by a hash of the package's
-# sources: changing dtcrit re-executes every notebook, and an unchanged tree reuses the outputs.
+# The notebooks: jupytext percent-format sources, executed once and cached, in a cache folder named
+# by a hash of the package's sources (``_gen/notebook_cache.py``): a changed dtcrit re-executes them.
 nb_custom_formats = {".nbpy": ["jupytext.reads", {"fmt": "py:percent"}]}
 nb_execution_mode = "cache"
-
-
-def _package_hash() -> str:
-    digest = hashlib.sha256()
-    for path in sorted((ROOT / "src" / "dtcrit").rglob("*")):
-        if path.is_file() and "__pycache__" not in path.parts:
-            digest.update(path.relative_to(ROOT).as_posix().encode() + path.read_bytes())
-    return digest.hexdigest()[:16]
-
-
-_CACHES = DOCS / "_build" / ".jupyter_cache"
-nb_execution_cache_path = str(_CACHES / _package_hash())
-for _stale in (_CACHES.iterdir() if _CACHES.is_dir() else ()):
-    if _stale.is_dir() and str(_stale) != nb_execution_cache_path:
-        shutil.rmtree(_stale, ignore_errors=True)
+nb_execution_cache_path = str(notebook_cache.cache_path(prune=True))
 nb_execution_timeout = 300
 nb_execution_raise_on_error = True
 nb_output_stderr = "warn"  # a notebook writing to stderr fails the -W build

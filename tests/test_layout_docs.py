@@ -123,7 +123,7 @@ def test_the_package_docstrings_list_modules():
 
 def _named_test_files() -> list[tuple[str, str]]:
     """(file, named test path) for every ``tests/...py`` path the README, the docs, the sources and dev.py name."""
-    docs = sorted(p for p in (REPO_ROOT / "docs").rglob("*.md") if "_build" not in p.parts)
+    docs = sorted(p for p in (REPO_ROOT / "docs").rglob("*.md") if not {"_build", "_generated"} & set(p.parts))
     texts = [REPO_ROOT / "README.md", REPO_ROOT / "dev.py", *docs,
              *sorted(PACKAGE.rglob("*.py"))]
     return [(str(p.relative_to(REPO_ROOT)), m) for p in texts

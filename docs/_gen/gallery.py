@@ -159,8 +159,10 @@ def build_gallery(docs: Path = DOCS) -> Path:
     bench_png = docs / "benchmarks" / "data" / "work_precision.png"
     bench_figure = None
     if bench_png.is_file():
-        shutil.copyfile(bench_png, out / bench_png.name)
+        if not (out / bench_png.name).is_file() or (out / bench_png.name).read_bytes() != bench_png.read_bytes():
+            shutil.copyfile(bench_png, out / bench_png.name)
         bench_figure = bench_png.name
     page = out / "figures.md"
-    page.write_text(page_text(entries, bench_figure))
+    if not page.is_file() or page.read_text() != page_text(entries, bench_figure):
+        page.write_text(page_text(entries, bench_figure))
     return page

@@ -111,6 +111,20 @@ def site_build() -> dict:
     return site_build_record()
 
 
+def _notebook_cache_module():
+    """``docs/_gen/notebook_cache.py``, loaded from its path."""
+    spec = importlib.util.spec_from_file_location("dtcrit_docs_notebook_cache", DOCS / "_gen" / "notebook_cache.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.fixture(scope="session")
+def executed_notebook(built_site):
+    """A function ``stem -> notebook``: the teaching notebook the site's build executed (from its cache)."""
+    return _notebook_cache_module().executed
+
+
 @pytest.fixture(scope="session")
 def built_site(site_build) -> Path:
     """The built site's HTML folder (``docs/_build/html``), built once per test run."""
