@@ -131,7 +131,7 @@ def schema_rows(schema: dict) -> list[SchemaRow]:
 
 
 def _table(header: tuple[str, ...], rows: list[tuple[str, ...]], widths: str = "") -> list[str]:
-    lines = [".. list-table::", "   :header-rows: 1"]
+    lines = [".. list-table::", "   :header-rows: 1", "   :width: 100%", "   :class: dtcrit-reference"]
     if widths:
         lines.append(f"   :widths: {widths}")
     lines.append("")
@@ -264,6 +264,8 @@ def engines_page() -> str:
              text(c.source)) for c in conventions.ENGINES.values()]
     lines += _table(("engine", "integrator", "contact arms", "pre-load", "contacts", "source"), rows,
                     "10 15 12 8 20 35")
+    lines += ["What each convention is and how it was checked (the module's own account):", "",
+              ".. automodule:: dtcrit.packing.conventions.engines", "   :no-members:", "   :no-index:", ""]
     return "\n".join(lines)
 
 
@@ -345,6 +347,7 @@ def _code_reference(app, env, node, contnode):
 
 
 def _configure(app, config) -> None:
+    config.html_static_path = [*config.html_static_path, str(Path(__file__).resolve().parent / "static")]
     config.numpydoc_show_class_members = False
     config.numpydoc_class_members_toctree = False
     config.autodoc_member_order = "bysource"
@@ -366,6 +369,7 @@ def setup(app):
     for extension in ("sphinx.ext.autodoc", "numpydoc", "sphinxarg.ext"):
         app.setup_extension(extension)
     app.add_transform(_LiteralFlags)
+    app.add_css_file("dtcrit-reference.css")
     app.connect("config-inited", _configure)
     app.connect("builder-inited", generate)
     app.connect("missing-reference", _code_reference)
