@@ -244,6 +244,42 @@ def api_page() -> str:
     return "\n".join(lines)
 
 
+_SHEAR = {"half": "c_n/2", "same": "c_n", "two_sevenths": "(2/7) c_n"}
+
+
+def _factor(value: float) -> str:
+    return "" if value == 1.0 else f"{value:.6g} x "
+
+
+def _damping_conventions() -> list[str]:
+    """The damping conventions of ``[contact] damping_convention``, from ``dtcrit.physics.damping_conventions``."""
+    from dataclasses import replace
+
+    from dtcrit.physics.damping_conventions import CONVENTIONS, DEFAULT_CONVENTION, liggghts_hertz
+
+    conventions = []
+    for c in CONVENTIONS.values():
+        if c.name == "liggghts":  # LIGGGHTS's hooke law, and its Hertz law (liggghts_hertz)
+            conventions += [replace(c, models=tuple(m for m in c.models if m != "hertz")),
+                            replace(liggghts_hertz(), models=("hertz",))]
+        else:
+            conventions.append(c)
+    rows = []
+    for c in conventions:
+        normal = f"{_factor(c.factor_n)}2 zeta sqrt(k_n m*)"
+        mass = "" if c.mass_t == 1.0 else f"{c.mass_t:.6g} "
+        shear = _SHEAR.get(c.shear_rule, f"{_factor(c.factor_t)}2 zeta sqrt(k_t {mass}m*)")
+        default = [model for model in c.models if DEFAULT_CONVENTION.get(model) == c.name]
+        rows.append((f"``{c.name}``", text(c.code), f"``{normal}``", f"``{shear}``", f"``{c.wall_mass:g} m``",
+                     ", ".join(c.models) + (f"; default for {', '.join(default)}" if default else "")))
+    return [*_title("Damping conventions (``[contact] damping_convention``)", "-"),
+            "How a damping ratio zeta (or a restitution coefficient) becomes dashpots, per code "
+            "(``dtcrit.physics.damping_conventions.CONVENTIONS``): ``m*`` is the pair's reduced mass, "
+            "``k_n``, ``k_t`` the springs (for Hertz the tangent stiffnesses ``S_n``, ``S_t``).", "",
+            *_table(("convention", "code", "normal c_n", "tangential c_t", "wall mass", "contact models"), rows,
+                    "12 28 18 18 9 15")]
+
+
 def engines_page() -> str:
     """The engine conventions and the code-to-integrator table, from the objects that hold them."""
     from dtcrit.integrators import engines as codes
@@ -264,7 +300,8 @@ def engines_page() -> str:
              text(c.source)) for c in conventions.ENGINES.values()]
     lines += _table(("engine", "integrator", "contact arms", "pre-load", "contacts", "source"), rows,
                     "10 15 12 8 20 35")
-    lines += ["What each convention is and how it was checked (the module's own account):", "",
+    lines += _damping_conventions()
+    lines += ["What each engine convention is and how it was checked (the module's own account):", "",
               ".. automodule:: dtcrit.packing.conventions.engines", "   :no-members:", "   :no-index:", ""]
     return "\n".join(lines)
 

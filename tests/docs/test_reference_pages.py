@@ -167,11 +167,13 @@ def test_every_public_name_is_on_the_api_page(reference):
 
 
 def test_the_code_to_integrator_table_and_engine_conventions_are_on_their_page(reference):
-    """Every code name, scheme and engine convention is on the engines page."""
+    """Every code name, scheme, engine convention and damping convention is on the engines page."""
     from dtcrit.integrators import engines as codes
     from dtcrit.packing.conventions import engines as conventions
+    from dtcrit.physics.damping_conventions import CONVENTIONS
 
     page = _sections(reference / "generated" / "engines.html")[0]
     expected = set(codes.ENGINES) | set(codes.AMBIGUOUS) | set(conventions.ENGINES)
     expected |= {scheme for scheme, _, _ in codes.ENGINES.values()}
+    expected |= set(CONVENTIONS)
     assert expected <= page.codes, sorted(expected - page.codes)
