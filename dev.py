@@ -102,10 +102,10 @@ def compile_sources() -> None:
         print("byte-compiling src failed (not fatal: Python compiles on import)", flush=True)
 
 
-APT_TOOLS = {"gfortran": "gfortran", "lmp": "lammps", "yade": "yade"}
+APT_TOOLS = {"gfortran": "gfortran", "lmp": "lammps", "yade": "yade", "chromium": "chromium", "chromedriver": "chromium-driver"}
 """Binaries the tests use -> the Debian package that provides them: gfortran compiles the emitted
 Fortran; lmp (LAMMPS, GRANULAR package) and yade (YADE, leapfrog) run the engine cases that dtcrit's
-steps are checked on."""
+steps are checked on; chromium and chromedriver open the built docs in the browser test."""
 
 APT_PYTHON_MODULES = {"lammps": ("python3-lammps", "liblammps-dev")}
 """Modules of the system's ``python3`` (not this environment's) the tests use -> the Debian packages

@@ -64,3 +64,17 @@ def test_every_public_name_has_its_numpydoc_sections():
             if offences:
                 offenders.append(f"{qualname}: " + "; ".join(offences))
     assert not offenders, f"{len(offenders)} public names miss sections:\n" + "\n".join(offenders)
+
+
+def test_every_name_of_the_public_api_has_examples():
+    """Each function and class of ``dtcrit.__all__`` shows an Examples section (run by ``tests/test_doctests.py``)."""
+    missing = []
+    for name in dtcrit.__all__:
+        obj = getattr(dtcrit, name)
+        if inspect.ismodule(obj) or not (inspect.isfunction(obj) or inspect.isclass(obj)):
+            continue
+        result = validate(f"{obj.__module__}.{obj.__qualname__}")
+        if any(code == "EX01" for code, _ in result["errors"]):
+            missing.append(name)
+    assert len(dtcrit.__all__) > 20
+    assert not missing, f"public API names without an Examples section: {missing}"

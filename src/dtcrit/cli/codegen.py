@@ -25,7 +25,7 @@ def add_parser(subparsers) -> None:
         description="Emit a self-contained function computing the critical time step of one contact, "
         "specialised to the scene's structure (Peng et al. 2020; exact integrator boundaries).",
     )
-    p.add_argument("scene", metavar="SCENE", help="scene file (TOML; see README.md, section Scene files)")
+    p.add_argument("scene", metavar="SCENE", help="scene file (TOML; every key is listed on the documentation's Scene keys page)")
     p.add_argument("--lang", required=True, choices=("c", "numpy", "fortran"), help="output language")
     p.add_argument("--name", default="dtcrit_dt_crit", help="function name (default dtcrit_dt_crit)")
     p.add_argument("--out", metavar="FILE", help="write to FILE instead of standard output")

@@ -45,7 +45,7 @@ def add_parser(subparsers) -> None:
     p.add_argument("--step", type=number(), default=0.005, help="grid spacing of the sweep (default 0.005)")
     p.add_argument("--phases", type=number(int), default=128, help="entry phases per omega*dt (default 128)")
     p.add_argument("--energy-threshold", type=number(), default=0.01,
-                   help="Hertz study: tolerated energy error |v_e^2/v_0^2 - 1| (default 0.01)")
+                   help="Hertz study: tolerated energy error abs(v_e^2/v_0^2 - 1) (default 0.01)")
     p.add_argument("--no-hertz", action="store_true", help="skip the Hertz study of a sweep")
     p.add_argument("--out", metavar="DIR", help="write the JSON report and PNG figures into DIR")
     p.add_argument("--json", action="store_true", help="print the report as JSON")

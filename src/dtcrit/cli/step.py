@@ -6,7 +6,7 @@
 Prints the critical step, what governs it (translation- or rotation-dominant, which pair and
 direction), the formula with its equation numbers, and the estimates DEM codes use side by side,
 each flagged UNSAFE when it exceeds the verified step.  ``--json`` prints the documented, stable
-JSON form (README.md, section Scene files).  A bad scene gives one line ``SCENE:key: reason`` and exit status 2.
+JSON form (schema ``dtcrit-step/1``, on the documentation's JSON reference pages).  A bad scene gives one line ``SCENE:key: reason`` and exit status 2.
 
 This module and everything it imports stay free of SymPy (start-up time).
 """
@@ -30,7 +30,7 @@ def add_parser(subparsers) -> None:
         description="Verified critical time step of the contacts described by a scene file (Peng et al. 2020; "
         "exact integrator boundaries), with the estimates DEM codes use side by side.",
     )
-    p.add_argument("scene", metavar="SCENE", help="scene file (TOML; see README.md, section Scene files)")
+    p.add_argument("scene", metavar="SCENE", help="scene file (TOML; every key is listed on the documentation's Scene keys page)")
     p.add_argument("--json", action="store_true", help="print the result as JSON (schema dtcrit-step/1)")
     p.set_defaults(run=run)
 

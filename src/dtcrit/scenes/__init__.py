@@ -8,6 +8,8 @@ formulas and the contact physics are ``dtcrit.physics``); ``local_damping`` (the
 oblique impacts (``[collision] angle_deg`` or ``tangential_ratio``).  ``dense_tables``: the dense-packing
 bound's branch-and-bound values for known cases, shipped as generated data
 (``_generated/dense_phi_nodes.json``).
+``keys``: the scene-key registry (every key of every table, described; the reference pages are generated
+from it).
 
 Runtime only (NumPy; SciPy on first use for polyhedra of more than 40 corners): scenes import ``bodies`` and
 ``integrators``, never ``symbolic``.

@@ -34,10 +34,11 @@ from dtcrit.collisions.oblique_resolution import ObliqueResolution, oblique_reso
 from dtcrit.collisions.stepping import scheme_of
 from dtcrit.errors import InputError
 from dtcrit.inputs.values import number
+from dtcrit.scenes.model import COLLISION_KEYS
 
 __all__ = ["ANGLE_KEYS", "REPORT_PHASES", "parse_angle", "ObliqueRequest", "oblique_request", "ObliquePlan", "oblique_plan"]
 
-ANGLE_KEYS = ("angle_deg", "tangential_ratio")
+ANGLE_KEYS = tuple(k for k in COLLISION_KEYS if k != "v_max")
 """The ``[collision]`` keys that ask for oblique impacts (one of them)."""
 REPORT_PHASES = 16  # 8 missed the worst phase by 2 % (sliding at 60 deg, N ~ 9); 16 found it to 1e-9
 MAX_OVERLAP_RATIO = 0.1  # the core's bound on delta/R

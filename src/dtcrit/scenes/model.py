@@ -17,6 +17,8 @@ from dtcrit.scenes.damping_input import damping_kind
 TOP_KEYS = ("integrator", "omega_max", "safety", "pairs", "title", "coordination_max", "overlap_max", "isolated", "particle", "contact",
             "wall", "local_damping", "local_damping_law", "collision")
 PAIRS_CHOICES = ("all", "unlike")
+COLLISION_KEYS = ("v_max", "angle_deg", "tangential_ratio")
+"""The keys of the ``[collision]`` table (read by ``dtcrit collide``)."""
 
 CONTACT_MODELS = ("linear", "yade", "hertz", "bond")
 ROTATIONAL_KEYS = ("kr", "ktw", "cr", "ctw", "rolling_model", "rolling_friction", "rolling_viscous_damping",

@@ -38,6 +38,7 @@ from dtcrit.scenes.fields import _check_keys, _choice, _number, _required, _shor
 from dtcrit.scenes.law_damping import check_law_input
 from dtcrit.scenes.laws import resolve_pair
 from dtcrit.scenes.model import (
+    COLLISION_KEYS,
     CONTACT_ALL,
     CONTACT_KEYS,
     CONTACT_MODELS,
@@ -320,10 +321,9 @@ def _collision(doc: dict) -> tuple[float | None, tuple[str, float] | None]:
     table = doc["collision"]
     if not isinstance(table, dict):
         raise InputError("collision", "must be a table: [collision] with v_max = SPEED")
-    from dtcrit.scenes.collide_oblique import ANGLE_KEYS, parse_angle
+    from dtcrit.scenes.collide_oblique import parse_angle
 
-    keys = ("v_max",) + ANGLE_KEYS
-    _check_keys("collision.", table, keys, keys, "in [collision]")
+    _check_keys("collision.", table, COLLISION_KEYS, COLLISION_KEYS, "in [collision]")
     angle = parse_angle(table)
     if angle is not None and "v_max" not in table:
         return None, angle
