@@ -107,6 +107,10 @@ APT_TOOLS = {"gfortran": "gfortran", "lmp": "lammps", "yade": "yade", "chromium"
 Fortran; lmp (LAMMPS, GRANULAR package) and yade (YADE, leapfrog) run the engine cases that dtcrit's
 steps are checked on; chromium and chromedriver open the built docs in the browser test."""
 
+APT_FILES = {"/usr/share/javascript/mathjax/MathJax.js": "libjs-mathjax"}
+"""Files the docs use -> the Debian package that provides them: MathJax, copied into the built site so
+that its formulas render offline (``docs/conf.py``)."""
+
 APT_PYTHON_MODULES = {"lammps": ("python3-lammps", "liblammps-dev")}
 """Modules of the system's ``python3`` (not this environment's) the tests use -> the Debian packages
 that provide them: the LAMMPS Python module runs the LAMMPS hook (``engine_scripts/lammps_hook.py``)."""
@@ -134,6 +138,7 @@ def ensure_apt_tools() -> None:
     (``CI=true``), where the engine tests fail instead.
     """
     missing = [pkg for tool, pkg in APT_TOOLS.items() if not shutil.which(tool)]
+    missing += [pkg for path, pkg in APT_FILES.items() if not Path(path).is_file()]
     missing += [pkg for module, pkgs in APT_PYTHON_MODULES.items() if not system_python_has(module) for pkg in pkgs]
     if not missing or os.environ.get("DTCRIT_NO_APT") == "1":
         return

@@ -62,6 +62,27 @@ os.environ["MPLBACKEND"] = "module://matplotlib_inline.backend_inline"
 # the kernel (and every command the build runs) imports this checkout's dtcrit
 os.environ["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT / "src"), os.environ.get("PYTHONPATH")]))
 
+# MathJax from Debian's libjs-mathjax (2.7, installed by `dev.py test` as root) when it is there, copied into
+# the site so that formulas render offline and in the browser test; else Sphinx's default (a CDN).
+MATHJAX_DIR = Path("/usr/share/javascript/mathjax")
+if (MATHJAX_DIR / "MathJax.js").is_file():
+    mathjax_path = "mathjax/MathJax.js?config=TeX-AMS_CHTML"
+
+
+def _copy_mathjax(app, exception) -> None:
+    """Copy the local MathJax (no test pages, no unpacked sources) into ``_static/mathjax``."""
+    import shutil
+
+    if exception is None and app.builder.format == "html" and (MATHJAX_DIR / "MathJax.js").is_file():
+        shutil.copytree(MATHJAX_DIR, Path(app.outdir) / "_static" / "mathjax", dirs_exist_ok=True,
+                        ignore=shutil.ignore_patterns("test", "unpacked"))
+
+
+def setup(app) -> None:
+    """Register the MathJax copy."""
+    app.connect("build-finished", _copy_mathjax)
+
+
 numpydoc_show_class_members = False
 numpydoc_class_members_toctree = False
 autodoc_typehints = "none"

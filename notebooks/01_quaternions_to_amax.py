@@ -9,7 +9,7 @@
 # ---
 
 # %% [markdown]
-# # From quaternions to $A_{max}$: the contact kinematics of Peng et al. 2020, Sections 2–3
+# # From quaternions to A_max: the contact kinematics of Peng et al. 2020, Sections 2–3
 #
 # Two rigid particles touch at a point.  A force $F$ on particle 2 (and $-F$ on particle 1) makes the
 # contact point accelerate relative to both bodies:

@@ -9,7 +9,7 @@
 # ---
 
 # %% [markdown]
-# # Impact: exit velocity against $\omega\Delta t$ and the entry phase
+# # Impact: exit velocity against ω·Δt and the entry phase
 #
 # The linear stability bound assumes a contact that lasts forever.  A real DEM contact opens and
 # closes within a few steps, and the question the CFL note asks is different: after one impact,
