@@ -221,3 +221,23 @@ def test_search_finds_velocity_verlet(site, browser):
     while browser.execute_script(script) == 0 and time.monotonic() < deadline:
         time.sleep(0.2)
     assert browser.execute_script(script) > 0, "no search result for 'velocity Verlet'"
+
+
+
+def test_formulas_are_typeset_offline(built_site, site, browser):
+    """A record's formulas are typeset by the MathJax copied into the site (no network).
+
+    The page's ``span.math`` elements turn into MathJax output, not raw TeX text.
+    """
+    if not (Path(built_site) / "_static" / "mathjax" / "MathJax.js").is_file():
+        assert os.environ.get("CI") != "true", "the site has no local MathJax: apt-get install libjs-mathjax"
+        pytest.skip("no local MathJax (Debian's libjs-mathjax): formulas load from a CDN")
+    pages = [p for p in sorted((Path(built_site) / "explanation" / "records").glob("*.html"))
+             if 'class="math' in p.read_text(encoding="utf-8")]
+    assert pages, "no record page has formulas"
+    browser.get(site + pages[0].relative_to(built_site).as_posix())
+    script = "return document.querySelectorAll('.MathJax_CHTML, mjx-container').length"
+    deadline = time.monotonic() + SEARCH_TIMEOUT
+    while browser.execute_script(script) == 0 and time.monotonic() < deadline:
+        time.sleep(0.2)
+    assert browser.execute_script(script) > 0, f"no formula typeset on {pages[0].name}"
