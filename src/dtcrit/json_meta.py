@@ -1,4 +1,5 @@
-"""The envelope every ``--json`` output of dtcrit carries (README.md, section "JSON").
+"""The envelope every ``--json`` output of dtcrit carries (``docs/explanation/conventions.md``,
+section "The JSON envelope").
 
 Each document starts with ``schema`` (``dtcrit-<command>/<major>``: a key keeps its meaning within a
 major version, new keys may be added), ``dtcrit_version``, ``units`` (the unit of every dimensional

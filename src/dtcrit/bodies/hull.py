@@ -13,8 +13,9 @@ module adds to Qhull is the face structure a DEM body needs:
 
 Tolerances are relative: coordinates are shifted to the mean and divided by the largest distance
 from it, and ``rtol`` is a distance in those units.  Degenerate input (fewer than 4 points, or all
-within ``rtol`` of a plane, a line or a point) raises :class:`HullError`; bodies thinner than that
-are accepted wherever Qhull accepts them.
+within ``rtol`` of a plane, a line or a point) raises :class:`HullError` on either route (the NumPy
+faces of ``small_hull`` for a few points, Qhull for more: a hull no thicker than ``rtol`` along a facet
+normal, or whose merged faces do not close, is refused); bodies thicker than that are accepted.
 """
 from __future__ import annotations
 
@@ -249,11 +250,30 @@ def _face_planes(q: np.ndarray, tol: float) -> list:
             raise HullError("the points are coplanar or degenerate (no full-dimensional hull)")
         return found
     hull = _qhull(q, "coplanar or degenerate")
+    if _flat(q[hull.vertices], hull.equations, tol):
+        raise HullError("the points are coplanar or degenerate (no full-dimensional hull)")
     out = []
     for group in _merged_faces(q, hull, tol):
         normal = hull.equations[group, :3].sum(axis=0)
         out.append((normal / np.linalg.norm(normal), np.unique(hull.simplices[group])))
+    if len(out) < 4:  # a closed polyhedron has at least four faces
+        raise HullError(f"the points are coplanar or degenerate (the merged faces do not close: {len(out)} found)")
     return out
+
+
+def _flat(corners: np.ndarray, equations: np.ndarray, tol: float) -> bool:
+    """Whether Qhull's hull is thinner than ``tol`` along one of its facet normals (every corner within
+    ``tol`` of that facet's plane): the points are coplanar within the tolerance, as
+    ``small_hull.planar_faces`` finds them (a plane through three points with every point within ``tol``).
+    Facets are taken in chunks of at most ``2**22`` corner-facet pairs.
+    """
+    step = max(1, (1 << 22) // corners.shape[0])
+    for a in range(0, equations.shape[0], step):
+        eq = equations[a:a + step]
+        depth = -(corners @ eq[:, :3].T + eq[:, 3])  # (corners, facets), >= 0 inside
+        if np.min(np.max(depth, axis=0)) <= tol:
+            return True
+    return False
 
 
 def convex_hull_3d(points, rtol: float = HULL_RTOL) -> Hull3D:
@@ -263,7 +283,7 @@ def convex_hull_3d(points, rtol: float = HULL_RTOL) -> Hull3D:
     distance in those units.  Points within ``rtol`` of each other count once (the smallest index is
     the corner), points within ``rtol`` of a face plane belong to that face, and only the corners of
     each face polygon are hull vertices.  Raises :class:`HullError` for fewer than 4 points or points
-    that Qhull finds coplanar, collinear or coincident.
+    coplanar, collinear or coincident within ``rtol`` (for any number of points).
 
     Parameters
     ----------

@@ -2,7 +2,8 @@
 ``[[particle]]`` table (:func:`shape_from_table`), the one parser of a shape that scene files
 (``dtcrit.scenes.scene``) and bodies files (``dtcrit.packing.readers.bodies_file``) share.
 
-A table's keys (README, Scene files): ``shape`` is one of ``sphere`` (``radius``), ``ellipsoid``
+A table's keys (``docs/howto/step.md``, section "The scene format"; every key on the Scene keys
+reference page, ``docs/reference/generated/scene-keys``): ``shape`` is one of ``sphere`` (``radius``), ``ellipsoid``
 (``semi_axes``, largest first), ``superquadric`` (``semi_axes``, ``exponents``), ``box``
 (``half_lengths``), ``polyhedron`` (``vertices``), ``clump`` (``spheres`` ``[[x, y, z, r], ...]``),
 with exactly one of ``density`` [kg/m^3] or ``mass`` [kg].  Each problem is one ``InputError``

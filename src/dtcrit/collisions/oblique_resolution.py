@@ -15,7 +15,8 @@ quantity).  The guarantee rests on the grids: a violation narrower than ``1/COAR
 coarse bracket, or ``1/FINE`` within it, can be missed.
 
 The continuum reference (``reference_oblique``) models a contact that sticks or slides throughout, not
-stick-slip; ``regime`` picks it: sliding throughout when there is no dashpot, the onset slides
+stick-slip; ``regime`` picks it: a damped contact whose onset slides is refused (damped sliding impacts are not
+modelled); sliding throughout when there is no dashpot, the onset slides
 (``(3/2) (k_t/k_n) v_t/v_n > mu``) and the slip cannot reverse: in sliding the slip speed falls by
 ``(1 + 1/k_g^2) mu`` times the normal velocity change, at most ``(1 + e) v_n`` with ``e <= 1``, so
 ``v_t/v_n > 2 (1 + 1/k_g^2) mu`` (with a margin ``SLIDE_MARGIN``; rigid-body impact theory, e.g. Maw,
@@ -86,12 +87,17 @@ def regime(case: ObliqueCase, key: str = "angle_deg") -> str:
     Raises
     ------
     InputError
-        A contact that slides at first touch and whose slip can reverse (stick-slip).
+        A contact that slides at first touch and whose slip can reverse (stick-slip), or that slides at
+        first touch with a dashpot (damped sliding is not modelled).
     """
     ratio_t = 2.0 * (1.0 - case.poisson) / (2.0 - case.poisson)
     dashpot = case.law.g != 0.0 or case.gammat_ratio != 0.0
-    if dashpot or 1.5 * ratio_t * case.tangential_ratio <= case.friction:
+    if 1.5 * ratio_t * case.tangential_ratio <= case.friction:
         return "stick"
+    if dashpot:
+        raise InputError(key, f"v_t/v_n = {case.tangential_ratio:.4g}: the contact slides at first touch; damped "
+                              f"sliding impacts are not modelled (it sticks at first touch for "
+                              f"v_t/v_n <= {case.friction / (1.5 * ratio_t):.4g})")
     slide_above = 2.0 * (1.0 + 1.0 / case.gyration) * case.friction
     if case.tangential_ratio > SLIDE_MARGIN * slide_above:
         return "slide"

@@ -1,6 +1,7 @@
 """The impact report of ``dtcrit impact``: per damping ratio, the sweep against the exact impact and the
 linear bound, the undamped closed forms, and its JSON form (schema ``dtcrit-impact/1``,
-``dtcrit/schemas/dtcrit-impact-1.json``; README.md, section JSON).
+``dtcrit/schemas/dtcrit-impact-1.json``; its keys on the reference page
+``docs/reference/generated/json-dtcrit-impact-1``, the envelope in ``docs/explanation/conventions.md``).
 """
 from __future__ import annotations
 

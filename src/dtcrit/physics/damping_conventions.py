@@ -12,7 +12,8 @@ where ``zeta_j`` is the damping ratio *as that code defines it* (the one dtcrit 
 ``zeta_t`` follows from the user's ``zeta``.  ``zeta(e) = -ln e / sqrt(pi^2 + ln^2 e)`` throughout.
 The mode damping ratio that decides the step, ``c A / (2 sqrt(k A))``, is reported beside it.
 
-Sources (each read in the code's source or documentation; see README, "Damping conventions"):
+Sources (each read in the code's source or documentation; see ``docs/howto/step.md``,
+section "Damping conventions"):
 
 * ``lammps`` -- LAMMPS ``pair_style gran/hooke(/history)``: F_n = kn delta - meff gamman v_n,
   tangential dashpot meff gammat v_t with gammat = gamman/2 when NULL (pair_gran_hooke_history.cpp,

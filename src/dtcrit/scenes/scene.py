@@ -2,7 +2,8 @@
 
 A scene names one or two particle types, the contact law between them, the integrator, and
 optionally the largest angular velocity ``omega_max`` and a safety factor (the format is documented
-in ``README.md, section Scene files``).  Parsing uses the standard library's ``tomllib`` only: no text from a file
+in ``docs/howto/step.md``, section "The scene format", every key on the Scene keys reference page).
+Parsing uses the standard library's ``tomllib`` only: no text from a file
 is ever evaluated as code (no ``eval``, ``sympify`` or ``parse_expr``).
 
 Every problem is reported as ``dtcrit.errors.InputError(key, reason)`` where ``key`` is the path of

@@ -1,5 +1,6 @@
-"""The documented JSON form of a ``dtcrit step`` result (schema ``dtcrit-step/1``; README.md, section
-"JSON").  New keys may be added; existing keys keep their meaning.
+"""The documented JSON form of a ``dtcrit step`` result (schema ``dtcrit-step/1``; ``docs/howto/step.md``,
+section "JSON", its keys on the reference page ``docs/reference/generated/json-dtcrit-step-1``).  New keys
+may be added; existing keys keep their meaning.
 """
 from __future__ import annotations
 
@@ -157,7 +158,7 @@ def _dense_json(d) -> dict | None:
 
 
 def step_json(result) -> dict:
-    """The document of schema ``dtcrit-step/1`` (README, section JSON).
+    """The document of schema ``dtcrit-step/1`` (``docs/howto/step.md``, section "JSON").
 
     Parameters
     ----------

@@ -136,7 +136,7 @@ class StepResult:
                             "(50-digit spectral radius, bisection)")
 
     def to_json(self) -> dict:
-        """The documented JSON form (schema ``dtcrit-step/1``; see README.md, section Scene files).
+        """The documented JSON form (schema ``dtcrit-step/1``; see ``docs/howto/step.md``, section "JSON").
 
         Returns
         -------

@@ -41,9 +41,11 @@ from dtcrit.packing.model import Box, Contacts, Packing
 __all__ = ["HALO_BOXES", "SAMPLES", "PartitionedSlab", "partitioned_slab", "to_slabs"]
 
 SAMPLES = 64
+"""Keys each rank contributes to choose the sample sort's splitters."""
 HALO_BOXES = 16
 """Boxes per rank that select its halo: bounding boxes of that many consecutive runs of its spheres."""
-"""Keys each rank contributes to choose the sample sort's splitters."""
+
+
 def _exchange(rows: np.ndarray, dest: np.ndarray, comm, MPI) -> np.ndarray:
     """Send each row to rank ``dest`` (an all-to-all of counts, then of the rows); received in rank order."""
     size = comm.Get_size()

@@ -33,8 +33,9 @@ What each rank does (``distribute``, then ``analyse_share``):
    energy share of the rotational DOFs, reduced across ranks; the mode itself stays distributed
    (gathering ``6N`` numbers on rank 0 is not cheap at scale).
 
-Memory per rank (measured on 10^4..10^6 spheres at 1 and 2 ranks; README.md, section "Beyond one
-machine").  Every rank reads or generates the whole input, O(N): a text dump peaks at about 0.9 kB
+Memory per rank (measured on 10^4..10^6 spheres at 1 and 2 ranks; ``docs/howto/mpi.md``, sections
+"Memory and time model" and "Measured").  Every rank reads or generates the whole input, O(N): a text
+dump peaks at about 0.9 kB
 per particle inside ``dump_io.read_dump``, a generated packing holds about 0.1 kB, and the search
 adds wrapped and renumbered copies of all positions (about 0.13 kB per particle together).
 Everything else is O(N/P + C/P) for C contacts: the search's temporaries (about 360 B per own

@@ -12,7 +12,8 @@ The file (UTF-8 JSON, one object)::
        ...],
      "contacts": [{"id1": 1, "id2": 2, "kn": 1e5, "ks": 8e4}, ...]}               (optional)
 
-* ``shape`` holds the keys of a scene's ``[[particle]]`` table (README, Scene files) and is read by
+* ``shape`` holds the keys of a scene's ``[[particle]]`` table (``docs/howto/step.md``, section
+  "The scene format") and is read by
   the one shape parser of scenes and bodies files (``dtcrit.bodies.spec.shape_from_table``): ``shape`` is one of ``sphere`` (``radius``), ``ellipsoid`` (``semi_axes``,
   largest first), ``superquadric`` (``semi_axes``, ``exponents``), ``box`` (``half_lengths``),
   ``polyhedron`` (``vertices``), ``clump`` (``spheres`` ``[[x, y, z, r], ...]``), with exactly one
@@ -24,9 +25,9 @@ The file (UTF-8 JSON, one object)::
   clump's ``spheres``, whose centre of mass is then at ``position + R(q) c`` (``c`` the centroid in
   that frame, ``ConvexPolyhedron.centroid``, ``Clump.centre_of_mass``).
 * ``orientation`` (optional, default ``[1, 0, 0, 0]``) is the unit quaternion of the body's
-  orientation, body to world, ``v_world = R(q) v_body`` (README, One rotation convention; Peng et
-  al. 2020, Eq. (7)); it must have unit length to 1e-6 and is then normalised.  Polyhedra and
-  clumps are analysed in their principal frame, ``R(q)`` times the shape's own frame rotation.
+  orientation, body to world, ``v_world = R(q) v_body`` (``docs/explanation/conventions.md``, "One
+  rotation convention"; Peng et al. 2020, Eq. (7)); it must have unit length to 1e-6 and is then
+  normalised.  Polyhedra and clumps are analysed in their principal frame, ``R(q)`` times the shape's own frame rotation.
 * ``id`` distinct integers, the names bodies carry in messages and contacts.
 * ``contacts`` (optional) gives each touching pair its springs ``kn``, ``ks`` [N/m].  Contact
   points and normals always come from the geometry (below); every listed pair must touch, and

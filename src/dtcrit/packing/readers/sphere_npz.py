@@ -14,13 +14,16 @@ read through ``numpy.memmap`` without reading the rest:
 
 Only axis-aligned boxes are written (the distributed contact search takes no sheared cell).
 :func:`convert_dump` writes one from a text dump in pieces of ``PIECE_BYTES`` of text (never the whole
-dump in memory), with the serial reader's checks on every row; :func:`open_spheres` maps the rows
-and reads the box.  ``python -m dtcrit.packing.readers.sphere_npz DUMP OUT.npz [--density RHO]
+dump in memory), with the serial reader's checks on every row, under a temporary name beside the target
+renamed onto it once complete (a failed conversion leaves no file); :func:`open_spheres` checks that the
+``spheres`` member holds exactly its ``N`` rows (a truncated or corrupted file is refused, never read as
+garbage), maps the rows and reads the box.  ``python -m dtcrit.packing.readers.sphere_npz DUMP OUT.npz [--density RHO]
 [--snapshot K]`` converts from the command line.
 """
 from __future__ import annotations
 
 import os
+import secrets
 import struct
 import sys
 import zipfile
@@ -83,8 +86,10 @@ class SphereFile:
     source: str
 
 
-def _member(handle, info: zipfile.ZipInfo, source: str) -> tuple[np.dtype, tuple, int]:
-    """``(dtype, shape, offset)`` of an uncompressed ``.npy`` member: where its array's bytes begin."""
+def _member(handle, info: zipfile.ZipInfo, source: str) -> tuple[np.dtype, tuple, int, int]:
+    """``(dtype, shape, offset, nbytes)`` of an uncompressed ``.npy`` member: where its array's bytes begin
+    and how many bytes of array the member holds (its size less its ``.npy`` header).
+    """
     if info.compress_type != zipfile.ZIP_STORED:
         raise InputError("file", f"{source}: member {info.filename} is compressed; {FORMAT} stores its arrays "
                                  "uncompressed (numpy.savez, not savez_compressed) so that they can be sliced")
@@ -92,14 +97,28 @@ def _member(handle, info: zipfile.ZipInfo, source: str) -> tuple[np.dtype, tuple
     fields = _LOCAL_HEADER.unpack(handle.read(_LOCAL_HEADER.size))
     if fields[0] != 0x04034B50:
         raise InputError("file", f"{source}: member {info.filename} has no zip local header")
-    handle.seek(info.header_offset + _LOCAL_HEADER.size + fields[9] + fields[10])
+    start = info.header_offset + _LOCAL_HEADER.size + fields[9] + fields[10]
+    handle.seek(start)
     version = np.lib.format.read_magic(handle)
     reader = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
     shape, fortran, dtype = reader(handle)
     if fortran:
         raise InputError("file", f"{source}: member {info.filename} is in Fortran order")
-    return dtype, shape, handle.tell()
+    offset = handle.tell()
+    return dtype, shape, offset, info.file_size - (offset - start)
 
+
+def _check_size(source: str, shape: tuple, offset: int, nbytes: int) -> None:
+    """Refuse a ``spheres.npy`` member whose bytes are not ``N`` rows of :data:`SPHERE_DTYPE` (truncated or
+    corrupted): the member's size must be its header plus ``N * itemsize``, and the file must hold them.
+    """
+    need = shape[0] * SPHERE_DTYPE.itemsize
+    if nbytes != need:
+        raise InputError("file", f"{source}: spheres.npy announces {shape[0]} rows ({need} bytes) but holds "
+                                 f"{nbytes} bytes of rows (truncated or corrupted)")
+    if os.path.getsize(source) < offset + need:
+        raise InputError("file", f"{source}: the file ends {offset + need - os.path.getsize(source)} bytes before "
+                                 f"the {shape[0]} rows of spheres.npy do (truncated)")
 
 def open_spheres(path) -> SphereFile:
     """Map the rows of a ``dtcrit-spheres/1`` file and read its box (module docstring: the layout).
@@ -113,6 +132,12 @@ def open_spheres(path) -> SphereFile:
     -------
     SphereFile
         The mapped rows and the box; nothing of the rows is read until sliced.
+
+    Raises
+    ------
+    InputError
+        Not a ``dtcrit-spheres/1`` file, or one truncated or corrupted (the ``spheres`` member's size is not
+        its header plus ``N`` rows, or the file ends before them), naming the file.
     """
     source = os.fspath(path)
     try:
@@ -121,7 +146,7 @@ def open_spheres(path) -> SphereFile:
             if not {"spheres.npy", "box.npy"} <= names:
                 raise InputError("file", f"{source}: a {FORMAT} file holds spheres.npy and box.npy, found "
                                          f"{sorted(names)[:6]}")
-            dtype, shape, offset = _member(handle, archive.getinfo("spheres.npy"), source)
+            dtype, shape, offset, nbytes = _member(handle, archive.getinfo("spheres.npy"), source)
             with archive.open("box.npy") as member:
                 box_record = np.lib.format.read_array(member, allow_pickle=False)
     except (OSError, zipfile.BadZipFile, ValueError) as exc:
@@ -131,6 +156,7 @@ def open_spheres(path) -> SphereFile:
     if dtype != SPHERE_DTYPE or len(shape) != 1 or shape[0] < 1:
         raise InputError("file", f"{source}: spheres.npy must be a 1-d array of at least one {SPHERE_DTYPE.descr}, "
                                  f"found {dtype.descr} {shape}")
+    _check_size(source, shape, offset, nbytes)
     if box_record.dtype != BOX_DTYPE or box_record.size != 1:
         raise InputError("file", f"{source}: box.npy must be one record of {BOX_DTYPE.descr}")
     record = box_record.reshape(-1)[0]
@@ -169,8 +195,13 @@ def convert_dump(dump, out, *, density: float | None = None, snapshot: int = -1)
     -------
     int
         The number of spheres written.
+
+    Notes
+    -----
+    The file is written under a temporary name beside ``out`` and renamed onto it (``os.replace``) once
+    complete: a conversion that fails leaves neither a partial ``out`` nor the temporary file.
     """
-    from dtcrit.packing.readers.dump_ranges import header_at, piece_packing, rows_in_range, scan_markers, snapshot_start
+    from dtcrit.packing.readers.dump_ranges import header_at, scan_markers, snapshot_start
 
     size = os.path.getsize(dump)
     markers = scan_markers(dump, 0, size)
@@ -178,6 +209,23 @@ def convert_dump(dump, out, *, density: float | None = None, snapshot: int = -1)
     if header.box.cell is not None:
         raise InputError("file", f"{dump}: a sheared (triclinic) box; {FORMAT} holds axis-aligned boxes only")
     end = next((o for o in markers.offsets if o > header.rows_start), size)
+    target = os.fspath(out)
+    head, tail = os.path.split(target)
+    temp = os.path.join(head, f".{tail}.{os.getpid()}.{secrets.token_hex(4)}.tmp")
+    try:
+        written = _write_archive(temp, dump, header, end, density)
+        os.replace(temp, target)
+    except BaseException:
+        if os.path.exists(temp):
+            os.remove(temp)
+        raise
+    return written
+
+
+def _write_archive(out: str, dump, header, end: int, density: float | None) -> int:
+    """Write the ``.npz`` of the snapshot ``header`` of ``dump`` (rows up to byte ``end``) to ``out``."""
+    from dtcrit.packing.readers.dump_ranges import piece_packing, rows_in_range
+
     written, line = 0, header.first_line
     record = np.zeros((), dtype=BOX_DTYPE)
     record["lo"], record["hi"], record["periodic"] = header.box.lo, header.box.hi, header.box.periodic

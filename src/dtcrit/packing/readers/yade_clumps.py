@@ -69,7 +69,8 @@ TERMS = ("kn", "ks", "kr", "ktw", "cn", "cs", "fn")
 def rotation_from_quaternion(where: str, wxyz) -> np.ndarray:
     """Body-to-global rotation matrix of a quaternion ``[w, x, y, z]`` (normalised here).
 
-    ``v_global = R v_body`` (YADE's ``Quaternion`` ``ori``; README, One rotation convention).
+    ``v_global = R v_body`` (YADE's ``Quaternion`` ``ori``; ``docs/explanation/conventions.md``,
+    "One rotation convention").
 
     Parameters
     ----------

@@ -271,7 +271,8 @@ def check_export_terms(doc: dict, path) -> None:
 
 
 def refusal_lines() -> list[str]:
-    """One line per refused YADE export field, for the README's list of refused inputs.
+    """One line per refused YADE export field, for the docs' list of refused inputs
+    (``docs/explanation/audit_conventions.md``, section "Inputs dtcrit refuses").
 
     Returns
     -------
