@@ -14,6 +14,7 @@ import numpy as np
 from dtcrit.figures._rotations import matrix_quaternion
 
 QUATERNION_KEY = "quaternion_2_body_to_world_wxyz"
+"""JSON key of particle 2's orientation: (qw, qx, qy, qz), body to world (Eq. (7) gives v_world = R(q) v_body)."""
 
 
 @dataclass(frozen=True)

@@ -18,7 +18,6 @@ from dtcrit.figures._rotations import (
 )
 from dtcrit.figures.appendix_a_contacts import ContactConfig, SearchResult, _config
 
-"""JSON key of particle 2's orientation: (qw, qx, qy, qz), body to world (Eq. (7) gives v_world = R(q) v_body)."""
 FORCE = (1.0, 1.0, 1.0)
 """Appendix A's contact force on particle 2 [N]."""
 PAPER_BASE_QUATERNION = (math.cos(math.pi / 8), 0.0, -math.sin(math.pi / 8), 0.0)
