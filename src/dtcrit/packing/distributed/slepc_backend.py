@@ -65,7 +65,8 @@ from dtcrit.packing.distributed.slepc_result import JSON_SCHEMA, UNITS, SlepcRes
 from dtcrit.packing.distributed.slab_contacts import SlabContacts, morton_order, slab_of_list, slab_sphere_contacts, split_rows
 
 __all__ = ["TOLERANCE", "NCV", "CHUNK", "FLUSH", "SYMMETRIC", "JSON_SCHEMA", "UNITS", "RankShare", "SlepcResult",
-           "distribute", "assemble", "solve", "analyse_share", "analyse", "format_result"]
+           "distribute", "assemble", "build_operator", "solve", "analyse_share", "analyse", "format_result",
+           "MATRICES", "DEFAULT_MATRIX", "SHELL_TOLERANCE", "SHELL_NCV"]
 
 TOLERANCE = 1e-12
 """EPS relative residual tolerance ``|A v - theta v| / theta``: the agreement with a serial solve
@@ -346,9 +347,22 @@ def _local_figures(share: RankShare) -> tuple[int, float, float]:
     return c.count, float(stiff.max(initial=0.0)), float(packing.masses[touched].min(initial=math.inf))
 
 
-def _operator(share: RankShare, matrix: str):
-    """``(mat, shell, mallocs, nonzeros)``: the assembled matrix, or the shell matrix and its context
-    (``slepc_shell``; nothing stored), from the share, which is dropped then (collective)."""
+def build_operator(share: RankShare, matrix: str):
+    """The operator ``A`` of ``share`` (collective); the share's packing and contacts are dropped then.
+
+    Parameters
+    ----------
+    share : RankShare
+        This rank's share (``distribute``).
+    matrix : str
+        ``"shell"`` (``slepc_shell``: nothing stored) or ``"assembled"``.
+
+    Returns
+    -------
+    tuple
+        ``(mat, shell, mallocs, nonzeros)``: the PETSc matrix, the shell's context (``None`` when
+        assembled), PETSc's mallocs and stored nonzeros on this rank (0 for the shell).
+    """
     if matrix == "shell":
         from dtcrit.packing.distributed.slepc_shell import local_layout, shell_matrix
 
@@ -389,7 +403,7 @@ def analyse_share(share: RankShare, tolerance: float | None = None, matrix: str 
     _, rank, size = world()
     n_local, k_max, m_min = _local_figures(share)
     clock = time.perf_counter()
-    mat, shell, mallocs, nonzeros = _operator(share, matrix)
+    mat, shell, mallocs, nonzeros = build_operator(share, matrix)
     release_memory()
     share.times["assembly"] = time.perf_counter() - clock
     share.peaks["assembly"] = peak_mib()

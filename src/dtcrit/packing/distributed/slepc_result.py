@@ -101,8 +101,12 @@ class SlepcResult:
         dict
             Field name to value.
         """
-        out = dict(self.__dict__)
-        return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in out.items()}
+        def finite(v):
+            if isinstance(v, dict):
+                return {k: finite(x) for k, x in v.items()}
+            return None if isinstance(v, float) and not math.isfinite(v) else v
+
+        return {k: finite(v) for k, v in self.__dict__.items()}
 
 
 def format_result(r: SlepcResult) -> str:

@@ -174,7 +174,8 @@ class ContactShell:
 
     def free(self) -> None:
         """Free the ghosted vectors (not ``destroy``: PETSc calls a context's ``destroy`` with the
-        matrix, and the bounds need the vectors after the solve)."""
+        matrix, and the bounds need the vectors after the solve).
+        """
         self.x_ghosted.destroy()
         self.y_ghosted.destroy()
 

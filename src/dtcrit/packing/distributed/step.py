@@ -103,7 +103,7 @@ def distributed_packing_step(source: str | os.PathLike | None = None, *, lattice
                              seed: int = 0, radius: float = DEFAULT_RADIUS, density: float | None = None,
                              kn: float | None = None, ks: float | None = None, youngs: float | None = None,
                              poisson: float = 0.25, snapshot: int = -1, integrator: str = "velocity-verlet",
-                             damping_ratio: float = 0.0) -> DistributedStep:
+                             damping_ratio: float = 0.0, matrix: str = "shell") -> DistributedStep:
     """The critical step of a packing by PETSc and SLEPc on the processes of an MPI launcher (collective).
 
     Parameters
@@ -114,6 +114,9 @@ def distributed_packing_step(source: str | os.PathLike | None = None, *, lattice
         Integrator of the damped bound.
     damping_ratio : float
         Modal damping ratio of the highest mode (finite, at least 0).
+    matrix : str
+        ``"shell"`` (matrix-free: the contact kernel under a PETSc shell matrix, ``slepc_shell``) or
+        ``"assembled"`` (``MPISBAIJ``).
 
     Returns
     -------
@@ -141,13 +144,15 @@ def distributed_packing_step(source: str | os.PathLike | None = None, *, lattice
 
     _, rank, _ = world()
     integrator_dt(1.0, integrator, damping_ratio)  # bad names and ratios fail before the work
+    if matrix not in sb.MATRICES:
+        raise InputError("slepc_matrix", f"unknown matrix {matrix!r}; choose one of {', '.join(sb.MATRICES)}")
     clock = time.perf_counter()
     given = packing_input(source, lattice=lattice, cells=cells, random=random, cn=cn, sizes=sizes, spread=spread,
                           seed=seed, radius=radius, density=density, kn=kn, ks=ks, youngs=youngs, poisson=poisson,
                           snapshot=snapshot, check_memory=False)
     share = sb.distribute(given.packing, given.law, given.contacts, t_input=time.perf_counter() - clock)
     del given  # the O(N) input is not needed by the matrix and the solve
-    result = sb.analyse_share(share)
+    result = sb.analyse_share(share, matrix=matrix)
     del share
     if result.n_contacts == 0:
         raise InputError("packing", "no two particles touch: no contact limits the step (nothing to analyse)")
