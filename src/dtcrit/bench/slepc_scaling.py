@@ -37,6 +37,7 @@ import sys
 import time
 
 from dtcrit.packing.distributed import mpi_support as mpi
+from dtcrit.packing.distributed import slepc_analysis as sa
 from dtcrit.packing.distributed import slepc_backend as sb
 
 
@@ -91,14 +92,14 @@ def measure(n: int, kind: str = "fcc", solve: bool = True, matrix: str = "shell"
     mine = {"rank": rank, "contacts": share.contacts.count, "local_particles": int(share.glob.size)}
     if not solve:
         clock = time.perf_counter()
-        sb.build_operator(share, matrix)[0].destroy()
+        sa.build_operator(share, matrix)[0].destroy()
         share.times["assembly"], share.peaks["assembly"] = time.perf_counter() - clock, mpi.peak_mib()
         keys = sorted(mine) + sorted(f"t_{k}" for k in share.times) + sorted(f"rss_{k}" for k in share.peaks)
         values = {**mine, **{f"t_{k}": v for k, v in share.times.items()}, **{f"rss_{k}": v for k, v in share.peaks.items()}}
         rows = mpi.allgather([values[k] for k in keys] + [base])
         return {"kind": kind, "ranks": size, "n_particles": share.n, "solve": False,
                 "per_rank": [dict(zip(keys + ["rss_base"], map(float, row))) for row in rows]}
-    r = sb.analyse_share(share, tolerance, matrix)
+    r = sa.analyse_share(share, tolerance, matrix)
     mine.update({f"t_{k}": v for k, v in share.times.items()})
     mine.update({f"rss_{k}": v for k, v in share.peaks.items()})
     keys = sorted(mine)

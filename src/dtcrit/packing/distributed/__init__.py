@@ -1,5 +1,8 @@
 """The distributed back-end: PETSc matrices and SLEPc Krylov-Schur under MPI (``--backend slepc``).
 
-Modules: ``step`` (``distributed_packing_step``, the API), ``slepc_backend`` (the solve), ``slepc_result`` (what it reports), ``mpi_support`` (MPI through petsc4py), ``slab_contacts`` (the contacts one
+Modules: ``step`` (``distributed_packing_step``, the API), ``slepc_backend`` (the share, the matrix, the solve), ``slepc_analysis`` (operator, solve and result: the
+stage after the share), ``slepc_shell`` (the
+matrix-free shell matrix: the contact kernel on each rank's contacts, the halo through ghosted vectors),
+``slepc_result`` (what it reports), ``mpi_support`` (MPI through petsc4py), ``slab_contacts`` (the contacts one
 rank needs).
 """

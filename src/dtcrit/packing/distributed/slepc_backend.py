@@ -7,7 +7,7 @@ dev.py mpi-env``: Debian's petsc4py and slepc4py); petsc4py and slepc4py are imp
 functions, so this module imports without them.  A run with one process (no launcher) is a valid
 one-rank run.
 
-What each rank does (``distribute``, then ``analyse_share``):
+What each rank does (``distribute``, then ``slepc_analysis.analyse_share``):
 
 1. Sphere packings are renumbered along a Morton curve (``slab_contacts.morton_order``; the
    eigenvalues do not depend on the numbering), so that a rank's particles are a compact piece of
@@ -56,8 +56,6 @@ import numpy as np
 from dtcrit.errors import InputError
 
 from dtcrit.packing.operators.assembly import contact_blocks, mass_diagonal
-from dtcrit.packing.solvers.certificate import bracket
-from dtcrit.packing.solvers.largest_mode import DEFAULT_TOL as SERIAL_TOL
 from dtcrit.packing.detection.overlaps import find_contacts, wrap_positions
 from dtcrit.packing.model import Contacts, Packing, apply_law
 from dtcrit.packing.distributed.mpi_support import agree, allgather, peak_mib, petsc, release_memory, world
@@ -65,8 +63,7 @@ from dtcrit.packing.distributed.slepc_result import JSON_SCHEMA, UNITS, SlepcRes
 from dtcrit.packing.distributed.slab_contacts import SlabContacts, morton_order, slab_of_list, slab_sphere_contacts, split_rows
 
 __all__ = ["TOLERANCE", "NCV", "CHUNK", "FLUSH", "SYMMETRIC", "JSON_SCHEMA", "UNITS", "RankShare", "SlepcResult",
-           "distribute", "assemble", "build_operator", "solve", "analyse_share", "analyse", "format_result",
-           "MATRICES", "DEFAULT_MATRIX", "SHELL_TOLERANCE", "SHELL_NCV"]
+           "distribute", "assemble", "solve", "format_result"]
 
 TOLERANCE = 1e-12
 """EPS relative residual tolerance ``|A v - theta v| / theta``: the agreement with a serial solve
@@ -75,18 +72,6 @@ NCV = 32
 """Krylov-Schur subspace size (SLEPc's default for one eigenvalue is 16).  Measured on 10^5 jittered
 FCC spheres to 1e-12: 1176 products at 16, 744 at 24, 624 at 32, 600 at 48; 32 was the fastest, for
 ``NCV + 1`` basis vectors of the rank's rows."""
-MATRICES = ("shell", "assembled")
-DEFAULT_MATRIX = "shell"
-"""``--slepc-matrix``: the matrix-free shell (``slepc_shell``) or the assembled ``MPISBAIJ``.  The shell
-is the default: measured faster at every size (README, section "Beyond one machine"), and it
-stores no matrix."""
-SHELL_TOLERANCE = 10 * SERIAL_TOL
-"""Relative residual of the shell route: the serial route's (LOBPCG stops at ``10 tol`` relative,
-``largest_mode.DEFAULT_TOL``), whose answer is the bracket ``[dt_safe, 2/sqrt(theta)]``."""
-SHELL_NCV = 16
-"""Krylov-Schur subspace of the shell route (measured below, ``bench.slepc_scaling``)."""
-SAFE_ASSEMBLED = "Gershgorin 2/sqrt(|A|_inf)"
-SAFE_SHELL = "the larger of the Gershgorin and block-diagonal steps (the serial route's)"
 MAX_RESTARTS = 20_000
 SYMMETRIC = True
 """Store ``A`` as ``MPISBAIJ`` (the upper block triangle: one 6 x 6 block per contact) rather than
@@ -345,131 +330,3 @@ def _local_figures(share: RankShare) -> tuple[int, float, float]:
     stiff = np.maximum(c.kn, c.ks)
     touched = np.unique(np.concatenate([c.i[stiff > 0], c.j[stiff > 0]]))
     return c.count, float(stiff.max(initial=0.0)), float(packing.masses[touched].min(initial=math.inf))
-
-
-def build_operator(share: RankShare, matrix: str):
-    """The operator ``A`` of ``share`` (collective); the share's packing and contacts are dropped then.
-
-    Parameters
-    ----------
-    share : RankShare
-        This rank's share (``distribute``).
-    matrix : str
-        ``"shell"`` (``slepc_shell``: nothing stored) or ``"assembled"``.
-
-    Returns
-    -------
-    tuple
-        ``(mat, shell, mallocs, nonzeros)``: the PETSc matrix, the shell's context (``None`` when
-        assembled), PETSc's mallocs and stored nonzeros on this rank (0 for the shell).
-    """
-    if matrix == "shell":
-        from dtcrit.packing.distributed.slepc_shell import local_layout, shell_matrix
-
-        packing, c = _held(share)
-        mat, shell = shell_matrix(local_layout(share.glob, share.lo, share.hi, packing, c), share.n)
-        share.packing, share.contacts = None, None  # the shell's operator holds all the solve needs
-        return mat, shell, 0, 0
-    mat = assemble(share)
-    share.packing, share.contacts = None, None  # the matrix holds all the solve needs
-    info = mat.getInfo(petsc()[0].Mat.InfoType.LOCAL)
-    return mat, None, int(info["mallocs"]), int(info["nz_used"])
-
-
-def analyse_share(share: RankShare, tolerance: float | None = None, matrix: str = DEFAULT_MATRIX) -> SlepcResult:
-    """Build ``A`` (``matrix``: ``"shell"``, matrix-free, or ``"assembled"``) and solve ``share``
-    (collective); the result, identical on every rank.  The share's packing and contacts are dropped
-    once the operator holds them.
-
-    Parameters
-    ----------
-    share : RankShare
-        This rank's share (``distribute``).
-    tolerance : float or None
-        Relative residual tolerance of the eigen-solve (default ``SHELL_TOLERANCE`` for the shell,
-        ``TOLERANCE`` for the assembled matrix).
-    matrix : str
-        One of ``MATRICES``.
-
-    Returns
-    -------
-    SlepcResult
-        The step, its bracket ``[dt_safe, 2/sqrt(theta)]`` and the solver's figures.
-    """
-    if matrix not in MATRICES:
-        raise InputError("slepc_matrix", f"unknown matrix {matrix!r}; choose one of {', '.join(MATRICES)}")
-    shell_route = matrix == "shell"
-    tolerance = (SHELL_TOLERANCE if shell_route else TOLERANCE) if tolerance is None else tolerance
-    _, rank, size = world()
-    n_local, k_max, m_min = _local_figures(share)
-    clock = time.perf_counter()
-    mat, shell, mallocs, nonzeros = build_operator(share, matrix)
-    release_memory()
-    share.times["assembly"] = time.perf_counter() - clock
-    share.peaks["assembly"] = peak_mib()
-    clock = time.perf_counter()
-    top = solve(mat, tolerance, SHELL_NCV if shell_route else NCV, norm=not shell_route)
-    mat.destroy()
-    share.times["solve"] = time.perf_counter() - clock
-    share.peaks["solve"] = peak_mib()
-    if shell is not None:  # the serial route's bounds, after the solve (its basis is freed by then)
-        from dtcrit.packing.distributed.slepc_shell import shell_bounds
-
-        clock = time.perf_counter()
-        dt_safe, safe_from = shell_bounds(shell), SAFE_SHELL
-        shell.free()
-        share.times["bounds"] = time.perf_counter() - clock
-        share.peaks["bounds"] = peak_mib()
-    else:
-        dt_safe, safe_from = 2.0 / math.sqrt(top["norm_inf"]) if top["norm_inf"] > 0 else math.inf, SAFE_ASSEMBLED
-    del shell
-    stages = list(share.times)
-    rows = allgather([n_local, k_max, m_min, mallocs, nonzeros, top["matvec_time"],
-                      *(share.times[k] for k in stages), *(share.peaks[k] for k in share.peaks)])
-    n_contacts, k_max, m_min = int(rows[:, 0].sum()), float(rows[:, 1].max()), float(rows[:, 2].min())
-    theta = top["theta"]
-    omega = math.sqrt(theta) if theta > 0 else 0.0
-    dt = 2.0 / omega if omega > 0 else math.inf
-    times = {k: float(rows[:, 6 + i].max()) for i, k in enumerate(stages)}
-    peaks = {k: float(rows[:, 6 + len(stages) + i].max()) for i, k in enumerate(share.peaks)}
-    per_rank = [{"rank": r, "rows": int(6 * (b - a)), "contacts": int(rows[r, 0]),
-                 "peak_rss_mib": float(rows[r, 6 + len(stages):].max())}
-                for r, (a, b) in enumerate(split_rows(share.n, size, q) for q in range(size))]
-    return SlepcResult(
-        label=share.label, law=share.law, ranks=size, n_particles=share.n, dofs=6 * share.n, n_contacts=n_contacts,
-        cn_mean=2.0 * n_contacts / share.n, k_max=k_max, m_min=m_min, omega_max=omega, dt_crit=dt, dt_safe=dt_safe,
-        alpha=dt / math.sqrt(m_min / k_max) if k_max > 0 and math.isfinite(dt) and math.isfinite(m_min) else math.inf,
-        rotational_fraction=float(top["rotational_fraction"]), solver="slepc krylovschur",
-        tolerance=float(top["tolerance"]), ncv=int(top["ncv"]), iterations=int(top["iterations"]),
-        matvecs=top["matvecs"], residual=float(top["residual"]),
-        relative_residual=float(top["residual"] / theta) if theta > 0 else 0.0,
-        matrix_mallocs=int(rows[:, 3].sum()), matrix_nonzeros=int(rows[:, 4].sum()),
-        matvec_seconds=float(rows[:, 5].max()) / max(top["matvecs"], 1), times=times, peak_rss_mib=peaks,
-        per_rank=per_rank, matrix=matrix, dt_safe_from=safe_from,
-        dt_bracket=bracket(theta, dt_safe if math.isfinite(dt_safe) else 0.0, None).to_dict())
-
-
-def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, tolerance: float | None = None,
-            matrix: str = DEFAULT_MATRIX) -> SlepcResult:
-    """``distribute`` then ``analyse_share`` (the caller's ``packing`` stays alive meanwhile; the command
-    line drops its own reference in between, so that the O(N) input is freed before the matrix).
-
-    Parameters
-    ----------
-    packing : Packing
-        The whole packing (the same on every rank).
-    law : object or None
-        Contact law; default linear unit springs unless ``contacts`` carry a stiffness.
-    contacts : Contacts or None
-        A contact list every rank holds (default: found here).
-    tolerance : float or None
-        Relative residual tolerance of the eigen-solve (default: the route's).
-    matrix : str
-        ``"shell"`` (matrix-free) or ``"assembled"``.
-
-    Returns
-    -------
-    SlepcResult
-        The step and the solver's figures.
-    """
-    return analyse_share(distribute(packing, law, contacts), tolerance, matrix)

@@ -32,11 +32,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from dtcrit.packing.model import Contacts, Packing
 from dtcrit.packing.distributed.mpi_support import allgather, petsc, world
+
+if TYPE_CHECKING:
+    from dtcrit.packing.operators.matrix_free import ContactOperator
 
 __all__ = ["LocalLayout", "local_layout", "ContactShell", "OwnRows", "shell_matrix", "shell_bounds"]
 
@@ -120,7 +124,7 @@ class ContactShell:
         PETSc, _ = petsc()
         comm, _, _ = world()
         self.layout, self.n = layout, int(n)
-        self.operator = stiffness_operator(layout.packing, layout.contacts, compiled=compiled)
+        self.operator: ContactOperator | None = stiffness_operator(layout.packing, layout.contacts, compiled=compiled)
         ghosts = np.ascontiguousarray(layout.ghosts, dtype=PETSc.IntType)
         size = (6 * layout.n_own, 6 * self.n)
         self.x_ghosted = PETSc.Vec().createGhost(ghosts, size, bsize=6, comm=comm)
@@ -142,35 +146,43 @@ class ContactShell:
         xg.getArray()[:] = x.getArray(readonly=True)
         xg.ghostUpdate(PETSc.InsertMode.INSERT_VALUES, PETSc.ScatterMode.FORWARD)
         with xg.localForm() as xl, yg.localForm() as yl:
-            self.operator.apply_into(xl.getArray(readonly=True), yl.getArray())
+            self.held().apply_into(xl.getArray(readonly=True), yl.getArray())
         yg.ghostUpdate(PETSc.InsertMode.ADD_VALUES, PETSc.ScatterMode.REVERSE)
         y.getArray()[:] = yg.getArray(readonly=True)
         self.products += 1
 
+    def held(self) -> ContactOperator:
+        """The operator (an error once ``shell_bounds`` dropped it).
+
+        Returns
+        -------
+        ContactOperator
+            This rank's contact operator over its local particles.
+        """
+        if self.operator is None:
+            raise RuntimeError("the shell's operator was dropped after its bounds")
+        return self.operator
+
     def reverse_sum(self, values: np.ndarray) -> np.ndarray:
-        """Per-particle numbers over the local particles (own and ghost rows), summed onto their
-        owners: the own rows' totals over all ranks (collective).
+        """Six numbers per local particle (own and ghost rows), summed onto their owners: the own rows'
+        totals over all ranks (collective).
 
         Parameters
         ----------
         values : numpy.ndarray
-            Shape (own + ghosts, k), ``k`` a multiple of 6.
+            Shape (own + ghosts, 6).
 
         Returns
         -------
         numpy.ndarray
-            Shape (own, k): each own particle's sum over every rank's rows of it.
+            Shape (own, 6): each own particle's sum over every rank's rows of it.
         """
         PETSc, _ = petsc()
         yg = self.y_ghosted
-        width = values.shape[1]
-        out = np.empty((self.layout.n_own, width))
-        for col in range(0, width, 6):
-            with yg.localForm() as yl:
-                yl.getArray()[:] = values[:, col:col + 6].reshape(-1)
-            yg.ghostUpdate(PETSc.InsertMode.ADD_VALUES, PETSc.ScatterMode.REVERSE)
-            out[:, col:col + 6] = yg.getArray(readonly=True).reshape(-1, 6)
-        return out
+        with yg.localForm() as yl:
+            yl.getArray()[:] = np.asarray(values).reshape(-1)
+        yg.ghostUpdate(PETSc.InsertMode.ADD_VALUES, PETSc.ScatterMode.REVERSE)
+        return yg.getArray(readonly=True).reshape(-1, 6).copy()
 
     def free(self) -> None:
         """Free the ghosted vectors (not ``destroy``: PETSc calls a context's ``destroy`` with the
@@ -234,8 +246,27 @@ class OwnRows:
         return (self.coupling[key] + diag).reshape(-1)
 
 
+def _coupling_sums(op, chunk: int = 1 << 16) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(blocks, coupling_ones, coupling_root)`` of this rank's contacts over its local particles: the
+    scaled diagonal blocks (N_loc, 6, 6) and ``|A| w`` less the blocks' part (N_loc, 6), for ``w = 1``
+    and ``w = sqrt(m)`` (``ContactOperator.abs_row_sums`` counts the diagonal blocks in).
+    """
+    root = np.sqrt(op.mass_diag).reshape(-1, 6)
+    blocks = op.diagonal_blocks()
+    out = []
+    for w in (None, root):
+        sums = op.abs_row_sums(None if w is None else w.reshape(-1)).reshape(-1, 6).copy()
+        for lo in range(0, len(sums), chunk):
+            part = slice(lo, lo + chunk)
+            diag = np.abs(blocks[part])
+            sums[part] -= diag.sum(axis=2) if w is None else np.einsum("pab,pb->pa", diag, w[part])
+        out.append(sums)
+    return blocks, out[0], out[1]
+
+
 def shell_bounds(shell: ContactShell) -> float:
-    """The serial route's ``dt_safe`` (module docstring, 3), the same on every rank (collective).
+    """The serial route's ``dt_safe`` (module docstring, 3), the same on every rank (collective).  The
+    last use of the shell: its operator is dropped here, before the bounds' own arrays are made.
 
     Parameters
     ----------
@@ -252,23 +283,17 @@ def shell_bounds(shell: ContactShell) -> float:
     from dtcrit.packing.operators.assembly import mass_diagonal
 
     n_own = shell.layout.n_own
-    op = shell.operator
-    root_local = np.sqrt(op.mass_diag)
-    blocks = op.diagonal_blocks()  # this rank's contacts' part of each local particle's block
-    abs_blocks = np.abs(blocks)
-    coupling = []
-    for w in (None, root_local):
-        sums = op.abs_row_sums(w).reshape(-1, 6)
-        w6 = np.ones_like(sums) if w is None else w.reshape(-1, 6)
-        coupling.append(sums - np.einsum("pab,pb->pa", abs_blocks, w6))
-    del abs_blocks
-    totals = shell.reverse_sum(np.concatenate([blocks.reshape(-1, 36), *coupling], axis=1))
+    blocks, ones, root = _coupling_sums(shell.held())
+    shell.operator = None  # with its cached blocks and row sums: only the local arrays are needed now
+    own_blocks = np.empty((n_own, 6, 6))
+    for b in range(6):
+        own_blocks[:, :, b] = shell.reverse_sum(blocks[:, :, b])
+    del blocks
+    coupling = [shell.reverse_sum(values) for values in (ones, root)]
+    del ones, root
     own_mass = mass_diagonal(shell.layout.packing)[:6 * n_own]
-    rows = OwnRows(np.ascontiguousarray(totals[:, :36]).reshape(n_own, 6, 6), totals[:, 36:42], totals[:, 42:48],
-                   np.sqrt(own_mass))
-    omega2 = [0.0, 0.0]
-    if n_own:
-        omega2 = [est.gershgorin(rows, own_mass).omega2 or 0.0, est.block_diagonal(rows).omega2 or 0.0]
+    rows = OwnRows(own_blocks, coupling[0], coupling[1], np.sqrt(own_mass))
+    omega2 = [est.gershgorin(rows, own_mass).omega2 or 0.0, est.block_diagonal(rows).omega2 or 0.0] if n_own else [0.0, 0.0]
     top = allgather(omega2).max(axis=0)
     steps = [2.0 / math.sqrt(w2) for w2 in top if w2 > 0]
     return max(steps) if steps else math.inf

@@ -3,7 +3,7 @@
 
 Every rank reads or generates the whole packing (``dtcrit.packing.step.packing_input``), keeps its
 share of the contacts (``slepc_backend.distribute``) and takes part in the Krylov-Schur solve
-(``slepc_backend.analyse_share``); every rank returns the same numbers, and a caller prints on rank 0
+(``slepc_analysis.analyse_share``); every rank returns the same numbers, and a caller prints on rank 0
 only.  ``dt_crit = 2/omega_max`` (Otsubo et al. 2017, Eq. (13)); the integrator's step at the modal
 damping ratio comes from ``dtcrit.packing.solvers.integrator_step.integrator_dt``.
 """
@@ -137,6 +137,7 @@ def distributed_packing_step(source: str | os.PathLike | None = None, *, lattice
     >>> step.omega_max * step.dt_crit  # doctest: +SKIP
     2.0
     """
+    from dtcrit.packing.distributed import slepc_analysis as sa
     from dtcrit.packing.distributed import slepc_backend as sb
     from dtcrit.packing.distributed.mpi_support import world
     from dtcrit.packing.solvers.integrator_step import integrator_dt
@@ -144,15 +145,15 @@ def distributed_packing_step(source: str | os.PathLike | None = None, *, lattice
 
     _, rank, _ = world()
     integrator_dt(1.0, integrator, damping_ratio)  # bad names and ratios fail before the work
-    if matrix not in sb.MATRICES:
-        raise InputError("slepc_matrix", f"unknown matrix {matrix!r}; choose one of {', '.join(sb.MATRICES)}")
+    if matrix not in sa.MATRICES:
+        raise InputError("slepc_matrix", f"unknown matrix {matrix!r}; choose one of {', '.join(sa.MATRICES)}")
     clock = time.perf_counter()
     given = packing_input(source, lattice=lattice, cells=cells, random=random, cn=cn, sizes=sizes, spread=spread,
                           seed=seed, radius=radius, density=density, kn=kn, ks=ks, youngs=youngs, poisson=poisson,
                           snapshot=snapshot, check_memory=False)
     share = sb.distribute(given.packing, given.law, given.contacts, t_input=time.perf_counter() - clock)
     del given  # the O(N) input is not needed by the matrix and the solve
-    result = sb.analyse_share(share, matrix=matrix)
+    result = sa.analyse_share(share, matrix=matrix)
     del share
     if result.n_contacts == 0:
         raise InputError("packing", "no two particles touch: no contact limits the step (nothing to analyse)")
