@@ -201,6 +201,7 @@ def compare(n: int, kind: str = "fcc", assembled: bool = True, stream=sys.stdout
         Each case's figures (``name`` added).
     """
     env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
+    env.setdefault("OMPI_MCA_mpi_yield_when_idle", "1")  # a waiting rank yields its core (a shared machine)
     if hasattr(os, "geteuid") and os.geteuid() == 0:
         env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     me = [sys.executable, "-m", "dtcrit.bench.slepc_scaling", str(n), kind]
