@@ -3,6 +3,7 @@
 Modules: ``step`` (``distributed_packing_step``, the API), ``slepc_backend`` (the share, the matrix, the solve), ``slepc_analysis`` (operator, solve and result: the
 stage after the share), ``slepc_shell`` (the
 matrix-free shell matrix: the contact kernel on each rank's contacts, the halo through ghosted vectors),
+``slepc_start`` (the shell's Chebyshev-filtered start vector),
 ``slepc_result`` (what it reports), ``mpi_support`` (MPI through petsc4py), ``slab_contacts`` (the contacts one
 rank needs).
 """

@@ -266,7 +266,7 @@ def assemble(share: RankShare):
     return mat
 
 
-def solve(mat, tolerance: float = TOLERANCE, ncv: int = NCV, *, norm: bool = True) -> dict:
+def solve(mat, tolerance: float = TOLERANCE, ncv: int = NCV, *, norm: bool = True, start=None) -> dict:
     """The top eigenpair of ``mat`` by Krylov-Schur (collective): ``theta``, ``residual``, ``iterations``
     (restarts), ``matvecs``, ``rotational_fraction``, ``norm_inf`` (``|A|_inf``), ``matvec_time`` (this
     rank's seconds in MatMult), and the ``tolerance`` and ``ncv`` used (PETSC_OPTIONS may set them).
@@ -281,6 +281,9 @@ def solve(mat, tolerance: float = TOLERANCE, ncv: int = NCV, *, norm: bool = Tru
         Krylov subspace size.
     norm : bool
         Compute ``|A|_inf`` (a stored matrix; a shell matrix has none: ``norm_inf`` is then ``nan``).
+    start : callable or None
+        ``start(mat)`` returns the initial vector (``slepc_start.chebyshev_start``; its products
+        are counted); default SLEPc's random one.
 
     Returns
     -------
@@ -291,6 +294,7 @@ def solve(mat, tolerance: float = TOLERANCE, ncv: int = NCV, *, norm: bool = Tru
     PETSc.Log.begin()
     matmult = PETSc.Log.Event("MatMult")
     before = matmult.getPerfInfo()
+    initial = start(mat) if start is not None else None
     eps = SLEPc.EPS().create(comm=mat.getComm())
     eps.setOperators(mat)
     eps.setType(SLEPc.EPS.Type.KRYLOVSCHUR)
@@ -299,6 +303,8 @@ def solve(mat, tolerance: float = TOLERANCE, ncv: int = NCV, *, norm: bool = Tru
     eps.setDimensions(nev=1, ncv=min(ncv, mat.getSize()[0]))
     eps.setTolerances(tolerance, MAX_RESTARTS)
     eps.setFromOptions()  # PETSC_OPTIONS="-eps_ncv 24 -eps_tol 1e-11 ..." overrides these settings
+    if initial is not None:
+        eps.setInitialSpace([initial])
     eps.solve()
     after = matmult.getPerfInfo()
     tolerance, _ = eps.getTolerances()
@@ -317,6 +323,8 @@ def solve(mat, tolerance: float = TOLERANCE, ncv: int = NCV, *, norm: bool = Tru
            "tolerance": tolerance, "ncv": eps.getDimensions()[1]}
     eps.destroy()
     vec.destroy()
+    if initial is not None:
+        initial.destroy()
     return out
 
 
