@@ -1,23 +1,25 @@
 """Scale measurements of the PETSc/SLEPc back-end beside the serial route (a benchmark, not a test).
 
-    mpirun -n P .venv-mpi/bin/python -m dtcrit.bench.slepc_scaling N [KIND] [shell|assembled] [nosolve] [tol=X]
+    mpirun -n P .venv-mpi/bin/python -m dtcrit.bench.slepc_scaling N [KIND] [shell|assembled] [OPTIONS]
     .venv-mpi/bin/python -m dtcrit.bench.slepc_scaling N [KIND] serial
     .venv-mpi/bin/python -m dtcrit.bench.slepc_scaling compare N [KIND] [noassembled]
 
-The first form runs one size in fresh processes (a process's peak memory is never given back, so
+(``OPTIONS``: ``nosolve``, ``nostart``, ``tol=X``).  The first form runs one size in fresh processes (a process's peak memory is never given back, so
 one size per launch) and rank 0 prints one JSON line: every rank's stage times (generating or
 reading the packing, its slab's contacts, the operator -- assembly, or the shell's set-up --, the
 solve, and for the shell the bounds) and its peak resident memory after each stage, the resident
 memory before any work (interpreter, NumPy, SciPy, PETSc), the matrix's nonzeros, the solver's
 restarts and products, PETSc's time per product and the answer (``omega2``, ``dt_crit``, ``dt_safe``
 and the bracket).  ``shell`` (the default) is the matrix-free route (``slepc_shell``), ``assembled``
-the ``MPISBAIJ`` matrix, each at its own default tolerance unless ``tol=X``.  The second form is the
+the ``MPISBAIJ`` matrix, each at its own default tolerance unless ``tol=X``; ``nostart`` starts the
+shell's Krylov-Schur from SLEPc's random vector instead of the Chebyshev-filtered one.  The second form is the
 serial matrix-free route in one process (contact search, LOBPCG from the Chebyshev start, the
 Gershgorin and block-diagonal bounds), as ``dtcrit packing --route matrix-free`` runs it.
 
 ``compare`` runs them side by side in ONE invocation, each case in its own launch (this
 interpreter; ``mpirun`` for the MPI cases): serial, SLEPc assembled at 1 and 2 ranks (its default
-relative residual 1e-12, and 1e-6 on one rank: the serial route's), SLEPc shell at 1 and 2 ranks;
+relative residual 1e-12, and 1e-6 on one rank: the serial route's), SLEPc shell at 1 and 2 ranks
+(and on one rank from a random start);
 ``noassembled`` leaves the assembled cases out (at 10^6 FCC they take 16 min).  It prints a
 Markdown table and the cases' JSON.
 
@@ -59,7 +61,8 @@ def _packing(n: int, kind: str):
         return read_dump(kind, density=2650.0)
 
 
-def measure(n: int, kind: str = "fcc", solve: bool = True, matrix: str = "shell", tolerance: float | None = None) -> dict:
+def measure(n: int, kind: str = "fcc", solve: bool = True, matrix: str = "shell", tolerance: float | None = None,
+            filtered_start: bool = True) -> dict:
     """One size on ``COMM_WORLD`` (collective): the figures of the module docstring.
 
     Parameters
@@ -74,6 +77,8 @@ def measure(n: int, kind: str = "fcc", solve: bool = True, matrix: str = "shell"
         ``"shell"`` or ``"assembled"``.
     tolerance : float or None
         Relative residual of the solve (default: the route's).
+    filtered_start : bool
+        The shell's Chebyshev-filtered start (``False``: SLEPc's random start).
 
     Returns
     -------
@@ -99,7 +104,7 @@ def measure(n: int, kind: str = "fcc", solve: bool = True, matrix: str = "shell"
         rows = mpi.allgather([values[k] for k in keys] + [base])
         return {"kind": kind, "ranks": size, "n_particles": share.n, "solve": False,
                 "per_rank": [dict(zip(keys + ["rss_base"], map(float, row))) for row in rows]}
-    r = sa.analyse_share(share, tolerance, matrix)
+    r = sa.analyse_share(share, tolerance, matrix, filtered_start=filtered_start)
     mine.update({f"t_{k}": v for k, v in share.times.items()})
     mine.update({f"rss_{k}": v for k, v in share.peaks.items()})
     keys = sorted(mine)
@@ -176,8 +181,9 @@ def _launch(cmd: list[str], env: dict) -> dict:
 
 CASES = (("serial", 1, "serial", None), ("SLEPc assembled", 1, "assembled", None),
          ("SLEPc assembled", 2, "assembled", None), ("SLEPc assembled, rtol 1e-6", 1, "assembled", 1e-6),
-         ("SLEPc shell", 1, "shell", None), ("SLEPc shell", 2, "shell", None))
-"""The cases of ``compare``: (name, ranks, route, tolerance or ``None`` for the route's default)."""
+         ("SLEPc shell", 1, "shell", None), ("SLEPc shell", 2, "shell", None),
+         ("SLEPc shell, random start", 1, "shell nostart", None))
+"""The cases of ``compare``: (name, ranks, route and options, tolerance or ``None`` for the route's default)."""
 
 
 def compare(n: int, kind: str = "fcc", assembled: bool = True, stream=sys.stdout) -> list[dict]:
@@ -212,7 +218,7 @@ def compare(n: int, kind: str = "fcc", assembled: bool = True, stream=sys.stdout
     for name, ranks, route, tol in CASES:
         if route == "assembled" and not assembled:
             continue
-        extra = [route] + ([f"tol={tol:g}"] if tol else [])
+        extra = route.split() + ([f"tol={tol:g}"] if tol else [])
         cmd = me + extra if route == "serial" else [shutil.which("mpirun") or "mpirun", "--oversubscribe", "-n",
                                                           str(ranks), *me, *extra]
         doc = dict(_launch(cmd, env), name=name)
@@ -257,7 +263,8 @@ def main(argv: list[str]) -> int:
         return 0
     tol = next((float(a[4:]) for a in argv[2:] if a.startswith("tol=")), None)
     matrix = "assembled" if "assembled" in argv[2:] else "shell"
-    doc = measure(n, kind, solve="nosolve" not in argv[2:], matrix=matrix, tolerance=tol)
+    doc = measure(n, kind, solve="nosolve" not in argv[2:], matrix=matrix, tolerance=tol,
+                  filtered_start="nostart" not in argv[2:])
     _, rank, _ = mpi.world()
     if rank == 0:
         print(json.dumps(doc))

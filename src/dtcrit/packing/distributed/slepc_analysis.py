@@ -74,7 +74,8 @@ def build_operator(share: RankShare, matrix: str):
     return mat, None, int(info["mallocs"]), int(info["nz_used"])
 
 
-def analyse_share(share: RankShare, tolerance: float | None = None, matrix: str = DEFAULT_MATRIX) -> SlepcResult:
+def analyse_share(share: RankShare, tolerance: float | None = None, matrix: str = DEFAULT_MATRIX, *,
+                  filtered_start: bool = True) -> SlepcResult:
     """Build ``A`` (``matrix``: ``"shell"``, matrix-free, or ``"assembled"``) and solve ``share``
     (collective); the result, identical on every rank.  The share's packing and contacts are dropped
     once the operator holds them.
@@ -88,6 +89,9 @@ def analyse_share(share: RankShare, tolerance: float | None = None, matrix: str 
         ``TOLERANCE`` for the assembled matrix).
     matrix : str
         One of ``MATRICES``.
+    filtered_start : bool
+        Start the shell's Krylov-Schur from the Chebyshev-filtered vector (``slepc_start``) rather
+        than SLEPc's random one.
 
     Returns
     -------
@@ -107,7 +111,7 @@ def analyse_share(share: RankShare, tolerance: float | None = None, matrix: str 
     share.peaks["assembly"] = peak_mib()
     clock = time.perf_counter()
     start = None
-    if shell is not None:  # the serial route's Chebyshev-filtered start (slepc_start)
+    if shell is not None and filtered_start:  # the serial route's Chebyshev-filtered start (slepc_start)
         from dtcrit.packing.distributed.slepc_start import chebyshev_start, start_vector
 
         layout = shell.layout
@@ -118,7 +122,7 @@ def analyse_share(share: RankShare, tolerance: float | None = None, matrix: str 
     mat.destroy()
     share.times["solve"] = time.perf_counter() - clock
     share.peaks["solve"] = peak_mib()
-    if shell is not None:  # the serial route's bounds, after the solve (its basis is freed by then)
+    if shell is not None and filtered_start:  # the serial route's bounds, after the solve (its basis is freed by then)
         from dtcrit.packing.distributed.slepc_shell import shell_bounds
 
         clock = time.perf_counter()
