@@ -122,7 +122,7 @@ def analyse_share(share: RankShare, tolerance: float | None = None, matrix: str 
     mat.destroy()
     share.times["solve"] = time.perf_counter() - clock
     share.peaks["solve"] = peak_mib()
-    if shell is not None and filtered_start:  # the serial route's bounds, after the solve (its basis is freed by then)
+    if shell is not None:  # the serial route's bounds, after the solve (its basis is freed by then)
         from dtcrit.packing.distributed.slepc_shell import shell_bounds
 
         clock = time.perf_counter()
