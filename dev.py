@@ -165,7 +165,9 @@ MPI_APT = {"python3-petsc4py-real": "usr/lib/petscdir/petsc3.*/*-real/lib/python
 """Debian packages of the PETSc/SLEPc back-end -> where their module lands (Debian's layout: the
 real-number builds with 32-bit indices, on no interpreter's path by default); ``None``: the package
 gives ``mpirun``."""
-MPI_RUNTIME = ("scipy", "sympy", "mpmath", "tqdm")  # at their constraints.txt pins; NumPy stays 1.x
+MPI_RUNTIME = ("scipy", "sympy", "mpmath", "tqdm", "numba", "llvmlite")  # at their constraints.txt pins; NumPy 1.x
+"""numba (with its llvmlite) runs the contact kernel of the matrix-free SLEPc route (``--slepc-matrix shell``);
+its pin supports NumPy >= 1.22, so it loads beside the 1.x NumPy of Debian's petsc4py."""
 
 
 def ensure_mpi_env() -> str | None:
@@ -186,7 +188,7 @@ def ensure_mpi_env() -> str | None:
         return "needs apt-get install python3-slepc4py-real python3-petsc4py-real openmpi-bin (as root)"
     dirs = [str(found(where).parent) for where in MPI_APT.values() if where]
     digest = hashlib.sha256((ROOT / "pyproject.toml").read_bytes() + (ROOT / "constraints.txt").read_bytes()
-                            + " ".join(dirs).encode()).hexdigest()
+                            + " ".join(dirs + list(MPI_RUNTIME)).encode()).hexdigest()
     stamp = MPI_VENV / ".dtcrit-installed"
     if MPI_PY.exists() and stamp.exists() and stamp.read_text().strip() == digest:
         return None

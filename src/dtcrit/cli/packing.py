@@ -25,6 +25,7 @@ import os
 import sys
 import time
 
+from dtcrit.errors import InputError
 from dtcrit.packing.step import DEFAULT_DENSITY, DEFAULT_RADIUS
 
 
@@ -80,6 +81,9 @@ def add_parser(subparsers) -> None:
     run.add_argument("--partitioned-read", action="store_true", default=None,
                      help="with --backend slepc: each rank reads only its piece of the dump FILE and keeps its "
                           "Morton slab (automatic for a .npz sphere file)")
+    run.add_argument("--slepc-matrix", choices=("shell", "assembled"), default=None,
+                     help="with --backend slepc: shell (default: matrix-free, the contact kernel on each rank's "
+                          "contacts) or assembled (PETSc MPISBAIJ)")
     p.set_defaults(run=run_command)
 
 
@@ -87,7 +91,8 @@ FLAGS = {"cells": "--cells", "n": "--random", "radius": "--radius", "kn": "--kn"
          "youngs": "--youngs", "poisson": "--poisson", "density": "--density", "cn": "--cn", "spread": "--spread",
          "sizes": "--sizes", "seed": "--seed", "integrator": "--integrator", "damping_ratio": "--damping-ratio",
          "damping-ratio": "--damping-ratio", "method": "--solver", "route": "--route", "snapshot": "--snapshot",
-         "lattice": "--lattice", "scale": "--scale", "random": "--random", "write_dump": "--write-dump"}
+         "lattice": "--lattice", "scale": "--scale", "random": "--random", "write_dump": "--write-dump",
+         "slepc_matrix": "--slepc-matrix"}
 """Library keys (``InputError.key``) and the flags of ``dtcrit packing`` that set them."""
 
 
@@ -158,6 +163,8 @@ def _run(args) -> int:
         return _run_slepc(args)
     if args.partitioned_read:
         raise ValueError("partitioned-read: reads a FILE in pieces for --backend slepc only")
+    if args.slepc_matrix is not None:
+        raise InputError("--slepc-matrix", "only with --backend slepc (the serial backend chooses with --route)")
     if args.scale:
         from dtcrit.bench.packing_scaling import parse_sizes, run_sizes
 
@@ -212,7 +219,8 @@ def _slepc_report(args) -> int:
         if getattr(args, key) != default:
             raise ValueError(f"{flag[2:]}: not used with --backend slepc (it reports omega_max, dt_crit and "
                              "dt_safe; the serial backend has the estimates, routes and certificate)")
-    step = distributed_packing_step(args.file, **_packing_options(args), partitioned=args.partitioned_read)
+    step = distributed_packing_step(args.file, **_packing_options(args), partitioned=args.partitioned_read,
+                                    matrix=args.slepc_matrix or "shell")
     if step.rank != 0:
         return 0
     if args.json:

@@ -1,5 +1,5 @@
-"""``dtcrit packing --backend slepc`` under ``mpirun``: PETSc/SLEPc on one and two ranks give the top
-eigenvalue of a 10^4-sphere packing to 1e-10 relative of an independent serial solve (ARPACK to 1e-13
+"""``dtcrit packing --backend slepc --slepc-matrix assembled`` under ``mpirun``: PETSc/SLEPc on one and
+two ranks give the top eigenvalue of a 10^4-sphere packing to 1e-10 relative of an independent serial solve (ARPACK to 1e-13
 on the matrix assembled by ``scipy.sparse`` in this process), with exact preallocation; each rank's
 slab of contacts, concatenated, is the serial contact list; bad input is one line and exit 2.
 
@@ -49,7 +49,7 @@ def _mpi_or_skip() -> str:
 
 def _mpi_env() -> dict:
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME", "VIRTUAL_ENV")}
-    env.update(OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", PYTHONDONTWRITEBYTECODE="1")
+    env.update(PYTHONPATH=str(ROOT / "src"), OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", PYTHONDONTWRITEBYTECODE="1")
     env.setdefault("OMPI_MCA_btl_vader_single_copy_mechanism", "none")  # containers without cross-memory attach
     env.setdefault("OMPI_MCA_rmaps_base_oversubscribe", "1")  # two ranks even where fewer slots are counted
     if hasattr(os, "geteuid") and os.geteuid() == 0:
@@ -96,7 +96,7 @@ def runs(request):
     packing_file = request.getfixturevalue("packing_file")
     out = {}
     for ranks in (1, 2):
-        proc = _mpirun(ranks, str(packing_file), "--youngs", str(YOUNGS), "--json")
+        proc = _mpirun(ranks, str(packing_file), "--youngs", str(YOUNGS), "--json", "--slepc-matrix", "assembled")
         assert proc.returncode == 0, proc.stderr[-3000:]
         out[ranks] = json.loads(proc.stdout)
     return out
@@ -150,7 +150,7 @@ def test_a_slab_error_is_one_line_from_its_rank(tmp_path):
 def test_the_scale_benchmark_runs_on_two_ranks():
     """``python -m dtcrit.bench.slepc_scaling`` (the README's measured table): one JSON line whose
     ranks' contacts add up to the serial count."""
-    cmd = [_mpi_or_skip(), "-n", "2", str(MPI_PY), "-m", "dtcrit.bench.slepc_scaling", "500", "fcc"]
+    cmd = [_mpi_or_skip(), "-n", "2", str(MPI_PY), "-m", "dtcrit.bench.slepc_scaling", "500", "fcc", "assembled"]
     proc = subprocess.run(cmd, capture_output=True, text=True, env=_mpi_env(), cwd=ROOT, timeout=300)
     assert proc.returncode == 0, proc.stderr[-3000:]
     doc = json.loads(proc.stdout)

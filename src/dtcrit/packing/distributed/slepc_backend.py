@@ -7,7 +7,7 @@ dev.py mpi-env``: Debian's petsc4py and slepc4py); petsc4py and slepc4py are imp
 functions, so this module imports without them.  A run with one process (no launcher) is a valid
 one-rank run.
 
-What each rank does (``distribute``, then ``analyse_share``):
+What each rank does (``distribute``, then ``slepc_analysis.analyse_share``):
 
 1. Sphere packings are renumbered along a Morton curve (``slab_contacts.morton_order``; the
    eigenvalues do not depend on the numbering), so that a rank's particles are a compact piece of
@@ -64,7 +64,7 @@ from dtcrit.packing.distributed.slepc_result import JSON_SCHEMA, UNITS, SlepcRes
 from dtcrit.packing.distributed.slab_contacts import SlabContacts, morton_order, slab_of_list, slab_sphere_contacts, split_rows
 
 __all__ = ["TOLERANCE", "NCV", "CHUNK", "FLUSH", "SYMMETRIC", "JSON_SCHEMA", "UNITS", "RankShare", "SlepcResult",
-           "distribute", "assemble", "solve", "analyse_share", "analyse", "format_result"]
+           "distribute", "assemble", "solve", "format_result"]
 
 TOLERANCE = 1e-12
 """EPS relative residual tolerance ``|A v - theta v| / theta``: the agreement with a serial solve
@@ -267,7 +267,7 @@ def assemble(share: RankShare):
     return mat
 
 
-def solve(mat, tolerance: float = TOLERANCE, ncv: int = NCV) -> dict:
+def solve(mat, tolerance: float = TOLERANCE, ncv: int = NCV, *, norm: bool = True, start=None) -> dict:
     """The top eigenpair of ``mat`` by Krylov-Schur (collective): ``theta``, ``residual``, ``iterations``
     (restarts), ``matvecs``, ``rotational_fraction``, ``norm_inf`` (``|A|_inf``), ``matvec_time`` (this
     rank's seconds in MatMult), and the ``tolerance`` and ``ncv`` used (PETSC_OPTIONS may set them).
@@ -280,6 +280,11 @@ def solve(mat, tolerance: float = TOLERANCE, ncv: int = NCV) -> dict:
         Relative residual tolerance.
     ncv : int
         Krylov subspace size.
+    norm : bool
+        Compute ``|A|_inf`` (a stored matrix; a shell matrix has none: ``norm_inf`` is then ``nan``).
+    start : callable or None
+        ``start(mat)`` returns the initial vector (``slepc_start.chebyshev_start``; its products
+        are counted); default SLEPc's random one.
 
     Returns
     -------
@@ -290,6 +295,7 @@ def solve(mat, tolerance: float = TOLERANCE, ncv: int = NCV) -> dict:
     PETSc.Log.begin()
     matmult = PETSc.Log.Event("MatMult")
     before = matmult.getPerfInfo()
+    initial = start(mat) if start is not None else None
     eps = SLEPc.EPS().create(comm=mat.getComm())
     eps.setOperators(mat)
     eps.setType(SLEPc.EPS.Type.KRYLOVSCHUR)
@@ -298,6 +304,8 @@ def solve(mat, tolerance: float = TOLERANCE, ncv: int = NCV) -> dict:
     eps.setDimensions(nev=1, ncv=min(ncv, mat.getSize()[0]))
     eps.setTolerances(tolerance, MAX_RESTARTS)
     eps.setFromOptions()  # PETSC_OPTIONS="-eps_ncv 24 -eps_tol 1e-11 ..." overrides these settings
+    if initial is not None:
+        eps.setInitialSpace([initial])
     eps.solve()
     after = matmult.getPerfInfo()
     tolerance, _ = eps.getTolerances()
@@ -312,10 +320,12 @@ def solve(mat, tolerance: float = TOLERANCE, ncv: int = NCV) -> dict:
     out = {"theta": theta, "residual": eps.computeError(0, SLEPc.EPS.ErrorType.ABSOLUTE),
            "iterations": eps.getIterationNumber(), "matvecs": int(after["count"] - before["count"]),
            "rotational_fraction": energy[0] / energy[1] if energy[1] > 0 else 0.0,
-           "norm_inf": mat.norm(PETSc.NormType.INFINITY), "matvec_time": after["time"] - before["time"],
+           "norm_inf": mat.norm(PETSc.NormType.INFINITY) if norm else math.nan, "matvec_time": after["time"] - before["time"],
            "tolerance": tolerance, "ncv": eps.getDimensions()[1]}
     eps.destroy()
     vec.destroy()
+    if initial is not None:
+        initial.destroy()
     return out
 
 
@@ -329,83 +339,3 @@ def _local_figures(share: RankShare) -> tuple[int, float, float]:
     stiff = np.maximum(c.kn, c.ks)
     touched = np.unique(np.concatenate([c.i[stiff > 0], c.j[stiff > 0]]))
     return c.count, float(stiff.max(initial=0.0)), float(packing.masses[touched].min(initial=math.inf))
-
-
-def analyse_share(share: RankShare, tolerance: float = TOLERANCE) -> SlepcResult:
-    """Assemble and solve ``share`` (collective); the result, identical on every rank.  The share's
-    packing and contacts are dropped once the matrix holds them.
-
-    Parameters
-    ----------
-    share : RankShare
-        This rank's share (``distribute``).
-    tolerance : float
-        Relative residual tolerance of the eigen-solve.
-
-    Returns
-    -------
-    SlepcResult
-        The step and the solver's figures.
-    """
-    _, rank, size = world()
-    n_local, k_max, m_min = _local_figures(share)
-    clock = time.perf_counter()
-    mat = assemble(share)
-    share.packing, share.contacts = None, None  # the matrix holds all the solve needs
-    release_memory()
-    share.times["assembly"] = time.perf_counter() - clock
-    share.peaks["assembly"] = peak_mib()
-    info = mat.getInfo(petsc()[0].Mat.InfoType.LOCAL)
-    mallocs, nonzeros = int(info["mallocs"]), int(info["nz_used"])
-    clock = time.perf_counter()
-    top = solve(mat, tolerance)
-    mat.destroy()
-    share.times["solve"] = time.perf_counter() - clock
-    share.peaks["solve"] = peak_mib()
-    stages = list(share.times)
-    rows = allgather([n_local, k_max, m_min, mallocs, nonzeros, top["matvec_time"],
-                      *(share.times[k] for k in stages), *(share.peaks[k] for k in share.peaks)])
-    n_contacts, k_max, m_min = int(rows[:, 0].sum()), float(rows[:, 1].max()), float(rows[:, 2].min())
-    theta, norm_inf = top["theta"], top["norm_inf"]
-    omega = math.sqrt(theta) if theta > 0 else 0.0
-    dt = 2.0 / omega if omega > 0 else math.inf
-    times = {k: float(rows[:, 6 + i].max()) for i, k in enumerate(stages)}
-    peaks = {k: float(rows[:, 6 + len(stages) + i].max()) for i, k in enumerate(share.peaks)}
-    per_rank = [{"rank": r, "rows": int(6 * (b - a)), "contacts": int(rows[r, 0]),
-                 "peak_rss_mib": float(rows[r, 6 + len(stages):].max())}
-                for r, (a, b) in enumerate(split_rows(share.n, size, q) for q in range(size))]
-    return SlepcResult(
-        label=share.label, law=share.law, ranks=size, n_particles=share.n, dofs=6 * share.n, n_contacts=n_contacts,
-        cn_mean=2.0 * n_contacts / share.n, k_max=k_max, m_min=m_min, omega_max=omega, dt_crit=dt,
-        dt_safe=2.0 / math.sqrt(norm_inf) if norm_inf > 0 else math.inf,
-        alpha=dt / math.sqrt(m_min / k_max) if k_max > 0 and math.isfinite(dt) and math.isfinite(m_min) else math.inf,
-        rotational_fraction=float(top["rotational_fraction"]), solver="slepc krylovschur",
-        tolerance=float(top["tolerance"]), ncv=int(top["ncv"]), iterations=int(top["iterations"]),
-        matvecs=top["matvecs"], residual=float(top["residual"]),
-        relative_residual=float(top["residual"] / theta) if theta > 0 else 0.0,
-        matrix_mallocs=int(rows[:, 3].sum()), matrix_nonzeros=int(rows[:, 4].sum()),
-        matvec_seconds=float(rows[:, 5].max()) / max(top["matvecs"], 1), times=times, peak_rss_mib=peaks,
-        per_rank=per_rank)
-
-
-def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, tolerance: float = TOLERANCE) -> SlepcResult:
-    """``distribute`` then ``analyse_share`` (the caller's ``packing`` stays alive meanwhile; the command
-    line drops its own reference in between, so that the O(N) input is freed before the matrix).
-
-    Parameters
-    ----------
-    packing : Packing
-        The whole packing (the same on every rank).
-    law : object or None
-        Contact law; default linear unit springs unless ``contacts`` carry a stiffness.
-    contacts : Contacts or None
-        A contact list every rank holds (default: found here).
-    tolerance : float
-        Relative residual tolerance of the eigen-solve.
-
-    Returns
-    -------
-    SlepcResult
-        The step and the solver's figures.
-    """
-    return analyse_share(distribute(packing, law, contacts), tolerance)

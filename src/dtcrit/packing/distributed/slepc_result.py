@@ -2,11 +2,12 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 JSON_SCHEMA = "dtcrit-packing-slepc/1"
 UNITS = {"omega_max": "rad/s", "dt_crit": "s", "dt_safe": "s", "dt_integrator": "s", "k_max": "N/m", "m_min": "kg",
-         "residual": "1/s^2", "matvec_seconds": "s", "times.*": "s", "peak_rss_mib.*": "MiB", "per_rank.peak_rss_mib": "MiB"}
+         "residual": "1/s^2", "matvec_seconds": "s", "times.*": "s", "peak_rss_mib.*": "MiB", "per_rank.peak_rss_mib": "MiB",
+         "dt_bracket.lower": "s", "dt_bracket.upper": "s"}
 """Units of the dimensional keys of ``dtcrit packing --backend slepc --json``; every other number is
 dimensionless (counts, ratios, fractions)."""
 
@@ -52,6 +53,13 @@ class SlepcResult:
         Peak memory per stage [MiB] (largest rank).
     per_rank : list
         Rows, contacts and peak memory of each rank.
+    matrix : str
+        ``"shell"`` (matrix-free: the contact kernel under a PETSc shell matrix) or ``"assembled"``.
+    dt_safe_from : str
+        Which rigorous lower bound ``dt_safe`` is.
+    dt_bracket : dict
+        ``lower`` [s], ``upper`` [s], ``lower_from``: ``dtcrit.packing.solvers.certificate.bracket`` of
+        the Ritz value and ``dt_safe``, ``lower <= dt_crit_true <= upper``.
     """
 
     label: str
@@ -81,6 +89,9 @@ class SlepcResult:
     times: dict
     peak_rss_mib: dict
     per_rank: list
+    matrix: str = "assembled"
+    dt_safe_from: str = "Gershgorin 2/sqrt(|A|_inf)"
+    dt_bracket: dict = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         """The fields as a JSON-ready dict (a non-finite float becomes ``None``).
@@ -90,8 +101,12 @@ class SlepcResult:
         dict
             Field name to value.
         """
-        out = dict(self.__dict__)
-        return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in out.items()}
+        def finite(v):
+            if isinstance(v, dict):
+                return {k: finite(x) for k, x in v.items()}
+            return None if isinstance(v, float) and not math.isfinite(v) else v
+
+        return {k: finite(v) for k, v in self.__dict__.items()}
 
 
 def format_result(r: SlepcResult) -> str:
@@ -112,11 +127,13 @@ def format_result(r: SlepcResult) -> str:
         f"packing: {r.label or '(unnamed)'}",
         f"contact law: {r.law}",
         f"particles {r.n_particles}, DOFs {r.dofs}, contacts {r.n_contacts}, coordination mean {r.cn_mean:.4g}",
-        f"omega_max = {r.omega_max:.12g} rad/s  ({r.solver} on {r.ranks} rank{'s' if r.ranks > 1 else ''}, "
+        f"omega_max = {r.omega_max:.12g} rad/s  ({r.solver}, {r.matrix} matrix, on {r.ranks} rank{'s' if r.ranks > 1 else ''}, "
         f"{r.iterations} restarts, {r.matvecs} matrix-vector products, residual |Av - theta v| = {r.residual:.3g}, "
         f"relative {r.relative_residual:.2g})",
         f"dt_crit = 2/omega_max = {r.dt_crit:.12g} s   alpha = dt_crit / sqrt(m_min/K_max) = {r.alpha:.5g}",
-        f"dt_safe = 2/sqrt(|A|_inf) = {r.dt_safe:.6g} s (Gershgorin: a lower bound on the step)",
+        f"dt_safe = {r.dt_safe:.6g} s ({r.dt_safe_from}: a lower bound on the step)",
+        *([f"dt_crit lies in [{b['lower']:.9g}, {b['upper']:.9g}] s (lower end: {b['lower_from']}; upper: 2/sqrt(theta), "
+           "theta a Rayleigh quotient)"] if (b := r.dt_bracket) else []),
         f"highest mode: {100 * r.rotational_fraction:.1f} % of its kinetic energy in rotation",
         "time (slowest rank): " + ", ".join(f"{k} {v:.3g} s" for k, v in t.items())
         + f"; peak memory per rank {max(r.peak_rss_mib.values()):.0f} MiB",

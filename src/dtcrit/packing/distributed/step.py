@@ -3,7 +3,7 @@
 
 Every rank reads or generates the whole packing (``dtcrit.packing.step.packing_input``), keeps its
 share of the contacts (``slepc_backend.distribute``) and takes part in the Krylov-Schur solve
-(``slepc_backend.analyse_share``); every rank returns the same numbers, and a caller prints on rank 0
+(``slepc_analysis.analyse_share``); every rank returns the same numbers, and a caller prints on rank 0
 only.  ``dt_crit = 2/omega_max`` (Otsubo et al. 2017, Eq. (13)); the integrator's step at the modal
 damping ratio comes from ``dtcrit.packing.solvers.integrator_step.integrator_dt``.
 """
@@ -103,7 +103,8 @@ def distributed_packing_step(source: str | os.PathLike | None = None, *, lattice
                              seed: int = 0, radius: float = DEFAULT_RADIUS, density: float | None = None,
                              kn: float | None = None, ks: float | None = None, youngs: float | None = None,
                              poisson: float = 0.25, snapshot: int = -1, integrator: str = "velocity-verlet",
-                             damping_ratio: float = 0.0, partitioned: bool | None = None) -> DistributedStep:
+                             damping_ratio: float = 0.0, partitioned: bool | None = None,
+                             matrix: str = "shell") -> DistributedStep:
     """The critical step of a packing by PETSc and SLEPc on the processes of an MPI launcher (collective).
 
     Parameters
@@ -117,6 +118,9 @@ def distributed_packing_step(source: str | os.PathLike | None = None, *, lattice
     partitioned : bool or None
         Read ``source`` in pieces, each rank only its Morton slab and halo
         (``dtcrit.packing.distributed.partitioned_input``); None: for a ``.npz`` sphere file only.
+    matrix : str
+        ``"shell"`` (matrix-free: the contact kernel under a PETSc shell matrix, ``slepc_shell``) or
+        ``"assembled"`` (``MPISBAIJ``).
 
     Returns
     -------
@@ -137,6 +141,7 @@ def distributed_packing_step(source: str | os.PathLike | None = None, *, lattice
     >>> step.omega_max * step.dt_crit  # doctest: +SKIP
     2.0
     """
+    from dtcrit.packing.distributed import slepc_analysis as sa
     from dtcrit.packing.distributed import slepc_backend as sb
     from dtcrit.packing.distributed.mpi_support import world
     from dtcrit.packing.distributed.partitioned_share import partitioned_share, wants_partitioned
@@ -145,17 +150,19 @@ def distributed_packing_step(source: str | os.PathLike | None = None, *, lattice
 
     _, rank, _ = world()
     integrator_dt(1.0, integrator, damping_ratio)  # bad names and ratios fail before the work
+    if matrix not in sa.MATRICES:
+        raise InputError("slepc_matrix", f"unknown matrix {matrix!r}; choose one of {', '.join(sa.MATRICES)}")
     clock = time.perf_counter()
     if wants_partitioned(source, partitioned):
         share, _ = partitioned_share(source, dict(lattice=lattice, random=random, density=density, kn=kn, ks=ks,
                                                   youngs=youngs, poisson=poisson, snapshot=snapshot))
-        return _finish(rank, sb.analyse_share(share), integrator, damping_ratio)
+        return _finish(rank, sa.analyse_share(share, matrix=matrix), integrator, damping_ratio)
     given = packing_input(source, lattice=lattice, cells=cells, random=random, cn=cn, sizes=sizes, spread=spread,
                           seed=seed, radius=radius, density=density, kn=kn, ks=ks, youngs=youngs, poisson=poisson,
                           snapshot=snapshot, check_memory=False)
     share = sb.distribute(given.packing, given.law, given.contacts, t_input=time.perf_counter() - clock)
     del given  # the O(N) input is not needed by the matrix and the solve
-    result = sb.analyse_share(share)
+    result = sa.analyse_share(share, matrix=matrix)
     del share
     return _finish(rank, result, integrator, damping_ratio)
 
