@@ -3,7 +3,8 @@
 :func:`plan_density_scaling` is the API behind ``dtcrit plan``'s density scaling:
 
 1. the *sufficient* per-body factors of the Gershgorin and block-diagonal bounds (``dtcrit.plan.bounds``):
-   with either set the scaled packing is stable at the target, whatever the eigen-solver says;
+   with either set the scaled packing's critical step is at least the target (``lambda_max <= 4``),
+   whatever the eigen-solver says;
 2. tightened with the *exact* critical step of the scaled packing (``dtcrit.plan.exact``, the audit's
    solve): four monotone families of factors, each from 1 (no scaling) to a set known stable, are
    bisected on their parameter -- the better bound's factors interpolated towards 1, each bound's
@@ -11,6 +12,10 @@
    mass over them and the exact uniform factor is kept;
 3. every answer is one whose exact critical step is at least ``target x (1 + CONFIRM_MARGIN)``: a
    plan the exact solve did not confirm is never returned.
+
+Every step is of the packing with the scaled masses *and* the contacts the engine's law gives at them
+(``dtcrit.plan.rederive``): LAMMPS recomputes ``c_n = m_eff gamma_n`` every step, so a dashpot grows
+with the masses, and the step planned is the one ``dtcrit audit`` computes for ``--write-dump``'s file.
 
 YADE's rule (``NewtonIntegrator.densityScaling`` with ``GlobalStiffnessTimeStepper.targetDt``,
 ``pkg/dem/GlobalStiffnessTimeStepper.cpp`` ``findTimeStepFromBody``): each body's acceleration is
@@ -212,10 +217,13 @@ def read_input(snapshot, read: dict):
     Returns
     -------
     Snapshot
-        The snapshot.
+        The snapshot; a file's with how its law was given (``dtcrit.plan.rederive.with_law_inputs``), so
+        that the law can be applied to the scaled masses.
     """
     from dtcrit.packing.audit.results import Snapshot
     from dtcrit.packing.audit.run import read_snapshot
+
+    from dtcrit.plan.rederive import with_law_inputs
 
     if isinstance(snapshot, Snapshot):
         return snapshot
@@ -223,7 +231,7 @@ def read_input(snapshot, read: dict):
         raise InputError("snapshot", "plan needs a snapshot (a LAMMPS/LIGGGHTS dump or a YADE export), not a scene: the "
                                      "planned masses are confirmed by the exact step of the scaled packing, which a scene "
                                      "does not have (dtcrit step gives a scene's step)")
-    return read_snapshot(snapshot, **read)
+    return with_law_inputs(read_snapshot(snapshot, **read), read)
 
 
 def scaled_step_of(given, integrator, local_damping, local_damping_law, method) -> ScaledStep:
@@ -246,13 +254,15 @@ def scaled_step_of(given, integrator, local_damping, local_damping_law, method) 
         The evaluator.
     """
     from dtcrit.packing.audit import local_damping as damping
+    from dtcrit.plan.rederive import rebuilder
 
     local = damping.resolve(given.meta, given.source, local_damping, local_damping_law)
     integrator = integrator or given.convention.integrator
     if local is not None and integrator not in damping.MODELLED_INTEGRATORS:
         raise InputError("local_damping", f"local damping is modelled with {', '.join(damping.MODELLED_INTEGRATORS)} "
                                           f"only, not {integrator!r}")
-    return ScaledStep(given.packing, given.contacts, integrator, 1.0 if local is None else local.factor, method)
+    return ScaledStep(given.packing, given.contacts, integrator, 1.0 if local is None else local.factor, method,
+                      rebuild=rebuilder(given))
 
 
 def _families(demands, bounds: dict, bound: str, free: np.ndarray, yade: np.ndarray | None,
@@ -261,32 +271,63 @@ def _families(demands, bounds: dict, bound: str, free: np.ndarray, yade: np.ndar
     def capped(f: np.ndarray) -> np.ndarray:
         return np.minimum(max_factor, f)
 
-    def threshold(d: np.ndarray, top: np.ndarray) -> tuple:
+    def threshold(d: np.ndarray, top: np.ndarray | None) -> tuple:
         d = np.where(free, d, 0.0)
-        hi = 1.0 if top.max() <= max_factor else max_factor / max(float(d[d > 0].min(initial=1.0)), 1e-300)
+        if top is None or top.max() > max_factor:
+            hi = max_factor / max(float(d[d > 0].min(initial=1.0)), 1e-300)
+        else:  # the demand at the unscaled masses times hi covers the bound's own factors (terms at F)
+            hi = max(1.0, float(np.max(top[d > 0] / d[d > 0], initial=1.0)))
         return (lambda s: capped(np.maximum(1.0, s * d))), hi
 
     f_bound = bounds[bound]
     families = {"bound interpolation": ((lambda t: capped(1.0 + t * (f_bound - 1.0))), 1.0)}
     for name in ("block_diagonal", "gershgorin"):
-        families[f"{name} demand"] = threshold(getattr(demands, name), bounds[name])
+        families[f"{name} demand"] = threshold(getattr(demands, name), bounds.get(name))
     if yade is not None:
         families["YADE demand"] = threshold(yade, np.full(1, np.inf))
     return families
 
 
 def _confirmed(step: ScaledStep, factors: np.ndarray, target: float, max_factor: float) -> tuple[np.ndarray, float]:
-    """The factors and their exact critical step, raised by 1 % of their excess at a time until it meets the target."""
+    """The factors and their exact critical step, raised by 1 % of their excess at a time until it is at least
+    ``target x (1 + CONFIRM_MARGIN)``."""
+    need = target * (1.0 + CONFIRM_MARGIN)
     for _ in range(20):
         dt = step.dt(factors)
-        if dt >= target:
+        if dt >= need:
             return factors, dt
         factors = np.minimum(max_factor, 1.0 + 1.01 * (factors - 1.0))
     raise InputError("target_dt", f"the exact solve did not confirm a plan for {target:.6g} s (eigen-solver trouble)")
 
 
-def _uniform(step: ScaledStep, target: float, free: np.ndarray, ok) -> tuple[float, float]:
-    """The exact uniform factor, nudged up until the exact step confirms it."""
+def _uniform_bisected(target: float, dt_now: float, free: np.ndarray, ok, max_factor: float) -> tuple[float, float]:
+    """The least confirmed common factor when the terms depend on the masses: doubled, then bisected in log."""
+    lo, hi = 1.0, max(1.0 + 1e-9, (target / dt_now) ** 2)
+    found = None
+    while found is None:
+        good, dt = ok(np.where(free, min(hi, max_factor), 1.0))
+        if good:
+            found = (min(hi, max_factor), dt)
+        elif hi >= max_factor:
+            return math.inf, math.nan
+        else:
+            lo, hi = hi, 2.0 * hi
+    hi = found[0]
+    while hi / lo - 1.0 > 1e-5:
+        mid = math.sqrt(lo * hi)
+        good, dt = ok(np.where(free, mid, 1.0))
+        if good:
+            hi, found = mid, (mid, dt)
+        else:
+            lo = mid
+    return found
+
+
+def _uniform(step: ScaledStep, target: float, free: np.ndarray, ok, dt_now: float,
+             max_factor: float) -> tuple[float, float]:
+    """The exact uniform factor, nudged up until the exact step confirms it (bisected when the terms depend on the masses)."""
+    if step.mass_dependent:
+        return _uniform_bisected(target, dt_now, free, ok, max_factor)
     f_u = step.uniform_factor(target) * (1.0 + 4.0 * CONFIRM_MARGIN)
     for _ in range(40):
         good, dt = ok(np.where(free, f_u, 1.0))
@@ -359,14 +400,21 @@ def plan_density_scaling(snapshot: str | os.PathLike | Any, target_dt: float, ma
         dt = step.dt(f)
         return dt >= need, dt
 
-    f_uniform, dt_uniform = _uniform(step, target, free, ok)
+    f_uniform, dt_uniform = _uniform(step, target, free, ok, dt_now, max_factor)
     if f_uniform > max_factor:
         raise InputError("max_factor", f"the target {target:.6g} s is unreachable within a mass factor of {max_factor:g}: "
-                                       f"it takes {f_uniform:.6g} on every body (today's critical step {dt_now:.6g} s)")
-    from dtcrit.plan.bounds import body_demands
+                                       + (f"it takes {f_uniform:.6g} on every body" if math.isfinite(f_uniform) else
+                                          f"{max_factor:g} on every body does not reach it (dashpots m_eff gamma grow "
+                                          f"with the mass)") + f" (today's critical step {dt_now:.6g} s)")
+    from dtcrit.plan.bounds import body_demands, sufficient_factors
 
-    demands = body_demands(packing, given.contacts, step.undamped_target(target), dashpots=step.dashpots)
-    bounds = {name: np.where(free, demands.factors(name), 1.0) for name in ("gershgorin", "block_diagonal")}
+    h = step.undamped_target(target)
+    demands = body_demands(packing, given.contacts, h, dashpots=step.dashpots)
+    found = {name: sufficient_factors(step.system, packing.n, h, name, free, dashpots=step.dashpots,
+                                      max_factor=max_factor) for name in ("gershgorin", "block_diagonal")}
+    bounds = {name: np.where(free, f, 1.0) for name, f in found.items() if f is not None}
+    if not bounds:  # neither bound gets below 4 within max_factor: start from the uniform factor instead
+        bounds = {"uniform": np.where(free, f_uniform, 1.0)}
     bound = min(bounds, key=lambda name: added_fraction(packing.masses, bounds[name], free))
     f_bound = bounds[bound]
     yade = yade_rule_factors(given, target, yade_safety)
