@@ -139,6 +139,8 @@ def _stiffness_lines(plan: Any) -> list[str]:
         lines.append(f"  an impact at {c['velocity']:g} m/s is resolved to 1 % by {c['resolution_steps']:.4g} steps per "
                      f"collision: dt <= {c['resolution_dt_now']:.4g} s today, {c['resolution_dt_density']:.4g} s with "
                      f"density scaling, {c['resolution_dt_stiffness']:.4g} s with stiffness reduction")
+    elif c.get("resolution_assessed") is False:
+        lines.append(f"  an impact at {c['velocity']:g} m/s: collision resolution not assessed for this damped law")
     return lines
 
 

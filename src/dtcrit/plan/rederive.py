@@ -29,7 +29,7 @@ import numpy as np
 from dtcrit.errors import InputError
 from dtcrit.packing.model import Contacts, Packing
 
-__all__ = ["LAW_KEY", "LawInputs", "rebuilder", "with_law_inputs"]
+__all__ = ["LAW_KEY", "LawInputs", "law_of", "rebuilder", "with_law_inputs"]
 
 LAW_KEY = "plan_law_inputs"
 """The key of a snapshot's ``meta`` under which :func:`with_law_inputs` keeps how its law was given."""
@@ -95,8 +95,24 @@ def _law_from_text(snapshot) -> Any:
     return None
 
 
-def _law_of(snapshot) -> tuple[Any, tuple]:
-    """``(law, parsed walls)`` of a dump snapshot read with a pair style or a LIGGGHTS input."""
+def law_of(snapshot) -> tuple[Any, tuple]:
+    """``(law, parsed walls)`` of a dump snapshot read with a pair style or a LIGGGHTS input.
+
+    Parameters
+    ----------
+    snapshot : dtcrit.packing.audit.results.Snapshot
+        The snapshot (with ``meta[LAW_KEY]`` from :func:`with_law_inputs`, else its ``law`` text parsed back).
+
+    Returns
+    -------
+    tuple
+        ``(GranPairStyle | GranularStyle | LiggghtsLaw, tuple of LammpsWall)``.
+
+    Raises
+    ------
+    InputError
+        A law that cannot be recovered (a LIGGGHTS input or walls of a Snapshot read elsewhere).
+    """
     from dtcrit.packing.conventions.lammps_walls import parse_wall
     from dtcrit.packing.conventions.liggghts_law import read_liggghts_law
     from dtcrit.packing.conventions.pair_styles import parse_pair_style
@@ -156,7 +172,7 @@ def rebuilder(snapshot) -> Callable[[np.ndarray], tuple[Packing, Contacts]] | No
     if snapshot.convention.name == "yade" or snapshot.law.startswith("per-contact table") or \
             snapshot.law.startswith("YADE"):
         return None
-    law, walls = _law_of(snapshot)
+    law, walls = law_of(snapshot)
     n_fixed = int(snapshot.meta.get("fixed_bodies", 0))
     base = _particles(snapshot.packing, n_fixed)
     n = base.n
