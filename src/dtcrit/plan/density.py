@@ -72,7 +72,8 @@ class DensityPlan:
         Which family gave the least added mass (``bound interpolation``, ``block_diagonal demand``,
         ``gershgorin demand``, ``YADE demand``, ``uniform``).
     bound : str
-        The bound whose factors are the guaranteed start (``gershgorin`` or ``block_diagonal``).
+        The bound whose factors are the guaranteed start (``gershgorin`` or ``block_diagonal``; ``uniform``
+        when neither bound gets below 4 within ``max_factor``, possible with dashpots ``m_eff gamma``).
     bound_factors : numpy.ndarray
         ``(N,)`` its sufficient factors (stable at the target by the bound alone).
     bound_added_mass_fraction : float
@@ -290,7 +291,8 @@ def _families(demands, bounds: dict, bound: str, free: np.ndarray, yade: np.ndar
 
 def _confirmed(step: ScaledStep, factors: np.ndarray, target: float, max_factor: float) -> tuple[np.ndarray, float]:
     """The factors and their exact critical step, raised by 1 % of their excess at a time until it is at least
-    ``target x (1 + CONFIRM_MARGIN)``."""
+    ``target x (1 + CONFIRM_MARGIN)``.
+    """
     need = target * (1.0 + CONFIRM_MARGIN)
     for _ in range(20):
         dt = step.dt(factors)
@@ -410,9 +412,9 @@ def plan_density_scaling(snapshot: str | os.PathLike | Any, target_dt: float, ma
 
     h = step.undamped_target(target)
     demands = body_demands(packing, given.contacts, h, dashpots=step.dashpots)
-    found = {name: sufficient_factors(step.system, packing.n, h, name, free, dashpots=step.dashpots,
-                                      max_factor=max_factor) for name in ("gershgorin", "block_diagonal")}
-    bounds = {name: np.where(free, f, 1.0) for name, f in found.items() if f is not None}
+    sufficient = {name: sufficient_factors(step.system, packing.n, h, name, free, dashpots=step.dashpots,
+                                           max_factor=max_factor) for name in ("gershgorin", "block_diagonal")}
+    bounds = {name: np.where(free, f, 1.0) for name, f in sufficient.items() if f is not None}
     if not bounds:  # neither bound gets below 4 within max_factor: start from the uniform factor instead
         bounds = {"uniform": np.where(free, f_uniform, 1.0)}
     bound = min(bounds, key=lambda name: added_fraction(packing.masses, bounds[name], free))
