@@ -115,7 +115,7 @@ def test_tsuji_uniform_factor_is_the_square_of_the_step_ratio():
 
 
 def test_hooke_with_mindlin_tangential_is_not_hertz(capsys):
-    """granular hooke ... tangential mindlin: the normal law is linear (no Hertz modulus factors)."""
+    """A granular hooke law with tangential mindlin: the normal law is linear (no Hertz modulus factors)."""
     style = "granular hooke 1e5 0 tangential mindlin 1e3 1 0.5 damping velocity"
     target = 2.0 * audit_snapshot(EXAMPLE, pair_style=style).dt_crit
     code, out, err = _run(capsys, "plan", EXAMPLE, "--pair-style", style, "--target-dt", repr(target), "--json")
