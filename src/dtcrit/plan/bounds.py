@@ -1,4 +1,4 @@
-"""Per-body mass factors that make a packing stable at a target step: sufficient, by two rigorous bounds.
+"""Per-body mass factors that make a packing's critical step at least a target step: sufficient, by two rigorous bounds.
 
 A lagged central-difference scheme (leapfrog, velocity Verlet, symplectic Euler: LAMMPS ``fix
 nve/sphere``, YADE's NewtonIntegrator) with contact dashpots is stable at the step ``h`` iff

@@ -1,4 +1,4 @@
-"""Density scaling with the least added mass that the exact eigen-solve confirms stable at a target step.
+"""Density scaling with the least added mass whose critical step the exact eigen-solve confirms above a target step.
 
 :func:`plan_density_scaling` is the API behind ``dtcrit plan``'s density scaling:
 
@@ -6,7 +6,7 @@
    with either set the scaled packing's critical step is at least the target (``lambda_max <= 4``),
    whatever the eigen-solver says;
 2. tightened with the *exact* critical step of the scaled packing (``dtcrit.plan.exact``, the audit's
-   solve): four monotone families of factors, each from 1 (no scaling) to a set known stable, are
+   solve): four monotone families of factors, each from 1 (no scaling) to a set whose step is known to reach the target, are
    bisected on their parameter -- the better bound's factors interpolated towards 1, each bound's
    per-body demand and YADE's each scaled by a common number and floored at 1 -- and the least added
    mass over them and the exact uniform factor is kept;
@@ -39,7 +39,7 @@ import numpy as np
 from dtcrit.errors import InputError
 from dtcrit.physics import rules_of_thumb as rot
 
-from dtcrit.plan.exact import ScaledStep, check_target, free_bodies, scaled_packing
+from dtcrit.plan.exact import ScaledStep, check_target, confirmed_uniform, free_bodies, scaled_packing
 
 __all__ = ["CONFIRM_MARGIN", "DEFAULT_MAX_FACTOR", "DensityPlan", "plan_density_scaling", "yade_rule_factors"]
 
@@ -54,7 +54,7 @@ BISECTION_RTOL = 1e-3
 
 @dataclass(frozen=True)
 class DensityPlan:
-    """Per-body mass (and inertia) factors that make the packing stable at ``target_dt``.
+    """Per-body mass (and inertia) factors whose exact critical step is at least ``target_dt x (1 + CONFIRM_MARGIN)``.
 
     Parameters
     ----------
@@ -65,7 +65,8 @@ class DensityPlan:
     factors : numpy.ndarray
         ``(N,)`` factors >= 1 on each body's mass and principal moments, in the snapshot's body order.
     dt_crit_scaled : float
-        The exact critical step of the scaled packing [s], >= ``target_dt``.
+        The exact critical step of the scaled packing [s] (its contacts at the scaled masses),
+        >= ``target_dt x (1 + CONFIRM_MARGIN)``.
     added_mass_fraction : float
         ``sum m_p (f_p - 1) / sum m_p`` over the free bodies.
     family : str
@@ -75,7 +76,7 @@ class DensityPlan:
         The bound whose factors are the guaranteed start (``gershgorin`` or ``block_diagonal``; ``uniform``
         when neither bound gets below 4 within ``max_factor``, possible with dashpots ``m_eff gamma``).
     bound_factors : numpy.ndarray
-        ``(N,)`` its sufficient factors (stable at the target by the bound alone).
+        ``(N,)`` its sufficient factors (critical step >= the target by the bound alone: ``lambda_max <= 4``).
     bound_added_mass_fraction : float
         Their added mass fraction.
     uniform_factor : float
@@ -302,48 +303,11 @@ def _confirmed(step: ScaledStep, factors: np.ndarray, target: float, max_factor:
     raise InputError("target_dt", f"the exact solve did not confirm a plan for {target:.6g} s (eigen-solver trouble)")
 
 
-def _uniform_bisected(target: float, dt_now: float, free: np.ndarray, ok, max_factor: float) -> tuple[float, float]:
-    """The least confirmed common factor when the terms depend on the masses: doubled, then bisected in log."""
-    lo, hi = 1.0, max(1.0 + 1e-9, (target / dt_now) ** 2)
-    found = None
-    while found is None:
-        good, dt = ok(np.where(free, min(hi, max_factor), 1.0))
-        if good:
-            found = (min(hi, max_factor), dt)
-        elif hi >= max_factor:
-            return math.inf, math.nan
-        else:
-            lo, hi = hi, 2.0 * hi
-    hi = found[0]
-    while hi / lo - 1.0 > 1e-5:
-        mid = math.sqrt(lo * hi)
-        good, dt = ok(np.where(free, mid, 1.0))
-        if good:
-            hi, found = mid, (mid, dt)
-        else:
-            lo = mid
-    return found
-
-
-def _uniform(step: ScaledStep, target: float, free: np.ndarray, ok, dt_now: float,
-             max_factor: float) -> tuple[float, float]:
-    """The exact uniform factor, nudged up until the exact step confirms it (bisected when the terms depend on the masses)."""
-    if step.mass_dependent:
-        return _uniform_bisected(target, dt_now, free, ok, max_factor)
-    f_u = step.uniform_factor(target) * (1.0 + 4.0 * CONFIRM_MARGIN)
-    for _ in range(40):
-        good, dt = ok(np.where(free, f_u, 1.0))
-        if good:
-            return f_u, dt
-        f_u *= 1.0 + 1e-5
-    raise InputError("target_dt", "the exact solve did not confirm a uniform factor (eigen-solver trouble)")
-
-
 def plan_density_scaling(snapshot: str | os.PathLike | Any, target_dt: float, max_factor: float = DEFAULT_MAX_FACTOR,
                          *, integrator: str | None = None, local_damping: float | None = None,
                          local_damping_law: str | None = None, yade_safety: float = rot.YADE_GSTS_SAFETY,
                          method: str = "auto", **read: Any) -> DensityPlan:
-    """Per-body mass and inertia factors with the least added mass found, confirmed stable at ``target_dt``.
+    """Per-body mass and inertia factors with the least added mass found, critical step confirmed above ``target_dt``.
 
     Parameters
     ----------
@@ -367,7 +331,8 @@ def plan_density_scaling(snapshot: str | os.PathLike | Any, target_dt: float, ma
     Returns
     -------
     DensityPlan
-        ``factors`` (ordered as the snapshot's bodies), ``dt_crit_scaled >= target_dt`` and the comparisons.
+        ``factors`` (ordered as the snapshot's bodies), ``dt_crit_scaled >= target_dt x (1 + CONFIRM_MARGIN)``
+        and the comparisons.
 
     Raises
     ------
@@ -402,7 +367,7 @@ def plan_density_scaling(snapshot: str | os.PathLike | Any, target_dt: float, ma
         dt = step.dt(f)
         return dt >= need, dt
 
-    f_uniform, dt_uniform = _uniform(step, target, free, ok, dt_now, max_factor)
+    f_uniform, dt_uniform = confirmed_uniform(step, target, free, ok, dt_now, max_factor, CONFIRM_MARGIN)
     if f_uniform > max_factor:
         raise InputError("max_factor", f"the target {target:.6g} s is unreachable within a mass factor of {max_factor:g}: "
                                        + (f"it takes {f_uniform:.6g} on every body" if math.isfinite(f_uniform) else

@@ -21,7 +21,7 @@ from dtcrit.errors import InputError
 from dtcrit.packing.model import Contacts, Packing
 from dtcrit.packing.solvers.damped_step import CENTRED, LAGGED, damped_critical_dt, scaled_matrices
 
-__all__ = ["FIXED_MASS_RATIO", "MODELLED", "ScaledStep", "free_bodies", "scaled_packing"]
+__all__ = ["FIXED_MASS_RATIO", "MODELLED", "ScaledStep", "confirmed_uniform", "free_bodies", "scaled_packing"]
 
 MODELLED = LAGGED + CENTRED
 """The integrators a plan is made for: the central-difference family, whose condition on the scaled
@@ -263,6 +263,67 @@ class ScaledStep:
             return max(1.0, largest_mode(k, self.method).value * h * h / 4.0)
         a = CombinedOperator(c, 2.0 * h, k, h * h) if isinstance(k, spla.LinearOperator) else (2.0 * h) * c.tocsr() + (h * h) * k.tocsr()
         return max(1.0, largest_mode(a, self.method).value / 4.0)
+
+
+def _uniform_bisected(target: float, dt_now: float, free: np.ndarray, ok, max_factor: float) -> tuple[float, float]:
+    """The least confirmed common factor when the terms depend on the masses: doubled, then bisected in log."""
+    lo, hi = 1.0, max(1.0 + 1e-9, (target / dt_now) ** 2)
+    found = None
+    while found is None:
+        good, dt = ok(np.where(free, min(hi, max_factor), 1.0))
+        if good:
+            found = (min(hi, max_factor), dt)
+        elif hi >= max_factor:
+            return math.inf, math.nan
+        else:
+            lo, hi = hi, 2.0 * hi
+    hi = found[0]
+    while hi / lo - 1.0 > 1e-5:
+        mid = math.sqrt(lo * hi)
+        good, dt = ok(np.where(free, mid, 1.0))
+        if good:
+            hi, found = mid, (mid, dt)
+        else:
+            lo = mid
+    return found
+
+
+def confirmed_uniform(step: ScaledStep, target: float, free: np.ndarray, ok, dt_now: float, max_factor: float,
+                      margin: float) -> tuple[float, float]:
+    """The exact uniform factor, nudged up until ``ok`` confirms it; bisected when the terms depend on the masses.
+
+    Parameters
+    ----------
+    step : ScaledStep
+        The evaluator.
+    target : float
+        The target step [s].
+    free : numpy.ndarray
+        ``(N,)`` the bodies that take the factor.
+    ok : callable
+        ``factors -> (confirmed, dt)``.
+    dt_now : float
+        Today's critical step [s].
+    max_factor : float
+        The largest factor tried when bisecting.
+    margin : float
+        The relative margin the closed-form factor starts above (``4 x margin``).
+
+    Returns
+    -------
+    tuple
+        ``(factor, its step [s] or nan when confirmed by an inertia count)``; ``(inf, nan)`` when
+        ``max_factor`` on every body is not confirmed (bisected case).
+    """
+    if step.mass_dependent:
+        return _uniform_bisected(target, dt_now, free, ok, max_factor)
+    f_u = step.uniform_factor(target) * (1.0 + 4.0 * margin)
+    for _ in range(40):
+        good, dt = ok(np.where(free, f_u, 1.0))
+        if good:
+            return f_u, dt
+        f_u *= 1.0 + 1e-5
+    raise InputError("target_dt", "the exact solve did not confirm a uniform factor (eigen-solver trouble)")
 
 
 def check_target(target: float) -> float:
