@@ -278,7 +278,8 @@ def _families(demands, bounds: dict, bound: str, free: np.ndarray, yade: np.ndar
         if top is None or top.max() > max_factor:
             hi = max_factor / max(float(d[d > 0].min(initial=1.0)), 1e-300)
         else:  # the demand at the unscaled masses times hi covers the bound's own factors (terms at F)
-            hi = max(1.0, float(np.max(top[d > 0] / d[d > 0], initial=1.0)))
+            up = (top > 1.0) & (d > 0)  # the scaled bodies: with fixed terms top = d there and hi = 1
+            hi = max(1.0, float(np.max(top[up] / d[up], initial=1.0)))
         return (lambda s: capped(np.maximum(1.0, s * d))), hi
 
     f_bound = bounds[bound]
