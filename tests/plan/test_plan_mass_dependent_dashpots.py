@@ -187,3 +187,19 @@ def test_gravity_warning_says_both_ways(capsys):
     assert code == 0, err
     (text,) = [w for w in json.loads(out)["warnings"] if w.startswith("gravity")]
     assert "falls at g/" in text and "still falls at g" in text and "state.mass" in text
+
+
+def test_wall_dashpots_grow_with_the_particle_mass(capsys, tmp_path):
+    """A wall/gran fix with gamma_n (meff = m of the particle): the written dump's audit with the same --wall meets the target."""
+    snap = tmp_path / "walled.dump"
+    snap.write_text(open(EXAMPLE).read().replace("BOX BOUNDS pp pp pp", "BOX BOUNDS pp pp ff"))
+    wall = "fix 2 all wall/gran hooke/history 1e5 NULL 2e4 NULL 0.5 1 zplane -0.0005 NULL"
+    dump = tmp_path / "scaled.dump"
+    code, out, err = _run(capsys, "plan", str(snap), "--pair-style", HOOKE_DAMPED, "--wall", wall,
+                          "--target-dt", "1e-5", "--json", "--write-dump", str(dump))
+    assert code == 0, err
+    planned = json.loads(out)["density_scaling"]["dt_crit_scaled"]
+    code, out, err = _run(capsys, "audit", str(dump), "--pair-style", HOOKE_DAMPED, "--wall", wall, "--json")
+    assert code == 0, err
+    assert json.loads(out)["dt_crit"] >= 1e-5
+    assert json.loads(out)["dt_crit"] == pytest.approx(planned, rel=1e-9)
