@@ -203,3 +203,28 @@ def test_wall_dashpots_grow_with_the_particle_mass(capsys, tmp_path):
     assert code == 0, err
     assert json.loads(out)["dt_crit"] >= 1e-5
     assert json.loads(out)["dt_crit"] == pytest.approx(planned, rel=1e-9)
+
+
+def test_liggghts_hooke_uniform_factor_follows_its_mass_dependent_stiffness(tmp_path):
+    """LIGGGHTS hooke: kn ~ m_eff^(1/5) (characteristicVelocity), c ~ sqrt(m_eff kn) ~ m_eff^(3/5), so a
+    uniform f gives lambda_max(2h f^-2/5 C + h^2 f^-4/5 K, M): the step grows as f^(2/5) and the uniform
+    factor is (target / dt_now)^(5/2).
+    """
+    rows = [(1, 1, 0.05, 0.05, 0.05, 1e-3, 1e-5), (2, 1, 0.05 + 1.9e-3, 0.05, 0.05, 1e-3, 1.3e-5),
+            (3, 1, 0.05 + 1.9e-3, 0.05 + 1.9e-3, 0.05, 1e-3, 0.8e-5)]
+    dump = tmp_path / "p.dump"
+    dump.write_text("\n".join(["ITEM: TIMESTEP", "0", "ITEM: NUMBER OF ATOMS", "3", "ITEM: BOX BOUNDS ff ff ff",
+                               "0.0 0.1", "0.0 0.1", "0.0 0.1", "ITEM: ATOMS id type x y z radius mass",
+                               *(" ".join(str(v) for v in r) for r in rows)]) + "\n")
+    script = tmp_path / "in.liggghts"
+    script.write_text("\n".join(["atom_style granular",
+                                 "fix m1 all property/global youngsModulus peratomtype 6e7",
+                                 "fix m2 all property/global poissonsRatio peratomtype 0.3",
+                                 "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.6",
+                                 "fix m4 all property/global coefficientFriction peratomtypepair 1 0.5",
+                                 "fix m5 all property/global characteristicVelocity scalar 2.0",
+                                 "pair_style gran model hooke tangential history", "pair_coeff * *"]) + "\n")
+    dt_now = audit_snapshot(dump, liggghts_input=script).dt_crit
+    plan = plan_density_scaling(dump, 2.0 * dt_now, liggghts_input=script)
+    assert plan.uniform_factor == pytest.approx(2.0**2.5, rel=2e-5)
+    assert plan.dt_crit_scaled >= 2.0 * dt_now * (1.0 + CONFIRM_MARGIN)
