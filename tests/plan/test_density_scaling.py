@@ -41,10 +41,23 @@ def _omega2(snapshot, factors) -> float:
     return float(sla.eigh(s[:, None] * k * s[None, :], eigvals_only=True)[-1])
 
 
+def _scaled_dashpots(snapshot, factors):
+    """The contacts with every gran/* dashpot m_eff gamma at the scaled masses (LAMMPS recomputes m_eff each step)."""
+    from dataclasses import replace
+
+    m, f = snapshot.packing.masses, np.asarray(factors, float)
+    i, j = snapshot.contacts.i, snapshot.contacts.j
+    ratio = (m[i] * f[i] * m[j] * f[j] / (m[i] * f[i] + m[j] * f[j])) / (m[i] * m[j] / (m[i] + m[j]))
+    c = snapshot.contacts
+    return replace(c, cn=None if c.cn is None else c.cn * ratio, cs=None if c.cs is None else c.cs * ratio)
+
+
 def _stable_lagged(snapshot, factors, h) -> bool:
-    """4FM - 2hC - h^2 K positive definite (the lagged central difference's stability condition)."""
+    """4FM - 2hC(F) - h^2 K positive definite (the lagged central difference's stability condition), the
+    gran/* dashpots m_eff gamma at the scaled masses.
+    """
     k = stiffness_matrix(snapshot.packing, snapshot.contacts).toarray()
-    c = damping_matrix(snapshot.packing, snapshot.contacts).toarray()
+    c = damping_matrix(snapshot.packing, _scaled_dashpots(snapshot, factors)).toarray()
     s = 1.0 / np.sqrt(_mass_rows(snapshot.packing, factors))
     a = 4.0 * np.eye(k.shape[0]) - s[:, None] * (2.0 * h * c + h * h * k) * s[None, :]
     return bool(sla.eigh(a, eigvals_only=True)[0] > 0)

@@ -1,8 +1,8 @@
 """``dtcrit plan``: what a simulation costs, and the least intrusive way to a larger step.
 
-Density scaling with per-body mass and inertia factors confirmed stable at the target step by the
-exact eigen-solve of the scaled packing (starting from factors the Gershgorin and block-diagonal
-bounds prove sufficient), compared with YADE's ``densityScaling`` rule and a uniform factor; the
+Density scaling with per-body mass and inertia factors whose critical step the exact eigen-solve of
+the scaled packing (its contacts re-derived at the scaled masses) confirms at least the target
+(starting from factors the Gershgorin and block-diagonal bounds prove give a critical step >= target), compared with YADE's ``densityScaling`` rule and a uniform factor; the
 stiffness reduction that reaches the same step; the cost before and after.
 
 Runtime layer (NumPy/SciPy): imports ``packing`` (the audit's snapshot reader and eigen-solve),
@@ -12,7 +12,8 @@ Modules: ``bounds`` (sufficient per-body factors), ``exact`` (the scaled packing
 certified stability), ``density`` (:func:`plan_density_scaling`), ``stiffness`` (the stiffness
 reduction), ``physics`` (size classes, inertial number, contact durations), ``report``
 (:func:`dtcrit.plan.report.plan_snapshot`, the whole plan), ``output`` (text and JSON), ``dump``
-(``--write-dump``).
+(``--write-dump``), ``rederive`` (the contacts at the scaled masses, by the engine's law), ``resolution``
+(the normal law and collision-damping model of a snapshot's contacts).
 """
 from dtcrit.plan.density import DensityPlan, plan_density_scaling
 

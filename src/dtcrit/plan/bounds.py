@@ -1,4 +1,4 @@
-"""Per-body mass factors that make a packing stable at a target step: sufficient, by two rigorous bounds.
+"""Per-body mass factors that make a packing's critical step at least a target step: sufficient, by two rigorous bounds.
 
 A lagged central-difference scheme (leapfrog, velocity Verlet, symplectic Euler: LAMMPS ``fix
 nve/sphere``, YADE's NewtonIntegrator) with contact dashpots is stable at the step ``h`` iff
@@ -17,6 +17,14 @@ nve/sphere``, YADE's NewtonIntegrator) with contact dashpots is stable at the st
   ``lambda_max(B, F M) <= 2 max_p mu_p / f_p`` with ``mu_p = lambda_max(M_p^-1/2 B_pp M_p^-1/2)`` the
   top of body ``p``'s 6 x 6 block (translation and rotation together).  ``f_p = max(1, mu_p / 2)``.
 
+When the law's terms grow with the masses (a LAMMPS dashpot ``m_eff gamma_n``, ``dtcrit.plan.rederive``)
+``B`` itself depends on ``F``.  Both bounds hold for any ``F`` with ``B(F)`` assembled at the scaled
+masses, so :func:`sufficient_factors` iterates ``f <- f q`` with ``q_p`` body ``p``'s demand relative to
+its scaled mass until every ``q_p <= 1`` (a fixed point of a monotone map: the terms only grow with
+``f``, so the sequence only grows); the factors it returns satisfy the bound at their own ``B(F)``.
+Either set gives ``lambda_max <= 4``: a critical step at least the target (``= 4`` is the margin,
+which the exact confirmation of ``dtcrit.plan.density`` clears).
+
 Both need the springs' elements positive semi-definite: as in ``damped_step``'s ``dt_lower`` the
 compressive pre-loads (negative semi-definite terms, which only lower ``lambda_max``) are left out and
 the tensile ones kept.  Plain NumPy/SciPy.
@@ -24,6 +32,7 @@ the tensile ones kept.  Plain NumPy/SciPy.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from typing import Callable
 
 import numpy as np
 
@@ -31,7 +40,14 @@ from dtcrit.packing.bounds.estimates import _abs_row_sums
 from dtcrit.packing.model import Contacts, Packing
 from dtcrit.packing.solvers.damped_step import scaled_matrices
 
-__all__ = ["BodyDemands", "body_demands", "diagonal_blocks"]
+__all__ = ["BodyDemands", "body_demands", "diagonal_blocks", "sufficient_factors"]
+
+RELAXATION = 1e-3
+"""Each step of :func:`sufficient_factors` after the first overshoots the demand by this fraction, so a
+fixed point approached from below is passed in finitely many steps."""
+MAX_ITERATIONS = 60
+ROUNDING = 1e-12
+"""A demand within this of 1 counts as met: the same factors assembled twice differ by rounding."""
 
 
 @dataclass(frozen=True)
@@ -140,3 +156,43 @@ def body_demands(packing: Packing, contacts: Contacts, h: float, *, dashpots: bo
         part = blocks[lo:lo + (1 << 16)]
         top[lo:lo + (1 << 16)] = np.linalg.eigvalsh(0.5 * (part + np.swapaxes(part, 1, 2)))[:, -1]
     return BodyDemands(gershgorin=per_body_rows / 4.0, block_diagonal=np.maximum(top, 0.0) / 2.0)
+
+
+def sufficient_factors(system: Callable[[np.ndarray], tuple[Packing, Contacts]], n: int, h: float, which: str,
+                       free: np.ndarray, *, dashpots: bool, max_factor: float) -> np.ndarray | None:
+    """Per-body factors that satisfy one bound with the terms at the scaled masses (module docstring).
+
+    Parameters
+    ----------
+    system : callable
+        ``factors -> (packing, contacts)`` at the scaled masses (``dtcrit.plan.exact.ScaledStep.system``).
+    n : int
+        Number of bodies.
+    h : float
+        The step [s] (for a local-damping scene: the undamped step it needs).
+    which : {'gershgorin', 'block_diagonal'}
+        The bound.
+    free : numpy.ndarray
+        ``(N,)`` which bodies may be scaled (the others keep 1).
+    dashpots : bool
+        Whether the dashpot term enters.
+    max_factor : float
+        The largest factor allowed.
+
+    Returns
+    -------
+    numpy.ndarray or None
+        ``(N,)`` factors with ``lambda_max(B(F), F M) <= 4`` by the bound, or None when the iteration
+        does not get there within ``max_factor`` (a dashpot ``m_eff gamma`` can keep the bound above 4
+        at any mass).
+    """
+    f = np.ones(n)
+    for k in range(MAX_ITERATIONS):
+        q = np.where(free, getattr(body_demands(*system(f), h, dashpots=dashpots), which), 0.0)
+        if np.all(q <= 1.0 + ROUNDING):
+            return f
+        grow = q > 1.0 + ROUNDING
+        f = np.where(grow, f * q * (1.0 if k == 0 else 1.0 + RELAXATION), f)
+        if np.any(f > max_factor):
+            return None
+    return None

@@ -1,16 +1,21 @@
-"""Density scaling with the least added mass that the exact eigen-solve confirms stable at a target step.
+"""Density scaling with the least added mass whose critical step the exact eigen-solve confirms above a target step.
 
 :func:`plan_density_scaling` is the API behind ``dtcrit plan``'s density scaling:
 
 1. the *sufficient* per-body factors of the Gershgorin and block-diagonal bounds (``dtcrit.plan.bounds``):
-   with either set the scaled packing is stable at the target, whatever the eigen-solver says;
+   with either set the scaled packing's critical step is at least the target (``lambda_max <= 4``),
+   whatever the eigen-solver says;
 2. tightened with the *exact* critical step of the scaled packing (``dtcrit.plan.exact``, the audit's
-   solve): four monotone families of factors, each from 1 (no scaling) to a set known stable, are
+   solve): four monotone families of factors, each from 1 (no scaling) to a set whose step is known to reach the target, are
    bisected on their parameter -- the better bound's factors interpolated towards 1, each bound's
    per-body demand and YADE's each scaled by a common number and floored at 1 -- and the least added
    mass over them and the exact uniform factor is kept;
 3. every answer is one whose exact critical step is at least ``target x (1 + CONFIRM_MARGIN)``: a
    plan the exact solve did not confirm is never returned.
+
+Every step is of the packing with the scaled masses *and* the contacts the engine's law gives at them
+(``dtcrit.plan.rederive``): LAMMPS recomputes ``c_n = m_eff gamma_n`` every step, so a dashpot grows
+with the masses, and the step planned is the one ``dtcrit audit`` computes for ``--write-dump``'s file.
 
 YADE's rule (``NewtonIntegrator.densityScaling`` with ``GlobalStiffnessTimeStepper.targetDt``,
 ``pkg/dem/GlobalStiffnessTimeStepper.cpp`` ``findTimeStepFromBody``): each body's acceleration is
@@ -34,7 +39,7 @@ import numpy as np
 from dtcrit.errors import InputError
 from dtcrit.physics import rules_of_thumb as rot
 
-from dtcrit.plan.exact import ScaledStep, check_target, free_bodies, scaled_packing
+from dtcrit.plan.exact import ScaledStep, check_target, confirmed_uniform, free_bodies, scaled_packing
 
 __all__ = ["CONFIRM_MARGIN", "DEFAULT_MAX_FACTOR", "DensityPlan", "plan_density_scaling", "yade_rule_factors"]
 
@@ -49,7 +54,7 @@ BISECTION_RTOL = 1e-3
 
 @dataclass(frozen=True)
 class DensityPlan:
-    """Per-body mass (and inertia) factors that make the packing stable at ``target_dt``.
+    """Per-body mass (and inertia) factors whose exact critical step is at least ``target_dt x (1 + CONFIRM_MARGIN)``.
 
     Parameters
     ----------
@@ -60,16 +65,18 @@ class DensityPlan:
     factors : numpy.ndarray
         ``(N,)`` factors >= 1 on each body's mass and principal moments, in the snapshot's body order.
     dt_crit_scaled : float
-        The exact critical step of the scaled packing [s], >= ``target_dt``.
+        The exact critical step of the scaled packing [s] (its contacts at the scaled masses),
+        >= ``target_dt x (1 + CONFIRM_MARGIN)``.
     added_mass_fraction : float
         ``sum m_p (f_p - 1) / sum m_p`` over the free bodies.
     family : str
         Which family gave the least added mass (``bound interpolation``, ``block_diagonal demand``,
         ``gershgorin demand``, ``YADE demand``, ``uniform``).
     bound : str
-        The bound whose factors are the guaranteed start (``gershgorin`` or ``block_diagonal``).
+        The bound whose factors are the guaranteed start (``gershgorin`` or ``block_diagonal``; ``uniform``
+        when neither bound gets below 4 within ``max_factor``, possible with dashpots ``m_eff gamma``).
     bound_factors : numpy.ndarray
-        ``(N,)`` its sufficient factors (stable at the target by the bound alone).
+        ``(N,)`` its sufficient factors (critical step >= the target by the bound alone: ``lambda_max <= 4``).
     bound_added_mass_fraction : float
         Their added mass fraction.
     uniform_factor : float
@@ -212,10 +219,13 @@ def read_input(snapshot, read: dict):
     Returns
     -------
     Snapshot
-        The snapshot.
+        The snapshot; a file's with how its law was given (``dtcrit.plan.rederive.with_law_inputs``), so
+        that the law can be applied to the scaled masses.
     """
     from dtcrit.packing.audit.results import Snapshot
     from dtcrit.packing.audit.run import read_snapshot
+
+    from dtcrit.plan.rederive import with_law_inputs
 
     if isinstance(snapshot, Snapshot):
         return snapshot
@@ -223,7 +233,7 @@ def read_input(snapshot, read: dict):
         raise InputError("snapshot", "plan needs a snapshot (a LAMMPS/LIGGGHTS dump or a YADE export), not a scene: the "
                                      "planned masses are confirmed by the exact step of the scaled packing, which a scene "
                                      "does not have (dtcrit step gives a scene's step)")
-    return read_snapshot(snapshot, **read)
+    return with_law_inputs(read_snapshot(snapshot, **read), read)
 
 
 def scaled_step_of(given, integrator, local_damping, local_damping_law, method) -> ScaledStep:
@@ -246,13 +256,15 @@ def scaled_step_of(given, integrator, local_damping, local_damping_law, method) 
         The evaluator.
     """
     from dtcrit.packing.audit import local_damping as damping
+    from dtcrit.plan.rederive import rebuilder
 
     local = damping.resolve(given.meta, given.source, local_damping, local_damping_law)
     integrator = integrator or given.convention.integrator
     if local is not None and integrator not in damping.MODELLED_INTEGRATORS:
         raise InputError("local_damping", f"local damping is modelled with {', '.join(damping.MODELLED_INTEGRATORS)} "
                                           f"only, not {integrator!r}")
-    return ScaledStep(given.packing, given.contacts, integrator, 1.0 if local is None else local.factor, method)
+    return ScaledStep(given.packing, given.contacts, integrator, 1.0 if local is None else local.factor, method,
+                      rebuild=rebuilder(given))
 
 
 def _families(demands, bounds: dict, bound: str, free: np.ndarray, yade: np.ndarray | None,
@@ -261,46 +273,42 @@ def _families(demands, bounds: dict, bound: str, free: np.ndarray, yade: np.ndar
     def capped(f: np.ndarray) -> np.ndarray:
         return np.minimum(max_factor, f)
 
-    def threshold(d: np.ndarray, top: np.ndarray) -> tuple:
+    def threshold(d: np.ndarray, top: np.ndarray | None) -> tuple:
         d = np.where(free, d, 0.0)
-        hi = 1.0 if top.max() <= max_factor else max_factor / max(float(d[d > 0].min(initial=1.0)), 1e-300)
+        if top is None or top.max() > max_factor:
+            hi = max_factor / max(float(d[d > 0].min(initial=1.0)), 1e-300)
+        else:  # the demand at the unscaled masses times hi covers the bound's own factors (terms at F)
+            up = (top > 1.0) & (d > 0)  # the scaled bodies: with fixed terms top = d there and hi = 1
+            hi = max(1.0, float(np.max(top[up] / d[up], initial=1.0)))
         return (lambda s: capped(np.maximum(1.0, s * d))), hi
 
     f_bound = bounds[bound]
     families = {"bound interpolation": ((lambda t: capped(1.0 + t * (f_bound - 1.0))), 1.0)}
     for name in ("block_diagonal", "gershgorin"):
-        families[f"{name} demand"] = threshold(getattr(demands, name), bounds[name])
+        families[f"{name} demand"] = threshold(getattr(demands, name), bounds.get(name))
     if yade is not None:
         families["YADE demand"] = threshold(yade, np.full(1, np.inf))
     return families
 
 
 def _confirmed(step: ScaledStep, factors: np.ndarray, target: float, max_factor: float) -> tuple[np.ndarray, float]:
-    """The factors and their exact critical step, raised by 1 % of their excess at a time until it meets the target."""
+    """The factors and their exact critical step, raised by 1 % of their excess at a time until it is at least
+    ``target x (1 + CONFIRM_MARGIN)``.
+    """
+    need = target * (1.0 + CONFIRM_MARGIN)
     for _ in range(20):
         dt = step.dt(factors)
-        if dt >= target:
+        if dt >= need:
             return factors, dt
         factors = np.minimum(max_factor, 1.0 + 1.01 * (factors - 1.0))
     raise InputError("target_dt", f"the exact solve did not confirm a plan for {target:.6g} s (eigen-solver trouble)")
-
-
-def _uniform(step: ScaledStep, target: float, free: np.ndarray, ok) -> tuple[float, float]:
-    """The exact uniform factor, nudged up until the exact step confirms it."""
-    f_u = step.uniform_factor(target) * (1.0 + 4.0 * CONFIRM_MARGIN)
-    for _ in range(40):
-        good, dt = ok(np.where(free, f_u, 1.0))
-        if good:
-            return f_u, dt
-        f_u *= 1.0 + 1e-5
-    raise InputError("target_dt", "the exact solve did not confirm a uniform factor (eigen-solver trouble)")
 
 
 def plan_density_scaling(snapshot: str | os.PathLike | Any, target_dt: float, max_factor: float = DEFAULT_MAX_FACTOR,
                          *, integrator: str | None = None, local_damping: float | None = None,
                          local_damping_law: str | None = None, yade_safety: float = rot.YADE_GSTS_SAFETY,
                          method: str = "auto", **read: Any) -> DensityPlan:
-    """Per-body mass and inertia factors with the least added mass found, confirmed stable at ``target_dt``.
+    """Per-body mass and inertia factors with the least added mass found, critical step confirmed above ``target_dt``.
 
     Parameters
     ----------
@@ -324,7 +332,8 @@ def plan_density_scaling(snapshot: str | os.PathLike | Any, target_dt: float, ma
     Returns
     -------
     DensityPlan
-        ``factors`` (ordered as the snapshot's bodies), ``dt_crit_scaled >= target_dt`` and the comparisons.
+        ``factors`` (ordered as the snapshot's bodies), ``dt_crit_scaled >= target_dt x (1 + CONFIRM_MARGIN)``
+        and the comparisons.
 
     Raises
     ------
@@ -359,14 +368,21 @@ def plan_density_scaling(snapshot: str | os.PathLike | Any, target_dt: float, ma
         dt = step.dt(f)
         return dt >= need, dt
 
-    f_uniform, dt_uniform = _uniform(step, target, free, ok)
+    f_uniform, dt_uniform = confirmed_uniform(step, target, free, ok, dt_now, max_factor, CONFIRM_MARGIN)
     if f_uniform > max_factor:
         raise InputError("max_factor", f"the target {target:.6g} s is unreachable within a mass factor of {max_factor:g}: "
-                                       f"it takes {f_uniform:.6g} on every body (today's critical step {dt_now:.6g} s)")
-    from dtcrit.plan.bounds import body_demands
+                                       + (f"it takes {f_uniform:.6g} on every body" if math.isfinite(f_uniform) else
+                                          f"{max_factor:g} on every body does not reach it (dashpots m_eff gamma grow "
+                                          f"with the mass)") + f" (today's critical step {dt_now:.6g} s)")
+    from dtcrit.plan.bounds import body_demands, sufficient_factors
 
-    demands = body_demands(packing, given.contacts, step.undamped_target(target), dashpots=step.dashpots)
-    bounds = {name: np.where(free, demands.factors(name), 1.0) for name in ("gershgorin", "block_diagonal")}
+    h = step.undamped_target(target)
+    demands = body_demands(packing, given.contacts, h, dashpots=step.dashpots)
+    sufficient = {name: sufficient_factors(step.system, packing.n, h, name, free, dashpots=step.dashpots,
+                                           max_factor=max_factor) for name in ("gershgorin", "block_diagonal")}
+    bounds = {name: np.where(free, f, 1.0) for name, f in sufficient.items() if f is not None}
+    if not bounds:  # neither bound gets below 4 within max_factor: start from the uniform factor instead
+        bounds = {"uniform": np.where(free, f_uniform, 1.0)}
     bound = min(bounds, key=lambda name: added_fraction(packing.masses, bounds[name], free))
     f_bound = bounds[bound]
     yade = yade_rule_factors(given, target, yade_safety)

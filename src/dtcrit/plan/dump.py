@@ -35,7 +35,8 @@ def check_dump_target(snapshot, path, *, per_type_law: bool = False) -> None:
     Raises
     ------
     InputError
-        ``write_dump``: a YADE export, bodies other than spheres, or a directory that does not exist.
+        ``write_dump``: a YADE export, bodies other than spheres, a directory that does not exist, or the
+        snapshot itself (the same file by any path: the plan would overwrite its own input).
     """
     with open(snapshot.source, "rb") as fh:
         export = fh.read(64).lstrip(b"\xef\xbb\xbf \t\r\n").startswith(b"{")
@@ -47,6 +48,9 @@ def check_dump_target(snapshot, path, *, per_type_law: bool = False) -> None:
                                        "take the planned masses from --json (density_scaling.factors) instead")
     if not snapshot.packing.is_spheres or snapshot.packing.orientations is not None:
         raise InputError("write_dump", "a dump holds spheres only; this snapshot has other bodies")
+    if Path(path).exists() and Path(snapshot.source).exists() and os.path.samefile(path, snapshot.source) or \
+            Path(path).resolve() == Path(snapshot.source).resolve():
+        raise InputError("write_dump", f"{path} is the snapshot itself: write the planned masses to another file")
     parent = Path(path).parent
     if not parent.is_dir():
         raise InputError("write_dump", f"the directory {parent} does not exist")

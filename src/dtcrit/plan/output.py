@@ -102,10 +102,12 @@ def _density_lines(plan: Any) -> list[str]:
     yade = ("n/a (YADE's stepper reads sphere contacts only)" if d.yade_dt_crit_scaled is None else
             f"{_pct(d.yade_rule_added_mass_fraction)}; its exact step {d.yade_dt_crit_scaled:.6g} s "
             f"({'stable' if d.yade_dt_crit_scaled >= d.target_dt else 'UNSTABLE'} at the target)")
+    start = "the uniform factor" if d.bound == "uniform" else f"the {d.bound.replace('_', '-')} bound's factors"
     lines = ["", "density scaling (mass and inertia of each body times f >= 1):",
              f"  added mass {_pct(d.added_mass_fraction)} ({d.added_mass:.6g} kg), largest factor {d.factors.max():.5g}; "
              f"exact dt_crit of the scaled packing {d.dt_crit_scaled:.7g} s >= target",
-             f"  (confirmed by the exact eigen-solve; start: the {d.bound.replace('_', '-')} bound's factors, "
+             f"  (confirmed by the exact eigen-solve; start: "
+             f"{start}, "
              f"{_pct(d.bound_added_mass_fraction)}; kept: {d.family}; {d.solves} inertia counts and eigen-solves)",
              f"  YADE densityScaling rule (safety {d.yade_safety:g}): {yade}",
              f"  uniform factor {d.uniform_factor:.6g}: {_pct(d.uniform_added_mass_fraction)}",
@@ -139,6 +141,8 @@ def _stiffness_lines(plan: Any) -> list[str]:
         lines.append(f"  an impact at {c['velocity']:g} m/s is resolved to 1 % by {c['resolution_steps']:.4g} steps per "
                      f"collision: dt <= {c['resolution_dt_now']:.4g} s today, {c['resolution_dt_density']:.4g} s with "
                      f"density scaling, {c['resolution_dt_stiffness']:.4g} s with stiffness reduction")
+    elif c.get("resolution_assessed") is False:
+        lines.append(f"  an impact at {c['velocity']:g} m/s: collision resolution not assessed for this damped law")
     return lines
 
 

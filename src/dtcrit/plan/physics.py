@@ -13,8 +13,9 @@
 * **collision duration** of each contact at the snapshot's stiffness, ``t_c = pi sqrt(m_eff / kn)``
   (``dtcrit.collisions.contact_time``, linear; Hertz at an impact speed from the modulus its ``kn`` and
   overlap give), the shortest today, after density scaling (masses ``f m``) and after stiffness
-  reduction (``t_c / sqrt(s)``), the steps per collision at each step, and, for undamped contacts at
-  a given speed, the step that resolves an impact to 1 % (``dtcrit.collisions.resolution_step``).
+  reduction (``t_c / sqrt(s)``), the steps per collision at each step, and, at a given speed, the step
+  that resolves an impact to 1 % (``dtcrit.collisions.resolution_step``; a damped law as
+  ``dtcrit.plan.resolution`` maps it, else not assessed).
 """
 from __future__ import annotations
 
@@ -204,10 +205,11 @@ def contact_durations(packing, contacts, factors: np.ndarray | None = None) -> n
         return math.pi * np.sqrt(m_eff / contacts.kn)
 
 
-def resolution_steps(engine: str, integrator: str, hertz: bool) -> float:
-    """Steps per collision that resolve an undamped impact's restitution and peak overlap to 1 %.
+def resolution_steps(engine: str, integrator: str, hertz: bool, damping: str = "none", restitution: float = 1.0) -> float:
+    """Steps per collision that resolve an impact's restitution and peak overlap to 1 %.
 
-    ``dtcrit.collisions.resolution_step`` (``damping='none'``, restitution 1) of the engine's scheme.
+    ``dtcrit.collisions.resolution_step`` of the engine's scheme (``damping='none'``, restitution 1:
+    undamped; ``dtcrit.plan.resolution`` maps a damped snapshot's law to its model and restitution).
 
     Parameters
     ----------
@@ -217,6 +219,10 @@ def resolution_steps(engine: str, integrator: str, hertz: bool) -> float:
         Its integrator (used when the engine's name is not a scheme ``dtcrit.collisions`` knows).
     hertz : bool
         Hertz (else linear) normal law.
+    damping : str
+        A key of ``dtcrit.physics.collision_laws.DAMPING_MODELS``.
+    restitution : float
+        The restitution in (0, 1] (as ``resolution_step`` takes it).
 
     Returns
     -------
@@ -228,9 +234,11 @@ def resolution_steps(engine: str, integrator: str, hertz: bool) -> float:
 
     normal = "hertz" if hertz else "hooke"
     try:
-        return float(resolution_step(engine=engine, normal=normal, damping="none", restitution=1.0).steps_per_collision)
+        return float(resolution_step(engine=engine, normal=normal, damping=damping,
+                                     restitution=restitution).steps_per_collision)
     except InputError:
-        return float(resolution_step(engine=integrator, normal=normal, damping="none", restitution=1.0).steps_per_collision)
+        return float(resolution_step(engine=integrator, normal=normal, damping=damping,
+                                     restitution=restitution).steps_per_collision)
 
 
 def unbalanced_force_ratio(packing, contacts, hertz: bool, free: np.ndarray) -> float | None:

@@ -132,8 +132,33 @@ def _quasi_static(given, plan: DensityPlan, strain_rate, hertz: bool) -> dict:
     return out
 
 
-def _collisions(given, plan: DensityPlan, stiffness: StiffnessPlan, velocity, hertz: bool) -> dict:
-    from dtcrit.plan.physics import contact_durations, hertz_durations, resolution_steps
+def _resolution(given, step, plan: DensityPlan, both: np.ndarray, hertz: bool) -> tuple | None:
+    """``(N_res today and with stiffness reduction, N_res with density scaling)``; None: not assessed.
+
+    A damped law is resolved at its smallest restitution (the most damped contact needs the most steps),
+    today and at the scaled masses (a dashpot ``m_eff gamma`` changes the damping ratio with the mass);
+    stiffness reduction keeps every damping ratio (``dtcrit.plan.stiffness``).
+    """
+    from dtcrit.plan.physics import resolution_steps
+    from dtcrit.plan.resolution import damping_model, linear_restitution
+
+    model = damping_model(given)
+    if model is None:
+        return None
+    if model == "none":
+        n = resolution_steps(given.convention.name, plan.integrator, hertz)
+        return n, n
+    packing, contacts = step.system(plan.factors)
+    e_now = float(linear_restitution(given.packing, given.contacts)[both].min())
+    e_dens = float(linear_restitution(packing, contacts)[both].min())
+    if not (e_now > 0 and e_dens > 0):  # an overdamped contact does not bounce: no restitution to resolve
+        return None
+    return (resolution_steps(given.convention.name, plan.integrator, False, model, e_now),
+            resolution_steps(given.convention.name, plan.integrator, False, model, e_dens))
+
+
+def _collisions(given, step, plan: DensityPlan, stiffness: StiffnessPlan, velocity, hertz: bool) -> dict:
+    from dtcrit.plan.physics import contact_durations, hertz_durations
 
     both = plan.free[given.contacts.i] & plan.free[given.contacts.j]
     if not both.any():
@@ -154,11 +179,14 @@ def _collisions(given, plan: DensityPlan, stiffness: StiffnessPlan, velocity, he
         "steps_per_collision_now": now / dt_now, "steps_per_collision_density": dens / t,
         "steps_per_collision_stiffness": soft / t, "lammps_rule_steps": float(rot.COLLISION_TIME_DIVISOR),
         "velocity": velocity, "resolution_steps": None, "resolution_dt_now": None, "resolution_dt_density": None,
-        "resolution_dt_stiffness": None}
-    if velocity is not None and not given.contacts.damped:
-        n_res = resolution_steps(given.convention.name, plan.integrator, hertz)
-        out.update(resolution_steps=n_res, resolution_dt_now=now / n_res, resolution_dt_density=dens / n_res,
-                   resolution_dt_stiffness=soft / n_res)
+        "resolution_dt_stiffness": None, "resolution_assessed": None}
+    if velocity is not None:
+        found = _resolution(given, step, plan, both, hertz)
+        out["resolution_assessed"] = found is not None
+        if found is not None:
+            n_now, n_dens = found
+            out.update(resolution_steps=n_now, resolution_dt_now=now / n_now, resolution_dt_density=dens / n_dens,
+                       resolution_dt_stiffness=soft / n_now)
     return out
 
 
@@ -166,10 +194,11 @@ def _warnings(plan: DensityPlan, quasi: dict, gravity, velocity, collisions: dic
     out = []
     f_max = float(plan.factors.max())
     if gravity is not None:
-        out.append(f"gravity {gravity:g} m/s^2: with YADE's densityScaling the weight stays and the inertia grows, so "
-                   f"a body scaled by {f_max:.4g} falls at g/{f_max:.4g}; scaling the mass column (LAMMPS) scales the "
-                   f"weight too and the overlaps under self-weight by the same factor: gravity-driven motion is not "
-                   f"what it was")
+        out.append(f"gravity {gravity:g} m/s^2: YADE's own densityScaling keeps the weight and scales only the inertia, "
+                   f"so a body scaled by {f_max:.4g} falls at g/{f_max:.4g}; this plan applied as masses (dtcrit's YADE "
+                   f"hook sets state.mass, the LAMMPS recipe and --write-dump the mass column) scales the weight with "
+                   f"the mass: the body still falls at g, but its weight and the overlaps under self-weight grow up to "
+                   f"{f_max:.4g} x: gravity-driven loading is not what it was")
     if velocity is not None:
         out.append(f"impacts at {velocity:g} m/s: the scaled bodies carry up to {f_max:.4g} x the momentum and kinetic "
                    f"energy, their collisions last up to {f_max ** (0.4 if hertz else 0.5):.4g} x longer "
@@ -183,19 +212,17 @@ def _warnings(plan: DensityPlan, quasi: dict, gravity, velocity, collisions: dic
     after = quasi.get("inertial_number_after")
     if after is not None and after > quasi["limit"]:
         out.append(f"inertial number after scaling {after:.3g} > {quasi['limit']:g}: the flow is no longer quasi-static")
-    n_res = collisions["resolution_steps"]
+    if collisions["resolution_assessed"] is False:
+        out.append("the collision resolution at the target was not assessed: the snapshot's damped contact law has no "
+                   "collision model in dtcrit.collisions that this plan maps it to (linear springs with a constant or "
+                   "m_eff gamma dashpot are mapped)")
     for option in ("density", "stiffness"):
-        steps = collisions[f"steps_per_collision_{option}"]
-        if n_res is not None and steps < n_res:
-            out.append(f"with {'density scaling' if option == 'density' else 'stiffness reduction'} the shortest "
-                       f"collision lasts {steps:.3g} steps of the target, fewer than the {n_res:.3g} that resolve an "
-                       f"impact's restitution and peak overlap to 1 % (dtcrit.collisions.resolution_step)")
+        limit = collisions[f"resolution_dt_{option}"]
+        if limit is not None and plan.target_dt > limit:
+            out.append(f"with {'density scaling' if option == 'density' else 'stiffness reduction'} the target step "
+                       f"{plan.target_dt:.4g} s exceeds the {limit:.4g} s that resolves the shortest collision's "
+                       f"restitution and peak overlap to 1 % (dtcrit.collisions.resolution_step)")
     return tuple(out)
-
-
-def _is_hertz(law: str) -> bool:
-    text = law.lower()
-    return "hertz" in text or "mindlin" in text
 
 
 def plan_snapshot(snapshot: str | os.PathLike | Any, target_dt: float, *, max_factor: float = DEFAULT_MAX_FACTOR,
@@ -243,6 +270,7 @@ def plan_snapshot(snapshot: str | os.PathLike | Any, target_dt: float, *, max_fa
     from dtcrit.packing.audit.run import audit_snapshot
     from dtcrit.plan.density import read_input, scaled_step_of
     from dtcrit.plan.physics import size_classes
+    from dtcrit.plan.resolution import is_hertz
     from dtcrit.plan.stiffness import stiffness_reduction
 
     for key, value in (("gravity", gravity), ("velocity", velocity)):
@@ -256,10 +284,10 @@ def plan_snapshot(snapshot: str | os.PathLike | Any, target_dt: float, *, max_fa
     audit = audit_snapshot(given, integrator=plan.integrator, local_damping=local_damping,
                            local_damping_law=local_damping_law)
     step = scaled_step_of(given, plan.integrator, local_damping, local_damping_law, "auto")
-    hertz = _is_hertz(given.law)
+    hertz = is_hertz(given)
     stiffness = stiffness_reduction(step, plan.target_dt, plan.dt_crit, hertz=hertz)
     quasi = _quasi_static(given, plan, strain_rate, hertz)
-    collisions = _collisions(given, plan, stiffness, velocity, hertz)
+    collisions = _collisions(given, step, plan, stiffness, velocity, hertz)
     n_free = int(plan.free.sum())
     return SnapshotPlan(
         source=given.source, engine=given.convention.name, integrator=plan.integrator, law=given.law,
