@@ -1,6 +1,6 @@
 """The README is a short entry point: at most 200 lines, real example output, no generated tables.
 
-Its ``dtcrit step`` and ``dtcrit audit`` examples must be what the commands print today; its only
+Its ``dtcrit step``, ``dtcrit audit`` and ``dtcrit plan`` examples must be what the commands print today; its only
 table is the verified-steps table (the reference tables are generated on the site); every relative
 link names a file of the repository.
 """
@@ -31,7 +31,7 @@ def test_the_readme_is_short():
 
 
 def test_the_readme_shows_a_step_and_an_audit():
-    assert [args[0] for args, _ in _console_blocks()] == ["step", "audit"]
+    assert [args[0] for args, _ in _console_blocks()] == ["step", "audit", "plan"]
 
 
 @pytest.mark.parametrize("args, output", _console_blocks(), ids=lambda v: v[0] if isinstance(v, list) else None)
