@@ -49,6 +49,8 @@ def test_scaled_packing_is_bounded_in_lammps_at_the_planned_step(packing, times)
     plan = plan_density_scaling(snap, times * dt_now)
     assert plan.dt_crit_scaled >= plan.target_dt
     assert plan.added_mass_fraction < plan.yade_rule_added_mass_fraction
+    print(f"\n{times:g} x dt_crit: added mass fraction plan {plan.added_mass_fraction:.4f}, YADE rule "
+          f"{plan.yade_rule_added_mass_fraction:.4f}, uniform {plan.uniform_added_mass_fraction:.4f}")
     scaled = format_scaled_dump(snap.packing, plan.factors, plan.free)
     assert not grows(scaled, HOOKE, 0.99 * plan.dt_crit_scaled, STEPS)
     assert grows(scaled, HOOKE, 1.01 * plan.dt_crit_scaled, STEPS)
