@@ -141,9 +141,9 @@ def _run(args) -> int:
 
         write_scaled_dump(args.write_dump, given.packing, plan.density.factors, plan.density.free)
     if args.plot:
-        from dtcrit.figures.plan_plot import write_plan_plot
+        from dtcrit.figures.plan_added_mass import write_added_mass_figure
 
-        write_plan_plot(plan, args.plot)
+        write_added_mass_figure(plan.density, plan.snapshot.packing.radii, args.plot)
     if args.json:
         json.dump(plan.to_json(), sys.stdout, indent=2, sort_keys=True)
         sys.stdout.write("\n")
