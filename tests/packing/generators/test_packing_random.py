@@ -3,7 +3,7 @@ import itertools
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import assume, given, settings, strategies as st
 
 from dtcrit.errors import InputError
 from dtcrit.packing.detection.overlaps import find_sphere_contacts
@@ -91,6 +91,10 @@ def test_lattice_coordination(name):
        spread=st.floats(0.0, 0.8), seed=st.integers(0, 2**16))
 def test_mean_coordination_is_controlled(n, cn, sizes, spread, seed):
     p = random_packing(n, cn=cn, sizes=sizes, spread=min(spread, 0.9), seed=seed, max_steps=60)
+    # a sphere as wide as half the box touches a partner through two periodic images: the contacts then
+    # come in pairs and the target count cannot always be hit (20 lognormal spheres, spread 0.75, seed
+    # 32697: 62 for 60); the count is controlled where each pair touches once
+    assume(4.0 * float(p.radii.max()) < float(np.min(p.box.lengths)))
     c = find_sphere_contacts(p)
     assert c.count == round(cn * n / 2)
     assert abs(c.coordination(n).mean() - cn) <= 1.0 / n + 1e-12
