@@ -80,7 +80,7 @@ def memory_bandwidth(megabytes: int = 128) -> float:
 
 
 def run_one(n: int, packing_kind: str = "fcc", method: str = "auto", dense_check: bool = True,
-            route: str = "assembled") -> dict:
+            route: str = "assembled", search_floor: bool = True) -> dict:
     """Time every stage for one size in this process; returns a dict of figures.  ``route``:
     ``"assembled"`` (sparse ``K``, the route before the matrix-free operator) or ``"matrix-free"``
     (``dtcrit.packing.operators.matrix_free``; its bandwidth floor is also reported).
@@ -97,6 +97,8 @@ def run_one(n: int, packing_kind: str = "fcc", method: str = "auto", dense_check
         Also compare with a dense eigen-solve where small enough.
     route : str
         ``"assembled"`` or ``"matrix-free"``.
+    search_floor : bool
+        Time SciPy's pair search alone for the search stage's floor (``stage_floors``).
 
     Returns
     -------
@@ -115,9 +117,11 @@ def run_one(n: int, packing_kind: str = "fcc", method: str = "auto", dense_check
     clock, cpu = time.perf_counter(), time.process_time()
     packing = jittered_fcc(n) if packing_kind == "fcc" else random_packing(n, cn=6.0, seed=1)
     out["t_generate"] = time.perf_counter() - clock
+    peaks = {"generate": _peak_mib()}
     t0, c0 = time.perf_counter(), time.process_time()
     contacts = apply_law(find_sphere_contacts(packing), LinearLaw(1.0, 1.0))
     t1 = time.perf_counter()
+    peaks["search"] = _peak_mib()
     md = mass_diagonal(packing)
     if route == "matrix-free":
         from dtcrit.packing.operators.matrix_free import stiffness_operator
@@ -126,32 +130,93 @@ def run_one(n: int, packing_kind: str = "fcc", method: str = "auto", dense_check
     else:
         a = scale_symmetric(stiffness_matrix(packing, contacts), md, inplace=True)
     t2 = time.perf_counter()
+    peaks["operator"] = _peak_mib()
     def hint():  # all particles co-rotating: built inside the solver, released after its start
         return trials.co_rotation(packing, 0) + trials.co_rotation(packing, 1) + trials.co_rotation(packing, 2)
 
     top = largest_mode(a, method, hint=hint)
     t3 = time.perf_counter()
+    peaks["eigen"] = _peak_mib()
+    before = getattr(a, "applications", 0)
     w_c = est.single_contact_frequencies(packing, contacts)
     estimates = (est.gershgorin(a, md), est.block_diagonal(a), est.diagonal_stiffness(a), est.two_particle_amax(packing, contacts),
                  est.two_particle_exact(packing, contacts, w_c), trials.rayleigh(a, packing, contacts, w_c))
     t4 = time.perf_counter()
+    peaks["bounds"] = _peak_mib()
     out.update(
         route=route, n=packing.n, dofs=packing.dofs, contacts=contacts.count, nnz=int(getattr(a, "nnz", 0)),
         t_contacts=t1 - t0, t_assembly=t2 - t1, t_eigen=t3 - t2, t_estimates=t4 - t3,
         t_analysis=t4 - t0, cpu_analysis=time.process_time() - c0, cpu_total=time.process_time() - cpu,
         omega2=top.value, method=top.method, matvecs=top.matvecs, residual=top.residual,
-        estimates={e.name: e.omega2 for e in estimates},
+        estimates={e.name: e.omega2 for e in estimates}, peak_after_mib=peaks,
+        bounds_products=getattr(a, "applications", 0) - before,
     )
-    out["peak_rss_mib"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    out["peak_rss_mib"] = _peak_mib()
     if route == "matrix-free":  # after the peak is read: the probe's arrays are not the analysis's
-        rate = memory_bandwidth()
-        floor = top.matvecs * a.memory_bytes() / rate
-        out.update(bandwidth_gbs=rate / 1e9, contact_bytes=a.memory_bytes(), floor_s=floor,
-                   floor_ratio=(t3 - t2) / floor if floor > 0 else math.nan)
+        out.update(stage_floors(a, packing, top.matvecs, out["bounds_products"], search_floor))
+        floors = out["floor_s_by_stage"]
+        out["floor_ratio_by_stage"] = {"search": (t1 - t0) / floors["search"], "eigen": (t3 - t2) / floors["eigen"],
+                                       "bounds": (t4 - t3) / floors["bounds"]}
+        out["floor_ratio"] = out["floor_ratio_by_stage"]["eigen"]
+        out["floor_s"] = floors["eigen"]
+        out["memory_floor_ratio"] = out["peak_rss_mib"] * 2.0 ** 20 / out["memory_floor_bytes"]
     if dense_check and packing.dofs <= DENSE_CHECK_DOFS:
         dense = largest_mode(a, "dense")
         out["dense_rel_diff"] = abs(top.value - dense.value) / dense.value
     return out
+
+
+def _peak_mib() -> float:
+    """Peak resident memory of this process so far [MiB] (``ru_maxrss``)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def stage_floors(a, packing, matvecs: int, bounds_products: int, search: bool = True) -> dict:
+    """What each stage of the matrix-free analysis cannot go below on this machine.
+
+    * eigen-solve: one pass over the contact arrays a product reads per product, at the measured
+      copy bandwidth (``memory_bandwidth``);
+    * bounds: the same for their products plus two passes (the element pass of the diagonal blocks
+      and row sums, and the single-contact frequencies);
+    * search: SciPy's pair search alone, ``cKDTree(...).query_pairs`` of the same spheres (built and
+      queried again here when ``search``; the contact test and the fields are not in it);
+    * memory: the contact arrays a product reads plus ``LEAN_NCV + 4`` vectors of ``6N`` (the lean
+      ARPACK basis, its three work vectors and the product's output).
+
+    Parameters
+    ----------
+    a : dtcrit.packing.operators.matrix_free.ContactOperator
+        The operator of the run.
+    packing : dtcrit.packing.model.Packing
+        The spheres.
+    matvecs, bounds_products : int
+        Products of the eigen-solve and of the bounds.
+    search : bool
+        Time the pair search (else its floor is NaN).
+
+    Returns
+    -------
+    dict
+        ``bandwidth_gbs``, ``contact_bytes``, ``floor_s_by_stage`` [s] and ``memory_floor_bytes``.
+    """
+    from scipy.spatial import cKDTree
+
+    from dtcrit.packing.detection.overlaps import _search_frame, wrap_positions
+    from dtcrit.packing.solvers.largest_mode import LEAN_NCV
+
+    rate = memory_bandwidth()
+    per_pass = a.memory_bytes() / rate
+    floors = {"eigen": matvecs * per_pass, "bounds": (bounds_products + 2) * per_pass, "search": math.nan}
+    if search:
+        x = wrap_positions(packing.positions, packing.box)
+        cutoff = 2.0 * float(packing.radii.max()) * (1.0 + 1e-9)
+        y, size = _search_frame(x, cutoff, packing.box)
+        if y is not None:
+            clock = time.perf_counter()
+            cKDTree(y, boxsize=size).query_pairs(cutoff, output_type="ndarray")
+            floors["search"] = time.perf_counter() - clock
+    return {"bandwidth_gbs": rate / 1e9, "contact_bytes": a.memory_bytes(), "floor_s_by_stage": floors,
+            "memory_floor_bytes": a.memory_bytes() + (LEAN_NCV + 4) * 8 * a.shape[0]}
 
 
 ASSEMBLED_MAX = 200_000
@@ -207,6 +272,9 @@ def run_sizes(sizes, packing_kind: str = "fcc", method: str = "auto", stream=sys
               f"{r['t_assembly']:>10.2f} {r['t_eigen']:>8.2f} {r['t_estimates']:>8.2f} {r['t_analysis']:>10.2f} "
               f"{r['cpu_analysis']:>7.1f} {r['peak_rss_mib']:>9.0f} {r['method']:>7} {r['matvecs']:>7} {dense:>9} "
               f"{floor:>8}", file=stream, flush=True)
+    for r in rows:
+        if "floor_ratio_by_stage" in r:
+            print(stage_line(r), file=stream, flush=True)
     for n in sizes:
         pair = {r["route"]: r for r in rows if r["n_target"] == n}
         if len(pair) == 2:
@@ -223,6 +291,31 @@ def run_sizes(sizes, packing_kind: str = "fcc", method: str = "auto", stream=sys
             print(f"{route}: fitted growth of the analysis time (sizes {min(ns)}..{max(ns)}): wall ~ N^{b:.2f}, "
                   f"CPU ~ N^{c:.2f}", file=stream, flush=True)
     return rows
+
+
+def stage_line(r: dict) -> str:
+    """One line of where a matrix-free run's time and memory went, stage by stage, with each stage's
+    time over its floor (``stage_floors``) and the peak memory over the memory floor.
+
+    Parameters
+    ----------
+    r : dict
+        A matrix-free row of ``run_one``.
+
+    Returns
+    -------
+    str
+        The line.
+    """
+    ratio, peak = r["floor_ratio_by_stage"], r["peak_after_mib"]
+    parts = [f"search {r['t_contacts']:.1f} s ({ratio['search']:.1f}x floor, peak {peak['search'] / 1024:.2f} GiB)",
+             f"operator {r['t_assembly']:.1f} s (peak {peak['operator'] / 1024:.2f} GiB)",
+             f"eigen-solve {r['t_eigen']:.1f} s ({ratio['eigen']:.1f}x floor, {r['matvecs']} products, "
+             f"peak {peak['eigen'] / 1024:.2f} GiB)",
+             f"bounds {r['t_estimates']:.1f} s ({ratio['bounds']:.1f}x floor, {r['bounds_products']} products, "
+             f"peak {peak['bounds'] / 1024:.2f} GiB)"]
+    return (f"N = {r['n']} stages: " + "; ".join(parts) + f"; memory {r['memory_floor_ratio']:.2f}x its floor "
+            f"({r['memory_floor_bytes'] / 2 ** 30:.2f} GiB)")
 
 
 def fit_exponent(ns, ts) -> float:

@@ -184,3 +184,62 @@ def test_the_sphere_loop_equals_the_general_loop_and_is_chosen_only_for_sphere_c
     assert np.max(np.abs(fast - general)) <= 1e-14 * np.max(np.abs(general))
     p, c = _varied(1)[0]  # rotated bodies: the general loop
     assert stiffness_operator(p, c)._sphere_args is None
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_principal_submatrix_equals_the_assembled_rows_and_columns(seed):
+    """``principal_submatrix`` against the assembled matrix's rows and columns of the same DOFs: rotated
+    bodies with stiffness over decades, and one-cell lattices (contacts through images, SC each sphere
+    with its own image), for random particle sets in a random order."""
+    from dtcrit.packing.bounds.rayleigh_trials import principal_submatrix
+
+    rng = np.random.default_rng(seed)
+    for p, c in _varied(seed):
+        md = mass_diagonal(p)
+        op = stiffness_operator(p, c, mass_diag=md)
+        dense = scale_symmetric(stiffness_matrix(p, c), md, inplace=True).toarray()
+        picked = rng.permutation(p.n)[:min(p.n, 7)]
+        dofs = (6 * picked[:, None] + np.arange(6)).reshape(-1)
+        want = dense[np.ix_(dofs, dofs)]
+        assert np.max(np.abs(principal_submatrix(op, picked) - want)) <= 1e-12 * np.max(np.abs(want))
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_rayleigh_of_a_matrix_free_operator_equals_the_quotients_by_products(seed):
+    """The local trials' quotients from one principal submatrix equal those from full products
+    (the assembled matrix hides the submatrix route), to rounding, with the same trial named."""
+    from dtcrit.packing.bounds.rayleigh_trials import rayleigh
+
+    for p, c in _varied(seed):
+        md = mass_diagonal(p)
+        op = stiffness_operator(p, c, mass_diag=md)
+        a = scale_symmetric(stiffness_matrix(p, c), md, inplace=True)
+        local, by_products = rayleigh(op, p, c), rayleigh(a, p, c)
+        assert abs(local.omega2 - by_products.omega2) <= 1e-12 * by_products.omega2
+        assert local.detail == by_products.detail
+
+
+def test_the_threaded_product_equals_the_assembled_matrix(monkeypatch):
+    """Contacts split into 1-4 blocks (one thread each, summed in block order): the product equals the
+    assembled matrix's to rounding, on the sphere loop and the general loop, and a fixed block count
+    gives the same bits every time."""
+    from dtcrit.packing.operators import matrix_free as mf
+
+    if not mf.kernels.available():
+        pytest.skip("the compiled loops need Numba")
+    monkeypatch.setattr(mf, "PARALLEL_MIN_CONTACTS", 1)
+    p = random_packing(600, cn=6.0, sizes="lognormal", spread=0.4, seed=4)
+    c = apply_law(find_sphere_contacts(p), LinearLaw(2.0, 0.6))
+    md = mass_diagonal(p)
+    a = scale_symmetric(stiffness_matrix(p, c), md, inplace=True)
+    x = np.random.default_rng(3).standard_normal(a.shape[0])
+    want = a @ x
+    for threads in (1, 2, 3, 4):
+        for sphere_loop in (True, False):
+            op = stiffness_operator(p, c, mass_diag=md, threads=threads)
+            if not sphere_loop:
+                op._sphere_args = None
+            assert (op._bounds is None) == (threads == 1)
+            got = op.apply_into(x, np.empty_like(x))
+            assert np.max(np.abs(got - want)) <= 1e-13 * np.max(np.abs(want)), (threads, sphere_loop)
+            assert np.array_equal(op @ x, got)

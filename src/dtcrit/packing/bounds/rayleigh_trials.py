@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 from dtcrit.physics.estimate import Estimate
-from dtcrit.packing.operators.assembly import contact_kinematics
+from dtcrit.packing.operators.assembly import contact_blocks, contact_kinematics
 from dtcrit.packing.model import Contacts, Packing
 from dtcrit.packing.bounds.estimates import _compliance, _mass_rows, _sqrt_contact_stiffness, single_contact_frequencies
 
@@ -145,6 +145,73 @@ def _stiffest(w: np.ndarray, k: int) -> np.ndarray:
     return pick[np.argsort(-key[pick], kind="stable")][:k]
 
 
+def principal_submatrix(a, particles: np.ndarray) -> np.ndarray:
+    """The dense rows and columns of a matrix-free ``A`` for the six DOFs of each of ``particles``.
+
+    ``A_SS`` from the operator's diagonal blocks (``diagonal_blocks``) and the scaled coupling blocks
+    ``s_i K_ij s_j`` (``assembly.contact_blocks``) of the contacts joining two of the particles (every
+    periodic image; a contact with its own image is in its diagonal block).  For vectors ``u``, ``v``
+    zero outside those DOFs, ``u^T A v = u_S^T A_SS v_S``: a local trial's quotient without a product
+    over all contacts.
+
+    Parameters
+    ----------
+    a : dtcrit.packing.operators.matrix_free.ContactOperator
+        The operator (``diagonal_blocks``, ``scale6``, ``contacts``, ``packing``, ``kind``).
+    particles : numpy.ndarray
+        Distinct particle indices; the rows follow their order, six per particle.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``A_SS``, (6m, 6m) for m particles.
+    """
+    p = np.asarray(particles, dtype=np.int64)
+    where = {int(q): k for k, q in enumerate(p)}
+    out = np.zeros((6 * len(p), 6 * len(p)))
+    blocks = a.diagonal_blocks()
+    for k, q in enumerate(p):
+        out[6 * k:6 * k + 6, 6 * k:6 * k + 6] = blocks[q]
+    c = a.contacts
+    member = np.zeros(a.shape[0] // 6, dtype=bool)
+    member[p] = True
+    pick = np.flatnonzero(member[c.i] & member[c.j] & (c.i != c.j))
+    if pick.size:
+        k_ij = contact_blocks(a.packing, c, pick, a.kind)[2]
+        for blk, ci, cj in zip(k_ij, c.i[pick], c.j[pick]):
+            r, t = 6 * where[int(ci)], 6 * where[int(cj)]
+            scaled = a.scale6[ci][:, None] * blk * a.scale6[cj][None, :]
+            out[r:r + 6, t:t + 6] += scaled
+            out[t:t + 6, r:r + 6] += scaled.T
+    return out
+
+
+def _sparse(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(indices, values)`` of the non-zero entries of ``v``."""
+    nz = np.flatnonzero(v)
+    return nz, v[nz]
+
+
+def _local_quotients(a, trials: list[tuple[str, list[tuple[np.ndarray, np.ndarray]]]]) -> list[tuple[str, float]]:
+    """Each local trial's best quotient over its span (vectors as ``_sparse`` pairs), from one
+    ``principal_submatrix`` of every particle the trials touch."""
+    support = np.unique(np.concatenate([nz // 6 for _, vs in trials for nz, _ in vs] + [np.zeros(0, np.int64)]))
+    if support.size == 0:
+        return [(label, 0.0) for label, _ in trials]
+    sub = principal_submatrix(a, support)
+    row = np.full(a.shape[0] // 6, -1, dtype=np.int64)
+    row[support] = np.arange(support.size)
+    quotients = []
+    for label, vs in trials:
+        local = []
+        for nz, values in vs:
+            v = np.zeros(sub.shape[0])
+            v[6 * row[nz // 6] + nz % 6] = values
+            local.append(v)
+        quotients.append((label, _span_quotient(sub, local)))
+    return quotients
+
+
 def rayleigh(a, packing: Packing, contacts: Contacts, omega2_c: np.ndarray | None = None,
              n_contacts: int = 8) -> Estimate:
     """Best Rayleigh quotient over the trial modes of the module docstring: an upper bound on ``dt``.
@@ -167,9 +234,7 @@ def rayleigh(a, packing: Packing, contacts: Contacts, omega2_c: np.ndarray | Non
     Estimate
         ``omega2`` [1/s^2] and ``dt = 2/omega`` [s], with where it is attained.  ``detail`` names the best trial.
     """
-    def trials():  # one at a time: at 1e7 particles each trial vector is 480 MB
-        for k in range(3):
-            yield f"co-rotation about {'xyz'[k]}", co_rotation(packing, k)
+    def local_trials():  # each vector is zero away from one or two particles
         if contacts.count:
             w = single_contact_frequencies(packing, contacts) if omega2_c is None else omega2_c
             for c in _stiffest(w, n_contacts):
@@ -179,11 +244,16 @@ def rayleigh(a, packing: Packing, contacts: Contacts, omega2_c: np.ndarray | Non
         k = int(_stiffest(d, 1)[0])
         unit = np.zeros(a.shape[0])
         unit[k] = 1.0
-        yield f"DOF {k % 6} of particle {packing.particle_id(k // 6)} alone", unit
+        yield f"DOF {k % 6} of particle {packing.particle_id(k // 6)} alone", [unit]
 
+    # the co-rotations one at a time (at 1e7 particles each is 480 MB), one product each
+    quotients = [(f"co-rotation about {'xyz'[k]}", _span_quotient(a, [co_rotation(packing, k)])) for k in range(3)]
+    if hasattr(a, "diagonal_blocks") and hasattr(a, "contacts"):  # matrix-free: no product for local trials
+        quotients += _local_quotients(a, [(label, [_sparse(v) for v in vs]) for label, vs in local_trials()])
+    else:
+        quotients += [(label, _span_quotient(a, vs)) for label, vs in local_trials()]
     best, name = 0.0, "none"
-    for label, v in trials():
-        q = _span_quotient(a, v if isinstance(v, list) else [v])
+    for label, q in quotients:
         if q > best * (1 + 1e-9):  # a rounding-level tie keeps the earlier trial's name
             name = label
         best = max(best, q)

@@ -52,9 +52,9 @@ def wrap_positions(positions: np.ndarray, box: Box | None) -> np.ndarray:
     return x
 
 
-DETECT_CHUNK = 1 << 18
-"""Particles whose neighbours one pass of the chunked sphere detection gathers: its temporaries
-(pairs, separations, sort keys) are O(chunk x coordination), not O(contacts)."""
+DETECT_CHUNK = 1 << 20
+"""Candidate pairs one pass of the sphere contact test handles: its temporaries (separations,
+normals, arms) are O(chunk), and only the finished contact fields are O(contacts)."""
 
 
 def _search_frame(x: np.ndarray, cutoff: float, box: Box | None):
@@ -88,18 +88,22 @@ def _image_of(sep: np.ndarray, box: Box | None) -> np.ndarray:
     return image
 
 
-def _chunk_pairs(tree: cKDTree, y: np.ndarray, size, lo: int, hi: int, cutoff: float):
-    """Pairs ``(i, j)``, ``lo <= i < hi``, ``i < j``, with (minimum-image) distance within
-    ``cutoff``, sorted by ``(i, j)``: a dual-tree search of the chunk against all particles.
+def _sorted_pairs(y: np.ndarray, size, cutoff: float) -> tuple[np.ndarray, np.ndarray]:
+    """Pairs ``(i, j)``, ``i < j``, with (minimum-image) distance within ``cutoff``, sorted by
+    ``(i, j)``: ``cKDTree.query_pairs`` of one tree of all particles (each pair found once; toroidal
+    along periodic axes), sorted as the keys ``i N + j`` (exact in int64 up to 3e9 particles).
+
+    Temporaries: the tree and 24 bytes per pair (the pairs and their keys).
     """
-    part = cKDTree(y[lo:hi], boxsize=size)
-    found = part.sparse_distance_matrix(tree, cutoff, output_type="ndarray")
-    i = found["i"].astype(np.int64) + lo
-    j = found["j"].astype(np.int64)
-    keep = i < j
-    i, j = i[keep], j[keep]
-    order = np.argsort(i * np.int64(len(y)) + j, kind="stable")
-    return i[order], j[order]
+    n = len(y)
+    pairs = cKDTree(y, boxsize=size).query_pairs(cutoff, output_type="ndarray")
+    keys = pairs[:, 0].astype(np.int64) * np.int64(n)
+    keys += pairs[:, 1]
+    del pairs
+    keys.sort()
+    i = keys // np.int64(n)
+    keys -= i * np.int64(n)
+    return i, keys
 
 
 AXES = "xyz"
@@ -171,18 +175,15 @@ def _narrow_box_pairs(x: np.ndarray, cutoff: float, box: Box):
     return np.concatenate(out_i), np.concatenate(out_j), np.concatenate(out_s)
 
 
-def _candidate_pairs(x: np.ndarray, cutoff: float, box: Box | None, chunk: int = DETECT_CHUNK):
+def _candidate_pairs(x: np.ndarray, cutoff: float, box: Box | None):
     """Pairs ``(i, j, image)`` with centre distance within ``cutoff``, each physical pair once
-    (the chunked search of ``find_sphere_contacts``, all pairs at once).
+    (the search of ``find_sphere_contacts``).
     """
     y, size = _search_frame(x, cutoff, box)
     if y is None:
         assert box is not None  # no search frame only for a periodic box
         return _narrow_box_pairs(x, cutoff, box)
-    tree = cKDTree(y, boxsize=size)
-    pairs = [_chunk_pairs(tree, y, size, lo, min(lo + chunk, len(x)), cutoff) for lo in range(0, len(x), chunk)]
-    i = np.concatenate([p[0] for p in pairs]) if pairs else np.zeros(0, np.int64)
-    j = np.concatenate([p[1] for p in pairs]) if pairs else np.zeros(0, np.int64)
+    i, j = _sorted_pairs(y, size, cutoff)
     return i, j, _image_of(x[j] - x[i], box if size is not None else None).astype(np.int64)
 
 
@@ -200,10 +201,16 @@ def _touching(packing: Packing, x, i, j, image, tolerance, moved=None):
                                       "have coincident centres")
     n = sep / d[:, None]
     overlap = np.maximum(r[i] + r[j] - d, 0.0)
-    image = image if moved is None else image + moved[j] - moved[i]
+    image = image if moved is None else _narrowest(image + moved[j] - moved[i])
     return dict(i=i, j=j, normal=n, arm_i=(r[i] - 0.5 * overlap)[:, None] * n,
                 arm_j=-(r[j] - 0.5 * overlap)[:, None] * n, overlap=overlap, image=image,
                 radius_eff=r[i] * r[j] / (r[i] + r[j]))
+
+
+def _narrowest(image: np.ndarray) -> np.ndarray:
+    """``image`` as int8 when its shifts fit (3 bytes per contact instead of 24), else unchanged."""
+    fits = image.size == 0 or (int(image.min()) >= -128 and int(image.max()) <= 127)
+    return image.astype(np.int8) if fits else image
 
 
 def _joined(parts: list[dict]) -> Contacts:
@@ -223,9 +230,11 @@ def find_sphere_contacts(packing: Packing, tolerance: float = 1e-9, chunk: int =
 
     A pair is a contact when ``d <= (R_i + R_j) (1 + tolerance)``; normals point from ``i`` to ``j``, arms
     are at the middle of the overlap, ``(R - delta/2) n`` (Peng et al. 2020, Eqs (1)-(2)).  Without
-    periodic axes, or with a unique minimum image, the search runs over chunks of ``chunk`` particles
-    against one ``cKDTree`` of all (toroidal along periodic axes: ``boxsize``), so its temporaries stay
-    O(chunk); narrower periodic boxes search every image.
+    periodic axes, or with a unique minimum image, one ``cKDTree.query_pairs`` of all particles
+    (toroidal along periodic axes: ``boxsize``) finds each candidate pair once (24 bytes per pair of
+    temporaries), and the pairs are tested ``chunk`` at a time, so the test's temporaries stay
+    O(chunk); narrower periodic boxes search every image.  Image shifts are stored as int8 when they
+    fit.
 
     Parameters
     ----------
@@ -234,7 +243,7 @@ def find_sphere_contacts(packing: Packing, tolerance: float = 1e-9, chunk: int =
     tolerance : float
         Relative gap up to which a pair still counts (dimensionless, finite, ``>= 0``).
     chunk : int
-        Particles queried per batch.
+        Candidate pairs tested per batch.
 
     Returns
     -------
@@ -260,12 +269,13 @@ def find_sphere_contacts(packing: Packing, tolerance: float = 1e-9, chunk: int =
         i, j, image = _narrow_box_pairs(x, cutoff, box)
         order = np.lexsort((image[:, 2], image[:, 1], image[:, 0], j, i))
         return _joined([_touching(packing, x, i[order], j[order], image[order], tolerance, own_images(packing, x))])
-    tree = cKDTree(y, boxsize=size)
+    pair_i, pair_j = _sorted_pairs(y, size, cutoff)
     parts, moved = [], own_images(packing, x)
-    for lo in range(0, packing.n, max(1, int(chunk))):
-        i, j = _chunk_pairs(tree, y, size, lo, min(lo + int(chunk), packing.n), cutoff)
+    for lo in range(0, len(pair_i), max(1, int(chunk))):
+        i, j = pair_i[lo:lo + int(chunk)], pair_j[lo:lo + int(chunk)]
         image = _image_of(x[j] - x[i], box if size is not None else None)
         parts.append(_touching(packing, x, i, j, image, tolerance, moved))
+    del pair_i, pair_j
     return _joined(parts)
 
 

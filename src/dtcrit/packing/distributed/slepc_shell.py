@@ -124,7 +124,9 @@ class ContactShell:
         PETSc, _ = petsc()
         comm, _, _ = world()
         self.layout, self.n = layout, int(n)
-        self.operator: ContactOperator | None = stiffness_operator(layout.packing, layout.contacts, compiled=compiled)
+        # one thread per rank: the ranks are the parallelism (a rank per core)
+        self.operator: ContactOperator | None = stiffness_operator(layout.packing, layout.contacts, compiled=compiled,
+                                                                   threads=1)
         ghosts = np.ascontiguousarray(layout.ghosts, dtype=PETSc.IntType)
         size = (6 * layout.n_own, 6 * self.n)
         self.x_ghosted = PETSc.Vec().createGhost(ghosts, size, bsize=6, comm=comm)

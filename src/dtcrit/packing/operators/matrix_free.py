@@ -41,6 +41,11 @@ from dtcrit.packing.model import Contacts, Packing
 
 CHUNK = 1 << 16  # contacts per vectorised chunk (measured: larger chunks gain nothing, cost memory)
 KINDS = ("stiffness", "damping")
+PARALLEL_MIN_CONTACTS = 1 << 20
+"""Contacts from which the compiled product runs on several threads (``matrix_free_kernels.apply_blocks``,
+about 175,000 spheres): below it a product takes a few milliseconds and one thread is used."""
+MAX_BLOCKS = 4
+"""Most threads of a product: each beyond the first adds one (N, 6) vector of memory."""
 SPHERE_LOOP_MAX_DOFS = 20_000_000
 """Above this the sphere loop is not used: its two arm lengths per contact (1 GB at 6e7 contacts)
 would not fit beside the rest in 16 GiB at 1e7 spheres, and it saves only about 15 % of a product."""
@@ -69,10 +74,15 @@ class ContactOperator(spla.LinearOperator):
         Contacts per chunk of the NumPy path and of the bounds' pass.
     compiled : bool or None
         Use the Numba loops (default: when Numba is installed).
+    threads : int or None
+        Threads of the compiled product (default: Numba's, at most ``MAX_BLOCKS``; one below
+        ``PARALLEL_MIN_CONTACTS`` contacts).  The contacts are split into that many blocks, each
+        summed on its own and the blocks added in order, so the product depends on this count only.
     """
 
     def __init__(self, packing: Packing, contacts: Contacts, kind: str = "stiffness", *,
-                 mass_diag: np.ndarray | None = None, chunk: int = CHUNK, compiled: bool | None = None):
+                 mass_diag: np.ndarray | None = None, chunk: int = CHUNK, compiled: bool | None = None,
+                 threads: int | None = None):
         if kind not in KINDS:
             raise InputError("kind", f"unknown operator kind {kind!r}; choose one of {', '.join(KINDS)}")
         if kind == "stiffness" and (contacts.kn is None or contacts.ks is None):
@@ -102,6 +112,10 @@ class ContactOperator(spla.LinearOperator):
         if self.compiled:
             self._kernel_args = self._pack_kernel_args()
             self._sphere_args = self._pack_sphere_args()
+        wanted = kernels.threads() if threads is None else int(threads)
+        blocks = min(max(wanted, 1), MAX_BLOCKS) if contacts.count >= PARALLEL_MIN_CONTACTS else 1
+        self._bounds = kernels.block_bounds(contacts.count, blocks) if blocks > 1 else None
+        self._spare: np.ndarray | None = None
 
     def _pack_kernel_args(self):
         """Contiguous arrays for the compiled loops (no copy where the contacts already are)."""
@@ -183,10 +197,18 @@ class ContactOperator(spla.LinearOperator):
         return y.reshape(-1)
 
     def _compiled_product(self, q: np.ndarray, y: np.ndarray) -> None:
-        if self._sphere_args is not None:
-            kernels.apply_sphere_contacts(q, y, *self._sphere_args)
-        else:
-            kernels.apply_contacts(q, y, *self._kernel_args)
+        """``y += A_K q`` (unscaled) by the compiled loop: the sphere loop when it applies, on the
+        operator's blocks of contacts (one thread each) when it has several.
+        """
+        spheres = self._sphere_args is not None
+        span = kernels.apply_spheres_span if spheres else kernels.apply_span
+        args = self._sphere_args if spheres else self._kernel_args
+        if self._bounds is None:
+            span(q, y, 0, self.contacts.count, *args)
+            return
+        if self._spare is None:
+            self._spare = np.empty((len(self._bounds) - 2, *q.shape))
+        kernels.apply_blocks(span, q, y, self._spare, self._bounds, *args)
 
     def _matmat(self, xs):
         xs = np.asarray(xs, float)

@@ -42,16 +42,20 @@ def _import_numba() -> ModuleType | None:
 numba = _import_numba()
 
 
-def _jit(fn: Callable[..., Any]) -> Callable[..., Any]:
-    """``fn`` compiled by Numba (machine code cached on disk, GIL released while it runs); without
-    Numba a stand-in that raises (callers check ``available()`` first).
+prange = numba.prange if numba is not None else range
+
+
+def _jit(fn: Callable[..., Any], parallel: bool = False) -> Callable[..., Any]:
+    """``fn`` compiled by Numba (machine code cached on disk, GIL released while it runs; ``parallel``:
+    its ``prange`` loops run on Numba's threads); without Numba a stand-in that raises (callers
+    check ``available()`` first).
     """
     if numba is None:  # pragma: no cover
         def missing(*args: Any) -> Any:
             raise RuntimeError("the compiled loops need Numba (pip install numba)")
 
         return missing
-    return numba.njit(cache=True, nogil=True)(fn)
+    return numba.njit(cache=True, nogil=True, parallel=parallel)(fn)
 
 
 def available() -> bool:
@@ -65,15 +69,16 @@ def available() -> bool:
     return numba is not None
 
 
-def _apply(q, y, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags):
-    """``y[i] += B_i^T f``, ``y[j] += B_j^T f`` for every contact: ``contact_element.body_forces``.
+def _apply_span(q, y, lo, hi, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags):
+    """``y[i] += B_i^T f``, ``y[j] += B_j^T f`` for the contacts ``lo <= c < hi``:
+    ``contact_element.body_forces``.
 
     ``flags``: (translational, rotational, preload, oriented) as 0/1; arrays not in use may be
     empty.  ``q`` and ``y`` are (N, 6).
     """
     trans, rotl, pre, orient = flags[0] != 0, flags[1] != 0, flags[2] != 0, flags[3] != 0
     zero = (0.0, 0.0, 0.0)
-    for c in range(ci.shape[0]):
+    for c in range(lo, hi):
         i = ci[c]
         j = cj[c]
         ri = rotation_rows(rot, i) if orient else IDENTITY
@@ -92,13 +97,13 @@ def _apply(q, y, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags):
             y[j, 3 + a] += m_j[a]
 
 
-def _apply_spheres(q, y, ci, cj, nrm, li, lj, kn, ks, g, pre):
-    """``_apply`` for sphere contacts with springs (and pre-load) only and no body rotations: the
-    arms are ``a_i = l_i n``, ``a_j = -l_j n``, rebuilt from the two lengths, so that the loop reads
-    48 bytes fewer per contact; the element is the same ``contact_element.body_forces``.  The tests
-    compare it with ``_apply`` and the assembled matrix.
+def _apply_spheres_span(q, y, lo, hi, ci, cj, nrm, li, lj, kn, ks, g, pre):
+    """``_apply_span`` for sphere contacts with springs (and pre-load) only and no body rotations:
+    the arms are ``a_i = l_i n``, ``a_j = -l_j n``, rebuilt from the two lengths, so that the loop
+    reads 48 bytes fewer per contact; the element is the same ``contact_element.body_forces``.  The
+    tests compare it with ``_apply_span`` and the assembled matrix.
     """
-    for c in range(ci.shape[0]):
+    for c in range(lo, hi):
         i = ci[c]
         j = cj[c]
         n = (nrm[c, 0], nrm[c, 1], nrm[c, 2])
@@ -113,6 +118,26 @@ def _apply_spheres(q, y, ci, cj, nrm, li, lj, kn, ks, g, pre):
             y[i, 3 + k] += m_i[k]
             y[j, k] += f[k]
             y[j, 3 + k] += m_j[k]
+
+
+def _apply_blocks(span, q, y, spare, bounds, *args):
+    """``span(q, out, lo, hi, *args)`` over the contact blocks ``bounds[b] <= c < bounds[b + 1]``, one
+    thread each (``numba.prange``): block 0 adds into ``y``, block ``b > 0`` into its own zeroed
+    ``spare[b - 1]`` (N, 6), summed into ``y`` in block order afterwards, so the result depends on
+    the blocks, not on the threads or their timing.
+    """
+    blocks = bounds.shape[0] - 1
+    for b in prange(blocks):
+        if b == 0:
+            span(q, y, bounds[0], bounds[1], *args)
+        else:
+            out = spare[b - 1]
+            out[:] = 0.0
+            span(q, out, bounds[b], bounds[b + 1], *args)
+    for p in prange(y.shape[0]):
+        for b in range(blocks - 1):
+            for a in range(6):
+                y[p, a] += spare[b, p, a]
 
 
 def _element_pass(ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags, scale, weights, diag, rows):
@@ -231,6 +256,63 @@ def sphere_arm_lengths(normal: np.ndarray, arm_i: np.ndarray, arm_j: np.ndarray,
     return li, lj
 
 
-apply_contacts = _jit(_apply)
-apply_sphere_contacts = _jit(_apply_spheres)
+apply_span = _jit(_apply_span)
+apply_spheres_span = _jit(_apply_spheres_span)
+apply_blocks = _jit(_apply_blocks, parallel=True)
 element_pass = _jit(_element_pass)
+
+
+def apply_contacts(q, y, *args) -> None:
+    """``y += A_K q`` over every contact (``_apply_span``), on one thread.
+
+    Parameters
+    ----------
+    q, y : numpy.ndarray
+        (N, 6) scaled displacements and the accumulated forces.
+    *args
+        ``loop_arguments``' tuple.
+    """
+    apply_span(q, y, 0, args[0].shape[0], *args)
+
+
+def apply_sphere_contacts(q, y, *args) -> None:
+    """``apply_contacts`` for sphere contacts (``_apply_spheres_span``), on one thread.
+
+    Parameters
+    ----------
+    q, y : numpy.ndarray
+        (N, 6) scaled displacements and the accumulated forces.
+    *args
+        ``(ci, cj, normal, l_i, l_j, kn, ks, g, preload)``.
+    """
+    apply_spheres_span(q, y, 0, args[0].shape[0], *args)
+
+
+def block_bounds(count: int, blocks: int) -> np.ndarray:
+    """Contact ranges of ``apply_blocks``: ``blocks`` nearly equal spans of ``count`` contacts.
+
+    Parameters
+    ----------
+    count : int
+        Contacts.
+    blocks : int
+        Spans (>= 1).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``blocks + 1`` increasing int64 bounds from 0 to ``count``.
+    """
+    return np.linspace(0, count, max(1, int(blocks)) + 1).round().astype(np.int64)
+
+
+def threads() -> int:
+    """Threads the compiled loops may use (``numba.get_num_threads()``: ``NUMBA_NUM_THREADS`` or the
+    cores), 1 without Numba.
+
+    Returns
+    -------
+    int
+        The thread count.
+    """
+    return int(numba.get_num_threads()) if numba is not None else 1
