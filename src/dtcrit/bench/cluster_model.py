@@ -28,7 +28,7 @@ DEFAULT_PRODUCTS = 130  # disordered packings (measured 125-211 on the shell rou
 # Memory [bytes].  BASE: the interpreter with NumPy, SciPy, petsc4py and slepc4py loaded.
 BASE = 103.0 * MIB
 INPUT_PER_N = {"text": 900.0, "generated": 1870.0}  # replicated: text held with its lines; --random
-HELD_PER_N = {"text": 900.0, "npz": 150.0}         # partitioned read, per own particle (with its halo)
+HELD_PER_N = {"text": 900.0, "npz": 150.0}         # partitioned read, per own particle: estimates
 SEARCH_PER_N = 130.0        # replicated positions (wrapped, renumbered); per own one when partitioned
 SEARCH_PER_C_LOCAL = 360.0  # the search's temporaries
 SHELL_BASE = 137.4 * MIB    # shell solve: fitted at P = 1, N = 5e4-2e5 (z = 6) and 5e4 (z = 10)
