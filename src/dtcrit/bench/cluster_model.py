@@ -6,13 +6,17 @@ with ``N`` particles, ``C = z N / 2`` contacts and ``P`` ranks.  The stages are 
 JSON reports (``peak_rss_mib``, ``times``): input, contacts (search), assembly (the shell's operator
 or the assembled matrix), solve and, on the shell route, bounds (``slepc_shell.shell_bounds``).
 
-The constants of the matrix-free (shell) route and of the generated input are fitted to runs of
-``mpirun -n P python -m dtcrit packing --random N --cn 6 --kn 1e5 --backend slepc --json`` at
-N = 2e4, 5e4, 1e5 (also 2e5 at P = 1, and z = 10 at 5e4) and P = 1, 2 (memory also at P = 4) on
-a 2-core machine; the text-dump, partitioned-read, search and assembled-route constants are those
-measured in ``docs/howto/mpi.md`` (sections "Measured" and "Partitioned input"); the ``.npz`` held
-memory (150 B per own particle with its halo) is an estimate, not a measurement.  Time is of one
-core of that machine.  Plain arithmetic: no NumPy, no SciPy, no SymPy.
+The constants of the matrix-free (shell) route, of the generated input and of the search's time are
+fitted to runs of ``mpirun -n P .venv-mpi/bin/python -m dtcrit packing --random N --cn 6 --kn 1e5
+--backend slepc --json`` in the environment ``python3 dev.py mpi-env`` builds (with Numba: the
+shell's compiled kernel, loaded from Numba's cache) at N = 1e3, 5e4, 1e5, 2e5 (z = 6) and 5e4
+(z = 10), P = 1 and 2, two runs each; times are the best of the two at P = 1 (the machine was
+shared).  The runs at N = 2e4 and 3e4, every 4-rank run and the 10^6-sphere runs of
+``dtcrit.bench.slepc_scaling`` are not in the fit: they validate it (docs/howto/mpi.md).  The
+text-dump, partitioned-read and assembled-route constants are those measured in
+``docs/howto/mpi.md`` (sections "Measured" and "Partitioned input"); the ``.npz`` held memory (150 B
+per own particle with its halo) is an estimate, not a measurement.  Time is of one core of that
+machine.  Plain arithmetic: no NumPy, no SciPy, no SymPy.
 """
 from __future__ import annotations
 
@@ -23,33 +27,34 @@ import sys
 MIB = 1024.0 ** 2
 MATRICES = ("shell", "assembled")
 INPUTS = ("text", "npz", "generated")
-DEFAULT_PRODUCTS = 130  # disordered packings (measured 125-211 on the shell route at 2e4-2e5)
+DEFAULT_PRODUCTS = 130  # disordered packings (measured 125-211 on the shell route at 5e4-2e5)
 
-# Memory [bytes].  BASE: the interpreter with NumPy, SciPy, petsc4py and slepc4py loaded.
-BASE = 103.0 * MIB
-INPUT_PER_N = {"text": 900.0, "generated": 1870.0}  # replicated: text held with its lines; --random
+# Memory [bytes].  BASE: the interpreter with NumPy, SciPy, petsc4py, slepc4py and Numba loaded (the
+# back-end imports the compiled kernel's module; measured 155 MiB before any work).
+BASE = 155.0 * MIB
+GENERATED_BASE = 162.4 * MIB  # --random: 162.4 MiB + 1.83 kB N (fitted, residuals within 4 MiB)
+INPUT_PER_N = {"text": 900.0, "generated": 1830.0}  # replicated: text held with its lines; --random
 HELD_PER_N = {"text": 900.0, "npz": 150.0}         # partitioned read, per own particle: estimates
 SEARCH_PER_N = 130.0        # replicated positions (wrapped, renumbered); per own one when partitioned
 SEARCH_PER_C_LOCAL = 360.0  # the search's temporaries
-SHELL_BASE = 137.4 * MIB    # shell solve: fitted at P = 1, N = 5e4-2e5 (z = 6) and 5e4 (z = 10)
-SHELL_PER_N_LOCAL = 1410.0  # Krylov basis (ncv 12 + 1), work and ghosted vectors, the kernel's arrays
-SHELL_PER_C_LOCAL = 136.0   # the kernel's per-contact arrays (z = 10 against z = 6 at 5e4)
-BOUNDS_SLOPE = 4400.0       # shell_bounds' extra over the solve: 4.4 kB per own particle beyond
-BOUNDS_ONSET = 6000.0       # 6000 own particles, saturating at 145 MiB (measured 139-155 MiB at
-BOUNDS_CAP = 145.0 * MIB    # 5e4-2e5 own particles: the solve's freed basis is reused)
+SHELL_BASE = 211.6 * MIB    # shell solve: BASE + the compiled kernels loaded from Numba's cache
+SHELL_PER_N_LOCAL = 1394.0  # Krylov basis (ncv 12 + 1), work and ghosted vectors, the kernel's arrays
+SHELL_PER_C_LOCAL = 158.0   # the kernel's per-contact arrays (z = 10 against z = 6)
+BOUNDS_BASE = 2.6 * MIB     # shell_bounds' extra over the solve: 2.6 MiB + 630 B per own particle, at
+BOUNDS_SLOPE = 630.0        # most 24 MiB (measured 2-24 MiB from 500 to 2e5 own particles, 49 MiB at
+BOUNDS_CAP = 24.0 * MIB     # 10^6: the bounds' arrays partly reuse the freed Krylov basis)
 ASSEMBLED_PER_CN_LOCAL = 292.0  # one 6 x 6 SBAIJ block per contact and per particle (docs/howto/mpi.md)
 ASSEMBLED_NCV = 32
 # Time [s], one core of the measuring machine.
-TIME_INPUT_PER_N = {"text": 3.5e-6, "generated": 222e-6}   # replicated: every rank reads/generates all
+TIME_INPUT_PER_N = {"text": 3.5e-6, "generated": 224e-6}   # replicated: every rank reads/generates all
 TIME_HELD_PER_N = {"text": 25e-6, "npz": 5.5e-6}          # partitioned read and exchange, per own particle
-TIME_SEARCH_PER_N = 0.3e-6
-TIME_SEARCH_PER_C_LOCAL = 2.0e-6
-TIME_SHELL_BUILD_PER_C_LOCAL = 0.07e-6
+TIME_SEARCH_PER_N = 3.9e-6         # Morton order of all positions (of the own ones when partitioned)
+TIME_SEARCH_PER_C_LOCAL = 0.71e-6
+TIME_SHELL_BUILD_PER_C_LOCAL = 0.27e-6
 TIME_ASSEMBLY_PER_C_LOCAL = 2.2e-6
-TIME_PRODUCT_PER_CN_LOCAL = 140e-9   # shell: product, scatters and Krylov-Schur (ncv 12), per (C + N)/P
+TIME_PRODUCT_PER_CN_LOCAL = 30e-9    # shell: compiled product, scatters and Krylov-Schur (ncv 12), per (c + n)
 TIME_PRODUCT_ASSEMBLED = (45e-9, 290e-9)  # per (C + N)/P and per N/P (ncv 32)
-TIME_BOUNDS_PER_CN_LOCAL = 3.8e-6
-
+TIME_BOUNDS_PER_CN_LOCAL = 1.1e-6
 
 def _check(name: str, value, low: float) -> None:
     from dtcrit.errors import InputError
@@ -61,11 +66,12 @@ def _check(name: str, value, low: float) -> None:
 def _memory(n: float, c: float, p: int, matrix: str, source: str, partitioned: bool) -> dict[str, float]:
     n_loc, c_loc = n / p, c / p
     held = n_loc if partitioned else n
-    inp = BASE + (HELD_PER_N[source] * n_loc if partitioned else INPUT_PER_N[source] * n)
+    start = GENERATED_BASE if source == "generated" else BASE
+    inp = start + (HELD_PER_N[source] * n_loc if partitioned else INPUT_PER_N[source] * n)
     mem = {"input": inp, "contacts": BASE + SEARCH_PER_N * held + SEARCH_PER_C_LOCAL * c_loc}
     if matrix == "shell":
         mem["solve"] = SHELL_BASE + SHELL_PER_N_LOCAL * n_loc + SHELL_PER_C_LOCAL * c_loc
-        mem["bounds"] = mem["solve"] + min(max(BOUNDS_SLOPE * (n_loc - BOUNDS_ONSET), 0.0), BOUNDS_CAP)
+        mem["bounds"] = mem["solve"] + min(BOUNDS_BASE + BOUNDS_SLOPE * n_loc, BOUNDS_CAP)
     else:
         mem["assembly"] = BASE + ASSEMBLED_PER_CN_LOCAL * (c_loc + n_loc)
         extra = 9 if p == 1 else 18
