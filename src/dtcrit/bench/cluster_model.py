@@ -56,6 +56,7 @@ TIME_PRODUCT_PER_CN_LOCAL = 30e-9    # shell: compiled product, scatters and Kry
 TIME_PRODUCT_ASSEMBLED = (45e-9, 290e-9)  # per (C + N)/P and per N/P (ncv 32)
 TIME_BOUNDS_PER_CN_LOCAL = 1.1e-6
 
+
 def _check(name: str, value, low: float) -> None:
     from dtcrit.errors import InputError
 
