@@ -106,3 +106,20 @@ def test_surface_samples_do_not_follow_the_last_bits(make, n):
         other, _ = make(1.0 + ulps * ULP).surface_points(n)
         assert other.shape == pts.shape
         assert np.max(np.abs(other - pts)) <= 1e-12 * np.max(np.abs(pts))
+
+
+def test_stiffest_in_chunks_equals_one_ranking_of_the_whole(monkeypatch):
+    """With chunks of 7 entries the k stiffest are those a ranking of the whole array picks (rounded
+    keys, ties to the lower index): many exact ties, ties across chunk borders, k above a chunk."""
+    import dtcrit.packing.bounds.rayleigh_trials as trials
+
+    rng = np.random.default_rng(8)
+    w = np.round(rng.uniform(1.0, 2.0, 200), 1) * (1.0 + rng.uniform(-1e-12, 1e-12, 200))
+    whole = {k: trials._stiffest(w, k) for k in (1, 3, 8, 20)}
+    monkeypatch.setattr(trials, "STIFFEST_CHUNK", 7)
+    for k, want in whole.items():
+        got = trials._stiffest(w, k)
+        assert np.array_equal(got, want), k
+        key = np.round(w, 6)
+        order = sorted(range(w.size), key=lambda i: (-key[i], i))[:k]  # the rule, written out
+        assert list(got) == order

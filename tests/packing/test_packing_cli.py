@@ -120,6 +120,27 @@ def test_scaling_helpers():
     assert row["estimates"]["rayleigh"] <= row["omega2"] * (1 + 1e-9)
 
 
+def test_the_scale_benchmark_reports_each_stage_against_its_floor():
+    """A matrix-free row carries each stage's floor, worked out here again from the operator's bytes,
+    the products and the bandwidth the row reports, and a stage line naming every stage."""
+    from dtcrit.bench.packing_scaling import run_one, stage_line
+
+    row = run_one(500, "fcc", route="matrix-free")
+    per_pass = row["contact_bytes"] / (row["bandwidth_gbs"] * 1e9)
+    floors = row["floor_s_by_stage"]
+    assert floors["eigen"] == pytest.approx(row["matvecs"] * per_pass, rel=1e-12)
+    assert floors["bounds"] == pytest.approx((row["bounds_products"] + 2) * per_pass, rel=1e-12)
+    assert row["bounds_products"] == 3  # the co-rotations; the local trials take no product
+    assert floors["search"] > 0
+    assert row["floor_ratio_by_stage"]["eigen"] == pytest.approx(row["t_eigen"] / floors["eigen"])
+    assert row["memory_floor_bytes"] == row["contact_bytes"] + 8 * 8 * row["dofs"]
+    peaks = row["peak_after_mib"]
+    assert list(peaks) == ["generate", "search", "operator", "eigen", "bounds"]
+    assert all(a <= b for a, b in zip(list(peaks.values()), list(peaks.values())[1:]))
+    line = stage_line(row)
+    assert all(word in line for word in ("search", "operator", "eigen-solve", "bounds", "x floor", "GiB"))
+
+
 def test_a_packing_too_big_for_the_memory_is_refused_before_any_work(capsys, monkeypatch):
     """fcc --cells 200 is 32 million spheres: refused at once with the estimate, not a MemoryError after
     a minute (the estimate is per sphere as measured by the scale benchmark)."""

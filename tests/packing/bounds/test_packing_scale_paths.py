@@ -85,6 +85,17 @@ def _varied(seed: int):
 
 
 @pytest.mark.skipif(not estimate_kernels.available(), reason="the compiled loop needs Numba")
+def test_threaded_single_contact_frequencies_equal_lapack(monkeypatch):
+    """Blocks of contacts on several threads (forced from one contact on): every contact's value as
+    the batched LAPACK route gives it."""
+    monkeypatch.setattr(estimate_kernels, "PARALLEL_MIN_CONTACTS", 1)
+    for p, c in _varied(4):
+        got = single_contact_frequencies(p, c, compiled=True)
+        ref = single_contact_frequencies(p, c, compiled=False)
+        assert np.all(np.abs(got - ref) <= 1e-10 * np.abs(ref).max())
+
+
+@pytest.mark.skipif(not estimate_kernels.available(), reason="the compiled loop needs Numba")
 @pytest.mark.parametrize("seed", [1, 2, 3])
 def test_compiled_single_contact_frequencies_equal_lapack(seed):
     """Both routes form ``K_c^(1/2) W K_c^(1/2)`` in floating point, which with k_n/k_s up to 1e11

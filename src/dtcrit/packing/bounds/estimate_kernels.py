@@ -21,7 +21,8 @@ import numpy as np
 
 from dtcrit.packing.operators.contact_element import IDENTITY, rotation_rows
 from dtcrit.packing.operators.element_matrices import slip_jacobians_into
-from dtcrit.packing.operators.matrix_free_kernels import _jit, available
+from dtcrit.packing.operators.matrix_free import MAX_BLOCKS, PARALLEL_MIN_CONTACTS
+from dtcrit.packing.operators.matrix_free_kernels import _jit, available, block_bounds, prange, threads
 
 __all__ = ["available", "contact_frequencies"]
 
@@ -60,9 +61,9 @@ def _top_eigenvalue(s):
     return max(s[0, 0], s[1, 1], s[2, 2])
 
 
-def _frequencies(ci, cj, nrm, arm_i, arm_j, kn, ks, rot, inv_mass, oriented, out):
-    """``out[c] = omega_c^2`` for every contact (module docstring); ``inv_mass`` (N, 6) holds
-    ``1/m, 1/m, 1/m, 1/I_1, 1/I_2, 1/I_3``; ``rot`` (N, 3, 3) is used when ``oriented``.
+def _frequencies_span(lo, hi, ci, cj, nrm, arm_i, arm_j, kn, ks, rot, inv_mass, oriented, out):
+    """``out[c] = omega_c^2`` for the contacts ``lo <= c < hi`` (module docstring); ``inv_mass``
+    (N, 6) holds ``1/m, 1/m, 1/m, 1/I_1, 1/I_2, 1/I_3``; ``rot`` (N, 3, 3) is used when ``oriented``.
     """
     bi = np.zeros((3, 6))
     bj = np.zeros((3, 6))
@@ -70,7 +71,7 @@ def _frequencies(ci, cj, nrm, arm_i, arm_j, kn, ks, rot, inv_mass, oriented, out
     root = np.zeros((3, 3))
     rw = np.zeros((3, 3))
     s = np.zeros((3, 3))
-    for c in range(ci.shape[0]):
+    for c in range(lo, hi):
         i = ci[c]
         j = cj[c]
         ri = rotation_rows(rot, i) if oriented else IDENTITY
@@ -104,13 +105,23 @@ def _frequencies(ci, cj, nrm, arm_i, arm_j, kn, ks, rot, inv_mass, oriented, out
         out[c] = _top_eigenvalue(s)
 
 
+def _frequencies_blocks(bounds, *args):
+    """``_frequencies_span`` over the contact blocks ``bounds[b] <= c < bounds[b + 1]``, one thread
+    each (every contact's value is its own: no sum across blocks).
+    """
+    for b in prange(bounds.shape[0] - 1):
+        frequencies_span(bounds[b], bounds[b + 1], *args)
+
+
 if available():  # the loop calls the compiled eigenvalue by this global name
     _top_eigenvalue = _jit(_top_eigenvalue)
-_frequencies_compiled = _jit(_frequencies)
+frequencies_span = _jit(_frequencies_span)
+frequencies_blocks = _jit(_frequencies_blocks, parallel=True)
 
 
 def contact_frequencies(packing, contacts) -> np.ndarray:
-    """``omega_c^2`` of every contact by the compiled loop (Numba required: ``available()``).
+    """``omega_c^2`` of every contact by the compiled loop (Numba required: ``available()``), on
+    Numba's threads (blocks of contacts, as the matrix-free product) from ``PARALLEL_MIN_CONTACTS``.
 
     Parameters
     ----------
@@ -128,10 +139,13 @@ def contact_frequencies(packing, contacts) -> np.ndarray:
     rot = np.ascontiguousarray(packing.orientations) if oriented else np.zeros((1, 3, 3))
     inv_mass = 1.0 / np.concatenate([np.repeat(packing.masses[:, None], 3, axis=1), packing.inertia], axis=1)
     out = np.empty(contacts.count)
-    _frequencies_compiled(np.ascontiguousarray(contacts.i), np.ascontiguousarray(contacts.j),
-                          np.ascontiguousarray(contacts.normal, dtype=float),
-                          np.ascontiguousarray(contacts.arm_i, dtype=float),
-                          np.ascontiguousarray(contacts.arm_j, dtype=float),
-                          np.ascontiguousarray(contacts.kn, dtype=float), np.ascontiguousarray(contacts.ks, dtype=float),
-                          rot, inv_mass, oriented, out)
+    args = (np.ascontiguousarray(contacts.i), np.ascontiguousarray(contacts.j),
+            np.ascontiguousarray(contacts.normal, dtype=float), np.ascontiguousarray(contacts.arm_i, dtype=float),
+            np.ascontiguousarray(contacts.arm_j, dtype=float), np.ascontiguousarray(contacts.kn, dtype=float),
+            np.ascontiguousarray(contacts.ks, dtype=float), rot, inv_mass, oriented, out)
+    blocks = min(threads(), MAX_BLOCKS) if contacts.count >= PARALLEL_MIN_CONTACTS else 1
+    if blocks > 1:
+        frequencies_blocks(block_bounds(contacts.count, blocks), *args)
+    else:
+        frequencies_span(0, contacts.count, *args)
     return out

@@ -136,13 +136,26 @@ def _stiffest(w: np.ndarray, k: int) -> np.ndarray:
     favour must not change the trials (NumPy's SIMD loops differ between processors).
     """
     w = np.asarray(w, dtype=float)
-    mant, expo = np.frexp(w)
-    key = np.ldexp(np.round(np.ldexp(mant, 30)), expo - 30)
     if w.size <= k:
-        return np.argsort(-key, kind="stable")
-    cut = np.partition(key, w.size - k)[w.size - k]
-    pick = np.flatnonzero(key >= cut)
-    return pick[np.argsort(-key[pick], kind="stable")][:k]
+        return np.argsort(-_rounded(w), kind="stable")
+    # in chunks (at 6e7 contacts each whole-array temporary is 480 MB): every member of the top k
+    # is among its chunk's top k, and the candidates stay in index order for the stable sort
+    picks = []
+    for lo in range(0, w.size, STIFFEST_CHUNK):
+        key = _rounded(w[lo:lo + STIFFEST_CHUNK])
+        cut = np.partition(key, key.size - k)[key.size - k] if key.size > k else -np.inf
+        picks.append(np.flatnonzero(key >= cut) + lo)
+    pick = np.concatenate(picks)
+    return pick[np.argsort(-_rounded(w[pick]), kind="stable")][:k]
+
+
+STIFFEST_CHUNK = 1 << 22
+
+
+def _rounded(w: np.ndarray) -> np.ndarray:
+    """``w`` rounded to 30 significant bits (``_stiffest``'s ranking key)."""
+    mant, expo = np.frexp(w)
+    return np.ldexp(np.round(np.ldexp(mant, 30)), expo - 30)
 
 
 def principal_submatrix(a, particles: np.ndarray) -> np.ndarray:
@@ -194,7 +207,8 @@ def _sparse(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def _local_quotients(a, trials: list[tuple[str, list[tuple[np.ndarray, np.ndarray]]]]) -> list[tuple[str, float]]:
     """Each local trial's best quotient over its span (vectors as ``_sparse`` pairs), from one
-    ``principal_submatrix`` of every particle the trials touch."""
+    ``principal_submatrix`` of every particle the trials touch.
+    """
     support = np.unique(np.concatenate([nz // 6 for _, vs in trials for nz, _ in vs] + [np.zeros(0, np.int64)]))
     if support.size == 0:
         return [(label, 0.0) for label, _ in trials]

@@ -2,5 +2,6 @@
 
 Modules: ``contact_element`` (the 6-DOF contact element, written once: motions, frame law, action),
 ``element_matrices`` (its matrices ``B``, ``T`` and blocks), ``assembly`` (``scipy.sparse`` M, K, C),
-``matrix_free`` (``A v`` from the contact list), ``matrix_free_kernels`` (its compiled loops).
+``matrix_free`` (``A v`` from the contact list), ``matrix_free_kernels`` (its compiled loops),
+``combined`` (a sum of two operators).
 """

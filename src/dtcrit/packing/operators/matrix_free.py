@@ -35,6 +35,7 @@ import scipy.sparse.linalg as spla
 from dtcrit.errors import InputError
 import dtcrit.packing.operators.matrix_free_kernels as kernels
 from dtcrit.packing.operators.assembly import contact_blocks, mass_diagonal, preload_coefficient
+from dtcrit.packing.operators.combined import CombinedOperator
 from dtcrit.packing.operators.contact_element import IDENTITY, ZERO3, body_forces, rotation_rows
 from dtcrit.packing.operators.element_matrices import components
 from dtcrit.packing.model import Contacts, Packing
@@ -380,29 +381,6 @@ class ContactOperator(spla.LinearOperator):
         if self.preload is not None:
             arrays.append(self.preload)
         return int(sum(a.nbytes for a in arrays))
-
-
-class CombinedOperator(spla.LinearOperator):
-    """``alpha * A + beta * B`` of two operators of the same shape (``damped``: ``2h C~ + h^2 K~``).
-
-    Parameters
-    ----------
-    a, b : scipy.sparse.linalg.LinearOperator
-        The two operators (same shape).
-    alpha, beta : float
-        Their factors.
-    """
-
-    def __init__(self, a, alpha: float, b, beta: float):
-        super().__init__(dtype=np.dtype(float), shape=a.shape)
-        self.a, self.alpha, self.b, self.beta = a, float(alpha), b, float(beta)
-
-    def _matvec(self, x):
-        x = np.asarray(x, float).reshape(-1)
-        return self.alpha * (self.a @ x) + self.beta * (self.b @ x)
-
-    def _adjoint(self):
-        return self
 
 
 def stiffness_operator(packing: Packing, contacts: Contacts, **kw) -> ContactOperator:
