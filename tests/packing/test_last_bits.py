@@ -123,3 +123,5 @@ def test_stiffest_in_chunks_equals_one_ranking_of_the_whole(monkeypatch):
         key = np.round(w, 6)
         order = sorted(range(w.size), key=lambda i: (-key[i], i))[:k]  # the rule, written out
         assert list(got) == order
+    flat = np.full(50, 3.0)  # a perfect lattice: every key equal, the lowest indices win
+    assert np.array_equal(trials._stiffest(flat, 4), np.arange(4))

@@ -86,12 +86,21 @@ def _varied(seed: int):
 
 @pytest.mark.skipif(not estimate_kernels.available(), reason="the compiled loop needs Numba")
 def test_threaded_single_contact_frequencies_equal_lapack(monkeypatch):
-    """Blocks of contacts on several threads (forced from one contact on): every contact's value as
-    the batched LAPACK route gives it."""
+    """Three blocks of contacts, one thread each: every contact's value as the batched LAPACK route
+    gives it, and as the default path (blocks from ``PARALLEL_MIN_CONTACTS``, forced to one contact)."""
+    from dtcrit.packing.operators.matrix_free_kernels import block_bounds
+
     monkeypatch.setattr(estimate_kernels, "PARALLEL_MIN_CONTACTS", 1)
     for p, c in _varied(4):
-        got = single_contact_frequencies(p, c, compiled=True)
         ref = single_contact_frequencies(p, c, compiled=False)
+        assert np.all(np.abs(single_contact_frequencies(p, c, compiled=True) - ref) <= 1e-10 * np.abs(ref).max())
+        inv_mass = 1.0 / np.concatenate([np.repeat(p.masses[:, None], 3, axis=1), p.inertia], axis=1)
+        rot = np.ascontiguousarray(p.orientations) if p.orientations is not None else np.zeros((1, 3, 3))
+        got = np.full(c.count, np.nan)
+        estimate_kernels.frequencies_blocks(block_bounds(c.count, 3), c.i, c.j, np.ascontiguousarray(c.normal),
+                                            np.ascontiguousarray(c.arm_i), np.ascontiguousarray(c.arm_j),
+                                            np.asarray(c.kn, float), np.asarray(c.ks, float), rot, inv_mass,
+                                            p.orientations is not None, got)
         assert np.all(np.abs(got - ref) <= 1e-10 * np.abs(ref).max())
 
 

@@ -143,8 +143,13 @@ def _stiffest(w: np.ndarray, k: int) -> np.ndarray:
     picks = []
     for lo in range(0, w.size, STIFFEST_CHUNK):
         key = _rounded(w[lo:lo + STIFFEST_CHUNK])
-        cut = np.partition(key, key.size - k)[key.size - k] if key.size > k else -np.inf
-        picks.append(np.flatnonzero(key >= cut) + lo)
+        if key.size <= k:
+            picks.append(np.arange(lo, lo + key.size))
+            continue
+        cut = np.partition(key, key.size - k)[key.size - k]
+        above = np.flatnonzero(key > cut)  # and the first of those equal to the cut: at most k kept
+        tied = np.flatnonzero(key == cut)[:k - above.size]
+        picks.append(np.sort(np.concatenate([above, tied])) + lo)
     pick = np.concatenate(picks)
     return pick[np.argsort(-_rounded(w[pick]), kind="stable")][:k]
 

@@ -97,12 +97,13 @@ def _sorted_pairs(y: np.ndarray, size, cutoff: float) -> tuple[np.ndarray, np.nd
     """
     n = len(y)
     pairs = cKDTree(y, boxsize=size).query_pairs(cutoff, output_type="ndarray")
-    keys = pairs[:, 0].astype(np.int64) * np.int64(n)
+    keys = pairs[:, 0].astype(np.int64)
+    keys *= n
     keys += pairs[:, 1]
     del pairs
     keys.sort()
     i = keys // np.int64(n)
-    keys -= i * np.int64(n)
+    np.remainder(keys, np.int64(n), out=keys)
     return i, keys
 
 
@@ -194,7 +195,8 @@ def _touching(packing: Packing, x, i, j, image, tolerance, moved=None):
     sep = x[j] + (0.0 if box is None else box.shift(image)) - x[i]
     d = np.sqrt(np.einsum("ij,ij->i", sep, sep))
     touch = d <= (r[i] + r[j]) * (1.0 + tolerance)
-    i, j, image, sep, d = i[touch], j[touch], image[touch], sep[touch], d[touch]
+    if not touch.all():
+        i, j, image, sep, d = i[touch], j[touch], image[touch], sep[touch], d[touch]
     if np.any(d <= 0):
         k = int(np.argmax(d <= 0))
         raise InputError("positions", f"particles {packing.particle_id(i[k])} and {packing.particle_id(j[k])} "
@@ -270,13 +272,46 @@ def find_sphere_contacts(packing: Packing, tolerance: float = 1e-9, chunk: int =
         order = np.lexsort((image[:, 2], image[:, 1], image[:, 0], j, i))
         return _joined([_touching(packing, x, i[order], j[order], image[order], tolerance, own_images(packing, x))])
     pair_i, pair_j = _sorted_pairs(y, size, cutoff)
-    parts, moved = [], own_images(packing, x)
-    for lo in range(0, len(pair_i), max(1, int(chunk))):
-        i, j = pair_i[lo:lo + int(chunk)], pair_j[lo:lo + int(chunk)]
-        image = _image_of(x[j] - x[i], box if size is not None else None)
-        parts.append(_touching(packing, x, i, j, image, tolerance, moved))
-    del pair_i, pair_j
-    return _joined(parts)
+    return _filled(packing, x, pair_i, pair_j, box if size is not None else None, tolerance, max(1, int(chunk)))
+
+
+CONTACT_FIELDS = ("normal", "arm_i", "arm_j", "overlap", "image", "radius_eff")
+
+
+def _filled(packing: Packing, x, pair_i, pair_j, frame_box, tolerance: float, chunk: int) -> Contacts:
+    """``Contacts`` of the touching pairs among the sorted candidates, in two passes of ``chunk``
+    pairs: which touch (a byte a pair), then each field written into its array, allocated once at
+    its final size (no per-chunk pieces to join: the peak is the result plus one chunk's
+    temporaries).  Image shifts are int8 when every one fits (``|shift| <= 1`` plus the centres'
+    own wrapping ``moved_j - moved_i``).
+    """
+    moved = own_images(packing, x)
+    spans = [slice(lo, lo + chunk) for lo in range(0, len(pair_i), chunk)]
+    touch = np.empty(len(pair_i), dtype=bool)
+    for sl in spans:
+        i, j = pair_i[sl], pair_j[sl]
+        touch[sl] = _touch_mask(packing, x, i, j, _image_of(x[j] - x[i], frame_box), tolerance)
+    if not touch.all():
+        pair_i, pair_j = pair_i[touch], pair_j[touch]
+    del touch
+    count = len(pair_i)
+    wide = moved is not None and int(np.abs(moved).max()) > 63
+    fields = dict(normal=np.empty((count, 3)), arm_i=np.empty((count, 3)), arm_j=np.empty((count, 3)),
+                  overlap=np.empty(count), image=np.empty((count, 3), dtype=np.int64 if wide else np.int8),
+                  radius_eff=np.empty(count))
+    for lo in range(0, count, chunk):
+        sl = slice(lo, lo + chunk)
+        i, j = pair_i[sl], pair_j[sl]
+        part = _touching(packing, x, i, j, _image_of(x[j] - x[i], frame_box), tolerance, moved)
+        for name in CONTACT_FIELDS:
+            fields[name][sl] = part[name]
+    return Contacts(i=pair_i, j=pair_j, **fields)
+
+
+def _touch_mask(packing: Packing, x, i, j, image, tolerance) -> np.ndarray:
+    """Whether each candidate pair ``(i, j, image)`` touches: ``d <= (R_i + R_j) (1 + tolerance)``."""
+    sep = x[j] + (0.0 if packing.box is None else packing.box.shift(image)) - x[i]
+    return np.sqrt(np.einsum("ij,ij->i", sep, sep)) <= (packing.radii[i] + packing.radii[j]) * (1.0 + tolerance)
 
 
 # --------------------------------------------------------------------------- convex shapes

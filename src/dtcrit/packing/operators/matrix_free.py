@@ -43,10 +43,15 @@ from dtcrit.packing.model import Contacts, Packing
 CHUNK = 1 << 16  # contacts per vectorised chunk (measured: larger chunks gain nothing, cost memory)
 KINDS = ("stiffness", "damping")
 PARALLEL_MIN_CONTACTS = 1 << 20
-"""Contacts from which the compiled product runs on several threads (``matrix_free_kernels.apply_blocks``,
-about 175,000 spheres): below it a product takes a few milliseconds and one thread is used."""
+"""Contacts from which the compiled product runs on blocks of contacts, one thread each
+(``matrix_free_kernels.apply_blocks_*``, about 175,000 spheres): below it a product takes a few
+milliseconds and is one block."""
+PRODUCT_BLOCKS = 2
+"""Blocks of a product by default, whatever the machine's cores, so that its bits are the same on
+every machine (each block beyond the first holds one more (N, 6) vector)."""
 MAX_BLOCKS = 4
-"""Most threads of a product: each beyond the first adds one (N, 6) vector of memory."""
+"""Most threads of the compiled loops whose blocks do not change the result (the single-contact
+frequencies)."""
 SPHERE_LOOP_MAX_DOFS = 20_000_000
 """Above this the sphere loop is not used: its two arm lengths per contact (1 GB at 6e7 contacts)
 would not fit beside the rest in 16 GiB at 1e7 spheres, and it saves only about 15 % of a product."""
@@ -76,9 +81,9 @@ class ContactOperator(spla.LinearOperator):
     compiled : bool or None
         Use the Numba loops (default: when Numba is installed).
     threads : int or None
-        Threads of the compiled product (default: Numba's, at most ``MAX_BLOCKS``; one below
-        ``PARALLEL_MIN_CONTACTS`` contacts).  The contacts are split into that many blocks, each
-        summed on its own and the blocks added in order, so the product depends on this count only.
+        Blocks of contacts of the compiled product, one thread each (default ``PRODUCT_BLOCKS``; one
+        below ``PARALLEL_MIN_CONTACTS`` contacts).  Each block is summed on its own and the blocks
+        are added in order, so the product depends on this count only, not on the machine.
     """
 
     def __init__(self, packing: Packing, contacts: Contacts, kind: str = "stiffness", *,
@@ -113,8 +118,8 @@ class ContactOperator(spla.LinearOperator):
         if self.compiled:
             self._kernel_args = self._pack_kernel_args()
             self._sphere_args = self._pack_sphere_args()
-        wanted = kernels.threads() if threads is None else int(threads)
-        blocks = min(max(wanted, 1), MAX_BLOCKS) if contacts.count >= PARALLEL_MIN_CONTACTS else 1
+        wanted = PRODUCT_BLOCKS if threads is None else max(int(threads), 1)
+        blocks = wanted if contacts.count >= PARALLEL_MIN_CONTACTS or threads is not None else 1
         self._bounds = kernels.block_bounds(contacts.count, blocks) if blocks > 1 else None
         self._spare: np.ndarray | None = None
 
@@ -202,14 +207,14 @@ class ContactOperator(spla.LinearOperator):
         operator's blocks of contacts (one thread each) when it has several.
         """
         spheres = self._sphere_args is not None
-        span = kernels.apply_spheres_span if spheres else kernels.apply_span
         args = self._sphere_args if spheres else self._kernel_args
         if self._bounds is None:
-            span(q, y, 0, self.contacts.count, *args)
+            (kernels.apply_spheres_span if spheres else kernels.apply_span)(q, y, 0, self.contacts.count, *args)
             return
         if self._spare is None:
             self._spare = np.empty((len(self._bounds) - 2, *q.shape))
-        kernels.apply_blocks(span, q, y, self._spare, self._bounds, *args)
+        (kernels.apply_blocks_spheres if spheres else kernels.apply_blocks_general)(q, y, self._spare, self._bounds,
+                                                                                    *args)
 
     def _matmat(self, xs):
         xs = np.asarray(xs, float)

@@ -120,20 +120,38 @@ def _apply_spheres_span(q, y, lo, hi, ci, cj, nrm, li, lj, kn, ks, g, pre):
             y[j, 3 + k] += m_j[k]
 
 
-def _apply_blocks(span, q, y, spare, bounds, *args):
-    """``span(q, out, lo, hi, *args)`` over the contact blocks ``bounds[b] <= c < bounds[b + 1]``, one
-    thread each (``numba.prange``): block 0 adds into ``y``, block ``b > 0`` into its own zeroed
-    ``spare[b - 1]`` (N, 6), summed into ``y`` in block order afterwards, so the result depends on
-    the blocks, not on the threads or their timing.
+def _blocks_general(q, y, spare, bounds, *args):
+    """``_apply_span`` over the contact blocks ``bounds[b] <= c < bounds[b + 1]``, one thread each
+    (``numba.prange``): block 0 adds into ``y``, block ``b > 0`` into its own zeroed ``spare[b - 1]``
+    (N, 6), summed into ``y`` in block order afterwards, so the result depends on the blocks, not on
+    the threads or their timing.  The span is called by its global name so that Numba caches this.
     """
     blocks = bounds.shape[0] - 1
     for b in prange(blocks):
         if b == 0:
-            span(q, y, bounds[0], bounds[1], *args)
+            apply_span(q, y, bounds[0], bounds[1], *args)
         else:
             out = spare[b - 1]
             out[:] = 0.0
-            span(q, out, bounds[b], bounds[b + 1], *args)
+            apply_span(q, out, bounds[b], bounds[b + 1], *args)
+    _add_spares(y, spare, blocks)
+
+
+def _blocks_spheres(q, y, spare, bounds, *args):
+    """``_blocks_general`` with ``_apply_spheres_span`` (the sphere loop's arguments)."""
+    blocks = bounds.shape[0] - 1
+    for b in prange(blocks):
+        if b == 0:
+            apply_spheres_span(q, y, bounds[0], bounds[1], *args)
+        else:
+            out = spare[b - 1]
+            out[:] = 0.0
+            apply_spheres_span(q, out, bounds[b], bounds[b + 1], *args)
+    _add_spares(y, spare, blocks)
+
+
+def _add_spares_loop(y, spare, blocks):
+    """``y += spare[0] + spare[1] + ...`` in block order, particles on Numba's threads."""
     for p in prange(y.shape[0]):
         for b in range(blocks - 1):
             for a in range(6):
@@ -258,7 +276,9 @@ def sphere_arm_lengths(normal: np.ndarray, arm_i: np.ndarray, arm_j: np.ndarray,
 
 apply_span = _jit(_apply_span)
 apply_spheres_span = _jit(_apply_spheres_span)
-apply_blocks = _jit(_apply_blocks, parallel=True)
+_add_spares = _jit(_add_spares_loop, parallel=True)
+apply_blocks_general = _jit(_blocks_general, parallel=True)
+apply_blocks_spheres = _jit(_blocks_spheres, parallel=True)
 element_pass = _jit(_element_pass)
 
 
@@ -289,7 +309,7 @@ def apply_sphere_contacts(q, y, *args) -> None:
 
 
 def block_bounds(count: int, blocks: int) -> np.ndarray:
-    """Contact ranges of ``apply_blocks``: ``blocks`` nearly equal spans of ``count`` contacts.
+    """Contact ranges of ``apply_blocks_general`` and ``apply_blocks_spheres``: ``blocks`` nearly equal spans of ``count`` contacts.
 
     Parameters
     ----------
