@@ -10,8 +10,6 @@ from __future__ import annotations
 
 import importlib.util
 import json
-import os
-import shutil
 import subprocess
 import sys
 
@@ -30,42 +28,9 @@ from dtcrit.bench.packing_scaling import jittered_fcc
 from dtcrit.packing.distributed.slab_contacts import morton_order, slab_sphere_contacts, split_rows
 from support.paths import REPO_ROOT as ROOT
 
-MPI_PY = ROOT / ".venv-mpi" / "bin" / "python"
+from support.mpi_runs import MPI_PY, mpi_env as _mpi_env, mpirun_or_skip as _mpi_or_skip, run_packing as _mpirun
 SCHEMA = json.loads((ROOT / "src" / "dtcrit" / "schemas" / "dtcrit-packing-slepc-1.json").read_text())
 YOUNGS = 7e10  # Hertz-Mindlin: every contact's stiffness follows its own overlap
-
-
-def _mpi_or_skip() -> str:
-    mpirun = shutil.which("mpirun")
-    missing = [what for what, ok in ((".venv-mpi (python3 dev.py mpi-env)", MPI_PY.exists()),
-                                     ("mpirun (apt-get install openmpi-bin)", mpirun is not None)) if not ok]
-    if missing:
-        message = "PETSc/SLEPc back-end: missing " + ", ".join(missing)
-        if os.environ.get("CI"):
-            pytest.fail(message)
-        pytest.skip(message)
-    return mpirun
-
-
-def _mpi_env() -> dict:
-    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME", "VIRTUAL_ENV")}
-    env.update(PYTHONPATH=str(ROOT / "src"), OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", PYTHONDONTWRITEBYTECODE="1")
-    env.setdefault("OMPI_MCA_btl_vader_single_copy_mechanism", "none")  # containers without cross-memory attach
-    env.setdefault("OMPI_MCA_rmaps_base_oversubscribe", "1")  # two ranks even where fewer slots are counted
-    if hasattr(os, "geteuid") and os.geteuid() == 0:
-        env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    return env
-
-
-def _mpirun(ranks: int, *args: str) -> subprocess.CompletedProcess:
-    """``mpirun -n ranks .venv-mpi/bin/python -m dtcrit packing ARGS --backend slepc``; a start-up that
-    fails inside MPI (seen on a busy machine) is retried twice."""
-    cmd = [_mpi_or_skip(), "-n", str(ranks), str(MPI_PY), "-m", "dtcrit", "packing", *args, "--backend", "slepc"]
-    for _ in range(3):
-        proc = subprocess.run(cmd, capture_output=True, text=True, env=_mpi_env(), cwd=ROOT, timeout=300)
-        if proc.returncode in (0, 2) or "MPI_Init" not in proc.stdout + proc.stderr:
-            break
-    return proc
 
 
 @pytest.fixture(scope="module")

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import json
 import os
-import shutil
 import subprocess
 import sys
 
@@ -29,42 +28,17 @@ from dtcrit.packing.operators.assembly import mass_diagonal, scale_symmetric, st
 from dtcrit.packing.readers.dump_ranges import header_at, piece_packing, rows_in_range, scan_markers
 from dtcrit.packing.readers.lammps_dump import format_dump, read_dump, write_dump
 from dtcrit.packing.readers.sphere_npz import convert_dump, open_spheres
-from support.ci import in_ci
 from support.paths import REPO_ROOT as ROOT
 from support.paths import SRC
 
-MPI_PY = ROOT / ".venv-mpi" / "bin" / "python"
+from support.mpi_runs import mpi_env, run_ranks
 PROBE = ROOT / "tests" / "support" / "partitioned_probe.py"
 KN = 1e5
 
 
-def _mpirun_or_skip() -> str:
-    mpirun = shutil.which("mpirun")
-    missing = [what for what, ok in ((".venv-mpi (python3 dev.py mpi-env)", MPI_PY.exists()),
-                                     ("mpirun (apt-get install openmpi-bin)", mpirun is not None)) if not ok]
-    if missing:
-        message = "partitioned input: missing " + ", ".join(missing)
-        if in_ci():
-            pytest.fail(message)
-        pytest.skip(message)
-    return mpirun
-
-
 def _run(*args: str) -> subprocess.CompletedProcess:
-    """``mpirun -n 2 .venv-mpi/bin/python ARGS`` on this source tree; an MPI start-up failure is retried."""
-    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONHOME", "VIRTUAL_ENV")}
-    env.update(PYTHONPATH=str(SRC) + os.pathsep + str(ROOT / "tests"), OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1",
-               PYTHONDONTWRITEBYTECODE="1")
-    env.setdefault("OMPI_MCA_btl_vader_single_copy_mechanism", "none")
-    env.setdefault("OMPI_MCA_rmaps_base_oversubscribe", "1")
-    if hasattr(os, "geteuid") and os.geteuid() == 0:
-        env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    cmd = [_mpirun_or_skip(), "-n", "2", str(MPI_PY), *args]
-    for _ in range(3):
-        proc = subprocess.run(cmd, capture_output=True, text=True, env=env, cwd=ROOT, timeout=300)
-        if proc.returncode in (0, 2) or "MPI_Init" not in proc.stdout + proc.stderr:
-            break
-    return proc
+    """``mpirun -n 2 .venv-mpi/bin/python ARGS`` on this source tree, the tests' helpers on the path."""
+    return run_ranks(2, *args, env=mpi_env(str(SRC) + os.pathsep + str(ROOT / "tests")))
 
 
 @pytest.fixture(scope="module")

@@ -12,9 +12,6 @@ path; without it or ``mpirun`` they skip, except under ``CI=true``, where they f
 from __future__ import annotations
 
 import json
-import os
-import shutil
-import subprocess
 
 import jsonschema
 import numpy as np
@@ -27,35 +24,12 @@ from dtcrit.packing.detection.overlaps import find_sphere_contacts
 from dtcrit.packing.operators.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
 from dtcrit.packing.readers.lammps_dump import read_dump, write_dump
 from dtcrit.packing.step import packing_step
-from support.paths import REPO_ROOT as ROOT, SRC
+from support.paths import SRC
 
-MPI_PY = ROOT / ".venv-mpi" / "bin" / "python"
+from support.mpi_runs import run_packing as _mpirun
 SCHEMA = json.loads((SRC / "dtcrit" / "schemas" / "dtcrit-packing-slepc-1.json").read_text())
 YOUNGS = 7e10
 ROUNDING = 1e-12  # relative slack for the rounding of two computations of the same Rayleigh quotient
-
-
-def _mpirun(ranks: int, *args: str) -> subprocess.CompletedProcess:
-    mpirun = shutil.which("mpirun")
-    missing = [what for what, ok in ((".venv-mpi (python3 dev.py mpi-env)", MPI_PY.exists()),
-                                     ("mpirun (apt-get install openmpi-bin)", mpirun is not None)) if not ok]
-    if missing:
-        message = "PETSc/SLEPc back-end: missing " + ", ".join(missing)
-        if os.environ.get("CI"):
-            pytest.fail(message)
-        pytest.skip(message)
-    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME", "VIRTUAL_ENV")}
-    env.update(PYTHONPATH=str(SRC), OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", PYTHONDONTWRITEBYTECODE="1")
-    env.setdefault("OMPI_MCA_btl_vader_single_copy_mechanism", "none")
-    env.setdefault("OMPI_MCA_rmaps_base_oversubscribe", "1")
-    if hasattr(os, "geteuid") and os.geteuid() == 0:
-        env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    cmd = [str(mpirun), "-n", str(ranks), str(MPI_PY), "-m", "dtcrit", "packing", *args, "--backend", "slepc"]
-    for _ in range(3):  # a start-up that fails inside MPI (seen on a busy machine) is retried
-        proc = subprocess.run(cmd, capture_output=True, text=True, env=env, cwd=ROOT, timeout=300)
-        if proc.returncode in (0, 2) or "MPI_Init" not in proc.stdout + proc.stderr:
-            break
-    return proc
 
 
 @pytest.fixture(scope="module")
