@@ -21,10 +21,13 @@ import numpy as np
 
 from dtcrit.packing.operators.contact_element import IDENTITY, rotation_rows
 from dtcrit.packing.operators.element_matrices import slip_jacobians_into
-from dtcrit.packing.operators.matrix_free import MAX_BLOCKS, PARALLEL_MIN_CONTACTS
+from dtcrit.packing.operators.matrix_free import PARALLEL_MIN_CONTACTS
 from dtcrit.packing.operators.matrix_free_kernels import _jit, available, block_bounds, prange, threads
 
 __all__ = ["available", "contact_frequencies"]
+
+MAX_BLOCKS = 4
+"""Most threads of the frequencies' loop (each contact's value is its own: the blocks do not change it)."""
 
 
 def _top_eigenvalue(s):

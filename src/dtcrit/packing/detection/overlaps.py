@@ -22,6 +22,7 @@ from dtcrit.errors import InputError
 
 from dtcrit.packing.model import Box, Contacts, Packing
 from dtcrit.packing.periodic_cell import cell_pairs, own_images, shortest_translation, spacings, wrap
+from dtcrit.packing.detection.sphere_fields import _filled, _image_of, _joined, _touching
 
 
 def wrap_positions(positions: np.ndarray, box: Box | None) -> np.ndarray:
@@ -77,15 +78,6 @@ def _search_frame(x: np.ndarray, cutoff: float, box: Box | None):
     y = x - np.where(periodic, box.lo, shift)
     size = np.where(periodic, lengths, (x.max(axis=0) - shift) + 4.0 * cutoff + 1.0)
     return np.minimum(y, np.nextafter(size, 0)), size
-
-
-def _image_of(sep: np.ndarray, box: Box | None) -> np.ndarray:
-    """Integer periodic shift of ``j`` that brings it nearest to ``i`` (int8: |shift| <= 1 here)."""
-    image = np.zeros((len(sep), 3), dtype=np.int8)
-    if box is not None:
-        periodic = np.array(box.periodic)
-        image[:, periodic] = -np.rint(sep[:, periodic] / box.lengths[periodic]).astype(np.int8)
-    return image
 
 
 def _sorted_pairs(y: np.ndarray, size, cutoff: float) -> tuple[np.ndarray, np.ndarray]:
@@ -188,45 +180,6 @@ def _candidate_pairs(x: np.ndarray, cutoff: float, box: Box | None):
     return i, j, _image_of(x[j] - x[i], box if size is not None else None).astype(np.int64)
 
 
-def _touching(packing: Packing, x, i, j, image, tolerance, moved=None):
-    """The contacts among candidate pairs ``(i, j, image)``: field arrays of ``Contacts``."""
-    r = packing.radii
-    box = packing.box
-    sep = x[j] + (0.0 if box is None else box.shift(image)) - x[i]
-    d = np.sqrt(np.einsum("ij,ij->i", sep, sep))
-    touch = d <= (r[i] + r[j]) * (1.0 + tolerance)
-    if not touch.all():
-        i, j, image, sep, d = i[touch], j[touch], image[touch], sep[touch], d[touch]
-    if np.any(d <= 0):
-        k = int(np.argmax(d <= 0))
-        raise InputError("positions", f"particles {packing.particle_id(i[k])} and {packing.particle_id(j[k])} "
-                                      "have coincident centres")
-    n = sep / d[:, None]
-    overlap = np.maximum(r[i] + r[j] - d, 0.0)
-    image = image if moved is None else _narrowest(image + moved[j] - moved[i])
-    return dict(i=i, j=j, normal=n, arm_i=(r[i] - 0.5 * overlap)[:, None] * n,
-                arm_j=-(r[j] - 0.5 * overlap)[:, None] * n, overlap=overlap, image=image,
-                radius_eff=r[i] * r[j] / (r[i] + r[j]))
-
-
-def _narrowest(image: np.ndarray) -> np.ndarray:
-    """``image`` as int8 when its shifts fit (3 bytes per contact instead of 24), else unchanged."""
-    fits = image.size == 0 or (int(image.min()) >= -128 and int(image.max()) <= 127)
-    return image.astype(np.int8) if fits else image
-
-
-def _joined(parts: list[dict]) -> Contacts:
-    """One ``Contacts`` from per-chunk field arrays, joined one field at a time (each field's
-    pieces are released as it is joined, so the peak is the result plus one field).
-    """
-    if not parts:
-        return Contacts.empty()
-    fields = {}
-    for name in list(parts[0]):
-        fields[name] = np.concatenate([p.pop(name) for p in parts])
-    return Contacts(**fields)
-
-
 def find_sphere_contacts(packing: Packing, tolerance: float = 1e-9, chunk: int = DETECT_CHUNK) -> Contacts:
     """Every touching or overlapping pair of spheres, periodic images included.
 
@@ -274,47 +227,6 @@ def find_sphere_contacts(packing: Packing, tolerance: float = 1e-9, chunk: int =
     pair_i, pair_j = _sorted_pairs(y, size, cutoff)
     return _filled(packing, x, pair_i, pair_j, box if size is not None else None, tolerance, max(1, int(chunk)))
 
-
-CONTACT_FIELDS = ("normal", "arm_i", "arm_j", "overlap", "image", "radius_eff")
-
-
-def _filled(packing: Packing, x, pair_i, pair_j, frame_box, tolerance: float, chunk: int) -> Contacts:
-    """``Contacts`` of the touching pairs among the sorted candidates, in two passes of ``chunk``
-    pairs: which touch (a byte a pair), then each field written into its array, allocated once at
-    its final size (no per-chunk pieces to join: the peak is the result plus one chunk's
-    temporaries).  Image shifts are int8 when every one fits (``|shift| <= 1`` plus the centres'
-    own wrapping ``moved_j - moved_i``).
-    """
-    moved = own_images(packing, x)
-    spans = [slice(lo, lo + chunk) for lo in range(0, len(pair_i), chunk)]
-    touch = np.empty(len(pair_i), dtype=bool)
-    for sl in spans:
-        i, j = pair_i[sl], pair_j[sl]
-        touch[sl] = _touch_mask(packing, x, i, j, _image_of(x[j] - x[i], frame_box), tolerance)
-    if not touch.all():
-        pair_i, pair_j = pair_i[touch], pair_j[touch]
-    del touch
-    count = len(pair_i)
-    wide = moved is not None and int(np.abs(moved).max()) > 63
-    fields = dict(normal=np.empty((count, 3)), arm_i=np.empty((count, 3)), arm_j=np.empty((count, 3)),
-                  overlap=np.empty(count), image=np.empty((count, 3), dtype=np.int64 if wide else np.int8),
-                  radius_eff=np.empty(count))
-    for lo in range(0, count, chunk):
-        sl = slice(lo, lo + chunk)
-        i, j = pair_i[sl], pair_j[sl]
-        part = _touching(packing, x, i, j, _image_of(x[j] - x[i], frame_box), tolerance, moved)
-        for name in CONTACT_FIELDS:
-            fields[name][sl] = part[name]
-    return Contacts(i=pair_i, j=pair_j, **fields)
-
-
-def _touch_mask(packing: Packing, x, i, j, image, tolerance) -> np.ndarray:
-    """Whether each candidate pair ``(i, j, image)`` touches: ``d <= (R_i + R_j) (1 + tolerance)``."""
-    sep = x[j] + (0.0 if packing.box is None else packing.box.shift(image)) - x[i]
-    return np.sqrt(np.einsum("ij,ij->i", sep, sep)) <= (packing.radii[i] + packing.radii[j]) * (1.0 + tolerance)
-
-
-# --------------------------------------------------------------------------- convex shapes
 
 def _support_point(shape, rotation: np.ndarray, direction: np.ndarray) -> np.ndarray:
     """Global-frame support point (relative to the centre) of a rotated convex shape."""

@@ -49,9 +49,6 @@ milliseconds and is one block."""
 PRODUCT_BLOCKS = 2
 """Blocks of a product by default, whatever the machine's cores, so that its bits are the same on
 every machine (each block beyond the first holds one more (N, 6) vector)."""
-MAX_BLOCKS = 4
-"""Most threads of the compiled loops whose blocks do not change the result (the single-contact
-frequencies)."""
 SPHERE_LOOP_MAX_DOFS = 20_000_000
 """Above this the sphere loop is not used: its two arm lengths per contact (1 GB at 6e7 contacts)
 would not fit beside the rest in 16 GiB at 1e7 spheres, and it saves only about 15 % of a product."""
