@@ -138,7 +138,9 @@ def _blocks_general(q, y, spare, bounds, *args):
 
 
 def _blocks_spheres(q, y, spare, bounds, *args):
-    """``_blocks_general`` with ``_apply_spheres_span`` (the sphere loop's arguments)."""
+    """``_blocks_general`` with ``_apply_spheres_span`` (the sphere loop's arguments).  Two drivers, not
+    one taking its span as an argument: Numba does not cache a function that takes another.
+    """
     blocks = bounds.shape[0] - 1
     for b in prange(blocks):
         if b == 0:
