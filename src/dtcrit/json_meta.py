@@ -10,10 +10,33 @@ headers are read as text: nothing here imports the generated code.
 """
 from __future__ import annotations
 
+import hashlib
 from functools import lru_cache
 from importlib import resources
+from pathlib import Path
 
 _HASH_PREFIX = "# Derivation hash:"
+
+
+def sources_hash(sources: tuple[str, ...]) -> str:
+    """SHA-256 (16 hex digits) of the package's source files ``sources`` (paths below ``dtcrit/``): the
+    derivation hash a committed generated table records and its drift test checks.
+
+    Parameters
+    ----------
+    sources : tuple of str
+        The sources that compute the table, relative to the package directory.
+
+    Returns
+    -------
+    str
+        The hash.
+    """
+    root = Path(__file__).resolve().parent
+    h = hashlib.sha256()
+    for rel in sources:
+        h.update((root / rel).read_bytes())
+    return h.hexdigest()[:16]
 
 
 @lru_cache(maxsize=1)

@@ -13,7 +13,6 @@ answers from them.
 from __future__ import annotations
 
 import functools
-import hashlib
 import json
 import sys
 from pathlib import Path
@@ -24,6 +23,7 @@ from dtcrit.collisions import resolution_table
 from dtcrit.collisions.resolution import SAMPLE_PHASES, sampled_errors
 from dtcrit.collisions.laws import scaled_law
 from dtcrit.integrators.engines import ENGINES
+from dtcrit.json_meta import sources_hash
 
 TABLE_PATH = Path(__file__).resolve().parents[1] / "_generated" / "collision_tables.json"
 SCHEMES: tuple[str, ...] = tuple(sorted({scheme for scheme, _, _ in ENGINES.values()}))
@@ -39,18 +39,14 @@ SOURCES = ("collisions/scaled.py", "collisions/laws.py", "collisions/reference.p
 
 
 def source_hash() -> str:
-    """SHA-256 (16 hex digits) of the sources that produce the tables.
+    """SHA-256 (16 hex digits) of the sources that produce the tables (``json_meta.sources_hash``).
 
     Returns
     -------
     str
         The derivation hash.
     """
-    root = Path(__file__).resolve().parents[1]
-    h = hashlib.sha256()
-    for rel in SOURCES:
-        h.update((root / rel).read_bytes())
-    return h.hexdigest()[:16]
+    return sources_hash(SOURCES)
 
 
 def curve(scheme: str, normal: str, damping: str, e: float) -> dict:

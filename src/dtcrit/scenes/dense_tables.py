@@ -19,10 +19,11 @@ value recomputed), and ``tests/scenes/test_dense_tables.py`` fails.
 from __future__ import annotations
 
 import functools
-import hashlib
 import json
 import os
 from pathlib import Path
+
+from dtcrit.json_meta import sources_hash
 
 __all__ = ["DISABLE", "SOURCES", "TABLE_PATH", "load", "phi_upper", "source_hash"]
 
@@ -35,18 +36,14 @@ PROPORTIONAL = 1e-12
 
 
 def source_hash() -> str:
-    """SHA-256 (16 hex digits) of the sources that compute the tabulated values.
+    """SHA-256 (16 hex digits) of the sources that compute the tabulated values (``json_meta.sources_hash``).
 
     Returns
     -------
     str
         The derivation hash.
     """
-    root = Path(__file__).resolve().parents[1]
-    h = hashlib.sha256()
-    for rel in SOURCES:
-        h.update((root / rel).read_bytes())
-    return h.hexdigest()[:16]
+    return sources_hash(SOURCES)
 
 
 @functools.lru_cache(maxsize=1)

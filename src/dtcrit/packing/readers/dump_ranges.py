@@ -25,7 +25,7 @@ import numpy as np
 
 from dtcrit.errors import InputError
 from dtcrit.packing.model import Box, Packing
-from dtcrit.packing.readers.dump_stream import DumpSnapshot, _expect, _int_at, _Lines, _parse_box
+from dtcrit.packing.readers.dump_stream import DumpSnapshot, _frame_header, _Lines
 from dtcrit.packing.readers.lammps_dump import packing_from_snapshot
 
 __all__ = ["BLOCK", "MARKER", "DumpHeader", "Markers", "header_at", "piece_packing", "rows_in_range", "scan_markers", "snapshot_start"]
@@ -184,17 +184,7 @@ def header_at(path, offset: int, line: int) -> DumpHeader:
         lines.number = line - 1
         if offset == 0:  # the first line may carry a byte-order mark, which _Lines drops on its line 1 only
             lines.number = 0
-        _expect(lines, "ITEM: TIMESTEP")
-        step = _int_at(lines, "timestep")
-        _expect(lines, "ITEM: NUMBER OF ATOMS")
-        count = _int_at(lines, "number of atoms")
-        if count < 1:
-            raise lines.fail(lines.number, f"the number of atoms must be at least 1, found {count}")
-        box = _parse_box(lines, _expect(lines, "ITEM: BOX BOUNDS"))
-        header = _expect(lines, "ITEM: ATOMS")
-        columns = header.strip()[len("ITEM: ATOMS"):].split()
-        if not columns:
-            raise lines.fail(lines.number, "the ATOMS header names no columns")
+        step, count, box, columns = _frame_header(lines)
         return DumpHeader(step, count, box, columns, handle.tell(), lines.number + 1, source)
 
 

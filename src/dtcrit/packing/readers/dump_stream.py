@@ -225,13 +225,10 @@ def _parse_box(lines: _Lines, header_text: str) -> Box:
         raise lines.fail(k, exc.reason) from None
 
 
-def _next_block(lines: _Lines) -> DumpSnapshot | None:
-    """The next snapshot (its rows unparsed), or None at the end of the file."""
-    line = lines.next()
-    while line is not None and not line.strip():
-        line = lines.next()
-    if line is None:
-        return None
+def _frame_header(lines: _Lines, line: str | None = None) -> tuple[int, int, Box, list[str]]:
+    """A frame's header, from ``ITEM: TIMESTEP`` (``line`` when already read) to the ``ITEM: ATOMS``
+    columns: ``(timestep, number of atoms, box, columns)``; each bad line refused as ``FILE:LINE``.
+    """
     _expect(lines, "ITEM: TIMESTEP", line)
     step = _int_at(lines, "timestep")
     _expect(lines, "ITEM: NUMBER OF ATOMS")
@@ -243,6 +240,17 @@ def _next_block(lines: _Lines) -> DumpSnapshot | None:
     columns = header.strip()[len("ITEM: ATOMS"):].split()
     if not columns:
         raise lines.fail(lines.number, "the ATOMS header names no columns")
+    return step, count, box, columns
+
+
+def _next_block(lines: _Lines) -> DumpSnapshot | None:
+    """The next snapshot (its rows unparsed), or None at the end of the file."""
+    line = lines.next()
+    while line is not None and not line.strip():
+        line = lines.next()
+    if line is None:
+        return None
+    step, count, box, columns = _frame_header(lines, line)
     first = lines.number + 1
     rows: list[str] = []
     for _ in range(count):
