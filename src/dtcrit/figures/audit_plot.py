@@ -20,7 +20,7 @@ from dtcrit.errors import InputError
 from dtcrit.figures._output import pyplot
 from dtcrit.packing.audit.plot_data import AuditFigureData, audit_figure_data
 
-__all__ = ["check_plot_path", "draw_audit_plot", "label_positions", "write_audit_plot"]
+__all__ = ["check_plot_path", "draw_audit_plot", "label_positions", "write_audit_plot", "write_plot_png"]
 
 SHARE_FLOOR = 1e-6
 """Shares below this fraction of the largest are drawn at the bottom of the colour scale."""
@@ -64,6 +64,40 @@ def check_plot_path(path: str | os.PathLike) -> Path:
     except ImportError:
         raise InputError("plot", "needs Matplotlib (pip install 'dtcrit[figures]')") from None
     return p
+
+
+def write_plot_png(fig, target: Path, path: str | os.PathLike) -> None:
+    """Write ``fig`` as the PNG ``target`` atomically (a temporary file beside it, renamed), with an
+    ordinary new file's permissions, and close the figure.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    target : pathlib.Path
+        Where to write it (``check_plot_path``).
+    path : str or os.PathLike
+        The path as the user gave it, for the error.
+
+    Raises
+    ------
+    InputError
+        (key ``plot``) When the file cannot be written; nothing is left half-written.
+    """
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".png", dir=target.parent if str(target.parent) else ".")
+    os.close(fd)
+    try:
+        mask = os.umask(0)
+        os.umask(mask)
+        os.chmod(tmp, 0o666 & ~mask)  # as an ordinary new file, not mkstemp's 0600
+        fig.savefig(tmp, format="png", dpi=110, metadata={"Software": None})
+        os.replace(tmp, target)
+    except OSError as exc:
+        raise InputError("plot", f"{path} could not be written ({exc.strerror or exc})") from None
+    finally:
+        pyplot().close(fig)
+        if os.path.exists(tmp):
+            os.unlink(tmp)
 
 
 def _particles(ax, fig, d: AuditFigureData) -> None:
@@ -204,18 +238,5 @@ def write_audit_plot(audit, path: str | os.PathLike, count: int = 10) -> AuditFi
     target = check_plot_path(path)
     data = audit_figure_data(audit, count)
     fig = draw_audit_plot(data)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".png", dir=target.parent if str(target.parent) else ".")
-    os.close(fd)
-    try:
-        mask = os.umask(0)
-        os.umask(mask)
-        os.chmod(tmp, 0o666 & ~mask)  # as an ordinary new file, not mkstemp's 0600
-        fig.savefig(tmp, format="png", dpi=110, metadata={"Software": None})
-        os.replace(tmp, target)
-    except OSError as exc:
-        raise InputError("plot", f"{path} could not be written ({exc.strerror or exc})") from None
-    finally:
-        pyplot().close(fig)
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+    write_plot_png(fig, target, path)
     return data

@@ -6,15 +6,12 @@ the chosen (binding) N of each contact as a vertical line.  Written atomically a
 """
 from __future__ import annotations
 
-import os
-import tempfile
 
 import numpy as np
 
 from dtcrit.collisions import collision_errors
-from dtcrit.errors import InputError
 from dtcrit.figures._output import pyplot
-from dtcrit.figures.audit_plot import check_plot_path
+from dtcrit.figures.audit_plot import check_plot_path, write_plot_png
 
 __all__ = ["collide_curves", "write_collide_plot"]
 
@@ -82,18 +79,5 @@ def write_collide_plot(report: dict, path, points: int = 24) -> list[dict]:
     ax.set_title(f"{report['integrator']}: the chosen step (dotted), tolerance {report['tol']:g}", parse_math=False)
     ax.legend(fontsize=7)
     fig.tight_layout()
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".png", dir=target.parent if str(target.parent) else ".")
-    os.close(fd)
-    try:
-        mask = os.umask(0)
-        os.umask(mask)
-        os.chmod(tmp, 0o666 & ~mask)
-        fig.savefig(tmp, format="png", dpi=110, metadata={"Software": None})
-        os.replace(tmp, target)
-    except OSError as exc:
-        raise InputError("plot", f"{path} could not be written ({exc.strerror or exc})") from None
-    finally:
-        plt.close(fig)
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+    write_plot_png(fig, target, path)
     return curves

@@ -12,15 +12,13 @@ temporary file in the same folder, then a rename).
 from __future__ import annotations
 
 import os
-import tempfile
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 from dtcrit.errors import InputError
 from dtcrit.figures._output import pyplot
-from dtcrit.figures.audit_plot import check_plot_path
+from dtcrit.figures.audit_plot import check_plot_path, write_plot_png
 
 __all__ = ["AddedMassData", "added_mass_data", "draw_added_mass", "write_added_mass_figure"]
 
@@ -174,19 +172,5 @@ def write_added_mass_figure(plan, radii, path: str | os.PathLike) -> AddedMassDa
     target = check_plot_path(path)
     data = added_mass_data(plan, radii)
     fig = draw_added_mass(data)
-    folder = target.parent if str(target.parent) else Path(".")
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".png", dir=folder)
-    os.close(fd)
-    try:
-        mask = os.umask(0)
-        os.umask(mask)
-        os.chmod(tmp, 0o666 & ~mask)
-        fig.savefig(tmp, format="png", dpi=110, metadata={"Software": None})
-        os.replace(tmp, target)
-    except OSError as exc:
-        raise InputError("plot", f"{path} could not be written ({exc.strerror or exc})") from None
-    finally:
-        pyplot().close(fig)
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+    write_plot_png(fig, target, path)
     return data
