@@ -211,7 +211,12 @@ def _case_dict(case: Case) -> dict:
     return d
 
 
-def _run_yade(payload: dict, *, yade: str | None, timeout: float, keep_dir=None) -> tuple[list[dict], str]:
+def run_yade_script(script: str, payload: dict, *, yade: str | None = None, timeout: float, keep_dir=None,
+                    tag: str = _TAG) -> tuple[list[dict], str]:
+    """``yade -n -x case.py cases.json`` with ``script`` and ``payload`` in a temporary folder (or
+    ``keep_dir``), one thread; the JSON records the script prints after ``tag``, and its stdout.
+    A failed run, or a record carrying ``error``, raises ``YadeError`` with the output's tail.
+    """
     exe = yade or engine_executable("yade")
     if exe is None:
         raise YadeError("YADE not found (apt-get install yade)")
@@ -220,14 +225,18 @@ def _run_yade(payload: dict, *, yade: str | None, timeout: float, keep_dir=None)
         work = Path(keep_dir) if keep_dir is not None else Path(tmp)
         work.mkdir(parents=True, exist_ok=True)
         (work / "cases.json").write_text(json.dumps(payload))
-        (work / "case.py").write_text(YADE_SCRIPT)
+        (work / "case.py").write_text(script)
         proc = subprocess.run([exe, "-n", "-x", "case.py", "cases.json"], cwd=work, env=env,
                               capture_output=True, text=True, timeout=timeout)
-    out = [json.loads(line[len(_TAG):]) for line in proc.stdout.splitlines() if line.startswith(_TAG)]
+    out = [json.loads(line[len(tag):]) for line in proc.stdout.splitlines() if line.startswith(tag)]
     if proc.returncode != 0 or any("error" in r for r in out):
         tail = "\n".join((proc.stdout + proc.stderr).splitlines()[-25:])
         raise YadeError(f"yade failed (exit {proc.returncode}):\n{tail}")
     return out, proc.stdout
+
+
+def _run_yade(payload: dict, *, yade: str | None, timeout: float, keep_dir=None) -> tuple[list[dict], str]:
+    return run_yade_script(YADE_SCRIPT, payload, yade=yade, timeout=timeout, keep_dir=keep_dir)
 
 
 def run_batch(jobs, *, yade: str | None = None, timeout: float = 600.0, keep_dir=None) -> list[list[RunResult]]:

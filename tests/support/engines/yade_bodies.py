@@ -33,18 +33,13 @@ and torque NewtonIntegrator gathers from the members (``r_bound`` the clump's bo
 """
 from __future__ import annotations
 
-import json
 import math
-import os
-import subprocess
-import tempfile
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from . import engine_executable
-from .yade import ENGINE_SCRIPTS, HALT_FRACTION, YADE_SCRIPT, Run, RunResult, YadeError, _case_dict, _classify
+from .yade import ENGINE_SCRIPTS, HALT_FRACTION, YADE_SCRIPT, Run, RunResult, YadeError, run_yade_script, _case_dict, _classify
 
 __all__ = ["ClumpPairCase", "ChainCase", "run_batch", "export_cases", "compress_clumps", "bisect_thresholds"]
 
@@ -305,22 +300,8 @@ def _payload_case(case) -> dict:
 
 
 def _run(payload: dict, *, yade: str | None, timeout: float) -> list[dict]:
-    exe = yade or engine_executable("yade")
-    if exe is None:
-        raise YadeError("YADE not found (apt-get install yade)")
     payload = {"halt_fraction": HALT_FRACTION, "engine_scripts": str(ENGINE_SCRIPTS), "cases": [], **payload}
-    env = dict(os.environ, OMP_NUM_THREADS="1")
-    with tempfile.TemporaryDirectory(prefix="yade_bodies_") as tmp:
-        work = Path(tmp)
-        (work / "cases.json").write_text(json.dumps(payload))
-        (work / "case.py").write_text(SCRIPT)
-        proc = subprocess.run([exe, "-n", "-x", "case.py", "cases.json"], cwd=work, env=env,
-                              capture_output=True, text=True, timeout=timeout)
-    out = [json.loads(line[len(_TAG):]) for line in proc.stdout.splitlines() if line.startswith(_TAG)]
-    if proc.returncode != 0 or any("error" in r for r in out):
-        tail = "\n".join((proc.stdout + proc.stderr).splitlines()[-25:])
-        raise YadeError(f"yade failed (exit {proc.returncode}):\n{tail}")
-    return out
+    return run_yade_script(SCRIPT, payload, yade=yade, timeout=timeout)[0]
 
 
 def run_batch(jobs, *, yade: str | None = None, timeout: float = 600.0) -> list[list[RunResult]]:

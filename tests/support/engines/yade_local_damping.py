@@ -23,18 +23,14 @@ It never imports the project under test.
 """
 from __future__ import annotations
 
-import json
 import math
 import os
-import subprocess
-import tempfile
 from dataclasses import asdict, dataclass
-from pathlib import Path
 
 import numpy as np
 
-from . import engine_executable
 from ..paths import ENGINE_SCRIPTS
+from .yade import run_yade_script
 
 __all__ = ["Lattice", "DampedRun", "RunOutcome", "run_batch", "bisect_onset", "hook_steps", "HALT_FRACTION"]
 
@@ -91,20 +87,7 @@ class RunOutcome:
 
 
 def _run_yade(payload: dict, *, timeout: float) -> list[dict]:
-    exe = engine_executable("yade")
-    if exe is None:
-        raise RuntimeError("YADE not found (apt-get install yade)")
-    env = dict(os.environ, OMP_NUM_THREADS="1")
-    with tempfile.TemporaryDirectory(prefix="yade_ld_") as tmp:
-        (Path(tmp) / "payload.json").write_text(json.dumps(payload))
-        (Path(tmp) / "case.py").write_text(YADE_SCRIPT)
-        proc = subprocess.run([exe, "-n", "-x", "case.py", "payload.json"], cwd=tmp, env=env, capture_output=True,
-                              text=True, timeout=timeout)
-    out = [json.loads(line[len(_TAG):]) for line in proc.stdout.splitlines() if line.startswith(_TAG)]
-    if proc.returncode != 0 or any("error" in r for r in out):
-        tail = "\n".join((proc.stdout + proc.stderr).splitlines()[-25:])
-        raise RuntimeError(f"yade failed (exit {proc.returncode}):\n{tail}")
-    return out
+    return run_yade_script(YADE_SCRIPT, payload, timeout=timeout, tag=_TAG)[0]
 
 
 def hook_steps(lattice: Lattice, alphas, dtcrit: list[str], *, timeout: float = 300.0) -> list[dict]:

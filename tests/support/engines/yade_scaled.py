@@ -27,16 +27,11 @@ end of the run, and what the engine script returned (``applied``).
 """
 from __future__ import annotations
 
-import json
-import os
-import subprocess
-import tempfile
 from dataclasses import asdict, dataclass
-from pathlib import Path
 
 from . import engine_executable
 from .lammps_packing import _read_dump
-from .yade import ENGINE_SCRIPTS, HALT_FRACTION, YADE_SCRIPT, Run, RunResult, YadeError, _classify
+from .yade import ENGINE_SCRIPTS, HALT_FRACTION, YADE_SCRIPT, Run, RunResult, YadeError, run_yade_script, _classify
 
 __all__ = ["PackingRun", "packing_runs"]
 
@@ -163,15 +158,6 @@ def packing_runs(dump_text: str, kn: float, ks: float, runs, *, yade: str | None
                            "length": [float(v) for v in length], "kn": kn, "ks": ks},
                "scaled": [{**asdict(r), "factors": None if r.factors is None else [float(f) for f in r.factors]}
                           for r in runs]}
-    with tempfile.TemporaryDirectory(prefix="yade_scaled_") as tmp:
-        work = Path(tmp)
-        (work / "cases.json").write_text(json.dumps(payload))
-        (work / "case.py").write_text(SCRIPT)
-        proc = subprocess.run([exe, "-n", "-x", "case.py", "cases.json"], cwd=work, capture_output=True, text=True,
-                              env=dict(os.environ, OMP_NUM_THREADS="1"), timeout=timeout)
-    out = [json.loads(line[len(_TAG):]) for line in proc.stdout.splitlines() if line.startswith(_TAG)]
-    if proc.returncode != 0 or any("error" in r for r in out):
-        tail = "\n".join((proc.stdout + proc.stderr).splitlines()[-25:])
-        raise YadeError(f"yade failed (exit {proc.returncode}):\n{tail}")
+    out = run_yade_script(SCRIPT, payload, yade=exe, timeout=timeout)[0]
     by_run = {r["scaled"]: r for r in out if "scaled" in r}
     return [_classify(Run(r.steps, dt=r.dt, eps=r.eps, seed=r.seed), by_run[k]) for k, r in enumerate(runs)]

@@ -21,15 +21,10 @@ Cases besides ``yade_bodies``' ``ClumpPairCase``:
 """
 from __future__ import annotations
 
-import json
-import os
-import subprocess
-import tempfile
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
-from . import engine_executable
-from .yade import ENGINE_SCRIPTS, HALT_FRACTION, YadeError
+from .yade import ENGINE_SCRIPTS, HALT_FRACTION, run_yade_script
 from .yade_bodies import SCRIPT as BODIES_SCRIPT
 from .yade_bodies import _MAIN, _payload_case
 
@@ -138,21 +133,8 @@ SCRIPT = BODIES_SCRIPT.replace(_MAIN, _STEPPER + _MAIN)
 
 
 def _run(payload: dict, *, yade: str | None, timeout: float) -> list[dict]:
-    exe = yade or engine_executable("yade")
-    if exe is None:
-        raise YadeError("YADE not found (apt-get install yade)")
     payload = {"halt_fraction": HALT_FRACTION, "engine_scripts": str(ENGINE_SCRIPTS), "cases": [], **payload}
-    with tempfile.TemporaryDirectory(prefix="yade_stepper_") as tmp:
-        work = Path(tmp)
-        (work / "cases.json").write_text(json.dumps(payload))
-        (work / "case.py").write_text(SCRIPT)
-        proc = subprocess.run([exe, "-n", "-x", "case.py", "cases.json"], cwd=work, capture_output=True, text=True,
-                              env=dict(os.environ, OMP_NUM_THREADS="1"), timeout=timeout)
-    out = [json.loads(line[len(_TAG):]) for line in proc.stdout.splitlines() if line.startswith(_TAG)]
-    if proc.returncode != 0 or any("error" in r for r in out):
-        tail = "\n".join((proc.stdout + proc.stderr).splitlines()[-25:])
-        raise YadeError(f"yade failed (exit {proc.returncode}):\n{tail}")
-    return out
+    return run_yade_script(SCRIPT, payload, yade=yade, timeout=timeout)[0]
 
 
 def stepper_dt(cases, paths, safeties=(0.8,), *, yade: str | None = None, timeout: float = 300.0) -> list[dict]:
