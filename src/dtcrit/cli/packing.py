@@ -16,8 +16,9 @@ A FILE whose first character is ``{`` is a bodies file (``dtcrit.packing.readers
 processes of an MPI launcher (one process without a launcher is a one-rank run); it needs petsc4py and
 slepc4py (the environment ``.venv-mpi`` of ``python3 dev.py mpi-env``), else one line says what to
 install (exit 2).  ``--petsc-indices`` chooses the width of PETSc's indices (auto: Debian's 64-bit-index
-build when ``6 N > 2^31 - 1``; ``dtcrit.packing.distributed.petsc_build``).  It reports ``omega_max``, ``dt_crit``, the Gershgorin lower bound and the solver's
-figures, not the serial report's estimates and certificate.  Only rank 0 prints.
+build when ``6 N > 2^31 - 1``; ``dtcrit.packing.distributed.petsc_build``).  It reports ``omega_max``,
+``dt_crit``, the Gershgorin lower bound and the solver's figures, not the serial report's estimates and
+certificate.  Only rank 0 prints.
 """
 from __future__ import annotations
 

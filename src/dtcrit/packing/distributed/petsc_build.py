@@ -151,7 +151,7 @@ def select_build(bits: int) -> None:
     if not all(any((Path(d) / pkg / "__init__.py").is_file() for d in dirs) for pkg in ("petsc4py", "slepc4py")):
         raise InputError("petsc_indices", f"64-bit PETSc indices need Debian's 64-bit build: apt-get install "
                                           f"{PACKAGES}, then python3 dev.py mpi-env (it records the build in .venv-mpi)")
-    sys.path[:0] = [d for d in dirs if d not in sys.path[:len(dirs)]]
+    sys.path[:0] = dirs
     sys.path_importer_cache.clear()
 
 
