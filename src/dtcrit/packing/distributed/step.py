@@ -5,7 +5,8 @@ Every rank reads or generates the whole packing (``dtcrit.packing.step.packing_i
 the particle count chooses the PETSc build, ``petsc_build``), keeps its share of the contacts
 (``slepc_backend.distribute``) and takes part in the Krylov-Schur solve (``slepc_analysis.analyse_share``);
 every rank returns the same numbers, and a caller prints on rank 0 only.  ``dt_crit = 2/omega_max``
-(Otsubo et al. 2017, Eq. (13)); the integrator's step at the modal damping ratio comes from ``dtcrit.packing.solvers.integrator_step.integrator_dt``.
+(Otsubo et al. 2017, Eq. (13)); the integrator's step at the modal damping ratio comes from
+``dtcrit.packing.solvers.integrator_step.integrator_dt``.
 """
 from __future__ import annotations
 
