@@ -33,6 +33,12 @@ virtual environment of that ``python3`` with ``--system-site-packages``, a ``.pt
 real-number builds' module folders, NumPy ``>=1.26,<2`` (a newer 1.x keeps the ABI the modules were
 built against), the other runtime dependencies at the pinned versions, and dtcrit itself (editable,
 ``--no-deps``).  It is used only for ``mpirun -n P .venv-mpi/bin/dtcrit packing ... --backend slepc``.
+Debian's 64-bit-index builds (``python3-petsc4py-64-real``, ``python3-slepc4py-64-real``; installed the
+same way, but their absence is not fatal) are not on that path: their module folders are recorded in
+``.venv-mpi/dtcrit-petsc64-dirs.txt``, and a run whose particle count needs them (``6 N > 2^31 - 1``) or
+that asks for them (``--petsc-indices 64``) puts them first before petsc4py is imported
+(``dtcrit.packing.distributed.petsc_build``); without them that run refuses in one line.  The stamp's
+digest covers both builds' folders, so a change of either rebuilds the environment.
 """
 from __future__ import annotations
 
@@ -165,30 +171,52 @@ MPI_APT = {"python3-petsc4py-real": "usr/lib/petscdir/petsc3.*/*-real/lib/python
 """Debian packages of the PETSc/SLEPc back-end -> where their module lands (Debian's layout: the
 real-number builds with 32-bit indices, on no interpreter's path by default); ``None``: the package
 gives ``mpirun``."""
+MPI_APT_64 = {"python3-petsc4py-64-real": "usr/lib/petscdir/petsc64-3.*/*-real/lib/python3/dist-packages/petsc4py",
+              "python3-slepc4py-64-real": "usr/lib/slepcdir/slepc64-3.*/*-real/lib/python3/dist-packages/slepc4py"}
+"""Debian's real-number builds with 64-bit indices (``PetscInt`` of 64 bits, for ``6 N > 2^31 - 1`` DOFs) ->
+where their module lands; optional: their folders go to ``PETSC64_RECORD``, not to the ``.pth`` file."""
+PETSC64_RECORD = "dtcrit-petsc64-dirs.txt"
+"""The file of ``.venv-mpi`` naming the 64-bit build's module folders, one a line (empty: not installed);
+``dtcrit.packing.distributed.petsc_build.RECORD`` reads it."""
 MPI_RUNTIME = ("scipy", "sympy", "mpmath", "tqdm", "numba", "llvmlite")  # at their constraints.txt pins; NumPy 1.x
 """numba (with its llvmlite) runs the contact kernel of the matrix-free SLEPc route (``--slepc-matrix shell``);
 its pin supports NumPy >= 1.22, so it loads beside the 1.x NumPy of Debian's petsc4py."""
 
 
+def _apt_install(packages: list[str], why: str) -> None:
+    """``apt-get install`` of ``packages`` when root (retried after ``apt-get update``); DTCRIT_NO_APT=1 opts out."""
+    apt = shutil.which("apt-get")
+    if not packages or os.environ.get("DTCRIT_NO_APT") == "1" or not apt or not hasattr(os, "geteuid") or os.geteuid():
+        return
+    print(f"installing {', '.join(packages)} with apt-get {why} (DTCRIT_NO_APT=1 opts out)", flush=True)
+    env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
+    install = (apt, "install", "-y", "-q", "--no-install-recommends", *packages)
+    if run(*install, env=env) != 0 and run(apt, "update", "-q", env=env) == 0:
+        run(*install, env=env)
+
+
+def _found(where):
+    """``mpirun``'s path (``where`` None) or the first folder matching the glob ``where`` under ``/``."""
+    return shutil.which("mpirun") if where is None else next(Path("/").glob(where), None)
+
+
+def _petsc64_dirs() -> list[str]:
+    """The 64-bit build's module folders (``MPI_APT_64``), installed when missing; [] without both."""
+    _apt_install([pkg for pkg, where in MPI_APT_64.items() if not _found(where)],
+                 "for 64-bit PETSc indices (optional)")
+    found = [_found(where) for where in MPI_APT_64.values()]
+    return [str(f.parent) for f in found] if all(found) else []
+
+
 def ensure_mpi_env() -> str | None:
     """Build or update ``.venv-mpi`` (module docstring); ``None`` when it is ready, else why not."""
-    def found(where):
-        return shutil.which("mpirun") if where is None else next(Path("/").glob(where), None)
-
-    missing = [pkg for pkg, where in MPI_APT.items() if not found(where)]
-    apt = shutil.which("apt-get")
-    if missing and os.environ.get("DTCRIT_NO_APT") != "1" and apt and hasattr(os, "geteuid") and os.geteuid() == 0:
-        print(f"installing {', '.join(missing)} with apt-get for the PETSc/SLEPc back-end (DTCRIT_NO_APT=1 opts out)",
-              flush=True)
-        env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
-        install = (apt, "install", "-y", "-q", "--no-install-recommends", *missing)
-        if run(*install, env=env) != 0 and run(apt, "update", "-q", env=env) == 0:
-            run(*install, env=env)
-    if not all(found(where) for where in MPI_APT.values()):
+    _apt_install([pkg for pkg, where in MPI_APT.items() if not _found(where)], "for the PETSc/SLEPc back-end")
+    if not all(_found(where) for where in MPI_APT.values()):
         return "needs apt-get install python3-slepc4py-real python3-petsc4py-real openmpi-bin (as root)"
-    dirs = [str(found(where).parent) for where in MPI_APT.values() if where]
+    dirs = [str(_found(where).parent) for where in MPI_APT.values() if where]
+    dirs64 = _petsc64_dirs()
     digest = hashlib.sha256((ROOT / "pyproject.toml").read_bytes() + (ROOT / "constraints.txt").read_bytes()
-                            + " ".join(dirs + list(MPI_RUNTIME)).encode()).hexdigest()
+                            + " ".join(dirs + list(MPI_RUNTIME) + ["64:"] + dirs64).encode()).hexdigest()
     stamp = MPI_VENV / ".dtcrit-installed"
     if MPI_PY.exists() and stamp.exists() and stamp.read_text().strip() == digest:
         return None
@@ -201,13 +229,19 @@ def ensure_mpi_env() -> str | None:
     if not site:
         return ".venv-mpi has no working python (delete it and run again)"
     Path(site, "dtcrit-petsc-slepc.pth").write_text("".join(f"{d}\n" for d in dirs))
+    (MPI_VENV / PETSC64_RECORD).write_text("".join(f"{d}\n" for d in dirs64))
     pins = [line.split("#")[0].strip() for line in (ROOT / "constraints.txt").read_text().splitlines()]
     pins = [pin for pin in pins if pin.split("==")[0] in MPI_RUNTIME]
     quiet = ["-q"] if os.environ.get("CI") else []
     check = "from petsc4py import PETSc; from slepc4py import SLEPc; import dtcrit.packing.distributed.slepc_backend"
+    check64 = ("from dtcrit.packing.distributed.petsc_build import select_build; select_build(64); "
+               "from petsc4py import PETSc; from slepc4py import SLEPc; assert PETSc.IntType().itemsize == 8")
     if (run(MPI_PY, "-m", "pip", "install", *quiet, "numpy>=1.26,<2", *pins)
             or run(MPI_PY, "-m", "pip", "install", *quiet, "--no-deps", "-e", ".") or run(MPI_PY, "-c", check)):
         return "installing dtcrit's runtime into .venv-mpi, or importing petsc4py and slepc4py there, failed"
+    if dirs64 and run(MPI_PY, "-c", check64):
+        print("the 64-bit-index petsc4py/slepc4py do not import (not fatal: runs that need them refuse)", flush=True)
+        (MPI_VENV / PETSC64_RECORD).write_text("")
     stamp.write_text(digest)
     return None
 

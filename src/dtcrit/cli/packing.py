@@ -15,8 +15,10 @@ A FILE whose first character is ``{`` is a bodies file (``dtcrit.packing.readers
 ``--backend slepc`` (``dtcrit.packing.distributed.slepc_backend``) finds ``omega_max`` with PETSc and SLEPc on the
 processes of an MPI launcher (one process without a launcher is a one-rank run); it needs petsc4py and
 slepc4py (the environment ``.venv-mpi`` of ``python3 dev.py mpi-env``), else one line says what to
-install (exit 2).  It reports ``omega_max``, ``dt_crit``, the Gershgorin lower bound and the solver's
-figures, not the serial report's estimates and certificate.  Only rank 0 prints.
+install (exit 2).  ``--petsc-indices`` chooses the width of PETSc's indices (auto: Debian's 64-bit-index
+build when ``6 N > 2^31 - 1``; ``dtcrit.packing.distributed.petsc_build``).  It reports ``omega_max``,
+``dt_crit``, the Gershgorin lower bound and the solver's figures, not the serial report's estimates and
+certificate.  Only rank 0 prints.
 """
 from __future__ import annotations
 
@@ -84,6 +86,11 @@ def add_parser(subparsers) -> None:
     run.add_argument("--slepc-matrix", choices=("shell", "assembled"), default=None,
                      help="with --backend slepc: shell (default: matrix-free, the contact kernel on each rank's "
                           "contacts) or assembled (PETSc MPISBAIJ)")
+    run.add_argument("--petsc-indices", choices=("auto", "32", "64"), default=None,
+                     help="with --backend slepc: the width of PETSc's indices. 32: Debian's python3-petsc4py-real "
+                          "build, at most 2^31 - 1 DOFs (357,913,941 particles); 64: its python3-petsc4py-64-real "
+                          "and python3-slepc4py-64-real build (python3 dev.py mpi-env installs and records them); "
+                          "auto (default): 64 only when 6 N > 2^31 - 1")
     p.set_defaults(run=run_command)
 
 
@@ -92,7 +99,7 @@ FLAGS = {"cells": "--cells", "n": "--random", "radius": "--radius", "kn": "--kn"
          "sizes": "--sizes", "seed": "--seed", "integrator": "--integrator", "damping_ratio": "--damping-ratio",
          "damping-ratio": "--damping-ratio", "method": "--solver", "route": "--route", "snapshot": "--snapshot",
          "lattice": "--lattice", "scale": "--scale", "random": "--random", "write_dump": "--write-dump",
-         "slepc_matrix": "--slepc-matrix"}
+         "slepc_matrix": "--slepc-matrix", "petsc_indices": "--petsc-indices"}
 """Library keys (``InputError.key``) and the flags of ``dtcrit packing`` that set them."""
 
 
@@ -165,6 +172,8 @@ def _run(args) -> int:
         raise ValueError("partitioned-read: reads a FILE in pieces for --backend slepc only")
     if args.slepc_matrix is not None:
         raise InputError("--slepc-matrix", "only with --backend slepc (the serial backend chooses with --route)")
+    if args.petsc_indices is not None:
+        raise InputError("--petsc-indices", "only with --backend slepc (the serial backend does not use PETSc)")
     if args.scale:
         from dtcrit.bench.packing_scaling import parse_sizes, run_sizes
 
@@ -200,10 +209,7 @@ def _run_slepc(args) -> int:
     alone (``slepc_backend.agree``); the other ranks exit with status 2 silently.
     """
     rank = int(next((os.environ[k] for k in LAUNCHER_RANK if os.environ.get(k, "").isdigit()), "0"))
-    try:
-        from dtcrit.packing.distributed.mpi_support import world
-
-        _, rank, _ = world()
+    try:  # no MPI here: the API reads the input, then chooses the PETSc build (petsc_build) and starts MPI
         return _slepc_report(args)
     except (ValueError, SystemExit) as exc:
         if isinstance(exc, SystemExit) or (rank != 0 and not getattr(exc, "report_here", False)):
@@ -220,7 +226,7 @@ def _slepc_report(args) -> int:
             raise ValueError(f"{flag[2:]}: not used with --backend slepc (it reports omega_max, dt_crit and "
                              "dt_safe; the serial backend has the estimates, routes and certificate)")
     step = distributed_packing_step(args.file, **_packing_options(args), partitioned=args.partitioned_read,
-                                    matrix=args.slepc_matrix or "shell")
+                                    matrix=args.slepc_matrix or "shell", petsc_indices=args.petsc_indices or "auto")
     if step.rank != 0:
         return 0
     if args.json:

@@ -21,7 +21,7 @@ import scipy.sparse.linalg as spla
 from dtcrit.bench.packing_scaling import jittered_fcc
 from dtcrit.errors import InputError
 from dtcrit.packing.detection.overlaps import find_sphere_contacts
-from dtcrit.packing.distributed.partitioned_read import INDEX_LIMIT, _check_count
+from dtcrit.packing.distributed.petsc_build import LIMITS
 from dtcrit.packing.generators.random_packing import random_packing
 from dtcrit.packing.model import Box, LinearLaw, Packing, apply_law
 from dtcrit.packing.operators.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
@@ -59,7 +59,7 @@ def files(tmp_path_factory):
     npz = folder / "random.npz"
     convert_dump(dump, npz)
     huge = folder / "huge.dump"
-    huge.write_text(text.replace("ITEM: NUMBER OF ATOMS\n4000", f"ITEM: NUMBER OF ATOMS\n{INDEX_LIMIT // 6 + 1}"))
+    huge.write_text(text.replace("ITEM: NUMBER OF ATOMS\n4000", f"ITEM: NUMBER OF ATOMS\n{LIMITS[32] // 6 + 1}"))
     half_open = folder / "half_open.dump"  # walls (no wall contacts) on x and y: no images there
     write_dump(half_open, Packing.spheres(fcc.positions[order], shuffled.radii, density=1.0, ids=shuffled.ids,
                                           box=Box(fcc.box.lo, fcc.box.hi, (False, False, True))))
@@ -99,10 +99,7 @@ def test_two_ranks_read_the_serial_contact_list(files, probed, which):
 
 def test_a_count_beyond_32_bit_indices_is_refused_from_the_header(files, probed):
     (line,) = probed[str(files[2])]["error"]
-    assert "2^31 - 1" in line and str(INDEX_LIMIT) in line
-    with pytest.raises(InputError, match="32-bit index limit"):
-        _check_count(INDEX_LIMIT // 6 + 1, 1)
-    _check_count(INDEX_LIMIT // 6, 1)
+    assert "32-bit index limit 2^31 - 1" in line and str(LIMITS[32]) in line
 
 
 def test_the_npz_route_gives_the_top_eigenvalue(tmp_path):

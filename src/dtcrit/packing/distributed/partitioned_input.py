@@ -18,9 +18,9 @@ Morton slab of spheres and the halo around it; no rank ever holds the whole pack
    particles and halo in global order, mapped back to the global numbering: the same list as the
    serial back-end's.  Atom ids are checked distinct by one more all-to-all (ids hashed to ranks).
 
-MPI through ``mpi4py`` (``PETSc.COMM_WORLD.tompi4py()``), imported inside the functions.  PETSc's
-indices here are 32-bit: a packing with ``6 N > 2^31 - 1`` DOFs is refused from the header, before
-any row is read.
+MPI through ``mpi4py`` (``PETSc.COMM_WORLD.tompi4py()``), imported inside the functions.  A packing
+with more DOFs (``6 N``) than the loaded PETSc build numbers (``petsc_build.check_dofs``: ``2^31 - 1``
+with 32-bit indices) is refused from the header, before any row is read.
 """
 from __future__ import annotations
 

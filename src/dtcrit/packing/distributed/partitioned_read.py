@@ -13,14 +13,13 @@ import numpy as np
 
 from dtcrit.errors import InputError
 from dtcrit.packing.distributed.mpi_support import agree
+from dtcrit.packing.distributed.petsc_build import check_dofs
 from dtcrit.packing.distributed.slab_contacts import split_rows
 from dtcrit.packing.model import Box, Packing
 from dtcrit.packing.readers.sphere_npz import is_sphere_file
 
-__all__ = ["INDEX_LIMIT", "ROW_DTYPE", "Piece", "collective", "mpi", "read_piece"]
+__all__ = ["ROW_DTYPE", "Piece", "collective", "mpi", "read_piece"]
 
-INDEX_LIMIT = 2**31 - 1
-"""Largest index of this PETSc build (``PetscInt`` is 32-bit): ``6 N`` must not exceed it."""
 ROW_DTYPE = np.dtype([("key", "<u8"), ("id", "<i8"), ("glob", "<i8"), ("x", "<f8", (3,)), ("radius", "<f8"),
                       ("mass", "<f8")])
 """A sphere in transit: Morton key, atom id (or row number), global index, centre [m], radius [m], mass [kg]."""
@@ -67,9 +66,8 @@ def mpi():
 
 
 def _check_count(n: int, size: int) -> None:
-    if 6 * n > INDEX_LIMIT:
-        raise InputError("packing", f"{n} spheres need {6 * n} DOFs, beyond this PETSc's 32-bit index limit "
-                                    f"2^31 - 1 = {INDEX_LIMIT} (at most {INDEX_LIMIT // 6} spheres)")
+    """Refuse more DOFs than the loaded PETSc build numbers (``petsc_build.check_dofs``), or fewer particles than ranks."""
+    check_dofs(n)
     if n < size:
         raise InputError("packing", f"{n} particles cannot be shared by {size} ranks (fewer ranks, please)")
 

@@ -18,6 +18,7 @@ from dtcrit.packing.model import Contacts, Packing
 from dtcrit.packing.solvers.certificate import bracket
 from dtcrit.packing.solvers.largest_mode import DEFAULT_TOL as SERIAL_TOL
 from dtcrit.packing.distributed.mpi_support import allgather, peak_mib, petsc, release_memory, world
+from dtcrit.packing.distributed.petsc_build import loaded_bits
 from dtcrit.packing.distributed.slepc_backend import (NCV, TOLERANCE, RankShare, SlepcResult, _held, _local_figures,
                                                       assemble, distribute, solve)
 from dtcrit.packing.distributed.slab_contacts import split_rows
@@ -156,7 +157,8 @@ def analyse_share(share: RankShare, tolerance: float | None = None, matrix: str 
         matrix_mallocs=int(rows[:, 3].sum()), matrix_nonzeros=int(rows[:, 4].sum()),
         matvec_seconds=float(rows[:, 5].max()) / max(top["matvecs"], 1), times=times, peak_rss_mib=peaks,
         per_rank=per_rank, matrix=matrix, dt_safe_from=safe_from,
-        dt_bracket=bracket(theta, dt_safe if math.isfinite(dt_safe) else 0.0, None).to_dict())
+        dt_bracket=bracket(theta, dt_safe if math.isfinite(dt_safe) else 0.0, None).to_dict(),
+        petsc_index_bits=loaded_bits())
 
 
 def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, tolerance: float | None = None,

@@ -60,6 +60,7 @@ from dtcrit.packing.operators.assembly import contact_blocks, mass_diagonal
 from dtcrit.packing.detection.overlaps import find_contacts, wrap_positions
 from dtcrit.packing.model import Contacts, Packing, apply_law
 from dtcrit.packing.distributed.mpi_support import agree, allgather, peak_mib, petsc, release_memory, world
+from dtcrit.packing.distributed.petsc_build import check_dofs
 from dtcrit.packing.distributed.slepc_result import JSON_SCHEMA, UNITS, SlepcResult, format_result
 from dtcrit.packing.distributed.slab_contacts import SlabContacts, morton_order, slab_of_list, slab_sphere_contacts, split_rows
 
@@ -172,9 +173,7 @@ def distribute(packing: Packing, law=None, contacts: Contacts | None = None, *, 
     try:
         if packing.n < size:
             raise InputError("packing", f"{packing.n} particles cannot be shared by {size} ranks (fewer ranks, please)")
-        if 6 * packing.n > np.iinfo(petsc()[0].IntType).max:
-            raise InputError("packing", f"{6 * packing.n} DOFs exceed this PETSc's 32-bit indices: use Debian's 64-bit "
-                                        "build (python3-petsc4py-64-real python3-slepc4py-64-real)")
+        check_dofs(packing.n)
         lo, hi = split_rows(packing.n, size, rank)
         order = None
         sheared = packing.box is not None and packing.box.cell is not None  # searched whole, in periodic_cell

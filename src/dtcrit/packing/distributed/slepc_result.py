@@ -60,6 +60,8 @@ class SlepcResult:
     dt_bracket : dict
         ``lower`` [s], ``upper`` [s], ``lower_from``: ``dtcrit.packing.solvers.certificate.bracket`` of
         the Ritz value and ``dt_safe``, ``lower <= dt_crit_true <= upper``.
+    petsc_index_bits : int
+        Width of the PETSc build's indices that ran, 32 or 64 (``petsc_build``: ``--petsc-indices``).
     """
 
     label: str
@@ -92,6 +94,7 @@ class SlepcResult:
     matrix: str = "assembled"
     dt_safe_from: str = "Gershgorin 2/sqrt(|A|_inf)"
     dt_bracket: dict = field(default_factory=dict)
+    petsc_index_bits: int = 32
 
     def to_dict(self) -> dict:
         """The fields as a JSON-ready dict (a non-finite float becomes ``None``).
@@ -127,7 +130,7 @@ def format_result(r: SlepcResult) -> str:
         f"packing: {r.label or '(unnamed)'}",
         f"contact law: {r.law}",
         f"particles {r.n_particles}, DOFs {r.dofs}, contacts {r.n_contacts}, coordination mean {r.cn_mean:.4g}",
-        f"omega_max = {r.omega_max:.12g} rad/s  ({r.solver}, {r.matrix} matrix, on {r.ranks} rank{'s' if r.ranks > 1 else ''}, "
+        f"omega_max = {r.omega_max:.12g} rad/s  ({r.solver}, {r.matrix} matrix, {r.petsc_index_bits}-bit PETSc indices, on {r.ranks} rank{'s' if r.ranks > 1 else ''}, "
         f"{r.iterations} restarts, {r.matvecs} matrix-vector products, residual |Av - theta v| = {r.residual:.3g}, "
         f"relative {r.relative_residual:.2g})",
         f"dt_crit = 2/omega_max = {r.dt_crit:.12g} s   alpha = dt_crit / sqrt(m_min/K_max) = {r.alpha:.5g}",

@@ -1,11 +1,12 @@
 """The critical step of a packing on many processes (PETSc/SLEPc under MPI): the API behind
 ``dtcrit packing --backend slepc``.
 
-Every rank reads or generates the whole packing (``dtcrit.packing.step.packing_input``), keeps its
-share of the contacts (``slepc_backend.distribute``) and takes part in the Krylov-Schur solve
-(``slepc_analysis.analyse_share``); every rank returns the same numbers, and a caller prints on rank 0
-only.  ``dt_crit = 2/omega_max`` (Otsubo et al. 2017, Eq. (13)); the integrator's step at the modal
-damping ratio comes from ``dtcrit.packing.solvers.integrator_step.integrator_dt``.
+Every rank reads or generates the whole packing (``dtcrit.packing.step.packing_input``, before any MPI:
+the particle count chooses the PETSc build, ``petsc_build``), keeps its share of the contacts
+(``slepc_backend.distribute``) and takes part in the Krylov-Schur solve (``slepc_analysis.analyse_share``);
+every rank returns the same numbers, and a caller prints on rank 0 only.  ``dt_crit = 2/omega_max``
+(Otsubo et al. 2017, Eq. (13)); the integrator's step at the modal damping ratio comes from
+``dtcrit.packing.solvers.integrator_step.integrator_dt``.
 """
 from __future__ import annotations
 
@@ -104,7 +105,7 @@ def distributed_packing_step(source: str | os.PathLike | None = None, *, lattice
                              kn: float | None = None, ks: float | None = None, youngs: float | None = None,
                              poisson: float = 0.25, snapshot: int = -1, integrator: str = "velocity-verlet",
                              damping_ratio: float = 0.0, partitioned: bool | None = None,
-                             matrix: str = "shell") -> DistributedStep:
+                             matrix: str = "shell", petsc_indices: str = "auto") -> DistributedStep:
     """The critical step of a packing by PETSc and SLEPc on the processes of an MPI launcher (collective).
 
     Parameters
@@ -121,6 +122,9 @@ def distributed_packing_step(source: str | os.PathLike | None = None, *, lattice
     matrix : str
         ``"shell"`` (matrix-free: the contact kernel under a PETSc shell matrix, ``slepc_shell``) or
         ``"assembled"`` (``MPISBAIJ``).
+    petsc_indices : str
+        ``"auto"`` (Debian's 64-bit-index PETSc build when ``6 N > 2^31 - 1``, else the 32-bit one),
+        ``"32"`` or ``"64"`` (``petsc_build``); chosen before petsc4py is first imported in the process.
 
     Returns
     -------
@@ -130,7 +134,8 @@ def distributed_packing_step(source: str | os.PathLike | None = None, *, lattice
     Raises
     ------
     InputError
-        Bad input, or a packing without a vibrating mode.
+        Bad input, a packing without a vibrating mode, more DOFs than ``petsc_indices="32"`` numbers,
+        64-bit indices wanted without Debian's 64-bit build, or a process that already loaded the other build.
     ImportError
         petsc4py or slepc4py is missing (``python3 dev.py mpi-env`` builds ``.venv-mpi``).
 
@@ -145,21 +150,26 @@ def distributed_packing_step(source: str | os.PathLike | None = None, *, lattice
     from dtcrit.packing.distributed import slepc_backend as sb
     from dtcrit.packing.distributed.mpi_support import world
     from dtcrit.packing.distributed.partitioned_share import partitioned_share, wants_partitioned
+    from dtcrit.packing.distributed.petsc_build import index_bits, peek_count, select_build
     from dtcrit.packing.solvers.integrator_step import integrator_dt
     from dtcrit.packing.step import packing_input
 
-    _, rank, _ = world()
     integrator_dt(1.0, integrator, damping_ratio)  # bad names and ratios fail before the work
     if matrix not in sa.MATRICES:
         raise InputError("slepc_matrix", f"unknown matrix {matrix!r}; choose one of {', '.join(sa.MATRICES)}")
+    index_bits(None, petsc_indices)  # an unknown width fails before the work
     clock = time.perf_counter()
-    if wants_partitioned(source, partitioned):
+    if wants_partitioned(source, partitioned):  # the count from the file's header, then MPI
+        select_build(index_bits(peek_count(source, snapshot), petsc_indices))
+        _, rank, _ = world()
         share, _ = partitioned_share(source, dict(lattice=lattice, random=random, density=density, kn=kn, ks=ks,
                                                   youngs=youngs, poisson=poisson, snapshot=snapshot))
         return _finish(rank, sa.analyse_share(share, matrix=matrix), integrator, damping_ratio)
     given = packing_input(source, lattice=lattice, cells=cells, random=random, cn=cn, sizes=sizes, spread=spread,
                           seed=seed, radius=radius, density=density, kn=kn, ks=ks, youngs=youngs, poisson=poisson,
-                          snapshot=snapshot, check_memory=False)
+                          snapshot=snapshot, check_memory=False)  # no MPI yet: the count chooses the build
+    select_build(index_bits(given.packing.n, petsc_indices))
+    _, rank, _ = world()
     share = sb.distribute(given.packing, given.law, given.contacts, t_input=time.perf_counter() - clock)
     del given  # the O(N) input is not needed by the matrix and the solve
     result = sa.analyse_share(share, matrix=matrix)

@@ -1,0 +1,128 @@
+"""The PETSc build of 32- or 64-bit indices (``dtcrit.packing.distributed.petsc_build``, ``--petsc-indices``).
+
+The choice is a pure function of the particle count (tested at the counts either side of
+``(2^31 - 1) / 6`` without making them); the partitioned route's count comes from the file's header
+(``peek_count``, checked against the counts written here); under ``mpirun -n 2`` the 64-bit build gives the
+32-bit build's ``omega_max`` on a 864-sphere FCC lattice and the JSON says which build ran; a 64-bit
+run without the 64-bit build, and a process that already loaded the other build, are refused in one
+line.  The MPI runs use ``.venv-mpi`` (``python3 dev.py mpi-env``, which records the 64-bit build); without
+it or ``mpirun`` they skip, except under ``CI=true``, where they fail.
+"""
+from __future__ import annotations
+
+import json
+
+import jsonschema
+import pytest
+
+from dtcrit.errors import InputError
+from dtcrit.packing.distributed import petsc_build as pb
+from dtcrit.packing.generators.lattices import lattice
+from dtcrit.packing.readers.lammps_dump import format_dump
+from dtcrit.packing.readers.sphere_npz import convert_dump
+from dtcrit.packing.step import packing_step
+from support.mpi_runs import mpi_env, run_packing, run_ranks
+from support.paths import SRC
+
+SCHEMA = json.loads((SRC / "dtcrit" / "schemas" / "dtcrit-packing-slepc-1.json").read_text())
+FCC = ("--lattice", "fcc", "--cells", "6", "--kn", "1e5", "--json")
+"""An 864-sphere FCC lattice (6 x 6 x 6 cells of 4), linear springs."""
+LAST_32 = (2**31 - 1) // 6
+"""The most particles whose ``6 N`` DOFs 32-bit indices number: 357,913,941."""
+
+
+@pytest.mark.parametrize("n, wanted, bits", [(1, "auto", 32), (LAST_32, "auto", 32), (LAST_32 + 1, "auto", 64),
+                                             (10**10, "auto", 64), (None, "auto", 32), (LAST_32, "32", 32),
+                                             (1, "64", 64), (None, "64", 64), (LAST_32 + 1, "64", 64)])
+def test_the_count_chooses_the_index_width(n, wanted, bits):
+    """Auto: 64 bits from the first count whose ``6 N`` exceeds ``2^31 - 1``; 32 and 64 as asked."""
+    assert 6 * LAST_32 <= 2**31 - 1 < 6 * (LAST_32 + 1)
+    assert pb.index_bits(n, wanted) == bits
+
+
+def test_32_bits_with_too_many_particles_and_unknown_widths_are_refused():
+    """``--petsc-indices 32`` one particle beyond the limit: the line names the DOFs and the limit."""
+    with pytest.raises(InputError) as info:
+        pb.index_bits(LAST_32 + 1, "32")
+    assert info.value.key == "petsc_indices"
+    assert f"{6 * (LAST_32 + 1)} DOFs" in str(info.value) and "32-bit index limit 2^31 - 1 = 2147483647" in str(info.value)
+    with pytest.raises(InputError, match="choose one of auto, 32, 64"):
+        pb.index_bits(10, "48")
+    assert "64-bit index limit 2^63 - 1" in str(pb.limit_error(2**62, 2**63 - 1))
+
+
+def test_the_count_is_peeked_from_the_header(tmp_path, monkeypatch):
+    """A sphere file's rows; a small dump's size bound (within 32 bits); the chosen snapshot's
+    ``NUMBER OF ATOMS`` once the dump is large enough to matter (here: the threshold lowered to 0).
+    """
+    small, large = lattice("sc", 2, radius=1.0, density=1.0), lattice("fcc", 2, radius=1.0, density=1.0)
+    dump = tmp_path / "two.dump"
+    dump.write_text(format_dump(small, timestep=1) + format_dump(large, timestep=2))
+    npz = tmp_path / "two.npz"
+    convert_dump(dump, npz)
+    assert pb.peek_count(npz) == large.n
+    bound = pb.peek_count(dump)
+    assert bound >= large.n and 6 * bound <= 2**31 - 1
+    monkeypatch.setattr(pb, "MIN_ROW_BYTES", 0)
+    assert (pb.peek_count(dump, 0), pb.peek_count(dump, -1), pb.peek_count(dump, 1)) == (small.n, large.n, large.n)
+    assert pb.peek_count(dump, 5) is None and pb.peek_count(tmp_path / "missing.dump") is None
+    assert pb.peek_count(None) is None
+
+
+def test_petsc_indices_is_refused_without_the_slepc_backend(capsys):
+    """``--petsc-indices`` without ``--backend slepc``: one line naming both flags, exit 2."""
+    from dtcrit.cli import main
+
+    assert main(["packing", "--random", "50", "--kn", "1", "--petsc-indices", "64"]) == 2
+    (line,) = capsys.readouterr().err.splitlines()
+    assert "--petsc-indices" in line and "--backend slepc" in line
+
+
+@pytest.fixture(scope="module")
+def runs():
+    # the FCC lattice is generated on every rank: no file to share
+    """The JSON of ``mpirun -n 2`` on the FCC lattice: ``--petsc-indices auto`` (the default) and ``64``."""
+    out = {}
+    for wanted in ("auto", "64"):
+        proc = run_packing(2, *FCC, "--petsc-indices", wanted)
+        assert proc.returncode == 0, proc.stderr[-3000:]
+        out[wanted] = json.loads(proc.stdout)
+    return out
+
+
+def test_64_bit_indices_give_the_32_bit_omega_max(runs):
+    """Auto picks 32 bits for 864 spheres; 64 bits give its ``omega_max`` to 1e-10, and both lie within
+    the Ritz residual of the serial route's ``omega_max`` (an independent solve in this process).
+    """
+    auto, wide = runs["auto"], runs["64"]
+    for doc in (auto, wide):
+        jsonschema.validate(doc, SCHEMA)
+        assert doc["n_particles"] == 864 and doc["ranks"] == 2
+    assert (auto["petsc_index_bits"], wide["petsc_index_bits"]) == (32, 64)
+    assert wide["omega_max"] == pytest.approx(auto["omega_max"], rel=1e-10, abs=0)
+    serial = packing_step(lattice="fcc", cells=6, kn=1e5, certify="no").omega_max
+    for doc in (auto, wide):  # |theta - lambda| <= |A v - theta v| for a unit Ritz pair of a symmetric A
+        assert abs(doc["omega_max"] ** 2 - serial**2) <= doc["residual"] * (1 + 1e-9)
+
+
+def test_64_bits_without_the_64_bit_build_is_one_line(tmp_path):
+    """The build lookup pointed at an empty folder: exit 2, one line naming the packages and mpi-env."""
+    env = mpi_env(**{pb.DIRS_ENV: str(tmp_path)})
+    proc = run_packing(2, *FCC, "--petsc-indices", "64", env=env)
+    assert proc.returncode == 2 and proc.stdout == ""
+    lines = [line for line in proc.stderr.splitlines() if line.startswith("dtcrit")]
+    assert len(lines) == 1 and lines[0].startswith("dtcrit: --petsc-indices: 64-bit PETSc indices need"), proc.stderr
+    for needed in ("python3-petsc4py-64-real", "python3-slepc4py-64-real", "python3 dev.py mpi-env"):
+        assert needed in lines[0]
+
+
+def test_a_process_that_loaded_one_build_refuses_the_other():
+    """One rank imports the 32-bit build, then asks for the 64-bit one: refused, not mixed."""
+    code = ("from petsc4py import PETSc\n"
+            "from dtcrit.errors import InputError\n"
+            "from dtcrit.packing.distributed.petsc_build import select_build\n"
+            "select_build(32)\n"
+            "try:\n    select_build(64)\nexcept InputError as exc:\n    print(exc)\n")
+    proc = run_ranks(1, "-c", code)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert "already loaded the PETSc build of 32-bit indices; the 64-bit one needs a new process" in proc.stdout
