@@ -11,6 +11,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from dtcrit.errors import InputError
+from dtcrit.packing.normal_arms import NormalArms
 
 
 @dataclass(frozen=True)
@@ -37,8 +38,9 @@ class Contacts:
         (C,) indices of the two particles of each contact.
     normal : numpy.ndarray
         (C, 3) unit normals from ``i`` to ``j``.
-    arm_i, arm_j : numpy.ndarray
-        (C, 3) contact arms [m] from each centre of mass to the contact point.
+    arm_i, arm_j : numpy.ndarray or NormalArms
+        (C, 3) contact arms [m] from each centre of mass to the contact point (sphere contacts hold
+        them as their lengths along ``normal``: ``dtcrit.packing.normal_arms``).
     overlap : numpy.ndarray
         (C,) overlaps [m], >= 0.
     image : numpy.ndarray
@@ -60,8 +62,8 @@ class Contacts:
     i: np.ndarray
     j: np.ndarray
     normal: np.ndarray
-    arm_i: np.ndarray
-    arm_j: np.ndarray
+    arm_i: np.ndarray | NormalArms
+    arm_j: np.ndarray | NormalArms
     overlap: np.ndarray
     image: np.ndarray
     radius_eff: np.ndarray
@@ -185,7 +187,12 @@ class Contacts:
             Those contacts with every per-contact term.
         """
         pick = lambda a: None if a is None else a[mask]  # noqa: E731
-        return Contacts(self.i[mask], self.j[mask], self.normal[mask], self.arm_i[mask], self.arm_j[mask],
+        normal = self.normal[mask]
+
+        def arm(a):
+            return a.select(mask, normal) if isinstance(a, NormalArms) else a[mask]
+
+        return Contacts(self.i[mask], self.j[mask], normal, arm(self.arm_i), arm(self.arm_j),
                         self.overlap[mask], self.image[mask], self.radius_eff[mask], pick(self.kn), pick(self.ks),
                         pick(self.cn), pick(self.cs), pick(self.kr), pick(self.ktw), pick(self.force_n),
                         pick(self.cr), pick(self.ctw))

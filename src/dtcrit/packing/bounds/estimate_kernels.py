@@ -19,7 +19,8 @@ import math
 
 import numpy as np
 
-from dtcrit.packing.operators.contact_element import IDENTITY, rotation_rows
+from dtcrit.packing.normal_arms import kernel_arms
+from dtcrit.packing.operators.contact_element import IDENTITY, arm_rows, rotation_rows
 from dtcrit.packing.operators.element_matrices import slip_jacobians_into
 from dtcrit.packing.operators.matrix_free import PARALLEL_MIN_CONTACTS
 from dtcrit.packing.operators.matrix_free_kernels import _jit, available, block_bounds, prange, threads
@@ -79,8 +80,8 @@ def _frequencies_span(lo, hi, ci, cj, nrm, arm_i, arm_j, kn, ks, rot, inv_mass, 
         j = cj[c]
         ri = rotation_rows(rot, i) if oriented else IDENTITY
         rj = rotation_rows(rot, j) if oriented else IDENTITY
-        slip_jacobians_into((arm_i[c, 0], arm_i[c, 1], arm_i[c, 2]), (arm_j[c, 0], arm_j[c, 1], arm_j[c, 2]),
-                            ri, rj, oriented, bi, bj)
+        ai, aj = arm_rows(arm_i, arm_j, nrm, c)
+        slip_jacobians_into(ai, aj, ri, rj, oriented, bi, bj)
         for r in range(3):
             for col in range(3):
                 acc = 0.0
@@ -143,8 +144,8 @@ def contact_frequencies(packing, contacts) -> np.ndarray:
     inv_mass = 1.0 / np.concatenate([np.repeat(packing.masses[:, None], 3, axis=1), packing.inertia], axis=1)
     out = np.empty(contacts.count)
     args = (np.ascontiguousarray(contacts.i), np.ascontiguousarray(contacts.j),
-            np.ascontiguousarray(contacts.normal, dtype=float), np.ascontiguousarray(contacts.arm_i, dtype=float),
-            np.ascontiguousarray(contacts.arm_j, dtype=float), np.ascontiguousarray(contacts.kn, dtype=float),
+            np.ascontiguousarray(contacts.normal, dtype=float), *kernel_arms(contacts),
+            np.ascontiguousarray(contacts.kn, dtype=float),
             np.ascontiguousarray(contacts.ks, dtype=float), rot, inv_mass, oriented, out)
     blocks = min(threads(), MAX_BLOCKS) if contacts.count >= PARALLEL_MIN_CONTACTS else 1
     if blocks > 1:

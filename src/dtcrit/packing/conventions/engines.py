@@ -45,6 +45,7 @@ from dtcrit.physics.contact_laws import reduced
 
 from dtcrit.packing.detection.overlaps import find_sphere_contacts
 from dtcrit.packing.model import Contacts, Packing
+from dtcrit.packing.normal_arms import NormalArms
 from dtcrit.packing.periodic_cell import nearest_image
 
 
@@ -144,21 +145,24 @@ def with_arms(packing: Packing, contacts: Contacts, arm: str) -> Contacts:
         alpha = (r_i + r_j) / (r_i + r_j - delta)
         arm_i = np.sqrt((r_i - 0.5 * delta) * r_i / alpha)
         arm_j = np.sqrt((r_j - 0.5 * delta) * r_j / alpha)
-        return replace(contacts, arm_i=arm_i[:, None] * contacts.normal, arm_j=-arm_j[:, None] * contacts.normal,
-                       ks=alpha * contacts.ks)
+        return replace(_along(contacts, arm_i, arm_j), ks=alpha * contacts.ks)
     if arm == "granular":  # LAMMPS pair granular: slip velocity with R, torque with R - delta/2
         half = 0.5 * contacts.overlap
         arm_i = np.sqrt(r[contacts.i] * (r[contacts.i] - half))
         arm_j = np.sqrt(r[contacts.j] * (r[contacts.j] - half))
-        return replace(contacts, arm_i=arm_i[:, None] * contacts.normal, arm_j=-arm_j[:, None] * contacts.normal)
+        return _along(contacts, arm_i, arm_j)
     if arm == "radius":
-        return replace(contacts, arm_i=r[contacts.i][:, None] * contacts.normal,
-                       arm_j=-r[contacts.j][:, None] * contacts.normal)
+        return _along(contacts, r[contacts.i], r[contacts.j])
     if arm == "mid-overlap":
         half = 0.5 * contacts.overlap
-        return replace(contacts, arm_i=(r[contacts.i] - half)[:, None] * contacts.normal,
-                       arm_j=-(r[contacts.j] - half)[:, None] * contacts.normal)
+        return _along(contacts, r[contacts.i] - half, r[contacts.j] - half)
     raise InputError("arm", f"unknown arm convention {arm!r}")
+
+
+def _along(contacts: Contacts, length_i: np.ndarray, length_j: np.ndarray) -> Contacts:
+    """``contacts`` with arms ``l_i n`` and ``-l_j n``, held as their lengths (``normal_arms``)."""
+    return replace(contacts, arm_i=NormalArms(length_i, contacts.normal, 1.0),
+                   arm_j=NormalArms(length_j, contacts.normal, -1.0))
 
 
 def engine_sphere_contacts(packing: Packing, convention: EngineConvention) -> Contacts:
@@ -223,5 +227,5 @@ def overlaps_of_pairs(packing: Packing, i: np.ndarray, j: np.ndarray) -> Contact
     r = packing.radii
     overlap = np.maximum(r[i] + r[j] - d, 0.0)
     return Contacts(i=np.asarray(i, np.int64), j=np.asarray(j, np.int64), normal=n,
-                    arm_i=r[i][:, None] * n, arm_j=-r[j][:, None] * n, overlap=overlap, image=image,
+                    arm_i=NormalArms(r[i], n, 1.0), arm_j=NormalArms(r[j], n, -1.0), overlap=overlap, image=image,
                     radius_eff=reduced(r[i], r[j]))

@@ -3,7 +3,9 @@
 From candidate pairs ``(i, j)`` (sorted, each once: ``overlaps._sorted_pairs``) and their periodic
 image, ``_filled`` writes every field of ``dtcrit.packing.contact_set.Contacts`` into arrays allocated
 once at their final size, a chunk of pairs at a time.  The contact point is the middle of the overlap
-along the centre line, ``x_c = x_i + (R_i - delta/2) n`` (Peng et al. 2020, Eqs (1)-(2)).
+along the centre line, ``x_c = x_i + (R_i - delta/2) n`` (Peng et al. 2020, Eqs (1)-(2)); the arms
+are kept as their lengths ``R - delta/2`` along the normal (``dtcrit.packing.normal_arms``: 16 bytes a
+contact instead of 48).
 """
 from __future__ import annotations
 
@@ -11,6 +13,7 @@ import numpy as np
 
 from dtcrit.errors import InputError
 from dtcrit.packing.model import Box, Contacts, Packing
+from dtcrit.packing.normal_arms import NormalArms
 from dtcrit.packing.periodic_cell import own_images
 
 
@@ -24,7 +27,9 @@ def _image_of(sep: np.ndarray, box: Box | None) -> np.ndarray:
 
 
 def _touching(packing: Packing, x, i, j, image, tolerance, moved=None):
-    """The contacts among candidate pairs ``(i, j, image)``: field arrays of ``Contacts``."""
+    """The contacts among candidate pairs ``(i, j, image)``: field arrays of ``Contacts`` (the arms as
+    their lengths ``length_i``, ``length_j``: ``_contacts``).
+    """
     r = packing.radii
     box = packing.box
     sep = x[j] + (0.0 if box is None else box.shift(image)) - x[i]
@@ -39,9 +44,15 @@ def _touching(packing: Packing, x, i, j, image, tolerance, moved=None):
     n = sep / d[:, None]
     overlap = np.maximum(r[i] + r[j] - d, 0.0)
     image = image if moved is None else _narrowest(image + moved[j] - moved[i])
-    return dict(i=i, j=j, normal=n, arm_i=(r[i] - 0.5 * overlap)[:, None] * n,
-                arm_j=-(r[j] - 0.5 * overlap)[:, None] * n, overlap=overlap, image=image,
-                radius_eff=r[i] * r[j] / (r[i] + r[j]))
+    return dict(i=i, j=j, normal=n, length_i=r[i] - 0.5 * overlap, length_j=r[j] - 0.5 * overlap,
+                overlap=overlap, image=image, radius_eff=r[i] * r[j] / (r[i] + r[j]))
+
+
+def _contacts(fields: dict) -> Contacts:
+    """``Contacts`` of sphere fields: the arm lengths become ``NormalArms`` on the normals."""
+    n = fields["normal"]
+    return Contacts(arm_i=NormalArms(fields.pop("length_i"), n, 1.0), arm_j=NormalArms(fields.pop("length_j"), n, -1.0),
+                    **fields)
 
 
 def _narrowest(image: np.ndarray) -> np.ndarray:
@@ -59,10 +70,10 @@ def _joined(parts: list[dict]) -> Contacts:
     fields = {}
     for name in list(parts[0]):
         fields[name] = np.concatenate([p.pop(name) for p in parts])
-    return Contacts(**fields)
+    return _contacts(fields)
 
 
-CONTACT_FIELDS = ("normal", "arm_i", "arm_j", "overlap", "image", "radius_eff")
+CONTACT_FIELDS = ("normal", "length_i", "length_j", "overlap", "image", "radius_eff")
 
 
 def _filled(packing: Packing, x, pair_i, pair_j, frame_box, tolerance: float, chunk: int) -> Contacts:
@@ -83,7 +94,7 @@ def _filled(packing: Packing, x, pair_i, pair_j, frame_box, tolerance: float, ch
     del touch
     count = len(pair_i)
     wide = moved is not None and int(np.abs(moved).max()) > 63
-    fields = dict(normal=np.empty((count, 3)), arm_i=np.empty((count, 3)), arm_j=np.empty((count, 3)),
+    fields = dict(normal=np.empty((count, 3)), length_i=np.empty(count), length_j=np.empty(count),
                   overlap=np.empty(count), image=np.empty((count, 3), dtype=np.int64 if wide else np.int8),
                   radius_eff=np.empty(count))
     for lo in range(0, count, chunk):
@@ -92,7 +103,7 @@ def _filled(packing: Packing, x, pair_i, pair_j, frame_box, tolerance: float, ch
         part = _touching(packing, x, i, j, _image_of(x[j] - x[i], frame_box), tolerance, moved)
         for name in CONTACT_FIELDS:
             fields[name][sl] = part[name]
-    return Contacts(i=pair_i, j=pair_j, **fields)
+    return _contacts(dict(i=pair_i, j=pair_j, **fields))
 
 
 def _touch_mask(packing: Packing, x, i, j, image, tolerance) -> np.ndarray:

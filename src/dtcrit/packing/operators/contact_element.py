@@ -62,7 +62,7 @@ def _inlined(fn: _F) -> _F:
 
 
 __all__ = ["cross", "dot", "to_global", "to_body", "contact_slip", "relative_rotation", "centre_motion",
-           "frame_law", "element_forces", "body_forces", "rotation_rows", "IDENTITY", "ZERO3"]
+           "frame_law", "element_forces", "body_forces", "rotation_rows", "arm_rows", "IDENTITY", "ZERO3"]
 
 ZERO3 = (0.0, 0.0, 0.0)
 IDENTITY = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
@@ -87,6 +87,36 @@ def rotation_rows(rot, p):
     """
     return ((rot[p, 0, 0], rot[p, 0, 1], rot[p, 0, 2]), (rot[p, 1, 0], rot[p, 1, 1], rot[p, 1, 2]),
             (rot[p, 2, 0], rot[p, 2, 1], rot[p, 2, 2]))
+
+
+@_jitable
+def arm_rows(arm_i, arm_j, nrm, c):
+    """Contact ``c``'s two arms as 3-tuples, from the compiled loops' arm arguments.
+
+    Arms held as vectors are (C, 3); sphere arms held as their lengths along the normal are (C, 1)
+    (``dtcrit.packing.normal_arms.kernel_arms``): ``a_i = l_i n``, ``a_j = -(l_j n)``, the arithmetic
+    of ``NormalArms``, so both forms give the same bits.
+
+    Parameters
+    ----------
+    arm_i, arm_j : numpy.ndarray
+        (C, 3) arm vectors or (C, 1) lengths.
+    nrm : numpy.ndarray
+        (C, 3) unit normals.
+    c : int
+        The contact.
+
+    Returns
+    -------
+    tuple
+        ``(a_i, a_j)``, each a 3-tuple of floats.
+    """
+    if arm_i.shape[1] == 1:
+        li = arm_i[c, 0]
+        lj = arm_j[c, 0]
+        return ((li * nrm[c, 0], li * nrm[c, 1], li * nrm[c, 2]),
+                (-(lj * nrm[c, 0]), -(lj * nrm[c, 1]), -(lj * nrm[c, 2])))
+    return ((arm_i[c, 0], arm_i[c, 1], arm_i[c, 2]), (arm_j[c, 0], arm_j[c, 1], arm_j[c, 2]))
 
 
 @_jitable

@@ -373,7 +373,7 @@ class ContactOperator(spla.LinearOperator):
             Bytes read per product from the contact arrays.
         """
         c = self.contacts
-        arrays = [c.i, c.j, c.normal]
+        arrays: list = [c.i, c.j, c.normal]  # (NormalArms count their lengths)
         if getattr(self, "_sphere_args", None) is not None:
             return int(sum(a.nbytes for a in arrays + list(self._sphere_args[3:8])))
         if self.translational:

@@ -27,7 +27,8 @@ from typing import Any, Callable
 
 import numpy as np
 
-from dtcrit.packing.operators.contact_element import IDENTITY, body_forces, rotation_rows
+from dtcrit.packing.normal_arms import kernel_arms, lengths_along
+from dtcrit.packing.operators.contact_element import IDENTITY, arm_rows, body_forces, rotation_rows
 from dtcrit.packing.operators.element_matrices import element_blocks_into
 
 
@@ -84,8 +85,7 @@ def _apply_span(q, y, lo, hi, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot
         ri = rotation_rows(rot, i) if orient else IDENTITY
         rj = rotation_rows(rot, j) if orient else IDENTITY
         n = (nrm[c, 0], nrm[c, 1], nrm[c, 2])
-        ai = (arm_i[c, 0], arm_i[c, 1], arm_i[c, 2]) if trans else zero
-        aj = (arm_j[c, 0], arm_j[c, 1], arm_j[c, 2]) if trans else zero
+        ai, aj = arm_rows(arm_i, arm_j, nrm, c) if trans else (zero, zero)
         f, m_i, m_j = body_forces(n, ai, aj, ri, rj, orient, (q[i, 0], q[i, 1], q[i, 2]), (q[i, 3], q[i, 4], q[i, 5]),
                                   (q[j, 0], q[j, 1], q[j, 2]), (q[j, 3], q[j, 4], q[j, 5]),
                                   kn[c] if trans else 0.0, ks[c] if trans else 0.0, ktw[c] if rotl else 0.0,
@@ -179,8 +179,7 @@ def _element_pass(ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags, sca
         ri = rotation_rows(rot, i) if orient else IDENTITY
         rj = rotation_rows(rot, j) if orient else IDENTITY
         n = (nrm[c, 0], nrm[c, 1], nrm[c, 2])
-        ai = (arm_i[c, 0], arm_i[c, 1], arm_i[c, 2]) if trans else zero
-        aj = (arm_j[c, 0], arm_j[c, 1], arm_j[c, 2]) if trans else zero
+        ai, aj = arm_rows(arm_i, arm_j, nrm, c) if trans else (zero, zero)
         element_blocks_into(n, ai, aj, ri, rj, orient, kn[c] if trans else 0.0, ks[c] if trans else 0.0,
                             ktw[c] if rotl else 0.0, kr[c] if rotl else 0.0, g[c] if pre else 0.0,
                             trans, rotl, pre, ii, jj, ij)
@@ -234,13 +233,11 @@ def loop_arguments(contacts, along, across, twist, roll, preload, orientations) 
             return empty
         return np.zeros(nc) if a is None else np.ascontiguousarray(a, dtype=float)
 
-    def arms(a):
-        return np.ascontiguousarray(a, dtype=float) if translational else np.zeros((0, 3))
-
     flags = np.array([translational, rotational, preload is not None, orientations is not None], dtype=np.int64)
     rot = np.zeros((0, 3, 3)) if orientations is None else np.ascontiguousarray(orientations)
+    arm_i, arm_j = kernel_arms(contacts) if translational else (np.zeros((0, 3)), np.zeros((0, 3)))
     return (np.ascontiguousarray(contacts.i, dtype=np.int64), np.ascontiguousarray(contacts.j, dtype=np.int64),
-            np.ascontiguousarray(contacts.normal, dtype=float), arms(contacts.arm_i), arms(contacts.arm_j),
+            np.ascontiguousarray(contacts.normal, dtype=float), arm_i, arm_j,
             arr(along, translational), arr(across, translational), arr(twist, rotational), arr(roll, rotational),
             arr(preload, preload is not None), rot, flags)
 
@@ -262,6 +259,9 @@ def sphere_arm_lengths(normal: np.ndarray, arm_i: np.ndarray, arm_j: np.ndarray,
     tuple of numpy.ndarray or None
         The two arm lengths per contact [m].
     """
+    stored = lengths_along(arm_i, arm_j, normal)
+    if stored is not None:  # held as lengths (dtcrit.packing.normal_arms): exact, no copy
+        return stored
     nc = normal.shape[0]
     li, lj = np.empty(nc), np.empty(nc)
     for lo in range(0, nc, chunk):
