@@ -300,9 +300,9 @@ class ContactOperator(spla.LinearOperator):
             ``sum_q |A_pq| w_q`` per row, length 6N.
         """
         w = None if weights is None else np.asarray(weights, float).reshape(-1)
-        if w is None or np.all(w == 1.0):
+        if w is None or particle_pass.equals(w, np.ones_like):
             return self.block_summary().rows_ones
-        if np.array_equal(w, np.sqrt(self.mass_diag)):
+        if particle_pass.equals(w, np.sqrt, self.mass_diag):
             return self.block_summary().rows_root
         if self.compiled:
             return particle_pass.weighted_rows(self._kernel_args, self.scale6, w.reshape(-1, 6))

@@ -308,6 +308,32 @@ def blocks(args: tuple, scale: np.ndarray, particles: np.ndarray | None = None) 
     return out
 
 
+def equals(w: np.ndarray, form, base: np.ndarray | None = None, chunk: int = 1 << 20) -> bool:
+    """Whether ``w == form(base)`` (``base`` default ``w``) entry for entry, compared in chunks so that
+    ``form(base)`` (e.g. ``sqrt(m)``, 480 MB at 1e7 particles) is never whole.
+
+    Parameters
+    ----------
+    w : numpy.ndarray
+        The weights (6N,).
+    form : callable
+        Elementwise function, e.g. ``numpy.sqrt`` or ``numpy.ones_like``.
+    base : numpy.ndarray or None
+        Its argument, as long as ``w``; ``None``: ``w``.
+    chunk : int
+        Entries per comparison.
+
+    Returns
+    -------
+    bool
+        ``True`` when every entry is equal.
+    """
+    base = w if base is None else base
+    if base.shape != w.shape:
+        return False
+    return all(np.array_equal(w[lo:lo + chunk], form(base[lo:lo + chunk])) for lo in range(0, w.size, chunk))
+
+
 def top_eigenvalues(blocks: np.ndarray, chunk: int = 1 << 16) -> np.ndarray:
     """``lambda_max`` of each symmetrised 6 x 6 block, batched ``numpy.linalg.eigvalsh`` in chunks.
 
