@@ -305,7 +305,7 @@ class ContactOperator(spla.LinearOperator):
         if particle_pass.equals(w, np.sqrt, self.mass_diag):
             return self.block_summary().rows_root
         if self.compiled:
-            return particle_pass.weighted_rows(self._kernel_args, self.scale6, w.reshape(-1, 6))
+            return particle_pass.summary(self._kernel_args, self.scale6, w.reshape(-1, 6), root=False).rows_root
         return particle_pass.scattered_blocks(self, [w])[1][0]
 
     def assembled(self):

@@ -237,8 +237,9 @@ def incidence(ci: np.ndarray, cj: np.ndarray, n: int,
     return indptr, out
 
 
-def summary(args: tuple, scale: np.ndarray, mass: np.ndarray) -> BlockSummary:
-    """``BlockSummary`` by the compiled particle loop, for the weights ``1`` and ``sqrt(mass)``.
+def summary(args: tuple, scale: np.ndarray, weight: np.ndarray, root: bool = True) -> BlockSummary:
+    """``BlockSummary`` by the compiled particle loop, for the weights ``1`` and ``sqrt(weight)``
+    (``root``; the mass diagonal gives ``sqrt(m)``) or ``weight`` itself.
 
     Parameters
     ----------
@@ -246,40 +247,21 @@ def summary(args: tuple, scale: np.ndarray, mass: np.ndarray) -> BlockSummary:
         ``matrix_free_kernels.loop_arguments``' tuple.
     scale : numpy.ndarray
         ``M^(-1/2)`` per DOF, (N, 6).
-    mass : numpy.ndarray
-        The mass diagonal (N, 6) (its square root is the second weight).
+    weight : numpy.ndarray
+        Per DOF, (N, 6): the mass diagonal, or any weights with ``root=False``.
+    root : bool
+        Whether the second weight is ``sqrt(weight)``.
 
     Returns
     -------
     BlockSummary
         The tops, the diagonal and the two row sums.
     """
-    return _summary(args, scale, mass, True)
-
-
-def weighted_rows(args: tuple, scale: np.ndarray, weight: np.ndarray) -> np.ndarray:
-    """``sum_q |A_pq| w_q`` per row for any weights ``w`` (N, 6), by the same loop.
-
-    Parameters
-    ----------
-    args : tuple
-        ``matrix_free_kernels.loop_arguments``' tuple.
-    scale, weight : numpy.ndarray
-        ``M^(-1/2)`` and ``w`` per DOF, (N, 6) each.
-
-    Returns
-    -------
-    numpy.ndarray
-        The row sums (6N,).
-    """
-    return _summary(args, scale, np.ascontiguousarray(weight, dtype=float), False).rows_root
-
-
-def _summary(args, scale, weight, take_root) -> BlockSummary:
     n = scale.shape[0]
     indptr, inc = incidence(args[0], args[1], n)
     top, diag, ones, second = np.empty(n), np.empty((n, 6)), np.empty((n, 6)), np.empty((n, 6))
-    _summary_c(indptr, inc, *args, np.ascontiguousarray(scale), weight, take_root, top, diag, ones, second)
+    _summary_c(indptr, inc, *args, np.ascontiguousarray(scale), np.ascontiguousarray(weight, dtype=float), root,
+               top, diag, ones, second)
     return BlockSummary(top, diag.reshape(-1), ones.reshape(-1), second.reshape(-1))
 
 
