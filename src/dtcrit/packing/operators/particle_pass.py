@@ -136,14 +136,18 @@ def _gather(p, lo, hi, inc, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, 
         q = j if mine == 0 else i
         for b in range(6):
             wq[b] = np.sqrt(weight[q, b]) if take_root else weight[q, b]
-        for a in range(6):
-            for b in range(6):
-                if mine == 0:
+        if mine == 0:
+            for a in range(6):
+                for b in range(6):
                     v = abs(ij[a, b] * scale[i, a] * scale[j, b])
-                else:
+                    r1[a] += v
+                    r2[a] += v * wq[b]
+        else:
+            for a in range(6):
+                for b in range(6):
                     v = abs(ij[b, a] * scale[i, b] * scale[j, a])
-                r1[a] += v
-                r2[a] += v * wq[b]
+                    r1[a] += v
+                    r2[a] += v * wq[b]
 
 
 def _scaled(p, acc, scale):
@@ -167,15 +171,16 @@ def _summary_loop(indptr, inc, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, ro
             _gather_c(p, indptr[p], indptr[p + 1], inc, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags,
                       scale, weight, take_root, True, acc, own, other, ij, r1, r2, wq)
             _scaled_c(p, acc, scale)
+            for b in range(6):
+                wq[b] = np.sqrt(weight[p, b]) if take_root else weight[p, b]
             for a in range(6):
                 diag[p, a] = acc[a, a]
                 d1 = 0.0
                 d2 = 0.0
                 for b in range(6):
                     sym[a, b] = 0.5 * (acc[a, b] + acc[b, a])
-                    wb = np.sqrt(weight[p, b]) if take_root else weight[p, b]
                     d1 += abs(acc[a, b])
-                    d2 += abs(acc[a, b]) * wb
+                    d2 += abs(acc[a, b]) * wq[b]
                 ones[p, a] = r1[a] + d1
                 second[p, a] = r2[a] + d2
             top[p] = np.linalg.eigvalsh(sym)[5]
