@@ -176,8 +176,8 @@ def stage_floors(a, packing, matvecs: int, bounds_products: int, search: bool = 
 
     * eigen-solve: one pass over the contact arrays a product reads per product, at the measured
       copy bandwidth (``memory_bandwidth``);
-    * bounds: the same for their products plus two passes (the element pass of the diagonal blocks
-      and row sums, and the single-contact frequencies);
+    * bounds: the same for their products plus two passes (the particle pass of the diagonal blocks
+      and row sums, ``particle_pass``, and the single-contact frequencies);
     * search: SciPy's pair search alone, ``cKDTree(...).query_pairs`` of the same spheres (built and
       queried again here when ``search``; the contact test and the fields are not in it);
     * memory: the contact arrays a product reads plus ``LEAN_NCV + 4`` vectors of ``6N`` (the lean

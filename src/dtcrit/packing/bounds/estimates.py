@@ -38,6 +38,7 @@ import numpy as np
 from dtcrit.physics.estimate import Estimate
 
 from dtcrit.packing.operators.assembly import contact_kinematics, contact_stiffness_tensor
+from dtcrit.packing.operators.particle_pass import top_eigenvalues
 from dtcrit.packing.model import Contacts, Packing
 
 
@@ -130,8 +131,21 @@ def block_diagonal(a, particle_id=_one_based) -> Estimate:
     Estimate
         ``omega2`` [1/s^2] and ``dt = 2/omega`` [s], with where it is attained.  A lower bound on ``dt``.
     """
+    if hasattr(a, "block_summary"):  # matrix-free operator: the tops from its particle pass, no (N, 6, 6) array
+        top = a.block_summary().top
+    else:
+        top = _block_tops(a)
+    p = int(np.argmax(top))
+    return Estimate.from_omega2("block_diagonal", float(2.0 * top[p]), "lower bound on dt",
+                    f"sqrt(2) / sqrt(lambda_max of the 6x6 block) of particle {particle_id(p)}")
+
+
+def _block_tops(a, chunk: int = 1 << 16) -> np.ndarray:
+    """``lambda_max`` of each symmetrised 6 x 6 diagonal block of ``a`` (``diagonal_blocks`` of an
+    operator that gives them, BSR blocks, or dense slices; ``particle_pass.top_eigenvalues``).
+    """
     n = a.shape[0] // 6
-    if hasattr(a, "diagonal_blocks"):  # matrix-free operator (dtcrit.packing.operators.matrix_free)
+    if hasattr(a, "diagonal_blocks"):  # e.g. the distributed route's own rows (slepc_shell.OwnRows)
         blocks = a.diagonal_blocks()
     elif hasattr(a, "blocksize") and a.blocksize == (6, 6):
         rows = np.repeat(np.arange(n), np.diff(a.indptr))
@@ -141,13 +155,7 @@ def block_diagonal(a, particle_id=_one_based) -> Estimate:
     else:
         dense = a.toarray() if hasattr(a, "toarray") else np.asarray(a)
         blocks = np.stack([dense[6 * p:6 * p + 6, 6 * p:6 * p + 6] for p in range(n)])
-    top = np.empty(n)
-    for lo in range(0, n, 1 << 16):  # in chunks: the (N, 6, 6) blocks are 2.9 GB at 1e7 particles
-        part = blocks[lo:lo + (1 << 16)]
-        top[lo:lo + (1 << 16)] = np.linalg.eigvalsh(0.5 * (part + np.swapaxes(part, 1, 2)))[:, -1]
-    p = int(np.argmax(top))
-    return Estimate.from_omega2("block_diagonal", float(2.0 * top[p]), "lower bound on dt",
-                    f"sqrt(2) / sqrt(lambda_max of the 6x6 block) of particle {particle_id(p)}")
+    return top_eigenvalues(blocks, chunk)
 
 
 def _compliance(packing: Packing, contacts: Contacts, sl) -> np.ndarray:

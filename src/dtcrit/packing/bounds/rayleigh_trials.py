@@ -166,8 +166,8 @@ def _rounded(w: np.ndarray) -> np.ndarray:
 def principal_submatrix(a, particles: np.ndarray) -> np.ndarray:
     """The dense rows and columns of a matrix-free ``A`` for the six DOFs of each of ``particles``.
 
-    ``A_SS`` from the operator's diagonal blocks (``diagonal_blocks``) and the scaled coupling blocks
-    ``s_i K_ij s_j`` (``assembly.contact_blocks``) of the contacts joining two of the particles (every
+    ``A_SS`` from the diagonal blocks of these particles only (``diagonal_blocks(particles=...)``) and
+    the scaled coupling blocks ``s_i K_ij s_j`` (``assembly.contact_blocks``) of the contacts joining two of the particles (every
     periodic image; a contact with its own image is in its diagonal block).  For vectors ``u``, ``v``
     zero outside those DOFs, ``u^T A v = u_S^T A_SS v_S``: a local trial's quotient without a product
     over all contacts.
@@ -187,9 +187,9 @@ def principal_submatrix(a, particles: np.ndarray) -> np.ndarray:
     p = np.asarray(particles, dtype=np.int64)
     where = {int(q): k for k, q in enumerate(p)}
     out = np.zeros((6 * len(p), 6 * len(p)))
-    blocks = a.diagonal_blocks()
-    for k, q in enumerate(p):
-        out[6 * k:6 * k + 6, 6 * k:6 * k + 6] = blocks[q]
+    blocks = a.diagonal_blocks(particles=p)  # only these particles' blocks
+    for k in range(len(p)):
+        out[6 * k:6 * k + 6, 6 * k:6 * k + 6] = blocks[k]
     c = a.contacts
     member = np.zeros(a.shape[0] // 6, dtype=bool)
     member[p] = True

@@ -4,8 +4,8 @@ The element ``sum B^T T B`` of one contact (``dtcrit.packing.operators.contact_e
 docstring) as matrices, each column the element's motion, frame law or action on a unit vector
 (exact: a unit vector only selects entries):
 
-* ``element_blocks_into``, ``slip_jacobians_into`` -- one contact, compiled into the loops of
-  ``matrix_free_kernels`` (the block pass) and ``dtcrit.packing.bounds.estimate_kernels``;
+* ``element_side_into``, ``element_blocks_into``, ``slip_jacobians_into`` -- one contact, compiled into
+  the loops of ``particle_pass`` (the bounds' pass) and ``dtcrit.packing.bounds.estimate_kernels``;
 * ``frame_tensor``, ``slip_jacobians``, ``rotation_jacobians``, ``element_blocks`` -- vectorised over
   contacts, ``B^T T B`` by ``numpy.matmul`` (the assembled matrices, the SLEPc back-end, the NumPy
   block pass).
@@ -20,7 +20,7 @@ from dtcrit.packing.operators.contact_element import (
     ZERO3, _jitable, body_forces, centre_motion, contact_slip, frame_law, relative_rotation, to_global,
 )
 
-__all__ = ["element_blocks_into", "slip_jacobians_into", "components", "frame_tensor", "slip_jacobians",
+__all__ = ["element_side_into", "element_blocks_into", "slip_jacobians_into", "components", "frame_tensor", "slip_jacobians",
            "rotation_jacobians", "element_blocks"]
 
 
@@ -31,11 +31,55 @@ def _unit(k, first):
 
 
 @_jitable
+def element_side_into(n, arm_i, arm_j, rot_i, rot_j, oriented, kn, ks, ktw, kr, g, springs, rolling, preload,
+                      side, own, ij):
+    """One body's half of the element's blocks: ``side`` 0 writes ``ii`` into ``own`` and ``ij``
+    (the action on the unit vectors of body ``i``: column ``k`` of ``ii`` and row ``k`` of ``ij``),
+    ``side`` 1 writes ``jj`` into ``own`` and ``ij`` (on the unit vectors of ``j``: column ``k`` of
+    ``ij`` and of ``jj``).  Either side gives the whole coupling block ``ij = K_ij`` (rows of ``i``'s
+    DOFs), the element being symmetric; the particle pass (``particle_pass``) computes a contact's
+    blocks once from each side, the side of the particle it sums.
+
+    Parameters
+    ----------
+    n, arm_i, arm_j, rot_i, rot_j, oriented : see ``body_forces``
+        Frame, arms [m] and body rotations of one contact.
+    kn, ks, ktw, kr, g : float
+        Coefficients of the three terms (``element_forces``).
+    springs, rolling, preload : bool
+        Which terms the contact carries.
+    side : int
+        0 (body ``i``) or 1 (body ``j``).
+    own, ij : numpy.ndarray
+        Output blocks, each (6, 6), overwritten: the side's diagonal block and ``K_ij``.
+    """
+    for k in range(6):
+        u = _unit(k, 0)
+        t = _unit(k, 3)
+        if side == 0:
+            f, m_i, m_j = body_forces(n, arm_i, arm_j, rot_i, rot_j, oriented, u, t, ZERO3, ZERO3,
+                                      kn, ks, ktw, kr, g, springs, rolling, preload)
+            for a in range(3):
+                own[a, k] = -f[a]
+                own[3 + a, k] = m_i[a]
+                ij[k, a] = f[a]
+                ij[k, 3 + a] = m_j[a]
+        else:
+            f, m_i, m_j = body_forces(n, arm_i, arm_j, rot_i, rot_j, oriented, ZERO3, ZERO3, u, t,
+                                      kn, ks, ktw, kr, g, springs, rolling, preload)
+            for a in range(3):
+                ij[a, k] = -f[a]
+                ij[3 + a, k] = m_i[a]
+                own[a, k] = f[a]
+                own[3 + a, k] = m_j[a]
+
+
+@_jitable
 def element_blocks_into(n, arm_i, arm_j, rot_i, rot_j, oriented, kn, ks, ktw, kr, g, springs, rolling, preload,
                         ii, jj, ij):
     """The element's 6 x 6 blocks ``ii``, ``jj``, ``ij`` written into the given arrays: column ``k``
     is the action (``body_forces``) on the ``k``-th unit vector of body ``i`` (``ii``, ``ij^T``) or
-    ``j`` (``ij``, ``jj``).
+    ``j`` (``ij``, ``jj``): ``element_side_into`` of both sides, ``ij`` as side 1 gives it.
 
     Parameters
     ----------
@@ -48,23 +92,10 @@ def element_blocks_into(n, arm_i, arm_j, rot_i, rot_j, oriented, kn, ks, ktw, kr
     ii, jj, ij : numpy.ndarray
         Output blocks, each (6, 6), overwritten.
     """
-    for k in range(6):
-        u = _unit(k, 0)
-        t = _unit(k, 3)
-        f, m_i, m_j = body_forces(n, arm_i, arm_j, rot_i, rot_j, oriented, u, t, ZERO3, ZERO3,
-                                  kn, ks, ktw, kr, g, springs, rolling, preload)
-        for a in range(3):
-            ii[a, k] = -f[a]
-            ii[3 + a, k] = m_i[a]
-            ij[k, a] = f[a]
-            ij[k, 3 + a] = m_j[a]
-        f, m_i, m_j = body_forces(n, arm_i, arm_j, rot_i, rot_j, oriented, ZERO3, ZERO3, u, t,
-                                  kn, ks, ktw, kr, g, springs, rolling, preload)
-        for a in range(3):
-            ij[a, k] = -f[a]
-            ij[3 + a, k] = m_i[a]
-            jj[a, k] = f[a]
-            jj[3 + a, k] = m_j[a]
+    element_side_into(n, arm_i, arm_j, rot_i, rot_j, oriented, kn, ks, ktw, kr, g, springs, rolling, preload,
+                      0, ii, ij)
+    element_side_into(n, arm_i, arm_j, rot_i, rot_j, oriented, kn, ks, ktw, kr, g, springs, rolling, preload,
+                      1, jj, ij)
 
 
 @_jitable

@@ -22,10 +22,12 @@ in the loop or on arrays over a chunk's contacts, the chunks of contacts scatter
 (measured faster than per-column ``numpy.bincount``).  Memory beyond the contact arrays is O(N)
 for the vectors (O(chunk) more on the NumPy path) plus one per-contact pre-load coefficient.
 
-A second kind of pass gives what the rigorous bounds need without assembling: the 6 x 6 diagonal
-blocks ``A_pp`` (``diagonal_blocks``) and the Gershgorin row sums ``sum_q |A_pq| w_q`` (``abs_row_sums``:
-each contact's coupling block counted on its own, which equals the assembled row sum unless two
-particles touch through several periodic images, where it is larger, still a valid bound).
+A second kind of pass (``particle_pass``, gathered by particle on Numba's threads) gives what the
+rigorous bounds need without assembling: per particle the top eigenvalue of its 6 x 6 diagonal block
+``A_pp``, the diagonal and the Gershgorin row sums ``sum_q |A_pq| w_q`` (``block_summary``, used by
+``abs_row_sums`` and ``diagonal``: each contact's coupling block counted on its own, which equals the
+assembled row sum unless two particles touch through several periodic images, where it is larger,
+still a valid bound), and the blocks themselves of all or some particles (``diagonal_blocks``).
 """
 from __future__ import annotations
 
@@ -34,7 +36,8 @@ import scipy.sparse.linalg as spla
 
 from dtcrit.errors import InputError
 import dtcrit.packing.operators.matrix_free_kernels as kernels
-from dtcrit.packing.operators.assembly import contact_blocks, mass_diagonal, preload_coefficient
+import dtcrit.packing.operators.particle_pass as particle_pass
+from dtcrit.packing.operators.assembly import mass_diagonal, preload_coefficient
 from dtcrit.packing.operators.combined import CombinedOperator
 from dtcrit.packing.operators.contact_element import IDENTITY, ZERO3, body_forces, rotation_rows
 from dtcrit.packing.operators.element_matrices import components
@@ -144,12 +147,6 @@ class ContactOperator(spla.LinearOperator):
                 c_args[9] if pre else np.zeros(0), pre)
 
     # -- the product -------------------------------------------------------------------------------
-    def _scatter(self, out: np.ndarray, idx: np.ndarray, values: np.ndarray) -> None:
-        """``out[idx[c]] += values[c]`` for rows of ``values`` (repeated indices summed)."""
-        w = values.shape[1]
-        flat = (idx[:, None] * w + np.arange(w)).reshape(-1)
-        np.add.at(out.reshape(-1), flat, values.reshape(-1))
-
     def apply_into(self, x: np.ndarray, out: np.ndarray) -> np.ndarray:
         """``out = A x`` into a given (6N,) array, with no array allocated on the compiled path
         (``eigen.chebyshev_start`` calls it: at 1e6 particles a fresh vector costs as much time
@@ -194,8 +191,8 @@ class ContactOperator(spla.LinearOperator):
         for start in range(0, nc, self.chunk):
             sl = slice(start, min(start + self.chunk, nc))
             oi, oj = self._chunk_forces(q, sl)
-            self._scatter(y, self.contacts.i[sl], oi)
-            self._scatter(y, self.contacts.j[sl], oj)
+            particle_pass.scatter_rows(y, self.contacts.i[sl], oi)
+            particle_pass.scatter_rows(y, self.contacts.j[sl], oj)
         y *= self.scale6
         return y.reshape(-1)
 
@@ -249,69 +246,48 @@ class ContactOperator(spla.LinearOperator):
             oj[:, 3 + a] = m_j[a]
         return oi, oj
 
-    # -- what the bounds need ----------------------------------------------------------------------
-    def _block_pass(self, weights: list[np.ndarray]):
-        """One pass over the element blocks: the scaled diagonal blocks (N, 6, 6) and, per weight
-        vector ``w`` (6N,), the coupling part of ``sum_q |A_pq| w_q`` (N, 6) (module docstring).
-        """
-        p, c = self.packing, self.contacts
-        n = p.n
-        s = self.scale6
-        wk = np.empty((n, 6, len(weights)))  # one (N, 6, K) array: 0.5 GB per weight at 1e7 particles
-        for k, w in enumerate(weights):
-            wk[:, :, k] = np.asarray(w, float).reshape(n, 6)
-        w6 = [wk[:, :, k] for k in range(len(weights))]
-        if self.compiled:
-            diag = np.zeros((n, 6, 6))
-            rows = np.zeros((n, 6, len(weights)) if weights else (0, 6, 0))
-            kernels.element_pass(*self._kernel_args, np.ascontiguousarray(s), wk, diag, rows)
-            sums = [rows[:, :, k] for k in range(len(weights))]
-        else:
-            diag = np.zeros((n, 36))
-            sums = [np.zeros((n, 6)) for _ in weights]
-            for start in range(0, c.count, self.chunk):
-                sl = slice(start, min(start + self.chunk, c.count))
-                k_ii, k_jj, k_ij = contact_blocks(p, c, sl, self.kind)
-                ci, cj = c.i[sl], c.j[sl]
-                same = ci == cj
-                if same.any():
-                    k_ii = k_ii.copy()
-                    k_ii[same] += k_ij[same] + np.swapaxes(k_ij[same], 1, 2)
-                    k_ij = k_ij.copy()
-                    k_ij[same] = 0.0
-                self._scatter(diag, ci, k_ii.reshape(-1, 36))
-                self._scatter(diag, cj, k_jj.reshape(-1, 36))
-                if weights:
-                    scaled = np.abs(k_ij * s[ci][:, :, None] * s[cj][:, None, :])
-                    for w, out in zip(w6, sums):
-                        self._scatter(out, ci, np.einsum("cab,cb->ca", scaled, w[cj]))
-                        self._scatter(out, cj, np.einsum("cab,ca->cb", scaled, w[ci]))
-            diag = diag.reshape(n, 6, 6)
-        diag *= s[:, :, None]  # in place: at 1e7 particles each (N, 6, 6) array is 2.9 GB
-        diag *= s[:, None, :]
-        self._blocks = blocks = diag
-        for w, out in zip(w6, sums):
-            for lo in range(0, n, self.chunk):
-                part = slice(lo, min(lo + self.chunk, n))
-                out[part] += np.einsum("pab,pb->pa", np.abs(blocks[part]), w[part])
-        return blocks, [out.reshape(-1) for out in sums]
+    # -- what the bounds need (``particle_pass``) ---------------------------------------------------
+    def block_summary(self) -> particle_pass.BlockSummary:
+        """Per particle the top eigenvalue of ``A_pp``, the diagonal of ``A`` and ``|A| w`` for
+        ``w = 1`` and ``w = sqrt(m)`` (``particle_pass``, module docstring), computed once and kept
+        (O(N); no (N, 6, 6) array is kept).
 
-    def diagonal_blocks(self) -> np.ndarray:
-        """The 6 x 6 diagonal blocks ``A_pp`` of the scaled operator, shape (N, 6, 6) (kept).
+        Returns
+        -------
+        particle_pass.BlockSummary
+            ``top`` (N,), ``diagonal``, ``rows_ones``, ``rows_root`` (6N,).
+        """
+        if getattr(self, "_summary", None) is None:
+            if self.compiled:
+                self._summary = particle_pass.summary(self._kernel_args, self.scale6, self.mass_diag.reshape(-1, 6))
+            else:
+                blocks, (r1, r2) = particle_pass.scattered_blocks(self, [np.ones(self.shape[0]),
+                                                                         np.sqrt(self.mass_diag)])
+                self._summary = particle_pass.BlockSummary(particle_pass.top_eigenvalues(blocks),
+                                                           np.einsum("nii->ni", blocks).reshape(-1), r1, r2)
+        return self._summary
+
+    def diagonal_blocks(self, particles: np.ndarray | None = None) -> np.ndarray:
+        """The 6 x 6 diagonal blocks ``A_pp`` of the scaled operator (computed on each call, not kept).
+
+        Parameters
+        ----------
+        particles : numpy.ndarray or None
+            Distinct particle indices (the rows follow their order); ``None``: every particle.
 
         Returns
         -------
         numpy.ndarray
-            ``A_pp`` per body, (N, 6, 6).
+            ``A_pp`` per particle, (N, 6, 6) or (len(particles), 6, 6).
         """
-        if getattr(self, "_blocks", None) is None:
-            self._block_pass([])
-        return self._blocks
+        if self.compiled:
+            return particle_pass.blocks(self._kernel_args, self.scale6, particles)
+        blocks = particle_pass.scattered_blocks(self, [])[0]
+        return blocks if particles is None else blocks[np.asarray(particles, dtype=np.int64)]
 
     def abs_row_sums(self, weights: np.ndarray | None = None) -> np.ndarray:
         """``|A| w`` (``w`` = ones by default; rows of ``M^-1 K`` need ``w = sqrt(m)``, see
-        ``estimates.gershgorin``).  The first call computes the unit and the ``sqrt(mass)`` weights
-        together and keeps both.
+        ``estimates.gershgorin``): both from ``block_summary``, other weights by a pass of their own.
 
         Parameters
         ----------
@@ -323,16 +299,14 @@ class ContactOperator(spla.LinearOperator):
         numpy.ndarray
             ``sum_q |A_pq| w_q`` per row, length 6N.
         """
-        root = np.sqrt(self.mass_diag)
         w = None if weights is None else np.asarray(weights, float).reshape(-1)
-        if getattr(self, "_row_cache", None) is None:
-            _, (r1, r2) = self._block_pass([np.ones(self.shape[0]), root])
-            self._row_cache = {"ones": r1, "root": r2}
-        if w is None or np.all(w == 1.0):
-            return self._row_cache["ones"]
-        if np.array_equal(w, root):
-            return self._row_cache["root"]
-        return self._block_pass([w])[1][0]
+        if w is None or particle_pass.equals(w, np.ones_like):
+            return self.block_summary().rows_ones
+        if particle_pass.equals(w, np.sqrt, self.mass_diag):
+            return self.block_summary().rows_root
+        if self.compiled:
+            return particle_pass.summary(self._kernel_args, self.scale6, w.reshape(-1, 6), root=False).rows_root
+        return particle_pass.scattered_blocks(self, [w])[1][0]
 
     def assembled(self):
         """The same operator assembled (``scipy.sparse`` BSR, ``dtcrit.packing.operators.assembly``): for the
@@ -349,14 +323,14 @@ class ContactOperator(spla.LinearOperator):
         return scale_symmetric(build(self.packing, self.contacts), self.mass_diag, inplace=True)
 
     def diagonal(self) -> np.ndarray:
-        """The diagonal of ``A`` (the diagonal blocks' diagonals).
+        """The diagonal of ``A`` (the diagonal blocks' diagonals, ``block_summary``).
 
         Returns
         -------
         numpy.ndarray
             ``A_dd``, length 6N.
         """
-        return np.einsum("nii->ni", self.diagonal_blocks()).reshape(-1)
+        return self.block_summary().diagonal
 
     @property
     def is_zero(self) -> bool:

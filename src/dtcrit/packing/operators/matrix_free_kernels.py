@@ -13,9 +13,7 @@ Measured on the jittered FCC benchmark (585k contacts): the vectorised NumPy pro
 time of an assembled BSR product, the compiled loop under half of it, which is why this module
 exists.  ``available()`` says whether Numba is installed; without it the NumPy path is used.
 
-``element_pass`` gives in the same way each particle's 6 x 6 diagonal block and the absolute row
-sums of the scaled coupling blocks, the blocks ``ii``, ``jj``, ``ij`` of each contact from
-``element_matrices.element_blocks_into`` (the element's action on the twelve unit vectors).
+The bounds' pass over the same arguments (``loop_arguments``) is ``particle_pass``.
 
 Numba caches these loops keyed on this file only: after an edit of ``contact_element``, touch this
 file (or clear ``__pycache__``) so that the cached machine code is rebuilt.
@@ -29,7 +27,6 @@ import numpy as np
 
 from dtcrit.packing.normal_arms import kernel_arms, lengths_along
 from dtcrit.packing.operators.contact_element import IDENTITY, arm_rows, body_forces, rotation_rows
-from dtcrit.packing.operators.element_matrices import element_blocks_into
 
 
 def _import_numba() -> ModuleType | None:
@@ -160,50 +157,8 @@ def _add_spares_loop(y, spare, blocks):
                 y[p, a] += spare[b, p, a]
 
 
-def _element_pass(ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags, scale, weights, diag, rows):
-    """Accumulate the unscaled diagonal blocks ``diag`` (N, 6, 6) and, when ``rows`` is not empty,
-    the weighted absolute row sums ``sum_q |A_pq| w_q`` of the scaled coupling blocks, one set
-    ``rows[:, :, k]`` (N, 6, K) per weight vector ``weights[:, :, k]`` (N, 6, K) (module docstring);
-    the blocks come from ``element_matrices.element_blocks_into``.
-    """
-    trans, rotl, pre, orient = flags[0] != 0, flags[1] != 0, flags[2] != 0, flags[3] != 0
-    want_rows = rows.shape[0] > 0
-    nw = weights.shape[2]
-    zero = (0.0, 0.0, 0.0)
-    ii = np.zeros((6, 6))
-    jj = np.zeros((6, 6))
-    ij = np.zeros((6, 6))
-    for c in range(ci.shape[0]):
-        i = ci[c]
-        j = cj[c]
-        ri = rotation_rows(rot, i) if orient else IDENTITY
-        rj = rotation_rows(rot, j) if orient else IDENTITY
-        n = (nrm[c, 0], nrm[c, 1], nrm[c, 2])
-        ai, aj = arm_rows(arm_i, arm_j, nrm, c) if trans else (zero, zero)
-        element_blocks_into(n, ai, aj, ri, rj, orient, kn[c] if trans else 0.0, ks[c] if trans else 0.0,
-                            ktw[c] if rotl else 0.0, kr[c] if rotl else 0.0, g[c] if pre else 0.0,
-                            trans, rotl, pre, ii, jj, ij)
-        if i == j:
-            for a in range(6):
-                for b in range(6):
-                    diag[i, a, b] += ii[a, b] + jj[a, b] + ij[a, b] + ij[b, a]
-            continue
-        for a in range(6):
-            for b in range(6):
-                diag[i, a, b] += ii[a, b]
-                diag[j, a, b] += jj[a, b]
-        if want_rows:
-            for a in range(6):
-                sia = scale[i, a]
-                for b in range(6):
-                    v = abs(ij[a, b] * sia * scale[j, b])
-                    for k in range(nw):
-                        rows[i, a, k] += v * weights[j, b, k]
-                        rows[j, b, k] += v * weights[i, a, k]
-
-
 def loop_arguments(contacts, along, across, twist, roll, preload, orientations) -> tuple:
-    """The arguments of ``apply_contacts`` and ``element_pass`` after ``q, y``: contiguous arrays (no
+    """The arguments of ``apply_contacts`` after ``q, y`` (and of ``particle_pass``): contiguous arrays (no
     copy where the contacts already are), empty ones for the terms absent.
 
     Parameters
@@ -281,7 +236,6 @@ apply_spheres_span = _jit(_apply_spheres_span)
 _add_spares = _jit(_add_spares_loop, parallel=True)
 apply_blocks_general = _jit(_blocks_general, parallel=True)
 apply_blocks_spheres = _jit(_blocks_spheres, parallel=True)
-element_pass = _jit(_element_pass)
 
 
 def apply_contacts(q, y, *args) -> None:
