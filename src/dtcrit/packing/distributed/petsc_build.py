@@ -90,7 +90,7 @@ def index_bits(n: int | None, wanted: str = "auto") -> int:
     if str(wanted) not in CHOICES:
         raise InputError("petsc_indices", f"unknown index width {wanted!r}; choose one of {', '.join(CHOICES)}")
     too_many = n is not None and 6 * n > LIMITS[32]
-    if str(wanted) == "32" and too_many:
+    if str(wanted) == "32" and n is not None and too_many:
         raise limit_error(n, LIMITS[32], "petsc_indices")
     return 64 if str(wanted) == "64" or (str(wanted) == "auto" and too_many) else 32
 

@@ -158,7 +158,7 @@ def analyse_share(share: RankShare, tolerance: float | None = None, matrix: str 
         matvec_seconds=float(rows[:, 5].max()) / max(top["matvecs"], 1), times=times, peak_rss_mib=peaks,
         per_rank=per_rank, matrix=matrix, dt_safe_from=safe_from,
         dt_bracket=bracket(theta, dt_safe if math.isfinite(dt_safe) else 0.0, None).to_dict(),
-        petsc_index_bits=loaded_bits())
+        petsc_index_bits=_index_bits())
 
 
 def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, tolerance: float | None = None,
@@ -185,3 +185,10 @@ def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, tol
         The step and the solver's figures.
     """
     return analyse_share(distribute(packing, law, contacts), tolerance, matrix)
+
+
+def _index_bits() -> int:
+    """The loaded PETSc build's index width (the solve ran on it, so one is loaded)."""
+    bits = loaded_bits()
+    assert bits is not None  # petsc4py was imported to solve
+    return bits
