@@ -190,6 +190,24 @@ def test_the_lean_polish_of_very_large_operators_equals_the_dense_solve(monkeypa
     assert top.method == "eigsh" and abs(top.value - dense) / dense < 1e-10
 
 
+def test_arpack_products_go_into_one_kept_vector(monkeypatch):
+    """ARPACK copies each product at once, so the operator writes every one into the same vector
+    (``apply_into``, no fresh 6N vector a product); the answer stays the dense one."""
+    from dtcrit.packing.solvers import largest_mode as eigen
+
+    op, a = _lattice_operator()
+    outputs, fresh = set(), []
+    into, matvec = op.apply_into, op._matvec
+    monkeypatch.setattr(op, "apply_into", lambda x, out: outputs.add(id(out)) or into(x, out))
+    monkeypatch.setattr(op, "_matvec", lambda x: fresh.append(1) or matvec(x))
+    monkeypatch.setattr(eigen, "LEAN_DOFS", 10)
+    top = eigen.largest_mode(op)
+    dense = sla.eigvalsh(a.toarray())[-1]
+    assert top.method == "eigsh" and abs(top.value - dense) / dense < 1e-10
+    # the Chebyshev start's vectors, ARPACK's one kept vector; only the final residual allocates
+    assert len(outputs) <= 5 and top.matvecs > 20 and len(fresh) <= 1
+
+
 def test_the_sphere_loop_equals_the_general_loop_and_is_chosen_only_for_sphere_contacts():
     from dtcrit.packing.operators import matrix_free_kernels as operator_kernels
 
