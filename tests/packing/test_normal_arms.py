@@ -89,14 +89,56 @@ def test_subset_keeps_lengths():
     assert np.array_equal(np.asarray(sub.arm_j), np.asarray(c.arm_j)[mask])
 
 
+def _convention_lengths(convention, r_i, r_j, delta):
+    """The engines' arm lengths written out here (LAMMPS granular: sqrt(R (R - delta/2)); YADE's
+    ScGeom: sqrt((R - delta/2) R / alpha), alpha = (R_i + R_j) / (R_i + R_j - delta))."""
+    if convention == "mid-overlap":
+        return r_i - delta / 2, r_j - delta / 2
+    if convention == "radius":
+        return r_i, r_j
+    if convention == "granular":
+        return np.sqrt(r_i * (r_i - delta / 2)), np.sqrt(r_j * (r_j - delta / 2))
+    alpha = (r_i + r_j) / (r_i + r_j - delta)
+    return np.sqrt((r_i - delta / 2) * r_i / alpha), np.sqrt((r_j - delta / 2) * r_j / alpha)
+
+
 @pytest.mark.parametrize("convention", ["mid-overlap", "radius", "granular", "yade"])
 def test_engine_arm_conventions_hold_lengths_along_the_normal(convention):
     p, c = _spheres(n=60)
     c = apply_law(c, LinearLaw(1e5, 4e4))
     out = with_arms(p, c, convention)
     assert isinstance(out.arm_i, NormalArms) and isinstance(out.arm_j, NormalArms)
-    li = np.einsum("ij,ij->i", np.asarray(out.arm_i), c.normal)
-    np.testing.assert_allclose(np.asarray(out.arm_i), li[:, None] * c.normal, rtol=1e-15, atol=0)
+    l_i, l_j = _convention_lengths(convention, p.radii[c.i], p.radii[c.j], c.overlap)
+    np.testing.assert_allclose(np.asarray(out.arm_i), l_i[:, None] * c.normal, rtol=1e-15, atol=1e-15)
+    np.testing.assert_allclose(np.asarray(out.arm_j), -l_j[:, None] * c.normal, rtol=1e-15, atol=1e-15)
+
+
+def test_arms_are_read_only():
+    _, c = _spheres(n=30)
+    arms = c.arm_i
+    before = np.asarray(arms).copy()
+    writes = [lambda: np.add.at(arms, [0], 1.0), lambda: np.copyto(arms, 0.0), lambda: np.put(arms, [0], 1.0),
+              lambda: np.multiply(before, 2.0, out=arms), lambda: arms.__iadd__(1.0)]
+    for write in writes:
+        with pytest.raises(TypeError, match="read-only"):
+            write()
+    assert np.array_equal(np.asarray(arms), before)
+
+
+def test_mixed_indices_match_the_vectors():
+    _, c = _spheres(n=30)
+    plain = np.asarray(c.arm_j)
+    rows, cols = np.array([0, 2, 5]), np.array([1, 0, 2])
+    for key in ((2, 0), (2, slice(None)), (rows, cols), (slice(None), 1), (slice(1, 4), slice(0, 2)), (-1, -1)):
+        assert np.array_equal(c.arm_j[key], plain[key])
+
+
+def test_subset_after_new_normals_keeps_the_old_arms():
+    """Arms held on the old normals are selected as vectors when the list's normals were replaced."""
+    _, c = _spheres(n=30)
+    flipped = replace(c, normal=-c.normal)
+    mask = np.arange(c.count) % 2 == 0
+    assert np.array_equal(np.asarray(flipped.subset(mask).arm_i), np.asarray(c.arm_i)[mask])
 
 
 @compiled_only

@@ -189,8 +189,8 @@ class Contacts:
         pick = lambda a: None if a is None else a[mask]  # noqa: E731
         normal = self.normal[mask]
 
-        def arm(a):
-            return a.select(mask, normal) if isinstance(a, NormalArms) else a[mask]
+        def arm(a):  # lengths stay lengths on the selected normals when they lie along this list's normals
+            return a.select(mask, normal) if isinstance(a, NormalArms) and a.normal is self.normal else a[mask]
 
         return Contacts(self.i[mask], self.j[mask], normal, arm(self.arm_i), arm(self.arm_j),
                         self.overlap[mask], self.image[mask], self.radius_eff[mask], pick(self.kn), pick(self.ks),

@@ -5,8 +5,9 @@ contact point in the middle of the overlap, Peng et al. 2020, Eqs (1)-(2)).  Sto
 vectors they cost 48 bytes a contact; :class:`NormalArms` keeps the length (8 bytes) and the
 contacts' own normal array, and gives the vectors on demand: indexing, NumPy functions and
 ufuncs see the (C, 3) array ``sign * l[:, None] * n``, computed with the same arithmetic the
-vectors were stored with before (so the same bits).  The sphere product and the bounds read the
-lengths directly (``lengths_along``).
+vectors were stored with before (so the same bits); they are read-only (a write raises
+``TypeError``, as a write that changed nothing would be silent).  The sphere product and the bounds
+read the lengths directly (``lengths_along``, ``kernel_arms``).
 """
 from __future__ import annotations
 
@@ -14,6 +15,9 @@ import numpy as np
 from numpy.lib.mixins import NDArrayOperatorsMixin
 
 __all__ = ["NormalArms", "kernel_arms", "lengths_along"]
+
+WRITERS = (np.copyto, np.put, np.place, np.putmask, np.put_along_axis, np.fill_diagonal)
+"""NumPy functions that write into their first argument: refused on ``NormalArms`` (read-only)."""
 
 
 class NormalArms(NDArrayOperatorsMixin):
@@ -84,9 +88,13 @@ class NormalArms(NDArrayOperatorsMixin):
         return out if dtype is None else out.astype(dtype, copy=False)
 
     def __getitem__(self, key) -> np.ndarray:
-        if isinstance(key, tuple):
-            return self._rows(key[0])[(slice(None),) + key[1:]] if key else np.asarray(self)
-        return self._rows(key)
+        if not isinstance(key, tuple):
+            return self._rows(key)
+        rest = key[1:]
+        if not key or not all(isinstance(k, (int, np.integer, slice)) for k in rest):
+            return np.asarray(self)[key]  # paired or advanced indices across both axes: on the vectors
+        rows = self._rows(key[0])
+        return rows[rest] if rows.ndim == 1 else rows[(slice(None),) + rest]
 
     def select(self, rows, normal: np.ndarray) -> "NormalArms":
         """The arms of the contacts ``rows``, still as lengths, on their (already selected) ``normal``.
@@ -116,10 +124,15 @@ class NormalArms(NDArrayOperatorsMixin):
         return np.asarray(self)
 
     def __array_ufunc__(self, ufunc, method, *inputs, **kwargs):
+        written = list(kwargs.get("out", None) or ()) + ([inputs[0]] if method == "at" else [])
+        if any(isinstance(x, NormalArms) for x in written):
+            raise TypeError("NormalArms are read-only: write to np.asarray(arms), a copy")
         inputs = tuple(np.asarray(x) if isinstance(x, NormalArms) else x for x in inputs)
         return getattr(ufunc, method)(*inputs, **kwargs)
 
     def __array_function__(self, func, types, args, kwargs):
+        if func in WRITERS and args and isinstance(args[0], NormalArms):
+            raise TypeError(f"NormalArms are read-only: np.{func.__name__} cannot write to them")
         def plain(x):
             if isinstance(x, NormalArms):
                 return np.asarray(x)

@@ -20,7 +20,8 @@ from dtcrit.packing.operators.assembly import mass_diagonal, scale_symmetric, st
 from dtcrit.packing.solvers.certificate import SPARSE_DOFS, Certificate, bracket, certify, factor_bytes, factor_seconds
 from dtcrit.packing.detection.overlaps import find_contacts
 from dtcrit.packing.solvers.integrator_step import DEFAULT_INTEGRATOR, integrator_dt
-from dtcrit.packing.solvers.largest_mode import DEFAULT_TOL, TopMode, largest_mode, mode_character, rotational_fraction
+from dtcrit.packing.solvers.largest_mode import DEFAULT_TOL, TopMode, largest_mode
+from dtcrit.packing.solvers.mode_kind import mode_character, rotational_fraction
 from dtcrit.errors import InputError, NotConvergedError
 from dtcrit.packing.model import Contacts, HertzMindlinLaw, LinearLaw, Packing, apply_law
 from dtcrit.packing.operators.matrix_free import stiffness_operator

@@ -204,8 +204,8 @@ def test_arpack_products_go_into_one_kept_vector(monkeypatch):
     top = eigen.largest_mode(op)
     dense = sla.eigvalsh(a.toarray())[-1]
     assert top.method == "eigsh" and abs(top.value - dense) / dense < 1e-10
-    # the Chebyshev start's vectors, ARPACK's one kept vector; only the final residual allocates
-    assert len(outputs) <= 5 and top.matvecs > 20 and len(fresh) <= 1
+    # the Chebyshev start's vectors, ARPACK's one kept vector, and the final residual's one fresh product
+    assert len(outputs) <= 6 and top.matvecs > 20 and len(fresh) <= 1
 
 
 def test_the_sphere_loop_equals_the_general_loop_and_is_chosen_only_for_sphere_contacts():

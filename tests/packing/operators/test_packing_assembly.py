@@ -8,7 +8,7 @@ from hypothesis import given, settings, strategies as st
 
 from dtcrit.packing.operators.assembly import mass_diagonal, mass_matrix, scale_symmetric, stiffness_matrix
 from dtcrit.packing.detection.overlaps import convex_penetration, find_convex_contacts, find_sphere_contacts
-from dtcrit.packing.solvers.largest_mode import rotational_fraction
+from dtcrit.packing.solvers.mode_kind import rotational_fraction
 from dtcrit.packing.bounds.estimates import peng_a_max
 from dtcrit.packing.model import Box, HertzMindlinLaw, LinearLaw, Packing, apply_law
 from dtcrit.packing.report import analyse
@@ -343,7 +343,7 @@ def test_degenerate_top_eigenspace_is_named_as_such():
     """FCC with k_s/k_n = 1/4: omega_max^2 = 10 k/m six times over, spanned by translational and
     rotational modes alike, so the label must not depend on which member the solver returns."""
     from dtcrit.packing import lattice
-    from dtcrit.packing.solvers.largest_mode import mode_character
+    from dtcrit.packing.solvers.mode_kind import mode_character
 
     p = lattice("fcc", 2, mass=1.0)
     rep = analyse(p, LinearLaw(1.0, 0.25))

@@ -160,6 +160,8 @@ def test_the_bits_do_not_depend_on_the_thread_count():
     """Several tasks of particles (``PARTICLE_BLOCK``) on one thread and on two: the same bits."""
     import numba
 
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        pytest.skip("one Numba thread: no second thread count to compare")
     p, c = _bodies(11, 9.0, n=3 * particle_pass.PARTICLE_BLOCK)
     runs = []
     before = numba.get_num_threads()
@@ -192,6 +194,8 @@ def test_the_blocks_of_a_subset_are_the_full_blocks_rows(case, compiled):
     assert np.all(np.abs(full - _blocks(op.assembled().toarray())) <= 1e-12 * size)
     picked = np.random.default_rng(4).permutation(p.n)[:min(p.n, 7)]
     assert np.array_equal(op.diagonal_blocks(particles=picked), full[picked])
+    repeated = np.concatenate([picked[:3], picked[:3][::-1]])  # a particle asked twice gets its block twice
+    assert np.array_equal(op.diagonal_blocks(particles=repeated), full[repeated])
     assert op.diagonal_blocks(particles=np.zeros(0, dtype=np.int64)).shape == (0, 6, 6)
 
 
@@ -217,3 +221,11 @@ def test_the_incidence_lists_each_contact_of_a_particle_once_in_order():
         for r, q in enumerate(rows):
             want = np.flatnonzero((c.i == q) | (c.j == q))
             assert np.array_equal(inc[indptr[r]:indptr[r + 1]], want)
+
+
+@pytest.mark.parametrize("compiled", PATHS)
+def test_row_sums_of_weights_of_the_wrong_length_are_refused(compiled):
+    p, c = _bodies(3, 6.0)
+    op = ContactOperator(p, c, compiled=compiled)
+    with pytest.raises(ValueError):
+        op.abs_row_sums(np.ones(6 * (p.n - 1)))

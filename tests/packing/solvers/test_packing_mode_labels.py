@@ -15,7 +15,8 @@ import scipy.linalg as sla
 from dtcrit.packing.operators.assembly import mass_diagonal, scale_symmetric, stiffness_matrix
 from dtcrit.packing.detection.overlaps import find_contacts
 from dtcrit.packing.readers.lammps_dump import read_dump, write_dump
-from dtcrit.packing.solvers.largest_mode import largest_mode, mode_character
+from dtcrit.packing.solvers.largest_mode import largest_mode
+from dtcrit.packing.solvers.mode_kind import mode_character
 from dtcrit.packing.generators.lattices import lattice
 from dtcrit.packing.model import LinearLaw, apply_law
 

@@ -38,7 +38,7 @@ import numpy as np
 from dtcrit.physics.estimate import Estimate
 
 from dtcrit.packing.operators.assembly import contact_kinematics, contact_stiffness_tensor
-from dtcrit.packing.operators.particle_pass import top_eigenvalues
+from dtcrit.packing.operators.scattered_pass import top_eigenvalues
 from dtcrit.packing.model import Contacts, Packing
 
 
@@ -142,7 +142,7 @@ def block_diagonal(a, particle_id=_one_based) -> Estimate:
 
 def _block_tops(a, chunk: int = 1 << 16) -> np.ndarray:
     """``lambda_max`` of each symmetrised 6 x 6 diagonal block of ``a`` (``diagonal_blocks`` of an
-    operator that gives them, BSR blocks, or dense slices; ``particle_pass.top_eigenvalues``).
+    operator that gives them, BSR blocks, or dense slices; ``scattered_pass.top_eigenvalues``).
     """
     n = a.shape[0] // 6
     if hasattr(a, "diagonal_blocks"):  # e.g. the distributed route's own rows (slepc_shell.OwnRows)

@@ -37,6 +37,7 @@ import scipy.sparse.linalg as spla
 from dtcrit.errors import InputError
 import dtcrit.packing.operators.matrix_free_kernels as kernels
 import dtcrit.packing.operators.particle_pass as particle_pass
+import dtcrit.packing.operators.scattered_pass as scattered_pass
 from dtcrit.packing.operators.assembly import mass_diagonal, preload_coefficient
 from dtcrit.packing.operators.combined import CombinedOperator
 from dtcrit.packing.operators.contact_element import IDENTITY, ZERO3, body_forces, rotation_rows
@@ -148,9 +149,8 @@ class ContactOperator(spla.LinearOperator):
 
     # -- the product -------------------------------------------------------------------------------
     def apply_into(self, x: np.ndarray, out: np.ndarray) -> np.ndarray:
-        """``out = A x`` into a given (6N,) array, with no array allocated on the compiled path
-        (``eigen.chebyshev_start`` calls it: at 1e6 particles a fresh vector costs as much time
-        as a third of the product).
+        """``out = A x`` into a given (6N,) array, with no array allocated on the compiled path (at 1e6
+        particles a fresh vector adds a sixth to the product's time: ``largest_mode`` calls this).
 
         Parameters
         ----------
@@ -179,20 +179,17 @@ class ContactOperator(spla.LinearOperator):
         return out
 
     def _matvec(self, x):
-        x = np.asarray(x, float).reshape(-1)
-        self.applications += 1
-        q = x.reshape(-1, 6) * self.scale6
-        y = np.zeros_like(q)
         if self.compiled:
-            self._compiled_product(q, y)
-            y *= self.scale6
-            return y.reshape(-1)
+            return self.apply_into(x, np.empty(self.shape[0]))
+        self.applications += 1
+        q = np.asarray(x, float).reshape(-1, 6) * self.scale6
+        y = np.zeros_like(q)
         nc = self.contacts.count
         for start in range(0, nc, self.chunk):
             sl = slice(start, min(start + self.chunk, nc))
             oi, oj = self._chunk_forces(q, sl)
-            particle_pass.scatter_rows(y, self.contacts.i[sl], oi)
-            particle_pass.scatter_rows(y, self.contacts.j[sl], oj)
+            scattered_pass.scatter_rows(y, self.contacts.i[sl], oi)
+            scattered_pass.scatter_rows(y, self.contacts.j[sl], oj)
         y *= self.scale6
         return y.reshape(-1)
 
@@ -248,9 +245,8 @@ class ContactOperator(spla.LinearOperator):
 
     # -- what the bounds need (``particle_pass``) ---------------------------------------------------
     def block_summary(self) -> particle_pass.BlockSummary:
-        """Per particle the top eigenvalue of ``A_pp``, the diagonal of ``A`` and ``|A| w`` for
-        ``w = 1`` and ``w = sqrt(m)`` (``particle_pass``, module docstring), computed once and kept
-        (O(N); no (N, 6, 6) array is kept).
+        """Per particle the top eigenvalue of ``A_pp``, the diagonal of ``A`` and ``|A| w`` for ``w = 1``
+        and ``w = sqrt(m)`` (``particle_pass``, module docstring), computed once and kept (O(N) only).
 
         Returns
         -------
@@ -261,9 +257,9 @@ class ContactOperator(spla.LinearOperator):
             if self.compiled:
                 self._summary = particle_pass.summary(self._kernel_args, self.scale6, self.mass_diag.reshape(-1, 6))
             else:
-                blocks, (r1, r2) = particle_pass.scattered_blocks(self, [np.ones(self.shape[0]),
+                blocks, (r1, r2) = scattered_pass.scattered_blocks(self, [np.ones(self.shape[0]),
                                                                          np.sqrt(self.mass_diag)])
-                self._summary = particle_pass.BlockSummary(particle_pass.top_eigenvalues(blocks),
+                self._summary = particle_pass.BlockSummary(scattered_pass.top_eigenvalues(blocks),
                                                            np.einsum("nii->ni", blocks).reshape(-1), r1, r2)
         return self._summary
 
@@ -282,7 +278,7 @@ class ContactOperator(spla.LinearOperator):
         """
         if self.compiled:
             return particle_pass.blocks(self._kernel_args, self.scale6, particles)
-        blocks = particle_pass.scattered_blocks(self, [])[0]
+        blocks = scattered_pass.scattered_blocks(self, [])[0]
         return blocks if particles is None else blocks[np.asarray(particles, dtype=np.int64)]
 
     def abs_row_sums(self, weights: np.ndarray | None = None) -> np.ndarray:
@@ -300,13 +296,15 @@ class ContactOperator(spla.LinearOperator):
             ``sum_q |A_pq| w_q`` per row, length 6N.
         """
         w = None if weights is None else np.asarray(weights, float).reshape(-1)
+        if w is not None and w.size != self.shape[0]:
+            raise ValueError(f"abs_row_sums: {w.size} weights for an operator of {self.shape[0]} rows")
         if w is None or particle_pass.equals(w, np.ones_like):
             return self.block_summary().rows_ones
         if particle_pass.equals(w, np.sqrt, self.mass_diag):
             return self.block_summary().rows_root
         if self.compiled:
             return particle_pass.summary(self._kernel_args, self.scale6, w.reshape(-1, 6), root=False).rows_root
-        return particle_pass.scattered_blocks(self, [w])[1][0]
+        return scattered_pass.scattered_blocks(self, [w])[1][0]
 
     def assembled(self):
         """The same operator assembled (``scipy.sparse`` BSR, ``dtcrit.packing.operators.assembly``): for the

@@ -21,8 +21,8 @@ particle summed (``element_matrices.element_side_into``; a contact is computed t
 of its bodies, instead of being scattered to both): no two threads write one particle, and the bits
 do not depend on the thread count.  Memory: the incidence (two contact indices per contact, int32
 below 2^31 contacts) and the O(N) results; no (N, 6, 6) array.  ``blocks`` gives the scaled diagonal
-blocks of some particles (or all) from the same loop.  ``scattered_blocks`` is the NumPy fallback
-(without Numba): the blocks scattered contact by contact in chunks (``assembly.contact_blocks``).
+blocks of some particles (or all) from the same loop.  Without Numba, ``scattered_pass`` scatters the
+blocks contact by contact instead.
 
 Numba caches these loops keyed on this file only: after an edit of ``contact_element`` or
 ``element_matrices``, touch this file (or clear ``__pycache__``) so that the machine code is rebuilt.
@@ -33,7 +33,6 @@ from typing import NamedTuple
 
 import numpy as np
 
-from dtcrit.packing.operators.assembly import contact_blocks
 from dtcrit.packing.operators.contact_element import IDENTITY, arm_rows, rotation_rows
 from dtcrit.packing.operators.element_matrices import element_blocks_into, element_side_into
 from dtcrit.packing.operators.matrix_free_kernels import _jit, prange
@@ -279,16 +278,24 @@ def blocks(args: tuple, scale: np.ndarray, particles: np.ndarray | None = None) 
     scale : numpy.ndarray
         ``M^(-1/2)`` per DOF, (N, 6).
     particles : numpy.ndarray or None
-        Distinct particle indices (the rows follow their order); ``None``: every particle.
+        Particle indices (the rows follow their order; a repeated index repeats its block); ``None``:
+        every particle.
 
     Returns
     -------
     numpy.ndarray
         (m, 6, 6).
     """
+    if particles is None:
+        return _blocks(args, scale, None)
+    distinct, back = np.unique(np.asarray(particles, dtype=np.int64), return_inverse=True)  # incidence rows: once each
+    return _blocks(args, scale, distinct)[back.reshape(-1)]
+
+
+def _blocks(args: tuple, scale: np.ndarray, particles: np.ndarray | None) -> np.ndarray:
     n = scale.shape[0]
-    which = np.arange(n) if particles is None else np.asarray(particles, dtype=np.int64)
-    indptr, inc = incidence(args[0], args[1], n, None if particles is None else which)
+    which = np.arange(n) if particles is None else particles
+    indptr, inc = incidence(args[0], args[1], n, particles)
     out = np.empty((len(which), 6, 6))
     _blocks_c(indptr, inc, which, *args, np.ascontiguousarray(scale), out)
     return out
@@ -318,88 +325,3 @@ def equals(w: np.ndarray, form, base: np.ndarray | None = None, chunk: int = 1 <
     if base.shape != w.shape:
         return False
     return all(np.array_equal(w[lo:lo + chunk], form(base[lo:lo + chunk])) for lo in range(0, w.size, chunk))
-
-
-def top_eigenvalues(blocks: np.ndarray, chunk: int = 1 << 16) -> np.ndarray:
-    """``lambda_max`` of each symmetrised 6 x 6 block, batched ``numpy.linalg.eigvalsh`` in chunks.
-
-    Parameters
-    ----------
-    blocks : numpy.ndarray
-        (N, 6, 6).
-    chunk : int
-        Blocks per batch.
-
-    Returns
-    -------
-    numpy.ndarray
-        (N,).
-    """
-    top = np.empty(blocks.shape[0])
-    for lo in range(0, blocks.shape[0], chunk):
-        part = blocks[lo:lo + chunk]
-        top[lo:lo + chunk] = np.linalg.eigvalsh(0.5 * (part + np.swapaxes(part, 1, 2)))[:, -1]
-    return top
-
-
-def scatter_rows(out: np.ndarray, idx: np.ndarray, values: np.ndarray) -> None:
-    """``out[idx[c]] += values[c]`` for rows of ``values`` (repeated indices summed; ``numpy.add.at``
-    on flat indices, measured faster than per-column ``numpy.bincount``).
-
-    Parameters
-    ----------
-    out : numpy.ndarray
-        (N, w), added to.
-    idx : numpy.ndarray
-        Row of each value row, (m,).
-    values : numpy.ndarray
-        (m, w).
-    """
-    w = values.shape[1]
-    np.add.at(out.reshape(-1), (idx[:, None] * w + np.arange(w)).reshape(-1), values.reshape(-1))
-
-
-def scattered_blocks(op, weights: list[np.ndarray]) -> tuple[np.ndarray, list[np.ndarray]]:
-    """The NumPy fallback: the scaled diagonal blocks (N, 6, 6) and, per weight vector ``w`` (6N,),
-    ``sum_q |A_pq| w_q`` (6N,), the contacts' blocks (``assembly.contact_blocks``) scattered chunk by chunk.
-
-    Parameters
-    ----------
-    op : dtcrit.packing.operators.matrix_free.ContactOperator
-        The operator (``packing``, ``contacts``, ``kind``, ``scale6``, ``chunk``).
-    weights : list of numpy.ndarray
-        The weight vectors.
-
-    Returns
-    -------
-    tuple
-        The blocks and the row sums per weight vector.
-    """
-    p, c, s = op.packing, op.contacts, op.scale6
-    n = p.n
-    w6 = [np.asarray(w, float).reshape(n, 6) for w in weights]
-    diag = np.zeros((n, 36))
-    sums = [np.zeros((n, 6)) for _ in weights]
-    for start in range(0, c.count, op.chunk):
-        sl = slice(start, min(start + op.chunk, c.count))
-        k_ii, k_jj, k_ij = contact_blocks(p, c, sl, op.kind)
-        ci, cj = c.i[sl], c.j[sl]
-        same = ci == cj
-        if same.any():
-            k_ii = k_ii.copy()
-            k_ii[same] += k_ij[same] + np.swapaxes(k_ij[same], 1, 2)
-            k_ij = k_ij.copy()
-            k_ij[same] = 0.0
-        scatter_rows(diag, ci, k_ii.reshape(-1, 36))
-        scatter_rows(diag, cj, k_jj.reshape(-1, 36))
-        if weights:
-            scaled = np.abs(k_ij * s[ci][:, :, None] * s[cj][:, None, :])
-            for w, out in zip(w6, sums):
-                scatter_rows(out, ci, np.einsum("cab,cb->ca", scaled, w[cj]))
-                scatter_rows(out, cj, np.einsum("cab,ca->cb", scaled, w[ci]))
-    blocks = diag.reshape(n, 6, 6)
-    blocks *= s[:, :, None]
-    blocks *= s[:, None, :]
-    for w, out in zip(w6, sums):
-        out += np.einsum("pab,pb->pa", np.abs(blocks), w)
-    return blocks, [out.reshape(-1) for out in sums]
