@@ -17,6 +17,7 @@ import io
 import json
 import os
 import sys
+import types
 
 import jsonschema
 import pytest
@@ -149,6 +150,28 @@ def petsc64_or_skip() -> None:
         if in_ci():
             pytest.fail(message)
         pytest.skip(message)
+
+
+@pytest.mark.parametrize("rank, lines", [(1, 0), (0, 1)])
+def test_bad_input_after_mpi_started_is_printed_by_rank_0_only(monkeypatch, capsys, rank, lines):
+    """No launcher variable set, MPI started (a fake ``petsc4py.PETSc`` of the given rank): the CLI takes
+    the rank from MPI, so rank 1 exits 2 silently and rank 0 prints the one line.
+    """
+    from dtcrit.cli import main
+    from dtcrit.cli import packing as cli_packing
+
+    monkeypatch.setattr(cli_packing, "QUIET_EXIT_DELAY", 0.0)
+    for key in cli_packing.LAUNCHER_RANK:
+        monkeypatch.delenv(key, raising=False)
+    world = types.SimpleNamespace(getRank=lambda: rank)
+    monkeypatch.setitem(sys.modules, "petsc4py.PETSc", types.SimpleNamespace(COMM_WORLD=world))
+    try:
+        code = main(["packing", "--lattice", "sc", "--kn", "1", "--backend", "slepc", "--route", "assembled"])
+    except SystemExit as exc:
+        code = exc.code
+    err = capsys.readouterr().err.splitlines()
+    assert code == 2 and len(err) == lines, err
+    assert all(line.startswith("dtcrit") and "--backend slepc" in line for line in err)
 
 
 @pytest.fixture(scope="module")
