@@ -13,6 +13,7 @@ skip, except under ``CI=true``, where they fail.
 from __future__ import annotations
 
 import dataclasses
+import importlib.util
 import io
 import json
 import os
@@ -32,7 +33,7 @@ from dtcrit.packing.readers.sphere_npz import convert_dump
 from dtcrit.packing.step import packing_step
 from support.ci import in_ci
 from support.mpi_runs import MPI_PY, mpi_env, run_packing, run_ranks
-from support.paths import SRC
+from support.paths import REPO_ROOT, SRC
 
 SCHEMA = json.loads((SRC / "dtcrit" / "schemas" / "dtcrit-packing-slepc-1.json").read_text())
 FCC = ("--lattice", "fcc", "--cells", "6", "--kn", "1e5", "--json")
@@ -226,3 +227,27 @@ def test_a_process_that_loaded_one_build_refuses_the_other():
     proc = run_ranks(1, "-c", code)
     assert proc.returncode == 0, proc.stderr[-3000:]
     assert "already loaded the PETSc build of 32-bit indices; the 64-bit one needs a new process" in proc.stdout
+
+
+def test_mpi_env_asks_apt_for_the_64_bit_build_once(tmp_path, monkeypatch):
+    """``dev.py``'s ``ensure_mpi_env`` without the 64-bit packages (and no network, faked): an up-to-date
+    ``.venv-mpi`` does not call ``apt-get``; a rebuild calls it once, and the next rebuild not again.
+    """
+    spec = importlib.util.spec_from_file_location("dev_tasks", REPO_ROOT / "dev.py")
+    assert spec is not None and spec.loader is not None
+    dev = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(dev)
+    venv, asked = tmp_path / ".venv-mpi", []
+    monkeypatch.setattr(dev, "MPI_VENV", venv)
+    monkeypatch.setattr(dev, "MPI_PY", venv / "bin" / "python")
+    monkeypatch.setattr(dev, "_found", lambda where: None if where in dev.MPI_APT_64.values() else tmp_path / "x" / "m")
+    monkeypatch.setattr(dev, "_apt_install", lambda packages, why: bool(packages) and not asked.append(packages))
+    monkeypatch.setattr(dev, "run", lambda *cmd, **kw: 1)  # creating the venv fails: the rebuild stops there
+    dev.MPI_PY.parent.mkdir(parents=True)
+    dev.MPI_PY.write_text("")
+    (venv / ".dtcrit-installed").write_text(dev._mpi_digest([str(tmp_path / "x")] * 2, []))
+    assert dev.ensure_mpi_env() is None and asked == []
+    dev.MPI_PY.unlink()
+    for _ in range(2):
+        assert "could not create .venv-mpi" in dev.ensure_mpi_env()
+    assert asked == [list(dev.MPI_APT_64)]
