@@ -33,11 +33,13 @@ virtual environment of that ``python3`` with ``--system-site-packages``, a ``.pt
 real-number builds' module folders, NumPy ``>=1.26,<2`` (a newer 1.x keeps the ABI the modules were
 built against), the other runtime dependencies at the pinned versions, and dtcrit itself (editable,
 ``--no-deps``).  It is used only for ``mpirun -n P .venv-mpi/bin/dtcrit packing ... --backend slepc``.
-Debian's 64-bit-index builds (``python3-petsc4py-64-real``, ``python3-slepc4py-64-real``; installed the
-same way, but their absence is not fatal) are not on that path: their module folders are recorded in
-``.venv-mpi/dtcrit-petsc64-dirs.txt``, and a run whose particle count needs them (``6 N > 2^31 - 1``) or
-that asks for them (``--petsc-indices 64``) puts them first before petsc4py is imported
-(``dtcrit.packing.distributed.petsc_build``); without them that run refuses in one line.  The stamp's
+Debian's 64-bit-index builds (``python3-petsc4py-64-real``, ``python3-slepc4py-64-real``; optional:
+``apt-get`` is asked for them only when the environment is (re)built, and once, remembered by
+``.venv-mpi/.dtcrit-petsc64-apt-tried``, so a machine without network does not retry at every command)
+are not on that path: their module folders are recorded in ``.venv-mpi/dtcrit-petsc64-dirs.txt``, and a
+run whose particle count needs them (``6 N > 2^31 - 1``) or that asks for them (``--petsc-indices 64``)
+puts them first before petsc4py is imported (``dtcrit.packing.distributed.petsc_build``); without them
+that run refuses in one line (unless the default petsc4py is itself a 64-bit-index build).  The stamp's
 digest covers both builds' folders, so a change of either rebuilds the environment.
 """
 from __future__ import annotations
