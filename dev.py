@@ -33,11 +33,13 @@ virtual environment of that ``python3`` with ``--system-site-packages``, a ``.pt
 real-number builds' module folders, NumPy ``>=1.26,<2`` (a newer 1.x keeps the ABI the modules were
 built against), the other runtime dependencies at the pinned versions, and dtcrit itself (editable,
 ``--no-deps``).  It is used only for ``mpirun -n P .venv-mpi/bin/dtcrit packing ... --backend slepc``.
-Debian's 64-bit-index builds (``python3-petsc4py-64-real``, ``python3-slepc4py-64-real``; installed the
-same way, but their absence is not fatal) are not on that path: their module folders are recorded in
-``.venv-mpi/dtcrit-petsc64-dirs.txt``, and a run whose particle count needs them (``6 N > 2^31 - 1``) or
-that asks for them (``--petsc-indices 64``) puts them first before petsc4py is imported
-(``dtcrit.packing.distributed.petsc_build``); without them that run refuses in one line.  The stamp's
+Debian's 64-bit-index builds (``python3-petsc4py-64-real``, ``python3-slepc4py-64-real``; optional:
+``apt-get`` is asked for them only when the environment is (re)built, and once, remembered by
+``.venv-mpi/.dtcrit-petsc64-apt-tried``, so a machine without network does not retry at every command)
+are not on that path: their module folders are recorded in ``.venv-mpi/dtcrit-petsc64-dirs.txt``, and a
+run whose particle count needs them (``6 N > 2^31 - 1``) or that asks for them (``--petsc-indices 64``)
+puts them first before petsc4py is imported (``dtcrit.packing.distributed.petsc_build``); without them
+that run refuses in one line (unless the default petsc4py is itself a 64-bit-index build).  The stamp's
 digest covers both builds' folders, so a change of either rebuilds the environment.
 """
 from __future__ import annotations
@@ -178,21 +180,26 @@ where their module lands; optional: their folders go to ``PETSC64_RECORD``, not 
 PETSC64_RECORD = "dtcrit-petsc64-dirs.txt"
 """The file of ``.venv-mpi`` naming the 64-bit build's module folders, one a line (empty: not installed);
 ``dtcrit.packing.distributed.petsc_build.RECORD`` reads it."""
+PETSC64_TRIED = ".dtcrit-petsc64-apt-tried"
+"""The file of ``.venv-mpi`` saying ``apt-get`` was asked once for the 64-bit build (``ensure_mpi_env``)."""
 MPI_RUNTIME = ("scipy", "sympy", "mpmath", "tqdm", "numba", "llvmlite")  # at their constraints.txt pins; NumPy 1.x
 """numba (with its llvmlite) runs the contact kernel of the matrix-free SLEPc route (``--slepc-matrix shell``);
 its pin supports NumPy >= 1.22, so it loads beside the 1.x NumPy of Debian's petsc4py."""
 
 
-def _apt_install(packages: list[str], why: str) -> None:
-    """``apt-get install`` of ``packages`` when root (retried after ``apt-get update``); DTCRIT_NO_APT=1 opts out."""
+def _apt_install(packages: list[str], why: str) -> bool:
+    """``apt-get install`` of ``packages`` when root (retried after ``apt-get update``); DTCRIT_NO_APT=1 opts out.
+    True when it was attempted.
+    """
     apt = shutil.which("apt-get")
     if not packages or os.environ.get("DTCRIT_NO_APT") == "1" or not apt or not hasattr(os, "geteuid") or os.geteuid():
-        return
+        return False
     print(f"installing {', '.join(packages)} with apt-get {why} (DTCRIT_NO_APT=1 opts out)", flush=True)
     env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
     install = (apt, "install", "-y", "-q", "--no-install-recommends", *packages)
     if run(*install, env=env) != 0 and run(apt, "update", "-q", env=env) == 0:
         run(*install, env=env)
+    return True
 
 
 def _found(where):
@@ -201,25 +208,38 @@ def _found(where):
 
 
 def _petsc64_dirs() -> list[str]:
-    """The 64-bit build's module folders (``MPI_APT_64``), installed when missing; [] without both."""
-    _apt_install([pkg for pkg, where in MPI_APT_64.items() if not _found(where)],
-                 "for 64-bit PETSc indices (optional)")
+    """The 64-bit build's module folders (``MPI_APT_64``); [] without both (nothing installed here)."""
     found = [_found(where) for where in MPI_APT_64.values()]
     return [str(f.parent) for f in found] if all(found) else []
 
 
+def _mpi_digest(dirs: list[str], dirs64: list[str]) -> str:
+    """The stamp of ``.venv-mpi``: the project's pins, the module folders and the runtime it installs."""
+    return hashlib.sha256((ROOT / "pyproject.toml").read_bytes() + (ROOT / "constraints.txt").read_bytes()
+                          + " ".join(dirs + list(MPI_RUNTIME) + ["64:"] + dirs64).encode()).hexdigest()
+
+
 def ensure_mpi_env() -> str | None:
-    """Build or update ``.venv-mpi`` (module docstring); ``None`` when it is ready, else why not."""
+    """Build or update ``.venv-mpi`` (module docstring); ``None`` when it is ready, else why not.
+
+    The optional 64-bit build is installed with ``apt-get`` only when ``.venv-mpi`` is (re)built and
+    only once (``PETSC64_TRIED`` remembers the attempt): a machine without network does not retry it.
+    """
     _apt_install([pkg for pkg, where in MPI_APT.items() if not _found(where)], "for the PETSc/SLEPc back-end")
     if not all(_found(where) for where in MPI_APT.values()):
         return "needs apt-get install python3-slepc4py-real python3-petsc4py-real openmpi-bin (as root)"
     dirs = [str(_found(where).parent) for where in MPI_APT.values() if where]
     dirs64 = _petsc64_dirs()
-    digest = hashlib.sha256((ROOT / "pyproject.toml").read_bytes() + (ROOT / "constraints.txt").read_bytes()
-                            + " ".join(dirs + list(MPI_RUNTIME) + ["64:"] + dirs64).encode()).hexdigest()
+    digest = _mpi_digest(dirs, dirs64)
     stamp = MPI_VENV / ".dtcrit-installed"
     if MPI_PY.exists() and stamp.exists() and stamp.read_text().strip() == digest:
         return None
+    tried = MPI_VENV / PETSC64_TRIED
+    if not dirs64 and not tried.exists() and _apt_install(list(MPI_APT_64), "for 64-bit PETSc indices (optional)"):
+        MPI_VENV.mkdir(exist_ok=True)
+        tried.write_text("apt-get install of the 64-bit PETSc build attempted; delete this file to retry\n")
+        dirs64 = _petsc64_dirs()
+        digest = _mpi_digest(dirs, dirs64)
     system_python = shutil.which("python3", path=os.defpath)  # Debian's, the one its modules are built for
     if not MPI_PY.exists() and (system_python is None
                                 or run(system_python, "-m", "venv", "--system-site-packages", MPI_VENV) != 0):

@@ -208,14 +208,25 @@ def _run_slepc(args) -> int:
     Bad input is one line from rank 0 (the same on every rank) or from the lowest rank that met it
     alone (``slepc_backend.agree``); the other ranks exit with status 2 silently.
     """
-    rank = int(next((os.environ[k] for k in LAUNCHER_RANK if os.environ.get(k, "").isdigit()), "0"))
     try:  # no MPI here: the API reads the input, then chooses the PETSc build (petsc_build) and starts MPI
         return _slepc_report(args)
     except (ValueError, SystemExit) as exc:
-        if isinstance(exc, SystemExit) or (rank != 0 and not getattr(exc, "report_here", False)):
+        if isinstance(exc, SystemExit) or (_rank() != 0 and not getattr(exc, "report_here", False)):
             time.sleep(QUIET_EXIT_DELAY)
             raise SystemExit(2) from None
         raise
+
+
+def _rank() -> int:
+    """The process's rank: MPI's once petsc4py has started it (``mpi_support.started_rank``), else the
+    launcher's environment (``LAUNCHER_RANK``; 0 without one), before MPI starts.
+    """
+    from dtcrit.packing.distributed.mpi_support import started_rank
+
+    rank = started_rank()
+    if rank is not None:
+        return rank
+    return int(next((os.environ[k] for k in LAUNCHER_RANK if os.environ.get(k, "").isdigit()), "0"))
 
 
 def _slepc_report(args) -> int:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import os
 import resource
+import sys
 
 import numpy as np
 
@@ -53,6 +54,24 @@ def world():
         raise InputError("backend", f"the launcher started {launched} processes but each sees only itself: run the "
                                     "mpirun of the MPI petsc4py was built with (Debian: openmpi-bin)")
     return comm, comm.getRank(), comm.getSize()
+
+
+def started_rank() -> int | None:
+    """The process's rank once petsc4py has started MPI (``petsc4py.PETSc`` imported), without importing it.
+
+    Returns
+    -------
+    int or None
+        ``COMM_WORLD``'s rank; None before MPI started (the caller then falls back on the launcher's
+        environment) or when it cannot be read.
+    """
+    module = sys.modules.get("petsc4py.PETSc")
+    if module is None:
+        return None
+    try:
+        return int(module.COMM_WORLD.getRank())
+    except Exception:  # a half-initialised module: the launcher's environment decides
+        return None
 
 
 def allgather(values) -> np.ndarray:

@@ -11,8 +11,12 @@ loaded the other build cannot switch: :func:`select_build` refuses rather than m
 
 The particle count decides (:func:`index_bits`: 64 bits when ``6 N > 2^31 - 1``, Otsubo et al. 2017's six
 DOFs per particle), so it is known before any MPI call: the whole-read route reads its input first, the
-partitioned route peeks at the file's header (:func:`peek_count`).  Once a build is loaded, the one
-index limit is that build's (:func:`index_limit`, from ``PETSc.IntType``), checked by :func:`check_dofs`.
+partitioned route peeks at the file's header (:func:`peek_count`: the last snapshot found by reading
+backwards from the file's end, snapshot ``k >= 0`` by scanning forwards up to its marker).  Without
+recorded 64-bit folders, a default petsc4py that is itself a 64-bit-index build (a cluster's own PETSc) is
+accepted.  Once a build is loaded, the one index limit is that build's (:func:`index_limit`, from
+``PETSc.IntType``), checked by :func:`check_dofs`; the report's ``petsc_index_bits`` is that loaded build's
+width, also when ``--petsc-indices 32`` ran on a 64-bit default build.
 """
 from __future__ import annotations
 
@@ -24,8 +28,8 @@ import numpy as np
 
 from dtcrit.errors import InputError
 
-__all__ = ["CHOICES", "DIRS_ENV", "LIMITS", "MIN_ROW_BYTES", "RECORD", "check_dofs", "index_bits", "index_limit",
-           "loaded_bits", "peek_count", "select_build"]
+__all__ = ["CHOICES", "DIRS_ENV", "LIMITS", "MIN_ROW_BYTES", "PEEK_BLOCK", "RECORD", "UNREAD_BELOW", "check_dofs",
+           "default_bits", "index_bits", "index_limit", "loaded_bits", "peek_count", "select_build", "snapshot_offset"]
 
 CHOICES = ("auto", "32", "64")
 """Values of ``--petsc-indices`` (``distributed_packing_step(petsc_indices=...)``)."""
@@ -40,8 +44,12 @@ PACKAGES = "python3-petsc4py-64-real python3-slepc4py-64-real"
 """Debian's packages of the 64-bit-index build."""
 MIN_ROW_BYTES = 6
 """Fewest bytes of an atom row of a text dump (three one-digit coordinates, two spaces, a newline): a dump
-of ``S`` bytes holds at most ``S / 6`` atoms, so one of at most ``2^31 - 1`` bytes never needs 64-bit
-indices (:func:`peek_count`)."""
+of ``S`` bytes holds at most ``S // 6`` atoms."""
+UNREAD_BELOW = MIN_ROW_BYTES * (LIMITS[32] // 6 + 1)
+"""A text dump of fewer bytes (``6 x 357,913,942 = 2,147,483,652``) holds at most ``(2^31 - 1) // 6`` atoms,
+never needing 64-bit indices: :func:`peek_count` returns its size bound unread."""
+PEEK_BLOCK = 1 << 24
+"""Bytes :func:`peek_count` scans at a time for snapshot markers (16 MiB), forwards or backwards."""
 
 
 def limit_error(n: int, limit: int, key: str = "packing") -> InputError:
@@ -131,13 +139,14 @@ def select_build(bits: int) -> None:
     Parameters
     ----------
     bits : int
-        32 (the environment's default path) or 64 (:func:`build_dirs` put first on ``sys.path``).
+        32 (the environment's default path) or 64 (:func:`build_dirs` put first on ``sys.path``; without
+        them, the default petsc4py when :func:`default_bits` finds it a 64-bit-index build).
 
     Raises
     ------
     InputError
-        64 bits wanted and the build missing (names the Debian packages and ``python3 dev.py mpi-env``), or
-        this process has already loaded the other build.
+        64 bits wanted and neither the recorded build nor a 64-bit default one (names the Debian packages
+        and ``python3 dev.py mpi-env``), or this process has already loaded the other build.
     """
     loaded = loaded_bits()
     if loaded is not None:
@@ -148,11 +157,30 @@ def select_build(bits: int) -> None:
     if bits == 32:
         return
     dirs = build_dirs()
-    if not all(any((Path(d) / pkg / "__init__.py").is_file() for d in dirs) for pkg in ("petsc4py", "slepc4py")):
+    if all(any((Path(d) / pkg / "__init__.py").is_file() for d in dirs) for pkg in ("petsc4py", "slepc4py")):
+        sys.path[:0] = dirs
+        sys.path_importer_cache.clear()
+        return
+    if default_bits() != 64:
         raise InputError("petsc_indices", f"64-bit PETSc indices need Debian's 64-bit build: apt-get install "
                                           f"{PACKAGES}, then python3 dev.py mpi-env (it records the build in .venv-mpi)")
-    sys.path[:0] = dirs
-    sys.path_importer_cache.clear()
+
+
+def default_bits() -> int | None:
+    """The index width of the default petsc4py (the one on the path), imported to read it: a cluster's own
+    PETSc may be a 64-bit-index build.
+
+    Returns
+    -------
+    int or None
+        :func:`loaded_bits` after the import; None when petsc4py does not import (``mpi_support.petsc``
+        then says what to install).
+    """
+    try:
+        from petsc4py import PETSc  # noqa: F401  (starts MPI: the build is then this process's)
+    except Exception:  # ImportError, or a NumPy ABI mismatch raised from the compiled module
+        return None
+    return loaded_bits()
 
 
 def index_limit() -> int:
@@ -175,6 +203,11 @@ def check_dofs(n: int) -> None:
     ----------
     n : int
         Particles.
+
+    Raises
+    ------
+    InputError
+        ``6 n`` beyond the loaded build's largest index (key ``packing``, the line of :func:`limit_error`).
     """
     limit = index_limit()
     if 6 * n > limit:
@@ -184,11 +217,10 @@ def check_dofs(n: int) -> None:
 def peek_count(source, snapshot: int = -1) -> int | None:
     """The particles of ``source``'s chosen snapshot, from its header, without MPI (or a bound that fits 32 bits).
 
-    A ``dtcrit-spheres/1`` file gives its row count (``sphere_npz.open_spheres``); a text dump of at most
-    ``MIN_ROW_BYTES * (2^31 - 1) // 6`` bytes holds too few atom rows to need 64-bit indices, and its
-    size bound is returned unread; a larger one is located by the partitioned read's frame locator
-    (``dump_ranges.scan_markers``, ``snapshot_start``) and its ``ITEM: NUMBER OF ATOMS`` read
-    (``header_at``).
+    A ``dtcrit-spheres/1`` file gives its row count (``sphere_npz.open_spheres``); a text dump of fewer
+    than :data:`UNREAD_BELOW` bytes holds too few atom rows to need 64-bit indices, and its size bound is
+    returned unread; a larger one's snapshot is located by :func:`snapshot_offset` (never the whole file
+    read just to count) and its ``ITEM: NUMBER OF ATOMS`` read (``dump_ranges.header_at``).
 
     Parameters
     ----------
@@ -203,7 +235,7 @@ def peek_count(source, snapshot: int = -1) -> int | None:
         The count (or the bound); None when the header cannot be read (the partitioned read then
         reports why, on every rank).
     """
-    from dtcrit.packing.readers.dump_ranges import header_at, scan_markers, snapshot_start
+    from dtcrit.packing.readers.dump_ranges import header_at
     from dtcrit.packing.readers.sphere_npz import is_sphere_file, open_spheres
 
     if source is None:
@@ -212,8 +244,45 @@ def peek_count(source, snapshot: int = -1) -> int | None:
         if is_sphere_file(source):
             return len(open_spheres(source).rows)
         size = os.path.getsize(source)
-        if size <= MIN_ROW_BYTES * (LIMITS[32] // 6):
+        if isinstance(snapshot, bool) or not isinstance(snapshot, (int, np.integer)):
+            return None  # the read names the bad index
+        if size < UNREAD_BELOW:
             return size // MIN_ROW_BYTES
-        return header_at(source, *snapshot_start(scan_markers(source, 0, size), snapshot)).count
+        offset = snapshot_offset(source, size, snapshot)
+        return None if offset is None else header_at(source, offset, 1).count  # its line names no error here
     except (OSError, ValueError):
         return None
+
+
+def snapshot_offset(source, size: int, snapshot: int) -> int | None:
+    """The byte offset of snapshot ``snapshot``'s ``ITEM: TIMESTEP`` line, scanning :data:`PEEK_BLOCK`
+    bytes at a time (``dump_ranges.scan_markers``): from the file's start up to marker ``snapshot`` when
+    ``snapshot >= 0``, from its end backwards up to marker ``-snapshot`` from the end when negative (the
+    default ``-1``: the last snapshot's bytes only).
+
+    Parameters
+    ----------
+    source : str or os.PathLike
+        The dump file.
+    size : int
+        Its size in bytes.
+    snapshot : int
+        Snapshot index, Python style.
+
+    Returns
+    -------
+    int or None
+        The offset; None when the file has too few snapshots.
+    """
+    from dtcrit.packing.readers.dump_ranges import scan_markers
+
+    backwards = snapshot < 0
+    wanted = -snapshot if backwards else snapshot + 1
+    found: list[int] = []
+    for start in (range(size, 0, -PEEK_BLOCK) if backwards else range(0, size, PEEK_BLOCK)):
+        a, b = (max(0, start - PEEK_BLOCK), start) if backwards else (start, min(size, start + PEEK_BLOCK))
+        offsets = scan_markers(source, a, b).offsets
+        found += offsets[::-1] if backwards else offsets
+        if len(found) >= wanted:
+            return found[wanted - 1]
+    return None
