@@ -224,6 +224,20 @@ def test_the_sphere_loop_equals_the_general_loop_and_is_chosen_only_for_sphere_c
     assert stiffness_operator(p, c)._sphere_args is None
 
 
+def test_above_the_sphere_loop_limit_only_contacts_holding_lengths_take_the_sphere_loop(monkeypatch):
+    """Lengths stored with the contacts cost nothing more; lengths projected from arm vectors would."""
+    import dtcrit.packing.operators.matrix_free as mf
+
+    monkeypatch.setattr(mf, "SPHERE_LOOP_MAX_DOFS", 10)
+    op, a = _lattice_operator()
+    c = op.contacts
+    vectors = replace(c, arm_i=np.array(np.asarray(c.arm_i)), arm_j=np.array(np.asarray(c.arm_j)))
+    wide = stiffness_operator(op.packing, vectors)
+    assert (op._sphere_args is not None) == mf.kernels.available() and wide._sphere_args is None
+    x = np.random.default_rng(3).standard_normal(a.shape[0])
+    np.testing.assert_allclose(op @ x, a @ x, rtol=1e-12, atol=1e-12 * np.abs(a @ x).max())
+
+
 @pytest.mark.parametrize("seed", [1, 2])
 def test_principal_submatrix_equals_the_assembled_rows_and_columns(seed):
     """``principal_submatrix`` against the assembled matrix's rows and columns of the same DOFs: rotated
