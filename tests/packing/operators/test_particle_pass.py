@@ -207,20 +207,14 @@ def test_the_incidence_lists_each_contact_of_a_particle_once_in_order():
     p, c = _lattice("sc")
     q, d = _lattice("bcc")
     assert np.all(c.i == c.j) and d.count > 0
-    for particles in (None, np.array([1, 0])):
-        indptr, inc = particle_pass.incidence(d.i, d.j, q.n, particles)
-        assert inc.dtype == np.int32
-        rows = range(q.n) if particles is None else particles
-        for r, k in enumerate(rows):
-            want = np.flatnonzero((d.i == k) | (d.j == k))
-            assert np.array_equal(inc[indptr[r]:indptr[r + 1]], want)
-    for particles in (None, np.array([0])):
-        indptr, inc = particle_pass.incidence(c.i, c.j, p.n, particles)
-        assert inc.dtype == np.int32
-        rows = range(p.n) if particles is None else particles
-        for r, q in enumerate(rows):
-            want = np.flatnonzero((c.i == q) | (c.j == q))
-            assert np.array_equal(inc[indptr[r]:indptr[r + 1]], want)
+    for contacts, n, subset in ((d, q.n, np.array([1, 0])), (c, p.n, np.array([0]))):
+        for particles in (None, subset):
+            indptr, inc = particle_pass.incidence(contacts.i, contacts.j, n, particles)
+            assert inc.dtype == np.int32
+            rows = range(n) if particles is None else particles
+            for r, k in enumerate(rows):
+                want = np.flatnonzero((contacts.i == k) | (contacts.j == k))
+                assert np.array_equal(inc[indptr[r]:indptr[r + 1]], want)
 
 
 @pytest.mark.parametrize("compiled", PATHS)

@@ -62,7 +62,8 @@ def _inlined(fn: _F) -> _F:
 
 
 __all__ = ["cross", "dot", "to_global", "to_body", "contact_slip", "relative_rotation", "centre_motion",
-           "frame_law", "element_forces", "body_forces", "rotation_rows", "arm_rows", "IDENTITY", "ZERO3"]
+           "frame_law", "element_forces", "body_forces", "rotation_rows", "arm_rows", "contact_frame", "IDENTITY",
+           "ZERO3"]
 
 ZERO3 = (0.0, 0.0, 0.0)
 IDENTITY = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
@@ -117,6 +118,39 @@ def arm_rows(arm_i, arm_j, nrm, c):
         return ((li * nrm[c, 0], li * nrm[c, 1], li * nrm[c, 2]),
                 (-(lj * nrm[c, 0]), -(lj * nrm[c, 1]), -(lj * nrm[c, 2])))
     return ((arm_i[c, 0], arm_i[c, 1], arm_i[c, 2]), (arm_j[c, 0], arm_j[c, 1], arm_j[c, 2]))
+
+
+@_inlined
+def contact_frame(c, ci, cj, nrm, arm_i, arm_j, rot, springs, oriented):
+    """Contact ``c``'s bodies, their rotation rows, normal and arms as the compiled loops read them.
+
+    Parameters
+    ----------
+    c : int
+        The contact.
+    ci, cj : numpy.ndarray
+        (C,) body indices.
+    nrm : numpy.ndarray
+        (C, 3) unit normals.
+    arm_i, arm_j : numpy.ndarray
+        (C, 3) arm vectors or (C, 1) lengths (``arm_rows``).
+    rot : numpy.ndarray
+        (N, 3, 3) body rotations, read when ``oriented``.
+    springs, oriented : bool
+        Whether the contact springs (and so the arms) act; whether bodies carry rotations.
+
+    Returns
+    -------
+    tuple
+        ``(i, j, rot_i, rot_j, n, a_i, a_j)`` (zero arms without springs, ``IDENTITY`` rows unoriented).
+    """
+    i = ci[c]
+    j = cj[c]
+    ri = rotation_rows(rot, i) if oriented else IDENTITY
+    rj = rotation_rows(rot, j) if oriented else IDENTITY
+    n = (nrm[c, 0], nrm[c, 1], nrm[c, 2])
+    ai, aj = arm_rows(arm_i, arm_j, nrm, c) if springs else (ZERO3, ZERO3)
+    return i, j, ri, rj, n, ai, aj
 
 
 @_jitable

@@ -26,7 +26,7 @@ from typing import Any, Callable
 import numpy as np
 
 from dtcrit.packing.normal_arms import kernel_arms, lengths_along
-from dtcrit.packing.operators.contact_element import IDENTITY, arm_rows, body_forces, rotation_rows
+from dtcrit.packing.operators.contact_element import IDENTITY, body_forces, contact_frame
 
 
 def _import_numba() -> ModuleType | None:
@@ -75,14 +75,8 @@ def _apply_span(q, y, lo, hi, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot
     empty.  ``q`` and ``y`` are (N, 6).
     """
     trans, rotl, pre, orient = flags[0] != 0, flags[1] != 0, flags[2] != 0, flags[3] != 0
-    zero = (0.0, 0.0, 0.0)
     for c in range(lo, hi):
-        i = ci[c]
-        j = cj[c]
-        ri = rotation_rows(rot, i) if orient else IDENTITY
-        rj = rotation_rows(rot, j) if orient else IDENTITY
-        n = (nrm[c, 0], nrm[c, 1], nrm[c, 2])
-        ai, aj = arm_rows(arm_i, arm_j, nrm, c) if trans else (zero, zero)
+        i, j, ri, rj, n, ai, aj = contact_frame(c, ci, cj, nrm, arm_i, arm_j, rot, trans, orient)
         f, m_i, m_j = body_forces(n, ai, aj, ri, rj, orient, (q[i, 0], q[i, 1], q[i, 2]), (q[i, 3], q[i, 4], q[i, 5]),
                                   (q[j, 0], q[j, 1], q[j, 2]), (q[j, 3], q[j, 4], q[j, 5]),
                                   kn[c] if trans else 0.0, ks[c] if trans else 0.0, ktw[c] if rotl else 0.0,

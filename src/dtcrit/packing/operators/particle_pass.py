@@ -33,7 +33,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from dtcrit.packing.operators.contact_element import IDENTITY, arm_rows, rotation_rows
+from dtcrit.packing.operators.contact_element import contact_frame
 from dtcrit.packing.operators.element_matrices import element_blocks_into, element_side_into
 from dtcrit.packing.operators.matrix_free_kernels import _jit, prange
 
@@ -103,18 +103,12 @@ def _gather(p, lo, hi, inc, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, 
     ``take_root``) over its contacts ``inc[lo:hi]``, summed in that order (module docstring).
     """
     trans, rotl, pre, orient = flags[0] != 0, flags[1] != 0, flags[2] != 0, flags[3] != 0
-    zero = (0.0, 0.0, 0.0)
     acc[:, :] = 0.0
     r1[:] = 0.0
     r2[:] = 0.0
     for e in range(lo, hi):
         c = inc[e]
-        i = ci[c]
-        j = cj[c]
-        ri = rotation_rows(rot, i) if orient else IDENTITY
-        rj = rotation_rows(rot, j) if orient else IDENTITY
-        n = (nrm[c, 0], nrm[c, 1], nrm[c, 2])
-        ai, aj = arm_rows(arm_i, arm_j, nrm, c) if trans else (zero, zero)
+        i, j, ri, rj, n, ai, aj = contact_frame(c, ci, cj, nrm, arm_i, arm_j, rot, trans, orient)
         k_n, k_s = (kn[c], ks[c]) if trans else (0.0, 0.0)
         k_tw, k_r = (ktw[c], kr[c]) if rotl else (0.0, 0.0)
         gc = g[c] if pre else 0.0
