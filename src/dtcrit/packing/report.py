@@ -271,16 +271,15 @@ def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, int
         law_text = law.describe()
     else:
         law_text = "per-contact stiffness given"
-    md = mass_diagonal(packing)
     if route not in ROUTES:
         raise InputError("route", f"unknown route {route!r}; choose one of {', '.join(ROUTES)}")
     if route == "auto":
         limit = OPERATOR_DOFS if operator_kernels.available() else NUMPY_OPERATOR_DOFS
         route = "matrix-free" if packing.dofs > limit else "assembled"
-    if route == "matrix-free":
-        a = stiffness_operator(packing, contacts, mass_diag=md)
+    if route == "matrix-free":  # the operator holds its scale, not M: no mass diagonal held through the solve
+        a = stiffness_operator(packing, contacts)
     else:
-        a = scale_symmetric(stiffness_matrix(packing, contacts), md, inplace=True)
+        a = scale_symmetric(stiffness_matrix(packing, contacts), mass_diagonal(packing), inplace=True)
     def hint():  # all particles co-rotating: built inside the solver, released after its start
         return trials.co_rotation(packing, 0) + trials.co_rotation(packing, 1) + trials.co_rotation(packing, 2)
 
@@ -288,7 +287,7 @@ def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, int
     try:
         top: TopMode = largest_mode(a, method, tol=tolerance, hint=hint)
     except NotConvergedError as exc:
-        raise dt_bracket_error(exc, a, md, packing) from None
+        raise dt_bracket_error(exc, a, mass_diagonal(packing), packing) from None
     eigen_seconds = time.perf_counter() - clock
     omega = top.omega
     dt = 2.0 / omega if omega > 0 else math.inf
@@ -306,7 +305,7 @@ def analyse(packing: Packing, law=None, contacts: Contacts | None = None, *, int
     estimates: dict[str, Estimate] = {}
     if with_estimates:
         w_c = est.single_contact_frequencies(packing, contacts) if contacts.count else None
-        for e in (est.gershgorin(a, md), est.block_diagonal(a, packing.particle_id),
+        for e in (est.gershgorin(a, mass_diagonal(packing)), est.block_diagonal(a, packing.particle_id),
                   est.diagonal_stiffness(a, packing.particle_id),
                   est.two_particle_amax(packing, contacts),
                   est.two_particle_exact(packing, contacts, w_c), trials.rayleigh(a, packing, contacts, w_c)):

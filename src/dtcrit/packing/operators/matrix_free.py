@@ -38,8 +38,6 @@ import dtcrit.packing.operators.particle_pass as particle_pass
 import dtcrit.packing.operators.scattered_pass as scattered_pass
 from dtcrit.packing.operators.assembly import mass_diagonal, preload_coefficient
 from dtcrit.packing.operators.combined import CombinedOperator
-from dtcrit.packing.operators.contact_element import IDENTITY, ZERO3, body_forces, rotation_rows
-from dtcrit.packing.operators.element_matrices import components
 from dtcrit.packing.model import Contacts, Packing
 from dtcrit.packing.normal_arms import lengths_along
 
@@ -97,8 +95,9 @@ class ContactOperator(spla.LinearOperator):
         super().__init__(dtype=np.dtype(float), shape=(6 * n, 6 * n))
         self.packing, self.contacts, self.kind, self.chunk = packing, contacts, kind, int(chunk)
         md = mass_diagonal(packing) if mass_diag is None else np.asarray(mass_diag, float)
-        self.mass_diag = md
+        self._given_mass = None if mass_diag is None else md  # the packing's own is not held (mass_diag)
         self.scale6 = (1.0 / np.sqrt(md)).reshape(n, 6)
+        del md
         self.applications = 0
         if kind == "stiffness":
             self.along, self.across = contacts.kn, contacts.ks
@@ -122,6 +121,19 @@ class ContactOperator(spla.LinearOperator):
         blocks = wanted if contacts.count >= PARALLEL_MIN_CONTACTS or threads is not None else 1
         self._bounds = kernels.block_bounds(contacts.count, blocks) if blocks > 1 else None
         self._spare: np.ndarray | None = None
+
+    @property
+    def mass_diag(self) -> np.ndarray:
+        """Diagonal of ``M`` (6N): the one given, else the packing's (``assembly.mass_diagonal``) computed
+        on each call, so that the operator holds only its scale (one 6N vector less: 0.5 GB at 1e7
+        particles, during the eigen-solve).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``M_dd``, length 6N.
+        """
+        return self._given_mass if self._given_mass is not None else mass_diagonal(self.packing)
 
     def _pack_kernel_args(self):
         """Contiguous arrays for the compiled loops (no copy where the contacts already are)."""
@@ -187,7 +199,7 @@ class ContactOperator(spla.LinearOperator):
         nc = self.contacts.count
         for start in range(0, nc, self.chunk):
             sl = slice(start, min(start + self.chunk, nc))
-            oi, oj = self._chunk_forces(q, sl)
+            oi, oj = scattered_pass.chunk_forces(self, q, sl)
             scattered_pass.scatter_rows(y, self.contacts.i[sl], oi)
             scattered_pass.scatter_rows(y, self.contacts.j[sl], oj)
         y *= self.scale6
@@ -213,35 +225,6 @@ class ContactOperator(spla.LinearOperator):
 
     def _adjoint(self):
         return self
-
-    def _chunk_forces(self, q: np.ndarray, sl: slice):
-        """``(B_i^T f, B_j^T f)`` per contact of the chunk, each (m, 6): ``contact_element.body_forces``
-        on arrays over the chunk's contacts.
-        """
-        c = self.contacts
-        ci, cj = c.i[sl], c.j[sl]
-        qi, qj = q[ci], q[cj]
-        rot = self.orientations
-        oriented = rot is not None
-        rot_i = rotation_rows(rot, ci) if oriented else IDENTITY
-        rot_j = rotation_rows(rot, cj) if oriented else IDENTITY
-        arm_i, arm_j = (components(c.arm_i[sl]), components(c.arm_j[sl])) if self.translational else (ZERO3, ZERO3)
-
-        def coefficient(values):
-            return 0.0 if values is None else values[sl]
-
-        f, m_i, m_j = body_forces(components(c.normal[sl]), arm_i, arm_j, rot_i, rot_j, oriented,
-                                  components(qi[:, :3]), components(qi[:, 3:]), components(qj[:, :3]),
-                                  components(qj[:, 3:]), coefficient(self.along), coefficient(self.across),
-                                  coefficient(self.twist), coefficient(self.roll), coefficient(self.preload),
-                                  self.translational, self.rotational, self.preload is not None)
-        oi, oj = np.empty((qi.shape[0], 6)), np.empty((qi.shape[0], 6))
-        for a in range(3):
-            oi[:, a] = -f[a]
-            oi[:, 3 + a] = m_i[a]
-            oj[:, a] = f[a]
-            oj[:, 3 + a] = m_j[a]
-        return oi, oj
 
     # -- what the bounds need (``particle_pass``) ---------------------------------------------------
     def block_summary(self) -> particle_pass.BlockSummary:

@@ -1,5 +1,6 @@
-"""The NumPy fallback of the bounds' block pass (without Numba; ``particle_pass`` is the compiled one):
-the scaled diagonal blocks ``A_pp`` and the weighted absolute row sums ``sum_q |A_pq| w_q`` (the
+"""The NumPy fallbacks (without Numba) of the matrix-free product's contact forces (``chunk_forces``,
+the compiled loop is ``matrix_free_kernels``) and of the bounds' block pass (``particle_pass`` is the
+compiled one): the scaled diagonal blocks ``A_pp`` and the weighted absolute row sums ``sum_q |A_pq| w_q`` (the
 formulas in ``particle_pass``'s docstring), each contact's blocks (``assembly.contact_blocks``)
 scattered to its two bodies chunk by chunk, and the blocks' top eigenvalues by batched LAPACK.
 """
@@ -8,8 +9,54 @@ from __future__ import annotations
 import numpy as np
 
 from dtcrit.packing.operators.assembly import contact_blocks
+from dtcrit.packing.operators.contact_element import IDENTITY, ZERO3, body_forces, rotation_rows
+from dtcrit.packing.operators.element_matrices import components
 
-__all__ = ["scatter_rows", "scattered_blocks", "top_eigenvalues"]
+__all__ = ["chunk_forces", "scatter_rows", "scattered_blocks", "top_eigenvalues"]
+
+
+def chunk_forces(op, q: np.ndarray, sl: slice) -> tuple[np.ndarray, np.ndarray]:
+    """``(B_i^T f, B_j^T f)`` per contact of a chunk: ``contact_element.body_forces`` on arrays over
+    the chunk's contacts (the NumPy path of ``matrix_free.ContactOperator``'s product).
+
+    Parameters
+    ----------
+    op : dtcrit.packing.operators.matrix_free.ContactOperator
+        The operator (its contacts, coefficients and orientations).
+    q : numpy.ndarray
+        (N, 6) scaled displacements.
+    sl : slice
+        The chunk's contacts.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        What the chunk's contacts add on ``i`` and on ``j``, each (m, 6).
+    """
+    c = op.contacts
+    ci, cj = c.i[sl], c.j[sl]
+    qi, qj = q[ci], q[cj]
+    rot = op.orientations
+    oriented = rot is not None
+    rot_i = rotation_rows(rot, ci) if oriented else IDENTITY
+    rot_j = rotation_rows(rot, cj) if oriented else IDENTITY
+    arm_i, arm_j = (components(c.arm_i[sl]), components(c.arm_j[sl])) if op.translational else (ZERO3, ZERO3)
+
+    def coefficient(values):
+        return 0.0 if values is None else values[sl]
+
+    f, m_i, m_j = body_forces(components(c.normal[sl]), arm_i, arm_j, rot_i, rot_j, oriented,
+                              components(qi[:, :3]), components(qi[:, 3:]), components(qj[:, :3]),
+                              components(qj[:, 3:]), coefficient(op.along), coefficient(op.across),
+                              coefficient(op.twist), coefficient(op.roll), coefficient(op.preload),
+                              op.translational, op.rotational, op.preload is not None)
+    oi, oj = np.empty((qi.shape[0], 6)), np.empty((qi.shape[0], 6))
+    for a in range(3):
+        oi[:, a] = -f[a]
+        oi[:, 3 + a] = m_i[a]
+        oj[:, a] = f[a]
+        oj[:, 3 + a] = m_j[a]
+    return oi, oj
 
 
 def top_eigenvalues(blocks: np.ndarray, chunk: int = 1 << 16) -> np.ndarray:
