@@ -120,6 +120,8 @@ class ContactOperator(spla.LinearOperator):
         wanted = PRODUCT_BLOCKS if threads is None else max(int(threads), 1)
         blocks = wanted if contacts.count >= PARALLEL_MIN_CONTACTS or threads is not None else 1
         self._bounds = kernels.block_bounds(contacts.count, blocks) if blocks > 1 else None
+        self._halves = (kernels.halves_of(self._kernel_args[0], self._kernel_args[1])
+                        if self.compiled and blocks == 2 else None)
         self._spare: np.ndarray | None = None
 
     @property
@@ -162,31 +164,36 @@ class ContactOperator(spla.LinearOperator):
     # -- the product -------------------------------------------------------------------------------
     def apply_into(self, x: np.ndarray, out: np.ndarray) -> np.ndarray:
         """``out = A x`` into a given (6N,) array, with no array allocated on the compiled path (at 1e6
-        particles a fresh vector adds a sixth to the product's time: ``largest_mode`` calls this).
+        particles a fresh vector adds a sixth to the product's time: ``largest_mode`` calls this), nor
+        held beyond ``out`` when the halves apply (the loop scales ``x`` as it reads it).
 
         Parameters
         ----------
         x : numpy.ndarray
             The vector, length 6N.
         out : numpy.ndarray
-            Where to write ``A x``, length 6N.
+            Where to write ``A x``, length 6N, not overlapping ``x``.
 
         Returns
         -------
         numpy.ndarray
             ``out``.
+
+        Raises
+        ------
+        ValueError
+            When ``out`` overlaps ``x``.
         """
         if not self.compiled:
             out[:] = self._matvec(x)
             return out
+        x = np.asarray(x, float)
+        if np.may_share_memory(x, out):
+            raise ValueError("apply_into: out must not overlap x (the loop reads x while it writes out)")
         self.applications += 1
-        work = getattr(self, "_work", None)
-        if work is None or work.shape != self.scale6.shape:
-            work = self._work = np.empty_like(self.scale6)
-        np.multiply(np.asarray(x, float).reshape(-1, 6), self.scale6, out=work)
         y = out.reshape(-1, 6)
         y[:] = 0.0
-        self._compiled_product(work, y)
+        self._compiled_product(x.reshape(-1, 6), y)  # the loop scales x as it reads it
         y *= self.scale6
         return out
 
@@ -205,19 +212,24 @@ class ContactOperator(spla.LinearOperator):
         y *= self.scale6
         return y.reshape(-1)
 
-    def _compiled_product(self, q: np.ndarray, y: np.ndarray) -> None:
-        """``y += A_K q`` (unscaled) by the compiled loop: the sphere loop when it applies, on the
-        operator's blocks of contacts (one thread each) when it has several.
+    def _compiled_product(self, x: np.ndarray, y: np.ndarray) -> None:
+        """``y += K (s x)`` (``s`` the scale, unscaled out) by the compiled loop: the sphere loop when it
+        applies; on two threads by the particles' halves (``kernels.halves_of``, no spare vector) or
+        by blocks of contacts (one thread and one spare (N, 6) vector each beyond the first).
         """
         spheres = self._sphere_args is not None
         args = self._sphere_args if spheres else self._kernel_args
+        s = self.scale6
         if self._bounds is None:
-            (kernels.apply_spheres_span if spheres else kernels.apply_span)(q, y, 0, self.contacts.count, *args)
-            return
-        if self._spare is None:
-            self._spare = np.empty((len(self._bounds) - 2, *q.shape))
-        (kernels.apply_blocks_spheres if spheres else kernels.apply_blocks_general)(q, y, self._spare, self._bounds,
-                                                                                    *args)
+            (kernels.apply_spheres_span if spheres else kernels.apply_span)(x, s, y, 0, self.contacts.count,
+                                                                            kernels.NO_LIMIT, *args)
+        elif self._halves is not None:
+            (kernels.apply_halves_spheres if spheres else kernels.apply_halves_general)(x, s, y, *self._halves, *args)
+        else:
+            if self._spare is None:
+                self._spare = np.empty((len(self._bounds) - 2, *x.shape))
+            (kernels.apply_blocks_spheres if spheres else kernels.apply_blocks_general)(x, s, y, self._spare,
+                                                                                        self._bounds, *args)
 
     def _matmat(self, xs):
         xs = np.asarray(xs, float)

@@ -67,18 +67,24 @@ def available() -> bool:
     return numba is not None
 
 
-def _apply_span(q, y, lo, hi, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags):
-    """``y[i] += B_i^T f``, ``y[j] += B_j^T f`` for the contacts ``lo <= c < hi``:
-    ``contact_element.body_forces``.
+NO_LIMIT = 1 << 62
+"""``below`` of a span that takes every contact."""
+
+
+def _apply_span(x, s, y, lo, hi, below, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags):
+    """``y[i] += B_i^T f``, ``y[j] += B_j^T f`` for the contacts ``lo <= c < hi`` with ``j < below``:
+    ``contact_element.body_forces`` on ``q = s x``, scaled as it is read (no scaled copy of ``x``).
 
     ``flags``: (translational, rotational, preload, oriented) as 0/1; arrays not in use may be
-    empty.  ``q`` and ``y`` are (N, 6).
+    empty.  ``x``, ``s`` and ``y`` are (N, 6).
     """
     trans, rotl, pre, orient = flags[0] != 0, flags[1] != 0, flags[2] != 0, flags[3] != 0
     for c in range(lo, hi):
+        if cj[c] >= below:
+            continue
         i, j, ri, rj, n, ai, aj = contact_frame(c, ci, cj, nrm, arm_i, arm_j, rot, trans, orient)
-        f, m_i, m_j = body_forces(n, ai, aj, ri, rj, orient, (q[i, 0], q[i, 1], q[i, 2]), (q[i, 3], q[i, 4], q[i, 5]),
-                                  (q[j, 0], q[j, 1], q[j, 2]), (q[j, 3], q[j, 4], q[j, 5]),
+        f, m_i, m_j = body_forces(n, ai, aj, ri, rj, orient, scaled_row(x, s, i, 0), scaled_row(x, s, i, 3),
+                                  scaled_row(x, s, j, 0), scaled_row(x, s, j, 3),
                                   kn[c] if trans else 0.0, ks[c] if trans else 0.0, ktw[c] if rotl else 0.0,
                                   kr[c] if rotl else 0.0, g[c] if pre else 0.0, trans, rotl, pre)
         for a in range(3):
@@ -88,21 +94,23 @@ def _apply_span(q, y, lo, hi, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot
             y[j, 3 + a] += m_j[a]
 
 
-def _apply_spheres_span(q, y, lo, hi, ci, cj, nrm, li, lj, kn, ks, g, pre):
+def _apply_spheres_span(x, s, y, lo, hi, below, ci, cj, nrm, li, lj, kn, ks, g, pre):
     """``_apply_span`` for sphere contacts with springs (and pre-load) only and no body rotations:
     the arms are ``a_i = l_i n``, ``a_j = -l_j n``, rebuilt from the two lengths, so that the loop
     reads 48 bytes fewer per contact; the element is the same ``contact_element.body_forces``.  The
     tests compare it with ``_apply_span`` and the assembled matrix.
     """
     for c in range(lo, hi):
-        i = ci[c]
         j = cj[c]
+        if j >= below:
+            continue
+        i = ci[c]
         n = (nrm[c, 0], nrm[c, 1], nrm[c, 2])
         a = li[c]
         b = -lj[c]
         f, m_i, m_j = body_forces(n, (a * n[0], a * n[1], a * n[2]), (b * n[0], b * n[1], b * n[2]), IDENTITY, IDENTITY, False,
-                                  (q[i, 0], q[i, 1], q[i, 2]), (q[i, 3], q[i, 4], q[i, 5]),
-                                  (q[j, 0], q[j, 1], q[j, 2]), (q[j, 3], q[j, 4], q[j, 5]),
+                                  scaled_row(x, s, i, 0), scaled_row(x, s, i, 3),
+                                  scaled_row(x, s, j, 0), scaled_row(x, s, j, 3),
                                   kn[c], ks[c], 0.0, 0.0, g[c] if pre else 0.0, True, False, pre)
         for k in range(3):
             y[i, k] -= f[k]
@@ -111,7 +119,12 @@ def _apply_spheres_span(q, y, lo, hi, ci, cj, nrm, li, lj, kn, ks, g, pre):
             y[j, 3 + k] += m_j[k]
 
 
-def _blocks_general(q, y, spare, bounds, *args):
+def _scaled_row(x, s, i, k):
+    """``q[i, k:k + 3]`` of ``q = s x``, scaled as it is read."""
+    return (x[i, k] * s[i, k], x[i, k + 1] * s[i, k + 1], x[i, k + 2] * s[i, k + 2])
+
+
+def _blocks_general(x, s, y, spare, bounds, *args):
     """``_apply_span`` over the contact blocks ``bounds[b] <= c < bounds[b + 1]``, one thread each
     (``numba.prange``): block 0 adds into ``y``, block ``b > 0`` into its own zeroed ``spare[b - 1]``
     (N, 6), summed into ``y`` in block order afterwards, so the result depends on the blocks, not on
@@ -120,27 +133,88 @@ def _blocks_general(q, y, spare, bounds, *args):
     blocks = bounds.shape[0] - 1
     for b in prange(blocks):
         if b == 0:
-            apply_span(q, y, bounds[0], bounds[1], *args)
+            apply_span(x, s, y, bounds[0], bounds[1], NO_LIMIT, *args)
         else:
             out = spare[b - 1]
             out[:] = 0.0
-            apply_span(q, out, bounds[b], bounds[b + 1], *args)
+            apply_span(x, s, out, bounds[b], bounds[b + 1], NO_LIMIT, *args)
     _add_spares(y, spare, blocks)
 
 
-def _blocks_spheres(q, y, spare, bounds, *args):
+def _blocks_spheres(x, s, y, spare, bounds, *args):
     """``_blocks_general`` with ``_apply_spheres_span`` (the sphere loop's arguments).  Two drivers, not
     one taking its span as an argument: Numba does not cache a function that takes another.
     """
     blocks = bounds.shape[0] - 1
     for b in prange(blocks):
         if b == 0:
-            apply_spheres_span(q, y, bounds[0], bounds[1], *args)
+            apply_spheres_span(x, s, y, bounds[0], bounds[1], NO_LIMIT, *args)
         else:
             out = spare[b - 1]
             out[:] = 0.0
-            apply_spheres_span(q, out, bounds[b], bounds[b + 1], *args)
+            apply_spheres_span(x, s, out, bounds[b], bounds[b + 1], NO_LIMIT, *args)
     _add_spares(y, spare, blocks)
+
+
+def _halves_general(x, s, y, halves, cross, *args):
+    """``_apply_span`` on the two halves of the particles (``halves_of``), one thread each, straight
+    into ``y`` (they write disjoint rows: no spare vector), then the contacts that cross, in order, on
+    one thread: the result depends on the halves only, not on the threads or their timing.
+    """
+    for b in prange(2):
+        if b == 0:
+            apply_span(x, s, y, 0, halves[1], halves[0], *args)
+        else:
+            apply_span(x, s, y, halves[1], halves[2], NO_LIMIT, *args)
+    for t in range(cross.shape[0]):
+        apply_span(x, s, y, cross[t], cross[t] + 1, NO_LIMIT, *args)
+
+
+def _halves_spheres(x, s, y, halves, cross, *args):
+    """``_halves_general`` with ``_apply_spheres_span`` (two drivers: see ``_blocks_spheres``)."""
+    for b in prange(2):
+        if b == 0:
+            apply_spheres_span(x, s, y, 0, halves[1], halves[0], *args)
+        else:
+            apply_spheres_span(x, s, y, halves[1], halves[2], NO_LIMIT, *args)
+    for t in range(cross.shape[0]):
+        apply_spheres_span(x, s, y, cross[t], cross[t] + 1, NO_LIMIT, *args)
+
+
+CROSSING_MAX = 0.125
+"""Largest fraction of contacts crossing the two halves of the particles (``halves_of``): beyond it
+the crossing contacts, on one thread, would cost more than a spare vector's passes."""
+
+
+def halves_of(ci: np.ndarray, cj: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """Two halves of the particles that two threads can update without a spare vector.
+
+    When the contacts are sorted by ``i`` with ``i <= j`` (the order of the sphere detection), the
+    contacts ``[middle, count)`` (``i >= split``) touch only particles ``>= split`` and those of
+    ``[0, middle)`` with ``j < split`` only particles below it; the rest cross, and are few when the
+    particles are numbered in space (a lattice, a sorted dump).  ``split`` is the ``i`` of the middle
+    contact.
+
+    Parameters
+    ----------
+    ci, cj : numpy.ndarray
+        The contacts' particle indices.
+
+    Returns
+    -------
+    tuple of numpy.ndarray or None
+        ``([split, middle, count], crossing contacts in order)``, or ``None`` when the contacts are
+        not so sorted or more than ``CROSSING_MAX`` of them cross.
+    """
+    count = int(ci.shape[0])
+    if count < 2 or bool(np.any(ci[1:] < ci[:-1])) or bool(np.any(ci > cj)):
+        return None
+    split = int(ci[count // 2])
+    middle = int(np.searchsorted(ci, split))
+    cross = np.flatnonzero(cj[:middle] >= split)
+    if cross.size > CROSSING_MAX * count:
+        return None
+    return np.array([split, middle, count], dtype=np.int64), cross.astype(np.int64)
 
 
 def _add_spares_loop(y, spare, blocks):
@@ -225,15 +299,18 @@ def sphere_arm_lengths(normal: np.ndarray, arm_i: np.ndarray, arm_j: np.ndarray,
     return li, lj
 
 
+scaled_row = _jit(_scaled_row)
 apply_span = _jit(_apply_span)
 apply_spheres_span = _jit(_apply_spheres_span)
 _add_spares = _jit(_add_spares_loop, parallel=True)
 apply_blocks_general = _jit(_blocks_general, parallel=True)
 apply_blocks_spheres = _jit(_blocks_spheres, parallel=True)
+apply_halves_general = _jit(_halves_general, parallel=True)
+apply_halves_spheres = _jit(_halves_spheres, parallel=True)
 
 
 def apply_contacts(q, y, *args) -> None:
-    """``y += A_K q`` over every contact (``_apply_span``), on one thread.
+    """``y += A_K q`` over every contact (``_apply_span``, ``q`` unscaled), on one thread.
 
     Parameters
     ----------
@@ -242,7 +319,7 @@ def apply_contacts(q, y, *args) -> None:
     *args
         ``loop_arguments``' tuple.
     """
-    apply_span(q, y, 0, args[0].shape[0], *args)
+    apply_span(q, np.ones_like(q), y, 0, args[0].shape[0], NO_LIMIT, *args)
 
 
 def apply_sphere_contacts(q, y, *args) -> None:
@@ -255,7 +332,7 @@ def apply_sphere_contacts(q, y, *args) -> None:
     *args
         ``(ci, cj, normal, l_i, l_j, kn, ks, g, preload)``.
     """
-    apply_spheres_span(q, y, 0, args[0].shape[0], *args)
+    apply_spheres_span(q, np.ones_like(q), y, 0, args[0].shape[0], NO_LIMIT, *args)
 
 
 def block_bounds(count: int, blocks: int) -> np.ndarray:
