@@ -10,7 +10,8 @@ al. 2020, a Rayleigh quotient).
     0.4472
 
 Modules: ``model`` (Packing, Box, the contact laws applied per contact), ``periodic_cell`` (images in a
-sheared cell), ``contact_set`` (Contacts), ``normal_arms`` (sphere arms held as lengths), ``step``
+sheared cell), ``contact_set`` (Contacts), ``normal_arms`` (sphere arms held as lengths),
+``uniform_values`` (a per-contact value of one number held once), ``step``
 (``packing_step``, the analysis behind ``dtcrit packing``), ``step_input`` (its inputs: a dump, a
 bodies file or a generated packing), ``report`` (``analyse`` and the report), ``report_text`` (its text),
 ``wall_bodies`` (fixed walls as bodies of infinite mass); and the subpackages

@@ -12,6 +12,7 @@ import numpy as np
 
 from dtcrit.errors import InputError
 from dtcrit.packing.normal_arms import NormalArms
+from dtcrit.packing.uniform_values import held, one_value, taken, uniform
 
 
 @dataclass(frozen=True)
@@ -31,6 +32,8 @@ class Contacts:
     relative rotation ``theta_j - theta_i`` perpendicular to, and about, the normal), ``cr``/``ctw`` their
     dashpots [N m s/rad]; ``force_n``
     the normal force [N] a pre-loaded contact carries (compressive positive), for its geometric stiffness.
+    A per-contact term given as one number (``with_stiffness(1.0, 0.5)``, ``model.LinearLaw``), and the
+    ``radius_eff`` of equal spheres, is held once: a read-only view of stride 0 (``uniform_values``).
 
     Parameters
     ----------
@@ -97,14 +100,23 @@ class Contacts:
         """
         return (np.bincount(self.i, minlength=n_particles) + np.bincount(self.j, minlength=n_particles))
 
+    def _values(self, value) -> np.ndarray:
+        """``value`` for every contact: a read-only view of stride 0 of its one value when it is one number
+        (a scalar, or an array of one value: ``uniform_values``), else a copy of one value per contact.
+        """
+        one = one_value(value, self.count)
+        if one is not None:
+            return uniform(one[0], self.count)
+        return np.broadcast_to(np.asarray(value, dtype=float), self.i.shape).copy()
+
     def _per_contact(self, **values) -> dict:
         out: dict[str, np.ndarray | None] = {}
         for key, value in values.items():
             if value is None:
                 out[key] = None
                 continue
-            arr = np.broadcast_to(np.asarray(value, dtype=float), self.i.shape).copy()
-            if np.any(~np.isfinite(arr)) or np.any(arr < 0):
+            arr = self._values(value)
+            if np.any(~np.isfinite(held(arr))) or np.any(held(arr) < 0):
                 raise InputError(key, "every value must be a finite number >= 0")
             out[key] = arr
         return out
@@ -158,20 +170,20 @@ class Contacts:
         Contacts
             A copy carrying the forces.
         """
-        arr = np.broadcast_to(np.asarray(force_n, dtype=float), self.i.shape).copy()
-        if not np.all(np.isfinite(arr)):
+        arr = self._values(force_n)
+        if not np.all(np.isfinite(held(arr))):
             raise InputError("force_n", "every normal force must be a finite number")
         return replace(self, force_n=arr)
 
     @property
     def damped(self) -> bool:
         """Whether any contact carries a positive dashpot."""
-        return any(c is not None and np.any(c > 0) for c in (self.cn, self.cs, self.cr, self.ctw))
+        return any(c is not None and np.any(held(c) > 0) for c in (self.cn, self.cs, self.cr, self.ctw))
 
     @property
     def rotational_springs(self) -> bool:
         """Whether any contact carries a positive rolling or twisting spring."""
-        return any(k is not None and np.any(k > 0) for k in (self.kr, self.ktw))
+        return any(k is not None and np.any(held(k) > 0) for k in (self.kr, self.ktw))
 
     def subset(self, mask) -> "Contacts":
         """The contacts selected by ``mask``.
@@ -186,15 +198,16 @@ class Contacts:
         Contacts
             Those contacts with every per-contact term.
         """
-        pick = lambda a: None if a is None else a[mask]  # noqa: E731
+        i = self.i[mask]
+        pick = lambda a: None if a is None else taken(a, i.shape[0], mask)  # noqa: E731
         normal = self.normal[mask]
 
         def arm(a):  # lengths stay lengths on the selected normals when they lie along this list's normals
             return a.select(mask, normal) if isinstance(a, NormalArms) and a.normal is self.normal else a[mask]
 
-        return Contacts(self.i[mask], self.j[mask], normal, arm(self.arm_i), arm(self.arm_j),
-                        self.overlap[mask], self.image[mask], self.radius_eff[mask], pick(self.kn), pick(self.ks),
-                        pick(self.cn), pick(self.cs), pick(self.kr), pick(self.ktw), pick(self.force_n),
+        return Contacts(i, self.j[mask], normal, arm(self.arm_i), arm(self.arm_j),
+                        self.overlap[mask], self.image[mask], taken(self.radius_eff, i.shape[0], mask), pick(self.kn),
+                        pick(self.ks), pick(self.cn), pick(self.cs), pick(self.kr), pick(self.ktw), pick(self.force_n),
                         pick(self.cr), pick(self.ctw))
 
     @classmethod

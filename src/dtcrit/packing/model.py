@@ -18,6 +18,7 @@ import numpy as np
 
 from dtcrit.errors import InputError
 from dtcrit.packing.contact_set import Contacts
+from dtcrit.packing.uniform_values import uniform
 from dtcrit.physics.contact_laws import hertz_normal_stiffness, mindlin_tangent_stiffness, same_material_moduli
 
 
@@ -331,10 +332,10 @@ class LinearLaw:
         Returns
         -------
         tuple of numpy.ndarray
-            ``(k_n, k_s)`` [N/m] per contact.
+            ``(k_n, k_s)`` [N/m] per contact, each one value held once (``uniform_values.uniform``).
         """
         n = contacts.count
-        return np.full(n, float(self.kn)), np.full(n, float(self.ks))
+        return uniform(float(self.kn), n), uniform(float(self.ks), n)
 
     def describe(self) -> str:
         """The law in words, for reports.

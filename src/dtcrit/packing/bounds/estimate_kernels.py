@@ -20,10 +20,11 @@ import math
 import numpy as np
 
 from dtcrit.packing.normal_arms import kernel_arms
-from dtcrit.packing.operators.contact_element import IDENTITY, arm_rows, rotation_rows
+from dtcrit.packing.operators.contact_element import IDENTITY, arm_rows, coefficient_at, rotation_rows
 from dtcrit.packing.operators.element_matrices import slip_jacobians_into
 from dtcrit.packing.operators.matrix_free import PARALLEL_MIN_CONTACTS
 from dtcrit.packing.operators.matrix_free_kernels import _jit, available, block_bounds, prange, threads
+from dtcrit.packing.uniform_values import kernel_values
 
 __all__ = ["available", "contact_frequencies"]
 
@@ -67,7 +68,8 @@ def _top_eigenvalue(s):
 
 def _frequencies_span(lo, hi, ci, cj, nrm, arm_i, arm_j, kn, ks, rot, inv_mass, oriented, out):
     """``out[c] = omega_c^2`` for the contacts ``lo <= c < hi`` (module docstring); ``inv_mass``
-    (N, 6) holds ``1/m, 1/m, 1/m, 1/I_1, 1/I_2, 1/I_3``; ``rot`` (N, 3, 3) is used when ``oriented``.
+    (N, 6) holds ``1/m, 1/m, 1/m, 1/I_1, 1/I_2, 1/I_3``; ``rot`` (N, 3, 3) is used when ``oriented``;
+    ``kn``, ``ks`` of length 1 hold one value for every contact (``coefficient_at``).
     """
     bi = np.zeros((3, 6))
     bj = np.zeros((3, 6))
@@ -92,8 +94,8 @@ def _frequencies_span(lo, hi, ci, cj, nrm, arm_i, arm_j, kn, ks, rot, inv_mass, 
                     for d in range(6):
                         acc += bi[r, d] * inv_mass[i, d] * bi[col, d] + bj[r, d] * inv_mass[j, d] * bj[col, d]
                 w[r, col] = acc
-        sn = math.sqrt(kn[c])
-        st = math.sqrt(ks[c])
+        sn = math.sqrt(coefficient_at(kn, c))
+        st = math.sqrt(coefficient_at(ks, c))
         n = nrm[c]
         for r in range(3):
             for col in range(3):
@@ -145,8 +147,7 @@ def contact_frequencies(packing, contacts) -> np.ndarray:
     out = np.empty(contacts.count)
     args = (np.ascontiguousarray(contacts.i), np.ascontiguousarray(contacts.j),
             np.ascontiguousarray(contacts.normal, dtype=float), *kernel_arms(contacts),
-            np.ascontiguousarray(contacts.kn, dtype=float),
-            np.ascontiguousarray(contacts.ks, dtype=float), rot, inv_mass, oriented, out)
+            kernel_values(contacts.kn), kernel_values(contacts.ks), rot, inv_mass, oriented, out)
     blocks = min(threads(), MAX_BLOCKS) if contacts.count >= PARALLEL_MIN_CONTACTS else 1
     if blocks > 1:
         frequencies_blocks(block_bounds(contacts.count, blocks), *args)

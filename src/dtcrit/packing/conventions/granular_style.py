@@ -42,6 +42,7 @@ from dtcrit.physics.rotational_springs import marshall_twisting, sds_rolling
 
 from dtcrit.packing.model import Contacts, Packing
 from dtcrit.packing.conventions.law_terms import FLAG, ContactTerms, number
+from dtcrit.packing.uniform_values import entries
 
 NORMAL_ARGS = {"hooke": ("kn", "eta"), "hertz": ("kn", "eta"), "hertz/material": ("E", "eta", "nu"),
                "dmt": ("E", "eta", "nu", "gamma")}
@@ -149,7 +150,7 @@ class GranularStyle:
         r_star = contacts.radius_eff
         a = np.sqrt(r_star * delta)
         if self.normal == "hooke":
-            force, kn = self.normal_args["kn"] * delta, np.full_like(delta, self.normal_args["kn"])
+            force, kn = self.normal_args["kn"] * delta, float(self.normal_args["kn"])
         elif self.normal == "hertz":
             force, kn = self.normal_args["kn"] * a * delta, cl.lammps_hertz_tangent_stiffness(self.normal_args["kn"], a)
         else:
@@ -160,14 +161,14 @@ class GranularStyle:
         eta = self.normal_args["eta"]
         secant = np.divide(force if self.normal != "dmt" else force + 4.0 * math.pi * self.normal_args["gamma"] * r_star,
                            delta, out=np.zeros_like(delta), where=delta > 0)
-        eta_n = {"velocity": np.full_like(delta, eta), "mass_velocity": eta * m_eff, "viscoelastic": eta * a * m_eff,
+        eta_n = {"velocity": float(eta), "mass_velocity": eta * m_eff, "viscoelastic": eta * a * m_eff,
                  "tsuji": tsuji_alpha(eta) * np.sqrt(m_eff * secant)}[self.damping]
         t = self.tangential_args
         on = 1.0 if t["mu"] > 0 else 0.0
         if self.tangential == "linear_nohistory":
-            ks = np.zeros_like(delta)
+            ks = 0.0
         elif self.tangential == "linear_history":
-            ks = np.full_like(delta, t["kt"])
+            ks = float(t["kt"])
         elif t["kt"] is None:
             ks = cl.mindlin_tangent_stiffness(self._material()[1], a)
         else:
@@ -181,8 +182,11 @@ class GranularStyle:
             if kind == "marshall":
                 ktw, ctw = marshall_twisting(ks, cs, a)
             elif tw["mu"] > 0:
-                ktw, ctw = np.full_like(delta, tw["k"]), np.full_like(delta, tw["gamma"])
-        return ContactTerms(kn, ks, eta_n, cs, force, kr=kr, ktw=ktw, cr=cr, ctw=ctw)
+                ktw, ctw = float(tw["k"]), float(tw["gamma"])
+        count = contacts.count  # a number below is one value for every contact, held once
+        kr, ktw, cr, ctw = (None if v is None else entries(v, count) for v in (kr, ktw, cr, ctw))
+        return ContactTerms(entries(kn, count), entries(ks, count), entries(eta_n, count), entries(cs, count), force,
+                            kr=kr, ktw=ktw, cr=cr, ctw=ctw)
 
 
 def _take(words: list[str], k: int, names: tuple[str, ...], what: str, *, nullable=("kt",)) -> tuple[dict, int]:

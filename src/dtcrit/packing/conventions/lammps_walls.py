@@ -226,7 +226,7 @@ def add_walls(packing: Packing, contacts: Contacts, walls: list[LammpsWall], *, 
         mine = touching.subset(np.flatnonzero(np.concatenate([f.wall for f in found]) == number))
         mine = apply_terms(mine, _terms(wall.law, grown, mine), preload=preload)
         if mine.force_n is not None:  # a plane's normal does not turn; a cylinder's inward normal stiffens
-            mine = mine.with_normal_force(np.zeros(mine.count) if wall.geometry.style != "zcylinder" else -mine.force_n)
+            mine = mine.with_normal_force(0.0 if wall.geometry.style != "zcylinder" else -mine.force_n)
         contacts = concatenate(contacts, mine)
         count = found[number - 1].count
         notes.append(f"wall {number} ({wall.describe()}): {count} particle{'s' if count != 1 else ''} touching, "

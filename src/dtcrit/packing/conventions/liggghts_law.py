@@ -44,6 +44,7 @@ from dtcrit.physics.rotational_springs import epsd2_rolling_stiffness, epsd_roll
 from dtcrit.packing.conventions.law_terms import ContactTerms
 from dtcrit.packing.conventions.liggghts_input import LiggghtsInput
 from dtcrit.packing.model import Contacts, Packing
+from dtcrit.packing.uniform_values import uniform
 
 KT_TO_KN_USER = 0.285714286  # normal_model_hooke.h: "kt *= 0.285714286; //2//7"
 
@@ -136,7 +137,7 @@ class LiggghtsLaw:
         mu_r = s.value("coefficientRollingFriction")[ti, tj]
         r_star = contacts.radius_eff
         if s.rolling == "epsd2":
-            return np.where(mu_r > 0, epsd2_rolling_stiffness(kt, r_star), 0.0), np.zeros_like(r_star)
+            return np.where(mu_r > 0, epsd2_rolling_stiffness(kt, r_star), 0.0), uniform(0.0, contacts.count)
         factor = 2.25 if s.rolling == "epsd" else float(s.value("rollingStiffness"))
         kr = epsd_rolling_stiffness(factor, kn_secant, mu_r, r_star)
         eta = s.value("coefficientRollingViscousDamping")[ti, tj]

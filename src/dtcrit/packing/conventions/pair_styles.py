@@ -34,6 +34,7 @@ from dtcrit.physics.damping_conventions import lammps_gran_defaults
 from dtcrit.packing.conventions.granular_style import parse_granular
 from dtcrit.packing.conventions.law_terms import FLAG, ContactTerms, number
 from dtcrit.packing.model import Contacts, Packing
+from dtcrit.packing.uniform_values import entries
 
 GRAN_STYLES = ("gran/hooke", "gran/hooke/history", "gran/hertz/history")
 
@@ -122,15 +123,15 @@ class GranPairStyle:
         m = packing.masses
         m_eff = reduced(m[contacts.i], m[contacts.j])
         delta = contacts.overlap
-        ones = np.ones_like(delta)
         hertz = self.style == "gran/hertz/history"
-        scale = np.sqrt(delta * contacts.radius_eff) if hertz else ones
+        scale = np.sqrt(delta * contacts.radius_eff) if hertz else 1.0  # Hooke: springs of one value, held once
         kn = lammps_hertz_tangent_stiffness(self.kn, scale) if hertz else self.kn * scale
         force = self.kn * delta * scale
         tangential = self.xmu > 0
-        ks = (self.kt * scale if self.style != "gran/hooke" else 0.0 * ones) * tangential
+        ks = (self.kt * scale if self.style != "gran/hooke" else 0.0) * tangential
         cs = m_eff * self.gamma_t * scale * (tangential and self.dampflag == 1)
-        return ContactTerms(kn, ks, m_eff * self.gamma_n * scale, cs, force)
+        count = contacts.count
+        return ContactTerms(entries(kn, count), entries(ks, count), m_eff * self.gamma_n * scale, cs, force)
 
 
 def parse_pair_style(text: str):

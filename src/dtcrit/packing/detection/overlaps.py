@@ -22,6 +22,7 @@ from dtcrit.errors import InputError
 
 from dtcrit.packing.model import Box, Contacts, Packing
 from dtcrit.packing.periodic_cell import cell_pairs, own_images, shortest_translation, spacings, wrap
+from dtcrit.packing.uniform_values import uniform
 from dtcrit.packing.detection.sphere_fields import _filled, _image_of, _joined, _touching
 
 
@@ -223,7 +224,8 @@ def find_sphere_contacts(packing: Packing, tolerance: float = 1e-9, chunk: int =
         assert box is not None  # no search frame only for a periodic box
         i, j, image = _narrow_box_pairs(x, cutoff, box)
         order = np.lexsort((image[:, 2], image[:, 1], image[:, 0], j, i))
-        return _joined([_touching(packing, x, i[order], j[order], image[order], tolerance, own_images(packing, x))])
+        return _joined([_touching(packing, x, i[order], j[order], image[order], tolerance, own_images(packing, x))],
+                       packing.radii)
     pair_i, pair_j = _sorted_pairs(y, size, cutoff)
     return _filled(packing, x, pair_i, pair_j, box if size is not None else None, tolerance, max(1, int(chunk)))
 
@@ -339,7 +341,7 @@ def find_convex_contacts(packing: Packing, tolerance: float = 1e-9) -> Contacts:
     s = np.array(s, dtype=np.int64) if moved is None else np.array(s, dtype=np.int64) + moved[b] - moved[a]
     return Contacts(
         i=a, j=b, normal=np.array(n), arm_i=np.array(ai), arm_j=np.array(aj), overlap=np.array(dep), image=s,
-        radius_eff=np.full(len(rows), np.nan),
+        radius_eff=uniform(np.nan, len(rows)),
     )
 
 

@@ -5,7 +5,9 @@ image, ``_filled`` writes every field of ``dtcrit.packing.contact_set.Contacts``
 once at their final size, a chunk of pairs at a time.  The contact point is the middle of the overlap
 along the centre line, ``x_c = x_i + (R_i - delta/2) n`` (Peng et al. 2020, Eqs (1)-(2)); the arms
 are kept as their lengths ``R - delta/2`` along the normal (``dtcrit.packing.normal_arms``: 16 bytes a
-contact instead of 48).
+contact instead of 48).  When every sphere has the same radius ``R`` (the same float), ``R*`` is the one
+value ``R R / (R + R)``, held once (``equal_radius_eff``; the same arithmetic, so the same bits, as
+each contact's ``R_i R_j / (R_i + R_j)``).
 """
 from __future__ import annotations
 
@@ -15,6 +17,7 @@ from dtcrit.errors import InputError
 from dtcrit.packing.model import Box, Contacts, Packing
 from dtcrit.packing.normal_arms import NormalArms
 from dtcrit.packing.periodic_cell import own_images
+from dtcrit.packing.uniform_values import uniform
 
 
 def _image_of(sep: np.ndarray, box: Box | None) -> np.ndarray:
@@ -48,9 +51,36 @@ def _touching(packing: Packing, x, i, j, image, tolerance, moved=None):
                 overlap=overlap, image=image, radius_eff=r[i] * r[j] / (r[i] + r[j]))
 
 
-def _contacts(fields: dict) -> Contacts:
-    """``Contacts`` of sphere fields: the arm lengths become ``NormalArms`` on the normals."""
+def equal_radius_eff(radii: np.ndarray, count: int) -> np.ndarray | None:
+    """``R* = R R / (R + R)`` of ``count`` contacts held once (``uniform_values.uniform``) when every radius
+    is the same float ``R``, else ``None`` (one ``R_i R_j / (R_i + R_j)`` per contact).
+
+    Parameters
+    ----------
+    radii : numpy.ndarray
+        (N,) sphere radii [m].
+    count : int
+        Contacts.
+
+    Returns
+    -------
+    numpy.ndarray or None
+        (count,) read-only view of the one ``R*`` [m], or ``None``.
+    """
+    if radii.size == 0 or radii.min() != radii.max():
+        return None
+    r = radii[0]
+    return uniform(r * r / (r + r), count)
+
+
+def _contacts(fields: dict, radii: np.ndarray) -> Contacts:
+    """``Contacts`` of sphere fields: the arm lengths become ``NormalArms`` on the normals, ``R*`` of
+    equal spheres one value (``equal_radius_eff``).
+    """
     n = fields["normal"]
+    same = equal_radius_eff(radii, n.shape[0])
+    if same is not None:
+        fields["radius_eff"] = same
     return Contacts(arm_i=NormalArms(fields.pop("length_i"), n, 1.0), arm_j=NormalArms(fields.pop("length_j"), n, -1.0),
                     **fields)
 
@@ -61,7 +91,7 @@ def _narrowest(image: np.ndarray) -> np.ndarray:
     return image.astype(np.int8) if fits else image
 
 
-def _joined(parts: list[dict]) -> Contacts:
+def _joined(parts: list[dict], radii: np.ndarray) -> Contacts:
     """One ``Contacts`` from per-chunk field arrays, joined one field at a time (each field's
     pieces are released as it is joined, so the peak is the result plus one field).
     """
@@ -70,7 +100,7 @@ def _joined(parts: list[dict]) -> Contacts:
     fields = {}
     for name in list(parts[0]):
         fields[name] = np.concatenate([p.pop(name) for p in parts])
-    return _contacts(fields)
+    return _contacts(fields, radii)
 
 
 CONTACT_FIELDS = ("normal", "length_i", "length_j", "overlap", "image", "radius_eff")
@@ -81,7 +111,7 @@ def _filled(packing: Packing, x, pair_i, pair_j, frame_box, tolerance: float, ch
     pairs: which touch (a byte a pair), then each field written into its array, allocated once at
     its final size (no per-chunk pieces to join: the peak is the result plus one chunk's
     temporaries).  Image shifts are int8 when every one fits (``|shift| <= 1`` plus the centres'
-    own wrapping ``moved_j - moved_i``).
+    own wrapping ``moved_j - moved_i``); ``R*`` of equal spheres is not written per contact.
     """
     moved = own_images(packing, x)
     spans = [slice(lo, lo + chunk) for lo in range(0, len(pair_i), chunk)]
@@ -94,16 +124,18 @@ def _filled(packing: Packing, x, pair_i, pair_j, frame_box, tolerance: float, ch
     del touch
     count = len(pair_i)
     wide = moved is not None and int(np.abs(moved).max()) > 63
+    equal = equal_radius_eff(packing.radii, 0) is not None  # R* then set once by _contacts
     fields = dict(normal=np.empty((count, 3)), length_i=np.empty(count), length_j=np.empty(count),
                   overlap=np.empty(count), image=np.empty((count, 3), dtype=np.int64 if wide else np.int8),
-                  radius_eff=np.empty(count))
+                  radius_eff=np.empty(0 if equal else count))
+    names = [name for name in CONTACT_FIELDS if not (equal and name == "radius_eff")]
     for lo in range(0, count, chunk):
         sl = slice(lo, lo + chunk)
         i, j = pair_i[sl], pair_j[sl]
         part = _touching(packing, x, i, j, _image_of(x[j] - x[i], frame_box), tolerance, moved)
-        for name in CONTACT_FIELDS:
+        for name in names:
             fields[name][sl] = part[name]
-    return _contacts(dict(i=pair_i, j=pair_j, **fields))
+    return _contacts(dict(i=pair_i, j=pair_j, **fields), packing.radii)
 
 
 def _touch_mask(packing: Packing, x, i, j, image, tolerance) -> np.ndarray:

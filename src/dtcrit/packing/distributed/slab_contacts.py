@@ -26,6 +26,7 @@ from scipy.spatial import cKDTree
 from dtcrit.errors import InputError
 
 from dtcrit.packing.detection.overlaps import wrap_positions
+from dtcrit.packing.detection.sphere_fields import equal_radius_eff
 from dtcrit.packing.model import Box, Contacts, Packing
 
 SEARCH_MARGIN = 1e-9
@@ -250,9 +251,10 @@ def slab_sphere_contacts(packing: Packing, lo: int, hi: int, tolerance: float = 
     i, j, image, sep, d = i[order], j[order], image[order], sep[order], d[order]
     n = sep / d[:, None]
     overlap = np.maximum(r[i] + r[j] - d, 0.0)
+    same = equal_radius_eff(r, len(i))
     contacts = Contacts(
         i=i, j=j, normal=n, arm_i=(r[i] - 0.5 * overlap)[:, None] * n, arm_j=-(r[j] - 0.5 * overlap)[:, None] * n,
-        overlap=overlap, image=image, radius_eff=r[i] * r[j] / (r[i] + r[j]),
+        overlap=overlap, image=image, radius_eff=r[i] * r[j] / (r[i] + r[j]) if same is None else same,
     )
     return SlabContacts(lo, hi, contacts, pattern // packing.n, pattern % packing.n)
 

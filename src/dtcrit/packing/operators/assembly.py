@@ -40,6 +40,7 @@ from tqdm import tqdm
 
 from dtcrit.packing.model import Contacts, Packing
 from dtcrit.packing.operators.element_matrices import element_blocks, frame_tensor, slip_jacobians
+from dtcrit.packing.uniform_values import held
 
 LONG_WORK = 200_000  # contacts below which the assembly takes well under a second: no bar drawn
 
@@ -154,7 +155,7 @@ def preload_coefficient(packing: Packing, contacts: Contacts, sl=slice(None)) ->
     numpy.ndarray or None
         ``F/r`` [N/m] per contact.
     """
-    if contacts.force_n is None or not np.any(contacts.force_n[sl] != 0):
+    if contacts.force_n is None or not np.any(held(contacts.force_n[sl]) != 0):
         return None
     return contacts.force_n[sl] / _centre_distance(packing, contacts, sl)
 

@@ -52,8 +52,7 @@ def _register(fn: _F, **options: str) -> _F:
     return register_jitable(**options)(fn) if options else register_jitable(fn)
 
 
-def _jitable(fn: _F) -> _F:
-    return _register(fn)
+_jitable = _register
 
 
 def _inlined(fn: _F) -> _F:
@@ -62,8 +61,8 @@ def _inlined(fn: _F) -> _F:
 
 
 __all__ = ["cross", "dot", "to_global", "to_body", "contact_slip", "relative_rotation", "centre_motion",
-           "frame_law", "element_forces", "body_forces", "rotation_rows", "arm_rows", "contact_frame", "IDENTITY",
-           "ZERO3"]
+           "frame_law", "element_forces", "body_forces", "rotation_rows", "arm_rows", "contact_frame", "coefficient_at",
+           "IDENTITY", "ZERO3"]
 
 ZERO3 = (0.0, 0.0, 0.0)
 IDENTITY = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
@@ -118,6 +117,27 @@ def arm_rows(arm_i, arm_j, nrm, c):
         return ((li * nrm[c, 0], li * nrm[c, 1], li * nrm[c, 2]),
                 (-(lj * nrm[c, 0]), -(lj * nrm[c, 1]), -(lj * nrm[c, 2])))
     return ((arm_i[c, 0], arm_i[c, 1], arm_i[c, 2]), (arm_j[c, 0], arm_j[c, 1], arm_j[c, 2]))
+
+
+@_inlined
+def coefficient_at(values, c):
+    """Contact ``c``'s coefficient: ``values[0]`` when ``values`` holds one for every contact (length 1,
+    ``dtcrit.packing.uniform_values.kernel_values``), else ``values[c]`` (one index, ``min(c, len - 1)``,
+    no branch for Numba's inliner to merge).
+
+    Parameters
+    ----------
+    values : numpy.ndarray
+        (1,) or (C,) coefficients.
+    c : int
+        The contact.
+
+    Returns
+    -------
+    float
+        Its coefficient.
+    """
+    return values[min(c, values.shape[0] - 1)]
 
 
 @_inlined
@@ -365,17 +385,13 @@ def element_forces(n, arm_i, arm_j, theta_i, theta_j, d, kn, ks, ktw, kr, g, spr
 @_jitable
 def _global(r, t, oriented):
     """``R t`` when ``oriented``, else ``t`` (no branch left in the inlined ``body_forces``)."""
-    if oriented:
-        return to_global(r, t)
-    return t
+    return to_global(r, t) if oriented else t
 
 
 @_jitable
 def _body(r, m, oriented):
     """``R^T m`` when ``oriented``, else ``m``."""
-    if oriented:
-        return to_body(r, m)
-    return m
+    return to_body(r, m) if oriented else m
 
 
 @_inlined

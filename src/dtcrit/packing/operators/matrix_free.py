@@ -40,6 +40,7 @@ from dtcrit.packing.operators.assembly import mass_diagonal, preload_coefficient
 from dtcrit.packing.operators.combined import CombinedOperator
 from dtcrit.packing.model import Contacts, Packing
 from dtcrit.packing.normal_arms import lengths_along
+from dtcrit.packing.uniform_values import held, held_bytes
 
 CHUNK = 1 << 16  # contacts per vectorised chunk (measured: larger chunks gain nothing, cost memory)
 KINDS = ("stiffness", "damping")
@@ -329,7 +330,7 @@ class ContactOperator(spla.LinearOperator):
     def is_zero(self) -> bool:
         """No contact carries a non-zero coefficient of this kind (a zero operator)."""
         coeffs = [a for a in (self.along, self.across, self.twist, self.roll, self.preload) if a is not None]
-        return self.contacts.count == 0 or not any(np.any(a != 0) for a in coeffs)
+        return self.contacts.count == 0 or not any(np.any(held(a) != 0) for a in coeffs)
 
     def memory_bytes(self) -> int:
         """Bytes of the contact arrays one application reads (the bandwidth floor's pass).
@@ -342,14 +343,14 @@ class ContactOperator(spla.LinearOperator):
         c = self.contacts
         arrays: list = [c.i, c.j, c.normal]  # (NormalArms count their lengths)
         if getattr(self, "_sphere_args", None) is not None:
-            return int(sum(a.nbytes for a in arrays + list(self._sphere_args[3:8])))
+            return int(sum(held_bytes(a) for a in arrays + list(self._sphere_args[3:8])))
         if self.translational:
             arrays += [c.arm_i, c.arm_j] + [a for a in (self.along, self.across) if a is not None]
         if self.rotational:
             arrays += [a for a in (self.twist, self.roll) if a is not None]
         if self.preload is not None:
             arrays.append(self.preload)
-        return int(sum(a.nbytes for a in arrays))
+        return int(sum(held_bytes(a) for a in arrays))
 
 
 def stiffness_operator(packing: Packing, contacts: Contacts, **kw) -> ContactOperator:

@@ -26,7 +26,8 @@ from typing import Any, Callable
 import numpy as np
 
 from dtcrit.packing.normal_arms import kernel_arms, lengths_along
-from dtcrit.packing.operators.contact_element import IDENTITY, body_forces, contact_frame
+from dtcrit.packing.operators.contact_element import IDENTITY, body_forces, coefficient_at, contact_frame
+from dtcrit.packing.uniform_values import kernel_values
 
 
 def _import_numba() -> ModuleType | None:
@@ -76,7 +77,8 @@ def _apply_span(x, s, y, lo, hi, below, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, 
     ``contact_element.body_forces`` on ``q = s x``, scaled as it is read (no scaled copy of ``x``).
 
     ``flags``: (translational, rotational, preload, oriented) as 0/1; arrays not in use may be
-    empty.  ``x``, ``s`` and ``y`` are (N, 6).
+    empty, coefficients of one value for all contacts length 1 (``coefficient_at``).  ``x``, ``s``
+    and ``y`` are (N, 6).
     """
     trans, rotl, pre, orient = flags[0] != 0, flags[1] != 0, flags[2] != 0, flags[3] != 0
     for c in range(lo, hi):
@@ -85,8 +87,9 @@ def _apply_span(x, s, y, lo, hi, below, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, 
         i, j, ri, rj, n, ai, aj = contact_frame(c, ci, cj, nrm, arm_i, arm_j, rot, trans, orient)
         f, m_i, m_j = body_forces(n, ai, aj, ri, rj, orient, scaled_row(x, s, i, 0), scaled_row(x, s, i, 3),
                                   scaled_row(x, s, j, 0), scaled_row(x, s, j, 3),
-                                  kn[c] if trans else 0.0, ks[c] if trans else 0.0, ktw[c] if rotl else 0.0,
-                                  kr[c] if rotl else 0.0, g[c] if pre else 0.0, trans, rotl, pre)
+                                  coefficient_at(kn, c) if trans else 0.0, coefficient_at(ks, c) if trans else 0.0,
+                                  coefficient_at(ktw, c) if rotl else 0.0, coefficient_at(kr, c) if rotl else 0.0,
+                                  coefficient_at(g, c) if pre else 0.0, trans, rotl, pre)
         for a in range(3):
             y[i, a] -= f[a]
             y[i, 3 + a] += m_i[a]
@@ -111,7 +114,8 @@ def _apply_spheres_span(x, s, y, lo, hi, below, ci, cj, nrm, li, lj, kn, ks, g, 
         f, m_i, m_j = body_forces(n, (a * n[0], a * n[1], a * n[2]), (b * n[0], b * n[1], b * n[2]), IDENTITY, IDENTITY, False,
                                   scaled_row(x, s, i, 0), scaled_row(x, s, i, 3),
                                   scaled_row(x, s, j, 0), scaled_row(x, s, j, 3),
-                                  kn[c], ks[c], 0.0, 0.0, g[c] if pre else 0.0, True, False, pre)
+                                  coefficient_at(kn, c), coefficient_at(ks, c), 0.0, 0.0,
+                                  coefficient_at(g, c) if pre else 0.0, True, False, pre)
         for k in range(3):
             y[i, k] -= f[k]
             y[i, 3 + k] += m_i[k]
@@ -227,7 +231,9 @@ def _add_spares_loop(y, spare, blocks):
 
 def loop_arguments(contacts, along, across, twist, roll, preload, orientations) -> tuple:
     """The arguments of ``apply_contacts`` after ``q, y`` (and of ``particle_pass``): contiguous arrays (no
-    copy where the contacts already are), empty ones for the terms absent.
+    copy where the contacts already are), empty ones for the terms absent, a coefficient of one value
+    for every contact (or a zero partner of a given one) as that value, length 1
+    (``uniform_values.kernel_values``).
 
     Parameters
     ----------
@@ -246,7 +252,6 @@ def loop_arguments(contacts, along, across, twist, roll, preload, orientations) 
     tuple
         ``(ci, cj, normal, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags)``.
     """
-    nc = contacts.count
     translational = along is not None or across is not None
     rotational = twist is not None or roll is not None
     empty = np.zeros(0)
@@ -254,7 +259,7 @@ def loop_arguments(contacts, along, across, twist, roll, preload, orientations) 
     def arr(a, use):
         if not use:
             return empty
-        return np.zeros(nc) if a is None else np.ascontiguousarray(a, dtype=float)
+        return np.zeros(1) if a is None else kernel_values(a)
 
     flags = np.array([translational, rotational, preload is not None, orientations is not None], dtype=np.int64)
     rot = np.zeros((0, 3, 3)) if orientations is None else np.ascontiguousarray(orientations)

@@ -33,7 +33,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from dtcrit.packing.operators.contact_element import contact_frame
+from dtcrit.packing.operators.contact_element import coefficient_at, contact_frame
 from dtcrit.packing.operators.element_matrices import element_blocks_into, element_side_into
 from dtcrit.packing.operators.matrix_free_kernels import _jit, prange
 
@@ -109,9 +109,9 @@ def _gather(p, lo, hi, inc, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, 
     for e in range(lo, hi):
         c = inc[e]
         i, j, ri, rj, n, ai, aj = contact_frame(c, ci, cj, nrm, arm_i, arm_j, rot, trans, orient)
-        k_n, k_s = (kn[c], ks[c]) if trans else (0.0, 0.0)
-        k_tw, k_r = (ktw[c], kr[c]) if rotl else (0.0, 0.0)
-        gc = g[c] if pre else 0.0
+        k_n, k_s = (coefficient_at(kn, c), coefficient_at(ks, c)) if trans else (0.0, 0.0)
+        k_tw, k_r = (coefficient_at(ktw, c), coefficient_at(kr, c)) if rotl else (0.0, 0.0)
+        gc = coefficient_at(g, c) if pre else 0.0
         if i == j:  # the contact with its own image: (B_i + B_j)^T K_c (B_i + B_j)
             element_blocks_into(n, ai, aj, ri, rj, orient, k_n, k_s, k_tw, k_r, gc, trans, rotl, pre, own, other, ij)
             for a in range(6):

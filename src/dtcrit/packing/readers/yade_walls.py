@@ -166,5 +166,5 @@ def add_yade_walls(packing: Packing, contacts: Contacts, members: dict, walls: d
     mine = Contacts(i=body, j=j, normal=n, arm_i=arm_i, arm_j=point - grown.positions[j], overlap=delta,
                     image=np.zeros((c, 3), np.int64), radius_eff=radius)
     mine = mine.with_stiffness(col["kn"], alpha * col["ks"], col["kr"], col["ktw"]).with_damping(col["cn"], col["cs"])
-    mine = mine.with_normal_force(np.zeros(c))
+    mine = mine.with_normal_force(0.0)
     return grown, concatenate(contacts, mine), w
