@@ -32,8 +32,10 @@ DENSE_LIMIT = 600  # DOFs up to which the dense solver is used by "auto"
 LEAN_DOFS = 20_000_000
 LEAN_NCV = 4
 """Above ``LEAN_DOFS`` DOFs "auto" on a matrix-free operator polishes the Chebyshev start with ARPACK
-on ``LEAN_NCV`` Lanczos vectors (ten vectors in all with ARPACK's work space) instead of LOBPCG,
-whose iteration holds about seventeen (measured: +850 MiB over the contact arrays at 6e6 DOFs, so
+on ``LEAN_NCV`` Lanczos vectors (eight vectors of 6N in all with ARPACK's three work vectors and
+its residual, which is the start vector itself: ``_HandedOver``; two more while it forms the Ritz
+vector at the end, one of them the result; three (``LEAN_NCV = 3``) took 17 % more products at
+6e6 DOFs for one vector less) instead of LOBPCG, whose iteration holds about seventeen (measured: +850 MiB over the contact arrays at 6e6 DOFs, so
 8.5 GB at 6e7, which with the contacts would not fit in 16 GiB), to the same relative residual as
 LOBPCG's (``10 tol``).  Measured at 6e6 DOFs from the same Chebyshev start: 101 products against
 LOBPCG's 34, values within 2e-10 of each other (ARPACK at ``tol`` itself took 437)."""
