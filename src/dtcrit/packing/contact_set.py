@@ -15,6 +15,35 @@ from dtcrit.packing.normal_arms import NormalArms
 from dtcrit.packing.uniform_values import held, one_value, taken, uniform
 
 
+INDEX_LIMIT = 2**31
+"""Particle indices are int32 when every DOF index ``6 p + k`` of the packing stays below this (``index_dtype``)."""
+
+
+def index_dtype(n_particles: int) -> np.dtype:
+    """The dtype of a contact list's particle indices ``i``, ``j``: int32 when ``6 N < 2^31`` (every DOF
+    index ``6 p + k`` fits in it too; 4 bytes a contact fewer per index), else int64.
+
+    Arithmetic on the indices beyond ``6 p + k`` (``36 p``, ``p N + q``, ...) casts to int64 first:
+    NumPy keeps int32 times a Python int in int32.
+
+    Parameters
+    ----------
+    n_particles : int
+        Particles ``N`` of the packing.
+
+    Returns
+    -------
+    numpy.dtype
+        ``int32`` or ``int64``.
+
+    Examples
+    --------
+    >>> index_dtype(357_913_941), index_dtype(357_913_942)
+    (dtype('int32'), dtype('int64'))
+    """
+    return np.dtype(np.int32) if 6 * int(n_particles) < INDEX_LIMIT else np.dtype(np.int64)
+
+
 @dataclass(frozen=True)
 class Contacts:
     """Contact list: pair ``(i[c], j[c])``, unit normal from ``i`` to ``j``, contact arms.
@@ -38,7 +67,8 @@ class Contacts:
     Parameters
     ----------
     i, j : numpy.ndarray
-        (C,) indices of the two particles of each contact.
+        (C,) indices of the two particles of each contact (int32 from the sphere detection when
+        ``6 N < 2^31``: ``index_dtype``; int64 otherwise and from the readers).
     normal : numpy.ndarray
         (C, 3) unit normals from ``i`` to ``j``.
     arm_i, arm_j : numpy.ndarray or NormalArms

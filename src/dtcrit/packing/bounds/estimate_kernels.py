@@ -23,7 +23,7 @@ from dtcrit.packing.normal_arms import kernel_arms
 from dtcrit.packing.operators.contact_element import IDENTITY, arm_rows, coefficient_at, rotation_rows
 from dtcrit.packing.operators.element_matrices import slip_jacobians_into
 from dtcrit.packing.operators.matrix_free import PARALLEL_MIN_CONTACTS
-from dtcrit.packing.operators.matrix_free_kernels import _jit, available, block_bounds, prange, threads
+from dtcrit.packing.operators.matrix_free_kernels import _jit, available, block_bounds, kernel_indices, prange, threads
 from dtcrit.packing.uniform_values import kernel_values
 
 __all__ = ["available", "contact_frequencies"]
@@ -145,8 +145,7 @@ def contact_frequencies(packing, contacts) -> np.ndarray:
     rot = np.ascontiguousarray(packing.orientations) if oriented else np.zeros((1, 3, 3))
     inv_mass = 1.0 / np.concatenate([np.repeat(packing.masses[:, None], 3, axis=1), packing.inertia], axis=1)
     out = np.empty(contacts.count)
-    args = (np.ascontiguousarray(contacts.i), np.ascontiguousarray(contacts.j),
-            np.ascontiguousarray(contacts.normal, dtype=float), *kernel_arms(contacts),
+    args = (*kernel_indices(contacts), np.ascontiguousarray(contacts.normal, dtype=float), *kernel_arms(contacts),
             kernel_values(contacts.kn), kernel_values(contacts.ks), rot, inv_mass, oriented, out)
     blocks = min(threads(), MAX_BLOCKS) if contacts.count >= PARALLEL_MIN_CONTACTS else 1
     if blocks > 1:

@@ -20,6 +20,7 @@ from scipy.spatial import cKDTree
 
 from dtcrit.errors import InputError
 
+from dtcrit.packing.contact_set import index_dtype
 from dtcrit.packing.model import Box, Contacts, Packing
 from dtcrit.packing.periodic_cell import cell_pairs, own_images, shortest_translation, spacings, wrap
 from dtcrit.packing.uniform_values import uniform
@@ -84,7 +85,8 @@ def _search_frame(x: np.ndarray, cutoff: float, box: Box | None):
 def _sorted_pairs(y: np.ndarray, size, cutoff: float) -> tuple[np.ndarray, np.ndarray]:
     """Pairs ``(i, j)``, ``i < j``, with (minimum-image) distance within ``cutoff``, sorted by
     ``(i, j)``: ``cKDTree.query_pairs`` of one tree of all particles (each pair found once; toroidal
-    along periodic axes), sorted as the keys ``i N + j`` (exact in int64 up to 3e9 particles).
+    along periodic axes), sorted as the keys ``i N + j`` (exact in int64 up to 3e9 particles); the
+    pairs are given in ``index_dtype(N)`` (int32 when ``6 N < 2^31``).
 
     Temporaries: the tree and 24 bytes per pair (the pairs and their keys).
     """
@@ -95,9 +97,10 @@ def _sorted_pairs(y: np.ndarray, size, cutoff: float) -> tuple[np.ndarray, np.nd
     keys += pairs[:, 1]
     del pairs
     keys.sort()
-    i = keys // np.int64(n)
-    np.remainder(keys, np.int64(n), out=keys)
-    return i, keys
+    i, j = np.empty(keys.shape, index_dtype(n)), np.empty(keys.shape, index_dtype(n))
+    np.floor_divide(keys, np.int64(n), out=i, casting="same_kind")  # < n: fits the index dtype
+    np.remainder(keys, np.int64(n), out=j, casting="same_kind")
+    return i, j
 
 
 AXES = "xyz"

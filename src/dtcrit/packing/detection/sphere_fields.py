@@ -5,15 +5,17 @@ image, ``_filled`` writes every field of ``dtcrit.packing.contact_set.Contacts``
 once at their final size, a chunk of pairs at a time.  The contact point is the middle of the overlap
 along the centre line, ``x_c = x_i + (R_i - delta/2) n`` (Peng et al. 2020, Eqs (1)-(2)); the arms
 are kept as their lengths ``R - delta/2`` along the normal (``dtcrit.packing.normal_arms``: 16 bytes a
-contact instead of 48).  When every sphere has the same radius ``R`` (the same float), ``R*`` is the one
-value ``R R / (R + R)``, held once (``equal_radius_eff``; the same arithmetic, so the same bits, as
-each contact's ``R_i R_j / (R_i + R_j)``).
+contact instead of 48); the particle indices are int32 when ``6 N < 2^31`` (``contact_set.index_dtype``).
+When every sphere has the same radius ``R`` (the same float), ``R*`` is the one value ``R R / (R + R)``,
+held once (``equal_radius_eff``; the same arithmetic, so the same bits, as each contact's
+``R_i R_j / (R_i + R_j)``).
 """
 from __future__ import annotations
 
 import numpy as np
 
 from dtcrit.errors import InputError
+from dtcrit.packing.contact_set import index_dtype
 from dtcrit.packing.model import Box, Contacts, Packing
 from dtcrit.packing.normal_arms import NormalArms
 from dtcrit.packing.periodic_cell import own_images
@@ -75,12 +77,14 @@ def equal_radius_eff(radii: np.ndarray, count: int) -> np.ndarray | None:
 
 def _contacts(fields: dict, radii: np.ndarray) -> Contacts:
     """``Contacts`` of sphere fields: the arm lengths become ``NormalArms`` on the normals, ``R*`` of
-    equal spheres one value (``equal_radius_eff``).
+    equal spheres one value (``equal_radius_eff``), the particle indices in ``contact_set.index_dtype``.
     """
     n = fields["normal"]
     same = equal_radius_eff(radii, n.shape[0])
     if same is not None:
         fields["radius_eff"] = same
+    for key in ("i", "j"):  # int32 when 6 N < 2^31 (no copy when so already)
+        fields[key] = fields[key].astype(index_dtype(radii.shape[0]), copy=False)
     return Contacts(arm_i=NormalArms(fields.pop("length_i"), n, 1.0), arm_j=NormalArms(fields.pop("length_j"), n, -1.0),
                     **fields)
 

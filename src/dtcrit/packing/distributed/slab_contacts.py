@@ -283,7 +283,7 @@ def slab_of_list(contacts: Contacts, n: int, lo: int, hi: int, rank: int, size: 
     c_lo, c_hi = split_rows(contacts.count, size, rank)
     pick = np.zeros(contacts.count, bool)
     pick[c_lo:c_hi] = True
-    ci, cj = contacts.i, contacts.j
+    ci, cj = contacts.i.astype(np.int64), contacts.j.astype(np.int64)  # the keys rows * n + cols need int64
     rows = np.concatenate([ci, cj])
     cols = np.concatenate([cj, ci])
     mine = (rows >= lo) & (rows < hi) & (rows != cols)

@@ -229,9 +229,29 @@ def _add_spares_loop(y, spare, blocks):
                 y[p, a] += spare[b, p, a]
 
 
+def kernel_indices(contacts) -> tuple[np.ndarray, np.ndarray]:
+    """``(ci, cj)`` as the compiled loops take them: contiguous, both int32 or both int64 (one compiled
+    version of a loop each), no copy of a contact list's own int32 or int64 indices.
+
+    Parameters
+    ----------
+    contacts : Contacts
+        The contacts (``i``, ``j``: int32 when ``6 N < 2^31``, ``contact_set.index_dtype``).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        The two index arrays.
+    """
+    same = contacts.i.dtype == contacts.j.dtype and contacts.i.dtype in (np.int32, np.int64)
+    dtype = contacts.i.dtype if same else np.int64
+    return np.ascontiguousarray(contacts.i, dtype=dtype), np.ascontiguousarray(contacts.j, dtype=dtype)
+
+
 def loop_arguments(contacts, along, across, twist, roll, preload, orientations) -> tuple:
     """The arguments of ``apply_contacts`` after ``q, y`` (and of ``particle_pass``): contiguous arrays (no
-    copy where the contacts already are), empty ones for the terms absent, a coefficient of one value
+    copy where the contacts already are; indices int32 or int64, ``kernel_indices``), empty ones for the
+    terms absent, a coefficient of one value
     for every contact (or a zero partner of a given one) as that value, length 1
     (``uniform_values.kernel_values``).
 
@@ -264,8 +284,7 @@ def loop_arguments(contacts, along, across, twist, roll, preload, orientations) 
     flags = np.array([translational, rotational, preload is not None, orientations is not None], dtype=np.int64)
     rot = np.zeros((0, 3, 3)) if orientations is None else np.ascontiguousarray(orientations)
     arm_i, arm_j = kernel_arms(contacts) if translational else (np.zeros((0, 3)), np.zeros((0, 3)))
-    return (np.ascontiguousarray(contacts.i, dtype=np.int64), np.ascontiguousarray(contacts.j, dtype=np.int64),
-            np.ascontiguousarray(contacts.normal, dtype=float), arm_i, arm_j,
+    return (*kernel_indices(contacts), np.ascontiguousarray(contacts.normal, dtype=float), arm_i, arm_j,
             arr(along, translational), arr(across, translational), arr(twist, rotational), arr(roll, rotational),
             arr(preload, preload is not None), rot, flags)
 

@@ -208,7 +208,7 @@ def incidence(ci: np.ndarray, cj: np.ndarray, n: int,
     Parameters
     ----------
     ci, cj : numpy.ndarray
-        The bodies of each contact (int64).
+        The bodies of each contact (int32 or int64, ``matrix_free_kernels.kernel_indices``).
     n : int
         Particles.
     particles : numpy.ndarray or None

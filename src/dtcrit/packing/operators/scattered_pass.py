@@ -12,7 +12,7 @@ from dtcrit.packing.operators.assembly import contact_blocks
 from dtcrit.packing.operators.contact_element import IDENTITY, ZERO3, body_forces, rotation_rows
 from dtcrit.packing.operators.element_matrices import components
 
-__all__ = ["chunk_forces", "scatter_rows", "scattered_blocks", "top_eigenvalues"]
+__all__ = ["chunk_forces", "row_entries", "scatter_rows", "scattered_blocks", "top_eigenvalues"]
 
 
 def chunk_forces(op, q: np.ndarray, sl: slice) -> tuple[np.ndarray, np.ndarray]:
@@ -81,9 +81,28 @@ def top_eigenvalues(blocks: np.ndarray, chunk: int = 1 << 16) -> np.ndarray:
     return top
 
 
+def row_entries(idx: np.ndarray, w: int) -> np.ndarray:
+    """The flat indices ``w idx[c] + k`` (``0 <= k < w``) of rows ``idx`` of an (N, w) array, in int64
+    whatever the dtype of ``idx`` (``36 idx`` leaves int32 above 6e7 particles).
+
+    Parameters
+    ----------
+    idx : numpy.ndarray
+        (m,) row indices (int32 or int64).
+    w : int
+        Row width.
+
+    Returns
+    -------
+    numpy.ndarray
+        (m, w) int64.
+    """
+    return idx.astype(np.int64)[:, None] * w + np.arange(w, dtype=np.int64)
+
+
 def scatter_rows(out: np.ndarray, idx: np.ndarray, values: np.ndarray) -> None:
     """``out[idx[c]] += values[c]`` for rows of ``values`` (repeated indices summed; ``numpy.add.at``
-    on flat indices, measured faster than per-column ``numpy.bincount``).
+    on flat indices, ``row_entries``, measured faster than per-column ``numpy.bincount``).
 
     Parameters
     ----------
@@ -94,8 +113,7 @@ def scatter_rows(out: np.ndarray, idx: np.ndarray, values: np.ndarray) -> None:
     values : numpy.ndarray
         (m, w).
     """
-    w = values.shape[1]
-    np.add.at(out.reshape(-1), (idx[:, None] * w + np.arange(w)).reshape(-1), values.reshape(-1))
+    np.add.at(out.reshape(-1), row_entries(idx, values.shape[1]).reshape(-1), values.reshape(-1))
 
 
 def scattered_blocks(op, weights: list[np.ndarray]) -> tuple[np.ndarray, list[np.ndarray]]:
