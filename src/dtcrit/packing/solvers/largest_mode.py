@@ -25,6 +25,7 @@ import scipy.sparse as sps
 import scipy.sparse.linalg as spla
 
 from dtcrit.errors import InputError, NotConvergedError
+from dtcrit.packing.solvers import filter_updates
 from tqdm import tqdm
 
 LONG_WORK = 200_000  # DOFs below which the solve takes well under a second: no counter drawn
@@ -389,15 +390,11 @@ def chebyshev_filter(product, v: np.ndarray, degree: int = FILTER_DEGREE, stop: 
         y1 -= v
         for _k in range(2, degree + 1):
             product(y1, y2)  # y2 = (4/theta) A y1 - 2 y1 - y0, renormalised with y1
-            y2 *= 4.0 / theta
-            y2 -= y1
-            y2 -= y1
-            y2 -= y0
+            filter_updates.three_term(y2, y1, y0, 4.0 / theta)
             norm = np.linalg.norm(y2)
             if not (norm > 0 and np.isfinite(norm)):
                 return v, theta
-            y2 /= norm
-            y1 /= norm
+            filter_updates.divide_both(y2, y1, float(norm))
             y0, y1, y2 = y1, y2, y0
         v[:] = y1
         v /= np.linalg.norm(v)
