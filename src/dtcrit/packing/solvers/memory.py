@@ -2,9 +2,9 @@
 
 Peak memory per sphere, measured by ``dtcrit packing --scale`` (jittered FCC, coordination 12, one run
 on a 2-core machine): about 10 KiB with the assembled stiffness matrix (915 MiB at 97,556 spheres)
-and 1.6 KiB matrix-free (1,746 MiB at 1,000,188 with the interpreter's fixed ~150 MiB, 1.4 KiB at
-10,061,824: 13,632 MiB; with sphere arms held as lengths, before which these were 2,048 and
-16,437 MiB).  The estimate scales these by coordination / 12, adds the fixed part, the certificate's
+and 1.3 KiB matrix-free (1,420 MiB at 1,000,188 with the interpreter's fixed ~150 MiB, 1.0 KiB at
+10,061,824: 9,980 MiB; with one stiffness value held once, 32-bit indices and the solve's vectors
+trimmed, before which these were 1,746 and 13,632 MiB).  The estimate scales these by coordination / 12, adds the fixed part, the certificate's
 factor when one is computed (``certificate.factor_bytes``) and a safety margin of 1.15.
 
 It is compared with the *smallest* of the limits on this process: the kernel's ``MemAvailable``,
@@ -18,7 +18,7 @@ from pathlib import Path
 
 from dtcrit.errors import InputError
 
-BYTES_PER_SPHERE = {"assembled": 10 * 1024, "matrix-free": 1.6 * 1024}
+BYTES_PER_SPHERE = {"assembled": 10 * 1024, "matrix-free": 1.3 * 1024}
 FIXED_BYTES = 150 * 2**20  # the interpreter with NumPy, SciPy and Numba loaded
 MARGIN = 1.15
 MATRIX_FREE_DOFS = 200_000  # the automatic route switches to matrix-free above this (dtcrit.packing.report)
