@@ -143,7 +143,18 @@ def test_each_loop_is_compiled_for_int32_and_int64_indices_at_most(monkeypatch):
             with monkeypatch.context() as m:  # the frequencies' blocks too
                 m.setattr(estimate_kernels, "PARALLEL_MIN_CONTACTS", 0)
                 estimate_kernels.contact_frequencies(p, cc)
+    monkeypatch.setattr(kernels, "CROSSING_MAX", 1.0)  # a small lattice crosses more than a large one
+    fcc = lattice("fcc", 4)  # sorted contacts: the halves' drivers
+    spheres = apply_law(find_sphere_contacts(fcc), LinearLaw(1.0, 1.0))
+    for cc in (spheres, _wide(spheres)):
+        for sphere_loop in (True, False):
+            op = ContactOperator(fcc, cc, "stiffness", compiled=True, threads=2)
+            assert op._halves is not None
+            if not sphere_loop:
+                op._sphere_args = None
+            op @ np.ones(fcc.dofs)
     loops = [kernels.apply_span, kernels.apply_spheres_span, kernels.apply_blocks_general, kernels.apply_blocks_spheres,
+             kernels.apply_halves_general, kernels.apply_halves_spheres,
              particle_pass._count_c, particle_pass._fill_c, particle_pass._summary_c, particle_pass._blocks_c,
              estimate_kernels.frequencies_span, estimate_kernels.frequencies_blocks]
     for loop in loops:

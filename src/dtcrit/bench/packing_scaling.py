@@ -180,8 +180,8 @@ def stage_floors(a, packing, matvecs: int, bounds_products: int, search: bool = 
       and row sums, ``particle_pass``, and the single-contact frequencies);
     * search: SciPy's pair search alone, ``cKDTree(...).query_pairs`` of the same spheres (built and
       queried again here when ``search``; the contact test and the fields are not in it);
-    * memory: the contact arrays a product reads plus ``LEAN_NCV + 4`` vectors of ``6N`` (the lean
-      ARPACK basis, its three work vectors and the product's output).
+    * memory: the contact arrays a product reads plus ``LEAN_NCV + 5`` vectors of ``6N`` (the lean
+      ARPACK basis, its three work vectors, its residual and the product's output).
 
     Parameters
     ----------
@@ -216,7 +216,7 @@ def stage_floors(a, packing, matvecs: int, bounds_products: int, search: bool = 
             cKDTree(y, boxsize=size).query_pairs(cutoff, output_type="ndarray")
             floors["search"] = time.perf_counter() - clock
     return {"bandwidth_gbs": rate / 1e9, "contact_bytes": a.memory_bytes(), "floor_s_by_stage": floors,
-            "memory_floor_bytes": a.memory_bytes() + (LEAN_NCV + 4) * 8 * a.shape[0]}
+            "memory_floor_bytes": a.memory_bytes() + (LEAN_NCV + 5) * 8 * a.shape[0]}
 
 
 ASSEMBLED_MAX = 200_000

@@ -77,6 +77,32 @@ def test_the_halves_product_equals_the_assembled_matrix_with_no_spare_and_the_sa
     assert np.array_equal(alone, got)
 
 
+def test_an_empty_first_half_and_rotational_springs_on_the_halves(monkeypatch):
+    """Every contact on particle 0 (``middle == 0``: all on the second thread) and a lattice with
+    rolling and twisting springs (the general loop): the assembled matrix, and the same bits on one thread."""
+    monkeypatch.setattr(mf.kernels, "CROSSING_MAX", 1.0)  # a small lattice crosses more than a large one
+    star = jittered_fcc(32)
+    found = find_sphere_contacts(star)
+    first = found.subset(found.i == 0)
+    lattice_c = find_sphere_contacts(jittered_fcc(500))
+    for packing, c in ((star, first), (jittered_fcc(500), lattice_c)):
+        c = c.with_stiffness(2.0, 0.6, kr=0.3, ktw=0.2)
+        op = mf.stiffness_operator(packing, c, threads=2)
+        assert op._halves is not None and op._sphere_args is None
+        md = mass_diagonal(packing)
+        a = scale_symmetric(stiffness_matrix(packing, c), md, inplace=True)
+        x = np.random.default_rng(8).standard_normal(a.shape[0])
+        got = op.apply_into(x, np.empty_like(x))
+        assert np.max(np.abs(got - a @ x)) <= 1e-13 * np.max(np.abs(a @ x))
+        before = numba.get_num_threads()
+        numba.set_num_threads(1)
+        try:
+            assert np.array_equal(op.apply_into(x, np.empty_like(x)), got)
+        finally:
+            numba.set_num_threads(before)
+    assert mf.stiffness_operator(star, first.with_stiffness(1.0, 1.0), threads=2)._halves[0][1] == 0
+
+
 def test_a_packing_numbered_at_random_keeps_the_blocks_and_their_spare():
     lattice = jittered_fcc(2000)
     shuffled = np.random.default_rng(4).permutation(lattice.n)

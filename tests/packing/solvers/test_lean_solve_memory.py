@@ -19,6 +19,21 @@ from dtcrit.packing.operators.matrix_free import stiffness_operator
 from dtcrit.packing.solvers import largest_mode as eigen
 
 
+def _numpy_takes_the_array_as_the_copy() -> bool:
+    """Whether ``np.array(obj, copy=True)`` keeps what ``obj.__array__(copy=True)`` returns (NumPy >= 2.1)."""
+    probe = np.zeros(3)
+
+    class Hands:
+        def __array__(self, dtype=None, copy=None):
+            return probe
+
+    return np.shares_memory(np.array(Hands(), copy=True, dtype="d"), probe)
+
+
+HANDS_OVER = _numpy_takes_the_array_as_the_copy()
+needs_hand_over = pytest.mark.skipif(not HANDS_OVER, reason="this NumPy copies what __array__ returns for copy=True")
+
+
 def _operator(n: int):
     packing = jittered_fcc(n)
     return packing, stiffness_operator(packing, apply_law(find_sphere_contacts(packing), LinearLaw(1.0, 1.0)))
@@ -40,6 +55,7 @@ def _lean_peak(monkeypatch, op, hand_over: bool) -> tuple[float, int]:
     return top.value, peak
 
 
+@needs_hand_over
 def test_arpack_is_handed_the_start_vector_itself(monkeypatch):
     """With the hand-over the solve's peak is one 6N vector lower, and the answer the same to the bit."""
     _, op = _operator(4000)
@@ -66,7 +82,7 @@ def test_the_lean_route_matches_the_dense_solve_with_the_hand_over(monkeypatch):
 def test_a_start_vector_is_handed_over_once():
     vector = np.arange(4.0)
     handed = eigen._HandedOver(vector)
-    assert np.shares_memory(np.array(handed, copy=True, dtype="d"), vector)
+    assert np.shares_memory(np.array(handed, copy=True, dtype="d"), vector) == HANDS_OVER
     with pytest.raises(RuntimeError, match="handed over"):
         np.asarray(handed)
 

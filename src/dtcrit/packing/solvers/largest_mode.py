@@ -33,10 +33,12 @@ DENSE_LIMIT = 600  # DOFs up to which the dense solver is used by "auto"
 LEAN_DOFS = 20_000_000
 LEAN_NCV = 4
 """Above ``LEAN_DOFS`` DOFs "auto" on a matrix-free operator polishes the Chebyshev start with ARPACK
-on ``LEAN_NCV`` Lanczos vectors (eight vectors of 6N in all with ARPACK's three work vectors and
-its residual, which is the start vector itself: ``_HandedOver``; two more while it forms the Ritz
-vector at the end, one of them the result; three (``LEAN_NCV = 3``) took 17 % more products at
-6e6 DOFs for one vector less) instead of LOBPCG, whose iteration holds about seventeen (measured: +850 MiB over the contact arrays at 6e6 DOFs, so
+on ``LEAN_NCV`` Lanczos vectors (nine vectors of 6N through the iteration: these four, ARPACK's
+three work vectors, its residual, which is the start vector itself with NumPy >= 2.1
+(``_HandedOver``), and the products' one output vector; at the end SciPy adds an (n, ``LEAN_NCV``)
+array of which ARPACK writes one column, the only one resident, and a copy of it, the result;
+``LEAN_NCV = 3`` took 17 % more products at 6e6 DOFs for one vector less) instead of LOBPCG, whose
+iteration holds about seventeen (measured: +850 MiB over the contact arrays at 6e6 DOFs, so
 8.5 GB at 6e7, which with the contacts would not fit in 16 GiB), to the same relative residual as
 LOBPCG's (``10 tol``).  Measured at 6e6 DOFs from the same Chebyshev start: 101 products against
 LOBPCG's 34, values within 2e-10 of each other (ARPACK at ``tol`` itself took 437)."""
@@ -276,8 +278,9 @@ class _HandedOver:
 
     scipy copies ``v0`` into ARPACK's residual array (``np.array(v0, copy=True)``); ``__array__``
     returns the vector and forgets it, so that the residual array is the start vector and no copy is
-    made (one 6N vector less during the solve: 0.5 GB at 1e7 particles).  NumPy takes an array
-    returned for ``copy=True`` as the copy; were it to copy again, only the saving would be lost.
+    made (one 6N vector less during the solve: 0.5 GB at 1e7 particles).  NumPy >= 2.1 takes an array
+    returned for ``copy=True`` as the copy; older versions copy it again (checked with NumPy 1.26:
+    ARPACK then works on the copy), so only the saving is lost.
     """
 
     def __init__(self, vector: np.ndarray):
