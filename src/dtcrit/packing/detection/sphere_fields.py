@@ -48,7 +48,7 @@ def _touching(packing: Packing, x, i, j, image, tolerance, moved=None):
                                       "have coincident centres")
     n = sep / d[:, None]
     overlap = np.maximum(r[i] + r[j] - d, 0.0)
-    image = image if moved is None else _narrowest(image + moved[j] - moved[i])
+    image = image if moved is None else narrowest_image(image + moved[j] - moved[i])
     return dict(i=i, j=j, normal=n, length_i=r[i] - 0.5 * overlap, length_j=r[j] - 0.5 * overlap,
                 overlap=overlap, image=image, radius_eff=r[i] * r[j] / (r[i] + r[j]))
 
@@ -89,8 +89,19 @@ def _contacts(fields: dict, radii: np.ndarray) -> Contacts:
                     **fields)
 
 
-def _narrowest(image: np.ndarray) -> np.ndarray:
-    """``image`` as int8 when its shifts fit (3 bytes per contact instead of 24), else unchanged."""
+def narrowest_image(image: np.ndarray) -> np.ndarray:
+    """``image`` as int8 when its shifts fit (3 bytes per contact instead of 24), else unchanged.
+
+    Parameters
+    ----------
+    image : numpy.ndarray
+        (C, 3) integer periodic shifts.
+
+    Returns
+    -------
+    numpy.ndarray
+        The shifts, int8 when they fit.
+    """
     fits = image.size == 0 or (int(image.min()) >= -128 and int(image.max()) <= 127)
     return image.astype(np.int8) if fits else image
 

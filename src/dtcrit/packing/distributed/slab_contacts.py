@@ -26,8 +26,9 @@ from scipy.spatial import cKDTree
 from dtcrit.errors import InputError
 
 from dtcrit.packing.detection.overlaps import wrap_positions
-from dtcrit.packing.detection.sphere_fields import equal_radius_eff
+from dtcrit.packing.detection.sphere_fields import equal_radius_eff, narrowest_image
 from dtcrit.packing.model import Box, Contacts, Packing
+from dtcrit.packing.normal_arms import NormalArms
 
 SEARCH_MARGIN = 1e-9
 """The neighbour search and the sparsity pattern reach ``(1 + SEARCH_MARGIN)`` times the contact
@@ -252,9 +253,9 @@ def slab_sphere_contacts(packing: Packing, lo: int, hi: int, tolerance: float = 
     n = sep / d[:, None]
     overlap = np.maximum(r[i] + r[j] - d, 0.0)
     same = equal_radius_eff(r, len(i))
-    contacts = Contacts(
-        i=i, j=j, normal=n, arm_i=(r[i] - 0.5 * overlap)[:, None] * n, arm_j=-(r[j] - 0.5 * overlap)[:, None] * n,
-        overlap=overlap, image=image, radius_eff=r[i] * r[j] / (r[i] + r[j]) if same is None else same,
+    contacts = Contacts(  # the arms as their lengths and the shifts as int8, as the serial search holds them
+        i=i, j=j, normal=n, arm_i=NormalArms(r[i] - 0.5 * overlap, n, 1.0), arm_j=NormalArms(r[j] - 0.5 * overlap, n, -1.0),
+        overlap=overlap, image=narrowest_image(image), radius_eff=r[i] * r[j] / (r[i] + r[j]) if same is None else same,
     )
     return SlabContacts(lo, hi, contacts, pattern // packing.n, pattern % packing.n)
 
