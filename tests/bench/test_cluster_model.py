@@ -40,7 +40,7 @@ def _missing(message: str) -> None:
 
 @pytest.fixture(scope="module")
 def numba_cache(tmp_path_factory) -> tuple[str, float]:
-    """A Numba cache holding the shell's compiled kernels (one small run compiles them into it), and
+    """A Numba cache holding the shell's compiled kernels (one small run on two ranks compiles them into it), and
     this machine's fixed memory against the model's [MiB]: a second small run's peak less the model's.
     """
     mpirun = shutil.which("mpirun")
@@ -51,7 +51,8 @@ def numba_cache(tmp_path_factory) -> tuple[str, float]:
     if subprocess.run([str(MPI_PY), "-c", "import numba"], capture_output=True).returncode != 0:
         _missing(".venv-mpi has no Numba (the model is of the compiled kernel): rebuild it, python3 dev.py mpi-env")
     cache = str(tmp_path_factory.mktemp("numba_cache"))
-    proc = _mpirun(cache, 1, "--random", str(CALIBRATION_N), "--cn", "6", "--kn", "1e5")
+    # on two ranks: the bounds' pass of ghost rows is compiled too (one rank has no ghosts)
+    proc = _mpirun(cache, 2, "--random", str(CALIBRATION_N), "--cn", "6", "--kn", "1e5")
     assert proc.returncode == 0, proc.stderr[-2000:]
     proc = _mpirun(cache, 1, "--random", str(CALIBRATION_N), "--cn", "6", "--kn", "1e5", "--json")
     assert proc.returncode == 0, proc.stderr[-2000:]

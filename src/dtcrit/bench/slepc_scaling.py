@@ -21,7 +21,9 @@ interpreter; ``mpirun`` for the MPI cases): serial, SLEPc assembled at 1 and 2 r
 relative residual 1e-12, and 1e-6 on one rank: the serial route's), SLEPc shell at 1 and 2 ranks
 (and on one rank from a random start);
 ``noassembled`` leaves the assembled cases out (at 10^6 FCC they take 16 min).  It prints a
-Markdown table and the cases' JSON.
+Markdown table and the cases' JSON.  The MPI cases run unbound (``mpirun --bind-to none``): every
+case has the machine's cores, a rank its share of them (``mpi_support.rank_threads``: both cores for
+one rank, one each for two), as the serial route has them all.
 
 Packings: ``fcc`` the jittered FCC lattice of ``dtcrit.bench.packing_scaling`` (coordination 12),
 ``random`` ``dtcrit.packing.generators.random_packing`` (coordination 6), or a dump file (density
@@ -219,8 +221,10 @@ def compare(n: int, kind: str = "fcc", assembled: bool = True, stream=sys.stdout
         if route == "assembled" and not assembled:
             continue
         extra = route.split() + ([f"tol={tol:g}"] if tol else [])
-        cmd = me + extra if route == "serial" else [shutil.which("mpirun") or "mpirun", "--oversubscribe", "-n",
-                                                          str(ranks), *me, *extra]
+        # unbound ranks: each takes its share of the cores (mpi_support.rank_threads), as the serial route
+        # takes them all (Open MPI would bind one or two ranks to a core each)
+        cmd = me + extra if route == "serial" else [shutil.which("mpirun") or "mpirun", "--oversubscribe", "--bind-to",
+                                                          "none", "-n", str(ranks), *me, *extra]
         doc = dict(_launch(cmd, env), name=name)
         out.append(doc)
         if "error" in doc:

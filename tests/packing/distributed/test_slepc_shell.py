@@ -26,7 +26,7 @@ from dtcrit.packing.readers.lammps_dump import read_dump, write_dump
 from dtcrit.packing.step import packing_step
 from support.paths import SRC
 
-from support.mpi_runs import run_packing as _mpirun
+from support.mpi_runs import run_packing as _mpirun, run_ranks
 SCHEMA = json.loads((SRC / "dtcrit" / "schemas" / "dtcrit-packing-slepc-1.json").read_text())
 YOUNGS = 7e10
 ROUNDING = 1e-12  # relative slack for the rounding of two computations of the same Rayleigh quotient
@@ -118,3 +118,27 @@ def test_slepc_matrix_is_refused_without_the_slepc_backend(capsys):
     assert main(["packing", "--random", "50", "--kn", "1", "--slepc-matrix", "shell"]) == 2
     (line,) = capsys.readouterr().err.splitlines()
     assert "--slepc-matrix" in line and "--backend slepc" in line
+
+
+SHELL_BOUNDS = """
+import json, sys
+from dtcrit.packing.model import HertzMindlinLaw
+from dtcrit.packing.readers.lammps_dump import read_dump
+from dtcrit.packing.distributed.slepc_backend import distribute
+from dtcrit.packing.distributed.slepc_shell import ContactShell, local_layout, shell_bounds
+share = distribute(read_dump(sys.argv[1]), HertzMindlinLaw(float(sys.argv[2]), 0.25))
+layout = local_layout(share.glob, share.lo, share.hi, share.packing, share.contacts)
+steps = [shell_bounds(ContactShell(layout, share.n, compiled=compiled)) for compiled in (True, False)]
+if share.lo == 0:
+    print(json.dumps(steps))
+"""
+
+
+def test_three_ranks_bounds_with_and_without_numba_are_the_serial_bound(packing_file, reference):
+    """On three ranks every own particle's blocks and rows add parts from the others; the compiled
+    particle pass and the NumPy path both give the bound of ``A`` assembled here."""
+    proc = run_ranks(3, "-c", SHELL_BOUNDS, str(packing_file), str(YOUNGS))
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    compiled, numpy_path = json.loads(proc.stdout)
+    assert compiled == pytest.approx(reference[1], rel=1e-12)
+    assert numpy_path == pytest.approx(reference[1], rel=1e-12)

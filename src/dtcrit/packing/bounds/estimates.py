@@ -145,7 +145,7 @@ def _block_tops(a, chunk: int = 1 << 16) -> np.ndarray:
     operator that gives them, BSR blocks, or dense slices; ``scattered_pass.top_eigenvalues``).
     """
     n = a.shape[0] // 6
-    if hasattr(a, "diagonal_blocks"):  # e.g. the distributed route's own rows (slepc_shell.OwnRows)
+    if hasattr(a, "diagonal_blocks"):  # an operator that gives its blocks
         blocks = a.diagonal_blocks()
     elif hasattr(a, "blocksize") and a.blocksize == (6, 6):
         rows = np.repeat(np.arange(n), np.diff(a.indptr))

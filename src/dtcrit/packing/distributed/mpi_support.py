@@ -56,6 +56,33 @@ def world():
     return comm, comm.getRank(), comm.getSize()
 
 
+LOCAL_SIZE_KEYS = ("OMPI_COMM_WORLD_LOCAL_SIZE", "MPI_LOCALNRANKS", "PMI_LOCAL_SIZE", "SLURM_NTASKS_PER_NODE")
+"""Environment variables in which launchers give the number of ranks on this node (Open MPI, MPICH's
+Hydra, PMI, Slurm)."""
+
+
+def rank_threads() -> int:
+    """Threads for this rank's compiled loops: the cores it may run on, shared with the other ranks of
+    its node unless the launcher bound it to its own (then its affinity set is its share already).
+
+    Open MPI binds each rank to a core when there are at most two ranks; unbound ranks of one node see
+    every core, and ``cores / local ranks`` keeps them from oversubscribing the node.  Without a
+    launcher's count of local ranks, every rank of the world is taken to share this node.
+
+    Returns
+    -------
+    int
+        At least 1, at most the cores this process may run on.
+    """
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    if cores < (os.cpu_count() or cores):  # bound by the launcher: these cores are this rank's
+        return max(1, cores)
+    local = next((int(os.environ[k]) for k in LOCAL_SIZE_KEYS if os.environ.get(k, "").isdigit()), 0)
+    if local <= 0:
+        local = world()[2]
+    return max(1, cores // local)
+
+
 def started_rank() -> int | None:
     """The process's rank once petsc4py has started MPI (``petsc4py.PETSc`` imported), without importing it.
 

@@ -1,34 +1,35 @@
 """The sphere contacts one rank of a distributed solve needs: those of its own slab of particles.
 
-A rank owns the particles ``lo <= p < hi`` (PETSc's ownership split, ``split_rows``).  It searches the
-neighbours of its own particles only: a ``scipy.spatial.cKDTree`` over its own centres is matched
-(``sparse_distance_matrix``) against a tree over the particles within reach of its slab's bounding
-box (the halo: all of them when the particle order has no spatial locality).  Every candidate
-``(p own, q any)`` is kept for the sparsity pattern (both directions, so a rank knows every block of
-its own rows, whoever adds it); a contact itself belongs to the rank owning its lower index
-(``p < q``, or ``p == q`` with a positive image shift: a particle touching its own periodic image),
-so each pair is found once across ranks.  ``order`` renumbers the particles first (``morton_order``:
+A rank owns the particles ``lo <= p < hi`` (PETSc's ownership split, ``split_rows``).  It runs the
+serial search (``overlaps.find_sphere_contacts``: one ``cKDTree.query_pairs`` giving each pair once,
+sorted by ``(i, j)``, toroidal along periodic axes; every image in range when a periodic box is
+narrower than twice the reach) over its *halo*, the particles within reach of its slab's bounding box
+(all of them when the particle order has no spatial locality, or on one rank).  A contact belongs to
+the rank owning its lower index (``i < j``, or ``i == j`` with a positive image shift: a particle
+touching its own periodic image), so each pair is found once across ranks, and its fields come from
+the serial chunked fill (``sphere_fields``: arms as lengths, int8 image shifts, int32 indices, one
+``R*`` for equal spheres).  Every candidate pair within ``1 + SEARCH_MARGIN`` of touching with an end
+among the rank's particles gives the sparsity pattern, in both directions, so that a rank knows every
+block of its own rows, whoever adds it.  ``order`` renumbers the particles first (``morton_order``:
 then a rank's slab is a compact piece of space, its halo thin, and the matrix's off-rank coupling
-small; the eigenvalues do not depend on the numbering).  Periodic boxes are searched as
-``contacts.find_sphere_contacts`` does (minimum image in a toroidal tree when the box is wider than
-twice the reach, every image in range otherwise), and the touching test, normals, arms and order
-are its own: in the packing's numbering the slabs' lists, concatenated in rank order, are the
-serial list (``tests/packing/distributed/test_packing_slepc.py``).
+small; the eigenvalues do not depend on the numbering).  In the packing's numbering the slabs' lists,
+concatenated in rank order, are the serial list (``tests/packing/distributed/test_packing_slepc.py``).
+Memory: the serial search's over the halo, plus the pattern (two int32 a block, both directions).
 """
 from __future__ import annotations
 
-import itertools
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from dtcrit.errors import InputError
 
-from dtcrit.packing.detection.overlaps import wrap_positions
-from dtcrit.packing.detection.sphere_fields import equal_radius_eff, narrowest_image
+from dtcrit.packing.contact_set import index_dtype
+from dtcrit.packing.detection.overlaps import (DETECT_CHUNK, _narrow_box_pairs, _search_frame, _sorted_pairs,
+                                               wrap_positions)
+from dtcrit.packing.detection.sphere_fields import _filled, _image_of, _joined, _touching
 from dtcrit.packing.model import Box, Contacts, Packing
-from dtcrit.packing.normal_arms import NormalArms
+from dtcrit.packing.periodic_cell import own_images
 
 SEARCH_MARGIN = 1e-9
 """The neighbour search and the sparsity pattern reach ``(1 + SEARCH_MARGIN)`` times the contact
@@ -153,52 +154,83 @@ def halo(x: np.ndarray, lo: int, hi: int, reach: float, box: Box | None) -> np.n
     return np.flatnonzero(keep)
 
 
-def _slab_pairs(x: np.ndarray, lo: int, hi: int, reach: float, box: Box | None):
-    """``(p, q, image)``: every pair with ``lo <= p < hi`` and centre distance <= ``reach``, both
-    orders of a pair of own particles, ``p == q`` only through a non-zero image.
+def _renumbered(packing: Packing, order: np.ndarray | None) -> Packing:
+    """``packing`` in the numbering ``order`` (particle ``k`` is ``packing``'s ``order[k]``), its ids kept
+    so that messages name the particles as the user knows them.
     """
-    periodic = np.zeros(3, bool) if box is None else np.array(box.periodic)
-    lengths = np.ones(3) if box is None else box.lengths
+    if order is None:
+        return packing
+    ids = order + 1 if packing.ids is None else packing.ids[order]
+    return Packing(packing.positions[order], packing.masses[order], packing.inertia[order], packing.radii[order],
+                   box=packing.box, label=packing.label, ids=ids)
+
+
+def _near_pattern(view: Packing, x, i, j, image_of, lo: int, hi: int, reach: float, chunk: int):
+    """``(rows, cols)``: the blocks ``(p own, q)`` of the candidate pairs ``(i, j)`` within ``reach``
+    times the summed radii, both directions, ``chunk`` pairs at a time (temporaries O(chunk)).
+    ``image_of(i, j)`` gives a chunk's image shifts.
+    """
+    rows, cols = [], []
+    r, box = view.radii, view.box
+    for start in range(0, len(i), chunk):
+        a, b = i[start:start + chunk], j[start:start + chunk]
+        sep = x[b] + (0.0 if box is None else box.shift(image_of(start, a, b))) - x[a]
+        near = (a != b) & (np.sqrt(np.einsum("ij,ij->i", sep, sep)) <= (r[a] + r[b]) * reach)
+        for p, q in ((a, b), (b, a)):
+            mine = near & (p >= lo) & (p < hi)
+            rows.append(p[mine])
+            cols.append(q[mine])
+    dtype = index_dtype(view.n)
+    return (np.concatenate(rows).astype(dtype, copy=False) if rows else np.zeros(0, dtype),
+            np.concatenate(cols).astype(dtype, copy=False) if cols else np.zeros(0, dtype))
+
+
+def _global(sub: np.ndarray, n: int, *local: np.ndarray) -> list[np.ndarray]:
+    """Halo-local indices as particle indices (``sub`` is sorted: the order of pairs is kept)."""
+    if len(sub) == n:  # the halo is every particle: its numbering is the packing's
+        return list(local)
+    return [sub[k].astype(index_dtype(n)) for k in local]
+
+
+def _slab_search(view: Packing, x: np.ndarray, lo: int, hi: int, tolerance: float, chunk: int):
+    """``(contacts, rows, cols)`` of the slab (``slab_sphere_contacts``), found by the serial search
+    (``overlaps._sorted_pairs``, or every image in range in a narrow box) over the slab's halo.
+    """
+    box, r = view.box, view.radii
+    cutoff = 2.0 * r.max() * (1.0 + tolerance)
+    reach = cutoff * (1.0 + SEARCH_MARGIN)
     sub = halo(x, lo, hi, reach, box)
-    if not periodic.any() or np.all(lengths[periodic] > 2.0 * reach):
-        if box is not None and periodic.any():  # unique minimum image: a toroidal tree, as contacts._candidate_pairs
-            shift = x.min(axis=0)
-            size = np.where(periodic, lengths, (x.max(axis=0) - shift) + 4.0 * reach + 1.0)
-            origin = np.where(periodic, box.lo, shift)
-            y_own = np.minimum(x[lo:hi] - origin, np.nextafter(size, 0))
-            y_sub = np.minimum(x[sub] - origin, np.nextafter(size, 0))
-            trees = cKDTree(y_own, boxsize=size), cKDTree(y_sub, boxsize=size)
-        else:
-            trees = cKDTree(x[lo:hi]), cKDTree(x[sub])
-        sdm = trees[0].sparse_distance_matrix(trees[1], reach, output_type="ndarray")
-        p, q = sdm["i"].astype(np.int64) + lo, sub[sdm["j"]].astype(np.int64)
-        other = p != q
-        p, q = p[other], q[other]
-        image = np.zeros((len(p), 3), dtype=np.int64)
-        sep = x[q] - x[p]
-        image[:, periodic] = -np.rint(sep[:, periodic] / lengths[periodic]).astype(np.int64)
-        return p, q, image
-    reach_images = [int(np.ceil(reach / lengths[a])) if periodic[a] else 0 for a in range(3)]
-    own = cKDTree(x[lo:hi])
-    out_p, out_q, out_s = [], [], []
-    for s in itertools.product(*(range(-r, r + 1) for r in reach_images)):
-        shift = np.array(s, dtype=np.int64)
-        sdm = own.sparse_distance_matrix(cKDTree(x[sub] + shift * lengths), reach, output_type="ndarray")
-        p, q = sdm["i"].astype(np.int64) + lo, sub[sdm["j"]].astype(np.int64)
-        keep = (p != q) | shift.any()
-        out_p.append(p[keep])
-        out_q.append(q[keep])
-        out_s.append(np.repeat(shift[None, :], keep.sum(), axis=0))
-    return np.concatenate(out_p), np.concatenate(out_q), np.concatenate(out_s)
+    y, size = _search_frame(x[sub] if len(sub) < len(x) else x, reach, box)
+    pattern_reach = (1.0 + tolerance) * (1.0 + SEARCH_MARGIN)
+    if y is not None:  # one candidate per pair, sorted by (i, j): the contacts are those with i own
+        i, j = _global(sub, view.n, *_sorted_pairs(y, size, reach))
+        del y
+        frame = box if size is not None else None
+        rows, cols = _near_pattern(view, x, i, j, lambda _s, a, b: _image_of(x[b] - x[a], frame), lo, hi,
+                                   pattern_reach, chunk)
+        mine = slice(int(np.searchsorted(i, lo)), int(np.searchsorted(i, hi)))
+        return _filled(view, x, i[mine], j[mine], frame, tolerance, chunk), rows, cols
+    assert box is not None  # no search frame only for a periodic box
+    i, j, image = _narrow_box_pairs(x[sub], reach, box)
+    i, j = _global(sub, view.n, i, j)
+    order = np.lexsort((image[:, 2], image[:, 1], image[:, 0], j, i))
+    i, j, image = i[order], j[order], image[order]
+    rows, cols = _near_pattern(view, x, i, j, lambda s, _a, _b: image[s:s + chunk], lo, hi, pattern_reach, chunk)
+    blocks = np.unique(rows.astype(np.int64) * view.n + cols)  # a neighbour may be near through several images
+    rows, cols = (blocks // view.n).astype(rows.dtype), (blocks % view.n).astype(cols.dtype)
+    own = (i >= lo) & (i < hi)
+    found = _touching(view, x, i[own], j[own], image[own], tolerance, own_images(view, x))
+    return _joined([found], r), rows, cols
 
 
 def slab_sphere_contacts(packing: Packing, lo: int, hi: int, tolerance: float = 1e-9,
-                         order: np.ndarray | None = None) -> SlabContacts:
+                         order: np.ndarray | None = None, chunk: int = DETECT_CHUNK) -> SlabContacts:
     """The contacts of particles ``lo..hi-1`` and their rows' block pattern (module docstring), in the
     numbering ``order`` (particle ``k`` is ``packing``'s ``order[k]``; default: ``packing``'s own).
 
-    Touching test, normals and arms as ``contacts.find_sphere_contacts``; raises its ``InputError``
-    for coincident centres found in this slab.
+    Touching test, normals, arms and fields as ``contacts.find_sphere_contacts`` (its candidate
+    search over the slab's halo, its chunked fill); raises its ``InputError`` for coincident centres
+    found in this slab.
 
     Parameters
     ----------
@@ -210,6 +242,8 @@ def slab_sphere_contacts(packing: Packing, lo: int, hi: int, tolerance: float = 
         Relative overlap tolerance of the touching test (``find_sphere_contacts``).
     order : numpy.ndarray or None
         The numbering: particle ``k`` is ``packing``'s ``order[k]``.
+    chunk : int
+        Candidate pairs tested per batch (``find_sphere_contacts``).
 
     Returns
     -------
@@ -220,44 +254,17 @@ def slab_sphere_contacts(packing: Packing, lo: int, hi: int, tolerance: float = 
         raise InputError("packing", "slab_sphere_contacts needs a sphere packing")
     if not np.isfinite(tolerance) or tolerance < 0:
         raise InputError("tolerance", f"must be a finite number >= 0, got {tolerance}")
-    empty = np.zeros(0, dtype=np.int64)
+    empty = np.zeros(0, dtype=index_dtype(packing.n))
     if hi <= lo:
         return SlabContacts(lo, hi, Contacts.empty(), empty, empty.copy())
     box = packing.box
     if box is not None and box.cell is not None:
         raise InputError("box", "the distributed (MPI) contact search takes axis-aligned boxes only: run a sheared "
                                 "(triclinic) cell without the MPI launcher")
-    x = wrap_positions(packing.positions, box)
-    r = packing.radii
-    if order is not None:
-        x, r = x[order], r[order]
-    cutoff = 2.0 * r.max() * (1.0 + tolerance)
-    p, q, image = _slab_pairs(x, lo, hi, cutoff * (1.0 + SEARCH_MARGIN), box)
-    lengths = np.zeros(3) if box is None else box.lengths
-    sep = x[q] + image * lengths - x[p]
-    d = np.sqrt(np.einsum("ij,ij->i", sep, sep))
-    near = (p != q) & (d <= (r[p] + r[q]) * (1.0 + tolerance) * (1.0 + SEARCH_MARGIN))
-    pattern = np.unique(p[near] * packing.n + q[near])
-    positive = (image[:, 0] > 0) | ((image[:, 0] == 0) & ((image[:, 1] > 0) | ((image[:, 1] == 0) & (image[:, 2] > 0))))
-    once = (p < q) | ((p == q) & positive)
-    i, j, image, sep, d = p[once], q[once], image[once], sep[once], d[once]
-    touch = d <= (r[i] + r[j]) * (1.0 + tolerance)
-    i, j, image, sep, d = i[touch], j[touch], image[touch], sep[touch], d[touch]
-    if np.any(d <= 0):
-        k = int(np.argmax(d <= 0))
-        a, b = (i[k], j[k]) if order is None else (order[i[k]], order[j[k]])
-        raise InputError("positions", f"particles {packing.particle_id(min(a, b))} and {packing.particle_id(max(a, b))} "
-                                      "have coincident centres")
-    order = np.lexsort((image[:, 2], image[:, 1], image[:, 0], j, i))
-    i, j, image, sep, d = i[order], j[order], image[order], sep[order], d[order]
-    n = sep / d[:, None]
-    overlap = np.maximum(r[i] + r[j] - d, 0.0)
-    same = equal_radius_eff(r, len(i))
-    contacts = Contacts(  # the arms as their lengths and the shifts as int8, as the serial search holds them
-        i=i, j=j, normal=n, arm_i=NormalArms(r[i] - 0.5 * overlap, n, 1.0), arm_j=NormalArms(r[j] - 0.5 * overlap, n, -1.0),
-        overlap=overlap, image=narrowest_image(image), radius_eff=r[i] * r[j] / (r[i] + r[j]) if same is None else same,
-    )
-    return SlabContacts(lo, hi, contacts, pattern // packing.n, pattern % packing.n)
+    view = _renumbered(packing, order)
+    x = wrap_positions(view.positions, box)
+    contacts, rows, cols = _slab_search(view, x, lo, hi, tolerance, max(1, int(chunk)))
+    return SlabContacts(lo, hi, contacts, rows, cols)
 
 
 def slab_of_list(contacts: Contacts, n: int, lo: int, hi: int, rank: int, size: int) -> SlabContacts:

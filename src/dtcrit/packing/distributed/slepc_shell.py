@@ -19,11 +19,15 @@ vector of its own particles followed by its *ghosts*, the partners owned by othe
    tests compare both with the serial operator's eigenvalue.
 3. ``shell_bounds``: the serial route's rigorous lower bound on the step, ``dt_safe``, the larger
    of the Gershgorin (``estimates.gershgorin``: rows of ``M^-1/2 K M^-1/2`` and of ``M^-1 K``) and
-   the block-diagonal (``estimates.block_diagonal``) steps.  Each rank's operator gives the scaled
-   diagonal blocks and coupling row sums of its contacts; blocks and sums of ghost rows are added
-   to their owners by the same reverse scatter, after which each rank holds complete rows for its
-   own particles and calls the serial estimates on them (``OwnRows``); the bound is the largest
-   over the ranks.
+   the block-diagonal (``estimates.block_diagonal``) steps.  Each rank sums its own particles'
+   diagonal blocks and coupling row sums in the serial route's compiled particle pass
+   (``particle_pass.summary``), adding the parts that other ranks' contacts give them: those ranks
+   compute them for their ghost rows (``particle_pass.partial_rows``) and the reverse scatter adds
+   them to their owners (nothing is exchanged on one rank).  It then calls the serial estimates on
+   its complete own rows (``OwnRows``); the bound is the largest over the ranks.
+
+The compiled loops of a rank run on its share of its node's cores (``mpi_support.rank_threads``:
+one rank alone uses every core it may run on, as the serial route does).
 
 Memory per rank: the share (local packing and contacts) and the operator's arrays (the serial
 route's, for ``C/P`` contacts), two ghosted vectors, and the eigen-solver's basis; no matrix.
@@ -37,7 +41,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from dtcrit.packing.model import Contacts, Packing
-from dtcrit.packing.distributed.mpi_support import allgather, petsc, world
+from dtcrit.packing.distributed.mpi_support import allgather, petsc, rank_threads, world
 
 if TYPE_CHECKING:
     from dtcrit.packing.operators.matrix_free import ContactOperator
@@ -119,14 +123,16 @@ class ContactShell:
     """
 
     def __init__(self, layout: LocalLayout, n: int, compiled: bool | None = None):
+        from dtcrit.packing.operators import matrix_free_kernels as kernels
         from dtcrit.packing.operators.matrix_free import stiffness_operator
 
         PETSc, _ = petsc()
         comm, _, _ = world()
         self.layout, self.n = layout, int(n)
-        # one thread per rank: the ranks are the parallelism (a rank per core)
+        # the rank's share of its node's cores (rank_threads): one rank alone uses the machine
+        self.threads = kernels.use_threads(rank_threads())
         self.operator: ContactOperator | None = stiffness_operator(layout.packing, layout.contacts, compiled=compiled,
-                                                                   threads=1)
+                                                                   threads=self.threads)
         ghosts = np.ascontiguousarray(layout.ghosts, dtype=PETSc.IntType)
         size = (6 * layout.n_own, 6 * self.n)
         self.x_ghosted = PETSc.Vec().createGhost(ghosts, size, bsize=6, comm=comm)
@@ -195,35 +201,32 @@ class ContactShell:
 
 
 class OwnRows:
-    """A rank's complete rows of ``A`` as far as the serial bounds need them: the 6 x 6 diagonal blocks
-    of its own particles and their absolute coupling row sums for the unit and the ``sqrt(mass)``
-    weights (``estimates.gershgorin``, ``estimates.block_diagonal`` call ``abs_row_sums`` and
-    ``diagonal_blocks`` on it as on a serial operator).
+    """A rank's complete rows of ``A`` as far as the serial bounds need them: the ``BlockSummary`` of its
+    own particles (top eigenvalue of each 6 x 6 diagonal block, absolute row sums for the unit and the
+    ``sqrt(mass)`` weights); ``estimates.gershgorin`` and ``estimates.block_diagonal`` call
+    ``abs_row_sums`` and ``block_summary`` on it as on the serial operator.
 
     Parameters
     ----------
-    blocks : numpy.ndarray
-        Scaled diagonal blocks ``A_pp``, (own, 6, 6).
-    coupling_ones, coupling_root : numpy.ndarray
-        ``sum_{q != p} |A_pq| w_q`` for ``w = 1`` and ``w = sqrt(m)``, (own, 6).
+    summary : dtcrit.packing.operators.particle_pass.BlockSummary
+        The own particles' blocks and rows, every rank's contacts summed.
     root : numpy.ndarray
         ``sqrt`` of the own particles' mass diagonal, length 6 own.
     """
 
-    def __init__(self, blocks: np.ndarray, coupling_ones: np.ndarray, coupling_root: np.ndarray, root: np.ndarray):
-        self.blocks, self.root = blocks, root
-        self.coupling = {"ones": coupling_ones, "root": coupling_root}
-        self.shape = (6 * blocks.shape[0], 6 * blocks.shape[0])
+    def __init__(self, summary, root: np.ndarray):
+        self.summary, self.root = summary, root
+        self.shape = (root.size, root.size)
 
-    def diagonal_blocks(self) -> np.ndarray:
-        """The own particles' diagonal blocks ``A_pp``.
+    def block_summary(self):
+        """The own particles' ``BlockSummary``.
 
         Returns
         -------
-        numpy.ndarray
-            (own, 6, 6).
+        dtcrit.packing.operators.particle_pass.BlockSummary
+            ``top``, ``diagonal``, ``rows_ones``, ``rows_root``.
         """
-        return self.blocks
+        return self.summary
 
     def abs_row_sums(self, weights: np.ndarray | None = None) -> np.ndarray:
         """``sum_q |A_pq| w_q`` over the own rows, ``w`` the ones (``None``) or ``sqrt(m)``.
@@ -239,36 +242,81 @@ class OwnRows:
             Length 6 own.
         """
         if weights is None or np.all(np.asarray(weights) == 1.0):
-            key, w = "ones", np.ones(self.shape[0])
-        elif np.array_equal(np.asarray(weights).reshape(-1), self.root):
-            key, w = "root", self.root
-        else:
-            raise ValueError("OwnRows has the row sums of the unit and sqrt(mass) weights only")
-        diag = np.einsum("pab,pb->pa", np.abs(self.blocks), w.reshape(-1, 6))
-        return (self.coupling[key] + diag).reshape(-1)
+            return self.summary.rows_ones
+        if np.array_equal(np.asarray(weights).reshape(-1), self.root):
+            return self.summary.rows_root
+        raise ValueError("OwnRows has the row sums of the unit and sqrt(mass) weights only")
 
 
-def _coupling_sums(op, chunk: int = 1 << 16) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``(blocks, coupling_ones, coupling_root)`` of this rank's contacts over its local particles: the
-    scaled diagonal blocks (N_loc, 6, 6) and ``|A| w`` less the blocks' part (N_loc, 6), for ``w = 1``
-    and ``w = sqrt(m)`` (``ContactOperator.abs_row_sums`` counts the diagonal blocks in).
+def _numpy_rows(op) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(blocks, r1, r2)`` of every local particle without Numba: the scaled diagonal blocks and the
+    coupling sums ``|A| w`` less the blocks' part, ``w = 1`` and ``w = sqrt(m)``
+    (``scattered_pass.scattered_blocks`` counts the diagonal blocks in).
     """
-    root = np.sqrt(op.mass_diag).reshape(-1, 6)
-    blocks = op.diagonal_blocks()
-    out = []
-    for w in (None, root):
-        sums = op.abs_row_sums(None if w is None else w.reshape(-1)).reshape(-1, 6).copy()
-        for lo in range(0, len(sums), chunk):
-            part = slice(lo, lo + chunk)
-            diag = np.abs(blocks[part])
-            sums[part] -= diag.sum(axis=2) if w is None else np.einsum("pab,pb->pa", diag, w[part])
-        out.append(sums)
-    return blocks, out[0], out[1]
+    from dtcrit.packing.operators import scattered_pass
+
+    root = np.sqrt(op.mass_diag)
+    blocks, (r1, r2) = scattered_pass.scattered_blocks(op, [np.ones_like(root), root])
+    magnitude = np.abs(blocks)
+    return (blocks, r1.reshape(-1, 6) - magnitude.sum(axis=2),
+            r2.reshape(-1, 6) - np.einsum("pab,pb->pa", magnitude, root.reshape(-1, 6)))
+
+
+def _ghost_parts(shell: ContactShell, op) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """``summary``'s ``extras`` of the own particles: the parts of their blocks and coupling sums that
+    other ranks' contacts give (those ranks' ghost rows, added to their owners by the reverse scatter).
+    """
+    from dtcrit.packing.operators import particle_pass
+
+    n_own, n_local = shell.layout.n_own, shell.layout.packing.n
+    nothing = (np.full(n_own, -1, np.int64), np.zeros((0, 6, 6)), np.zeros((0, 6)), np.zeros((0, 6)))
+    if allgather([n_local - n_own]).max() == 0:  # no rank has ghosts (one rank): nothing to exchange
+        return nothing
+    if op.compiled:
+        parts = particle_pass.partial_rows(op._kernel_args, op.scale6, op.mass_diag.reshape(-1, 6),
+                                           np.arange(n_own, n_local))
+    else:
+        blocks, r1, r2 = _numpy_rows(op)
+        parts = blocks[n_own:], r1[n_own:], r2[n_own:]
+
+    def summed(values: np.ndarray) -> np.ndarray:  # ghost rows (G, 6) -> their owners' totals (own, 6)
+        rows = np.zeros((n_local, 6))
+        rows[n_own:] = values
+        return shell.reverse_sum(rows)
+
+    hit = np.flatnonzero(summed(np.ones((n_local - n_own, 6)))[:, 0] > 0)
+    at = nothing[0]
+    at[hit] = np.arange(hit.size)
+    received = np.empty((hit.size, 6, 6))
+    for b in range(6):
+        received[:, :, b] = summed(parts[0][:, :, b])[hit]
+    return at, received, summed(parts[1])[hit], summed(parts[2])[hit]
+
+
+def _own_summary(op, n_own: int, extras: tuple):
+    """The own particles' ``BlockSummary`` (``particle_pass.summary`` with ``extras``; without Numba the
+    same sums from ``_numpy_rows``).
+    """
+    from dtcrit.packing.operators import particle_pass, scattered_pass
+
+    weight = op.mass_diag.reshape(-1, 6)
+    if op.compiled:
+        return particle_pass.summary(op._kernel_args, op.scale6, weight, rows=n_own, extras=extras)
+    blocks, r1, r2 = (values[:n_own] for values in _numpy_rows(op))
+    at, more, more_r1, more_r2 = extras
+    hit = np.flatnonzero(at >= 0)
+    blocks[hit] += more[at[hit]]
+    r1[hit] += more_r1[at[hit]]
+    r2[hit] += more_r2[at[hit]]
+    magnitude = np.abs(blocks)
+    return particle_pass.BlockSummary(scattered_pass.top_eigenvalues(blocks), np.einsum("nii->ni", blocks).reshape(-1),
+                                      (r1 + magnitude.sum(axis=2)).reshape(-1),
+                                      (r2 + np.einsum("pab,pb->pa", magnitude, np.sqrt(weight[:n_own]))).reshape(-1))
 
 
 def shell_bounds(shell: ContactShell) -> float:
     """The serial route's ``dt_safe`` (module docstring, 3), the same on every rank (collective).  The
-    last use of the shell: its operator is dropped here, before the bounds' own arrays are made.
+    last use of the shell: its operator is dropped here.
 
     Parameters
     ----------
@@ -282,19 +330,13 @@ def shell_bounds(shell: ContactShell) -> float:
         stiff contact).
     """
     from dtcrit.packing.bounds import estimates as est
-    from dtcrit.packing.operators.assembly import mass_diagonal
 
     n_own = shell.layout.n_own
-    blocks, ones, root = _coupling_sums(shell.held())
-    shell.operator = None  # with its cached blocks and row sums: only the local arrays are needed now
-    own_blocks = np.empty((n_own, 6, 6))
-    for b in range(6):
-        own_blocks[:, :, b] = shell.reverse_sum(blocks[:, :, b])
-    del blocks
-    coupling = [shell.reverse_sum(values) for values in (ones, root)]
-    del ones, root
-    own_mass = mass_diagonal(shell.layout.packing)[:6 * n_own]
-    rows = OwnRows(own_blocks, coupling[0], coupling[1], np.sqrt(own_mass))
+    op = shell.held()
+    summary = _own_summary(op, n_own, _ghost_parts(shell, op))
+    own_mass = op.mass_diag[:6 * n_own]
+    shell.operator = None
+    rows = OwnRows(summary, np.sqrt(own_mass))
     omega2 = [est.gershgorin(rows, own_mass).omega2 or 0.0, est.block_diagonal(rows).omega2 or 0.0] if n_own else [0.0, 0.0]
     top = allgather(omega2).max(axis=0)
     steps = [2.0 / math.sqrt(w2) for w2 in top if w2 > 0]

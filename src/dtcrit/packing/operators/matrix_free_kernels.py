@@ -387,3 +387,23 @@ def threads() -> int:
         The thread count.
     """
     return int(numba.get_num_threads()) if numba is not None else 1
+
+
+def use_threads(count: int) -> int:
+    """Let the compiled loops use ``count`` threads (``numba.set_num_threads``, capped at Numba's pool:
+    ``NUMBA_NUM_THREADS`` or the cores), e.g. one rank's share of its node's cores.
+
+    Parameters
+    ----------
+    count : int
+        Threads wanted (at least 1).
+
+    Returns
+    -------
+    int
+        The threads the loops now use (1 without Numba).
+    """
+    if numba is None:
+        return 1
+    numba.set_num_threads(max(1, min(int(count), int(numba.config.NUMBA_NUM_THREADS))))
+    return threads()

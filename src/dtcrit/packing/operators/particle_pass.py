@@ -150,9 +150,11 @@ def _scaled(p, acc, scale):
 
 
 def _summary_loop(indptr, inc, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags, scale, weight, take_root,
-                  top, diag, ones, second):
-    """``BlockSummary`` of every particle (``top`` (N,), ``diag``, ``ones``, ``second`` (N, 6)),
-    particles in tasks of ``PARTICLE_BLOCK`` on Numba's threads.
+                  extra_at, extra_blocks, extra_r1, extra_r2, top, diag, ones, second):
+    """``BlockSummary`` of the particles of the incidence rows (``top`` (N,), ``diag``, ``ones``, ``second``
+    (N, 6)), particles in tasks of ``PARTICLE_BLOCK`` on Numba's threads; particle ``p`` with
+    ``extra_at[p] = k >= 0`` adds ``extra_blocks[k]`` to its scaled block and ``extra_r1[k]``,
+    ``extra_r2[k]`` to its coupling sums (``summary``'s ``extras``).
     """
     n = indptr.shape[0] - 1
     tasks = (n + PARTICLE_BLOCK - 1) // PARTICLE_BLOCK
@@ -163,6 +165,13 @@ def _summary_loop(indptr, inc, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, ro
             _gather_c(p, indptr[p], indptr[p + 1], inc, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags,
                       scale, weight, take_root, True, acc, own, other, ij, r1, r2, wq)
             _scaled_c(p, acc, scale)
+            k = extra_at[p] if extra_at.shape[0] > 0 else -1
+            if k >= 0:
+                for a in range(6):
+                    r1[a] += extra_r1[k, a]
+                    r2[a] += extra_r2[k, a]
+                    for b in range(6):
+                        acc[a, b] += extra_blocks[k, a, b]
             for b in range(6):
                 wq[b] = np.sqrt(weight[p, b]) if take_root else weight[p, b]
             for a in range(6):
@@ -178,9 +187,13 @@ def _summary_loop(indptr, inc, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, ro
             top[p] = np.linalg.eigvalsh(sym)[5]
 
 
-def _blocks_loop(indptr, inc, particles, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags, scale, out):
-    """The scaled diagonal blocks ``out[r]`` (m, 6, 6) of the particles ``particles[r]``."""
+def _blocks_loop(indptr, inc, particles, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags, scale, weight,
+                 out, out_r1, out_r2):
+    """The scaled diagonal blocks ``out[r]`` (m, 6, 6) of the particles ``particles[r]`` and, when
+    ``out_r1`` has rows, their coupling sums for the ones and ``sqrt(weight)`` (``out_r1``, ``out_r2``).
+    """
     m = indptr.shape[0] - 1
+    rows = out_r1.shape[0] > 0
     tasks = (m + PARTICLE_BLOCK - 1) // PARTICLE_BLOCK
     for t in prange(tasks):
         acc, own, other, ij = np.empty((6, 6)), np.empty((6, 6)), np.empty((6, 6)), np.empty((6, 6))
@@ -188,9 +201,12 @@ def _blocks_loop(indptr, inc, particles, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw,
         for r in range(t * PARTICLE_BLOCK, min(m, (t + 1) * PARTICLE_BLOCK)):
             p = particles[r]
             _gather_c(p, indptr[r], indptr[r + 1], inc, ci, cj, nrm, arm_i, arm_j, kn, ks, ktw, kr, g, rot, flags,
-                      scale, scale, False, False, acc, own, other, ij, r1, r2, wq)
+                      scale, weight, True, rows, acc, own, other, ij, r1, r2, wq)
             _scaled_c(p, acc, scale)
             out[r, :, :] = acc
+            if rows:
+                out_r1[r, :] = r1
+                out_r2[r, :] = r2
 
 
 _count_c = _jit(_count_incidence)
@@ -234,9 +250,12 @@ def incidence(ci: np.ndarray, cj: np.ndarray, n: int,
     return indptr, out
 
 
-def summary(args: tuple, scale: np.ndarray, weight: np.ndarray, root: bool = True) -> BlockSummary:
+def summary(args: tuple, scale: np.ndarray, weight: np.ndarray, root: bool = True, rows: int | None = None,
+            extras: tuple | None = None) -> BlockSummary:
     """``BlockSummary`` by the compiled particle loop, for the weights ``1`` and ``sqrt(weight)``
-    (``root``; the mass diagonal gives ``sqrt(m)``) or ``weight`` itself.
+    (``root``; the mass diagonal gives ``sqrt(m)``) or ``weight`` itself; of the first ``rows``
+    particles only when given, with the parts of their blocks and coupling sums summed elsewhere
+    (``extras``: the distributed route's other ranks, ``slepc_shell.shell_bounds``).
 
     Parameters
     ----------
@@ -248,17 +267,25 @@ def summary(args: tuple, scale: np.ndarray, weight: np.ndarray, root: bool = Tru
         Per DOF, (N, 6): the mass diagonal, or any weights with ``root=False``.
     root : bool
         Whether the second weight is ``sqrt(weight)``.
+    rows : int or None
+        Summarise particles ``0 .. rows - 1`` (default: all).
+    extras : tuple or None
+        ``(at, blocks, r1, r2)``: particle ``p`` with ``at[p] = k >= 0`` adds the scaled block
+        ``blocks[k]`` (6 x 6) and the coupling sums ``r1[k]``, ``r2[k]`` (6 each) to its own.
 
     Returns
     -------
     BlockSummary
         The tops, the diagonal and the two row sums.
     """
-    n = scale.shape[0]
-    indptr, inc = incidence(args[0], args[1], n)
+    n = scale.shape[0] if rows is None else int(rows)
+    indptr, inc = incidence(args[0], args[1], scale.shape[0], None if rows is None else np.arange(n))
+    at, blocks, r1, r2 = extras if extras is not None else (np.zeros(0, np.int64), np.zeros((0, 6, 6)),
+                                                            np.zeros((0, 6)), np.zeros((0, 6)))
     top, diag, ones, second = np.empty(n), np.empty((n, 6)), np.empty((n, 6)), np.empty((n, 6))
     _summary_c(indptr, inc, *args, np.ascontiguousarray(scale), np.ascontiguousarray(weight, dtype=float), root,
-               top, diag, ones, second)
+               np.asarray(at, np.int64), np.ascontiguousarray(blocks, float), np.ascontiguousarray(r1, float),
+               np.ascontiguousarray(r2, float), top, diag, ones, second)
     return BlockSummary(top, diag.reshape(-1), ones.reshape(-1), second.reshape(-1))
 
 
@@ -286,13 +313,41 @@ def blocks(args: tuple, scale: np.ndarray, particles: np.ndarray | None = None) 
     return _blocks(args, scale, distinct)[back.reshape(-1)]
 
 
-def _blocks(args: tuple, scale: np.ndarray, particles: np.ndarray | None) -> np.ndarray:
+def _blocks(args: tuple, scale: np.ndarray, particles: np.ndarray | None, weight: np.ndarray | None = None):
     n = scale.shape[0]
     which = np.arange(n) if particles is None else particles
     indptr, inc = incidence(args[0], args[1], n, particles)
     out = np.empty((len(which), 6, 6))
-    _blocks_c(indptr, inc, which, *args, np.ascontiguousarray(scale), out)
-    return out
+    rows = 0 if weight is None else len(which)
+    r1, r2 = np.empty((rows, 6)), np.empty((rows, 6))
+    scale = np.ascontiguousarray(scale)
+    _blocks_c(indptr, inc, which, *args, scale, scale if weight is None else np.ascontiguousarray(weight, dtype=float),
+              out, r1, r2)
+    return out if weight is None else (out, r1, r2)
+
+
+def partial_rows(args: tuple, scale: np.ndarray, weight: np.ndarray,
+                 particles: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The scaled diagonal blocks and coupling row sums (``w = 1`` and ``w = sqrt(weight)``) that these
+    contacts give ``particles``: parts of theirs summed on another rank (``summary``'s ``extras``).
+
+    Parameters
+    ----------
+    args : tuple
+        ``matrix_free_kernels.loop_arguments``' tuple.
+    scale : numpy.ndarray
+        ``M^(-1/2)`` per DOF, (N, 6).
+    weight : numpy.ndarray
+        The mass diagonal per DOF, (N, 6).
+    particles : numpy.ndarray
+        Distinct particle indices.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(blocks, r1, r2)``: (m, 6, 6), (m, 6), (m, 6).
+    """
+    return _blocks(args, scale, np.asarray(particles, dtype=np.int64), weight)
 
 
 def equals(w: np.ndarray, form, base: np.ndarray | None = None, chunk: int = 1 << 20) -> bool:
