@@ -6,17 +6,19 @@ with ``N`` particles, ``C = z N / 2`` contacts and ``P`` ranks.  The stages are 
 JSON reports (``peak_rss_mib``, ``times``): input, contacts (search), assembly (the shell's operator
 or the assembled matrix), solve and, on the shell route, bounds (``slepc_shell.shell_bounds``).
 
-The constants of the matrix-free (shell) route, of the generated input and of the search's time are
-fitted to runs of ``mpirun -n P .venv-mpi/bin/python -m dtcrit packing --random N --cn 6 --kn 1e5
---backend slepc --json`` in the environment ``python3 dev.py mpi-env`` builds (with Numba: the
-shell's compiled kernel, loaded from Numba's cache) at N = 1e3, 5e4, 1e5, 2e5 (z = 6) and 5e4
-(z = 10), P = 1 and 2, two runs each; times are the best of the two at P = 1 (the machine was
-shared).  The runs at N = 2e4 and 3e4, every 4-rank run and the 10^6-sphere runs of
-``dtcrit.bench.slepc_scaling`` are not in the fit: they validate it (docs/howto/mpi.md).  The
-text-dump, partitioned-read and assembled-route constants are those measured in
-``docs/howto/mpi.md`` (sections "Measured" and "Partitioned input"); the ``.npz`` held memory (150 B
-per own particle with its halo) is an estimate, not a measurement.  Time is of one core of that
-machine.  Plain arithmetic: no NumPy, no SciPy, no SymPy.
+The constants of the matrix-free (shell) route's search, solve and bounds are fitted to runs of
+``mpirun --bind-to none -n P .venv-mpi/bin/python -m dtcrit.bench.slepc_scaling N fcc`` (jittered
+FCC, z = 12) at N = 1e5, 2e5, 5e5 and 10^6 and of ``slepc_scaling N random`` (z = 6) at 1e5 and 2e5,
+P = 1 and 2, in the environment ``python3 dev.py mpi-env`` builds (with Numba: the shell's compiled
+kernel, loaded from Numba's cache): peaks over each run's base, every fitted solve peak within 2 %.
+The 4-rank runs and the ``tests/bench/test_cluster_model.py`` runs of ``dtcrit packing --random``
+are not in the fit: they validate it (docs/howto/mpi.md).  The generated input's constants are
+fitted to ``dtcrit packing --random N --cn 6`` runs; the text-dump, partitioned-read and
+assembled-route constants are those measured in ``docs/howto/mpi.md`` (sections "Measured" and
+"Partitioned input"); the ``.npz`` held memory (150 B per own particle with its halo) is an
+estimate, not a measurement.  Time is of one core per rank (the two-rank runs on this 2-core
+machine; one rank alone runs its compiled loops on every core it has, ``mpi_support.rank_threads``,
+and solved 1.5x faster with two).  Plain arithmetic: no NumPy, no SciPy, no SymPy.
 """
 from __future__ import annotations
 
@@ -35,26 +37,27 @@ BASE = 155.0 * MIB
 GENERATED_BASE = 162.4 * MIB  # --random: 162.4 MiB + 1.83 kB N (fitted, residuals within 4 MiB)
 INPUT_PER_N = {"text": 900.0, "generated": 1830.0}  # replicated: text held with its lines; --random
 HELD_PER_N = {"text": 900.0, "npz": 150.0}         # partitioned read, per own particle: estimates
-SEARCH_PER_N = 130.0        # replicated positions (wrapped, renumbered); per own one when partitioned
-SEARCH_PER_C_LOCAL = 360.0  # the search's temporaries
-SHELL_BASE = 211.6 * MIB    # shell solve: BASE + the compiled kernels loaded from Numba's cache
-SHELL_PER_N_LOCAL = 1394.0  # Krylov basis (ncv 12 + 1), work and ghosted vectors, the kernel's arrays
-SHELL_PER_C_LOCAL = 158.0   # the kernel's per-contact arrays (z = 10 against z = 6)
-BOUNDS_BASE = 2.6 * MIB     # shell_bounds' extra over the solve: 2.6 MiB + 630 B per own particle, at
-BOUNDS_SLOPE = 630.0        # most 24 MiB (measured 2-24 MiB from 500 to 2e5 own particles, 49 MiB at
-BOUNDS_CAP = 24.0 * MIB     # 10^6: the bounds' arrays partly reuse the freed Krylov basis)
+SEARCH_BASE = 52.9 * MIB    # the search (k-d tree and Numba modules loaded, its fixed allocations)
+SEARCH_PER_N = 284.0        # replicated positions (wrapped, renumbered, the halo's); per own one when partitioned
+SEARCH_PER_C_LOCAL = 105.0  # the serial search's pairs and fields over the halo, and the block pattern
+SHELL_BASE = BASE + 54.0 * MIB  # shell solve: BASE + the compiled kernels loaded from Numba's cache
+SHELL_PER_N_LOCAL = 1245.0  # Krylov basis (ncv 12 + 1), work and ghosted vectors, the kernel's scale
+SHELL_PER_C_LOCAL = 72.0    # the kernel's per-contact arrays (FCC z = 12 against random z = 6)
+BOUNDS_BASE = 1.0 * MIB     # shell_bounds' extra over the solve: 1 MiB + 40 B per own particle (measured
+BOUNDS_SLOPE = 40.0         # 0.6-39 MiB from 2.4e4 to 10^6 own particles: the particle pass's arrays
+                            # mostly reuse the freed Krylov basis)
 ASSEMBLED_PER_CN_LOCAL = 292.0  # one 6 x 6 SBAIJ block per contact and per particle (docs/howto/mpi.md)
 ASSEMBLED_NCV = 32
-# Time [s], one core of the measuring machine.
+# Time [s], one core per rank of the measuring machine.
 TIME_INPUT_PER_N = {"text": 3.5e-6, "generated": 224e-6}   # replicated: every rank reads/generates all
 TIME_HELD_PER_N = {"text": 25e-6, "npz": 5.5e-6}          # partitioned read and exchange, per own particle
-TIME_SEARCH_PER_N = 3.9e-6         # Morton order of all positions (of the own ones when partitioned)
-TIME_SEARCH_PER_C_LOCAL = 0.71e-6
-TIME_SHELL_BUILD_PER_C_LOCAL = 0.27e-6
+TIME_SEARCH_PER_N = 0.76e-6        # Morton order and halo of all positions (of the own ones when partitioned)
+TIME_SEARCH_PER_C_LOCAL = 1.02e-6
+TIME_SHELL_BUILD_PER_C_LOCAL = 0.02e-6
 TIME_ASSEMBLY_PER_C_LOCAL = 2.2e-6
 TIME_PRODUCT_PER_CN_LOCAL = 30e-9    # shell: compiled product, scatters and Krylov-Schur (ncv 12), per (c + n)
 TIME_PRODUCT_ASSEMBLED = (45e-9, 290e-9)  # per (C + N)/P and per N/P (ncv 32)
-TIME_BOUNDS_PER_CN_LOCAL = 1.1e-6
+TIME_BOUNDS_PER_CN_LOCAL = 1.0e-6
 
 
 def _check(name: str, value, low: float) -> None:
@@ -69,10 +72,10 @@ def _memory(n: float, c: float, p: int, matrix: str, source: str, partitioned: b
     held = n_loc if partitioned else n
     start = GENERATED_BASE if source == "generated" else BASE
     inp = start + (HELD_PER_N[source] * n_loc if partitioned else INPUT_PER_N[source] * n)
-    mem = {"input": inp, "contacts": BASE + SEARCH_PER_N * held + SEARCH_PER_C_LOCAL * c_loc}
+    mem = {"input": inp, "contacts": BASE + SEARCH_BASE + SEARCH_PER_N * held + SEARCH_PER_C_LOCAL * c_loc}
     if matrix == "shell":
         mem["solve"] = SHELL_BASE + SHELL_PER_N_LOCAL * n_loc + SHELL_PER_C_LOCAL * c_loc
-        mem["bounds"] = mem["solve"] + min(BOUNDS_BASE + BOUNDS_SLOPE * n_loc, BOUNDS_CAP)
+        mem["bounds"] = mem["solve"] + BOUNDS_BASE + BOUNDS_SLOPE * n_loc
     else:
         mem["assembly"] = BASE + ASSEMBLED_PER_CN_LOCAL * (c_loc + n_loc)
         extra = 9 if p == 1 else 18

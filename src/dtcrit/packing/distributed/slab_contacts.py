@@ -168,7 +168,7 @@ def _renumbered(packing: Packing, order: np.ndarray | None) -> Packing:
 def _near_pattern(view: Packing, x, i, j, image_of, lo: int, hi: int, reach: float, chunk: int):
     """``(rows, cols)``: the blocks ``(p own, q)`` of the candidate pairs ``(i, j)`` within ``reach``
     times the summed radii, both directions, ``chunk`` pairs at a time (temporaries O(chunk)).
-    ``image_of(i, j)`` gives a chunk's image shifts.
+    ``image_of(start, i, j)`` gives the image shifts of the chunk from pair ``start`` on.
     """
     rows, cols = [], []
     r, box = view.radii, view.box
