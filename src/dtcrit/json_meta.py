@@ -10,9 +10,7 @@ headers are read as text: nothing here imports the generated code.
 """
 from __future__ import annotations
 
-import hashlib
 from functools import lru_cache
-from importlib import resources
 from pathlib import Path
 
 _HASH_PREFIX = "# Derivation hash:"
@@ -32,6 +30,8 @@ def sources_hash(sources: tuple[str, ...]) -> str:
     str
         The hash.
     """
+    import hashlib  # here, not at import: a plain ``dtcrit step`` starts without it
+
     root = Path(__file__).resolve().parent
     h = hashlib.sha256()
     for rel in sources:
@@ -42,6 +42,8 @@ def sources_hash(sources: tuple[str, ...]) -> str:
 @lru_cache(maxsize=1)
 def derivation_hashes() -> dict[str, str]:
     """``{generated module name: derivation hash}`` from the headers of ``dtcrit/_generated/*.py``."""
+    from importlib import resources  # here, not at import (as ``hashlib`` above)
+
     out: dict[str, str] = {}
     for entry in sorted(resources.files("dtcrit._generated").iterdir(), key=lambda e: e.name):
         if not entry.name.endswith(".py") or entry.name.startswith("__"):

@@ -100,7 +100,7 @@ def _arm_term_supremum(shape) -> ArmSupremum:
     arm = float(shape.max_arm)
     crude = arm * arm * float(np.max(w))  # lambda_max(T(p)) <= |p|^2 max(1/I)
     if float(np.max(w)) == float(np.min(w)):
-        d, p = _farthest_support_point(shape)
+        d, p = _sphere_tip(shape) if getattr(shape, "kind", "") == "sphere" else _farthest_support_point(shape)
         return ArmSupremum(crude, min(crude, float(arm_lambda(p[None, :], inertia)[0])), tuple(p), tuple(d), "isotropic")
     if _is_ellipsoid(shape):
         return ellipsoid_supremum(shape.half_lengths, inertia)
@@ -157,6 +157,14 @@ def _vertex_normal(shape, vertex: np.ndarray) -> tuple[float, float, float]:
         return tuple(d)
     pts, nrm = shape.surface_points(1)  # the vertices come first, with their mean face normals
     return tuple(nrm[int(np.argmin(np.linalg.norm(pts - vertex, axis=1)))])
+
+
+def _sphere_tip(shape) -> tuple[np.ndarray, np.ndarray]:
+    """A sphere's farthest support point is any: the one along ``z`` (no search, and no import of
+    ``numpy.random`` at start).
+    """
+    d = np.array([0.0, 0.0, 1.0])
+    return d, np.asarray(shape.support(d), float)
 
 
 def _farthest_support_point(shape) -> tuple[np.ndarray, np.ndarray]:

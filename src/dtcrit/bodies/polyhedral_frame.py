@@ -10,7 +10,8 @@ import numpy as np
 from dtcrit._generated import mass_properties as _mp
 from dtcrit.bodies.checks import _DEGENERATE_RTOL, ORDER_RTOL
 from dtcrit.bodies.hull import HullError, convex_hull_2d, nearest_neighbours
-from dtcrit.bodies.polyhedral_surface import _distinct, _plane_basis
+from dtcrit.bodies.polyhedral_surface import _plane_basis
+from dtcrit.numerics.distinct import distinct
 
 
 def _tetra_decomposition(points: np.ndarray, simplices: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
@@ -42,7 +43,7 @@ def _min_area_rectangle(points2: np.ndarray) -> tuple[float, float]:
     edges = np.roll(ring, -1, axis=0) - ring
     angles = np.arctan2(edges[:, 1], edges[:, 0]) % (np.pi / 2)
     best_angle, best_area = 0.0, math.inf
-    for ang in _distinct(np.round(angles, 14)):
+    for ang in distinct(np.round(angles, 14)):
         c, s = math.cos(ang), math.sin(ang)
         pu = points2 @ np.array([c, s])
         pv = points2 @ np.array([-s, c])

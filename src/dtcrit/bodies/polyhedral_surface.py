@@ -142,12 +142,6 @@ class _PolyhedralSurface:
         return (ties @ self.vertices) / np.sum(ties, axis=1, keepdims=True)
 
 
-def _distinct(a: np.ndarray) -> np.ndarray:
-    """Sorted distinct values (``np.unique`` without its import of ``numpy.ma``, ~30 ms)."""
-    s = np.sort(a)
-    return s[np.concatenate([[True], s[1:] != s[:-1]])] if s.size else s
-
-
 def _distinct_pairs(keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Distinct rows of a non-negative ``(K, 2)`` int array, lexicographic, and each row's position."""
     code = keys[:, 0] * (int(keys.max()) + 1) + keys[:, 1]

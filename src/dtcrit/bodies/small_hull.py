@@ -18,6 +18,8 @@ import itertools
 
 import numpy as np
 
+from dtcrit.numerics.distinct import distinct_rows
+
 __all__ = ["BRUTE_PAIRS", "SMALL_POINTS", "ccw_order", "close_pairs", "components", "nearest", "planar_faces"]
 
 SMALL_POINTS = 40
@@ -158,7 +160,7 @@ def planar_faces(q: np.ndarray, tol: float) -> list[tuple[np.ndarray, np.ndarray
     n = np.where(above[:, None], -n, n)[below | above]
     on = (np.abs(dist[:, below | above]) <= tol).T
     faces = []
-    for row in np.unique(on, axis=0)[::-1]:
+    for row in distinct_rows(on)[::-1]:
         pick = np.flatnonzero((on == row).all(axis=1))
         normal = n[pick].sum(axis=0)
         normal /= np.linalg.norm(normal)

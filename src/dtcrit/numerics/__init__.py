@@ -9,6 +9,8 @@ Modules:
   runtime's solver), with compensated Newton steps;
 * :mod:`dtcrit.numerics.polynomial_roots`: all roots of the integrators' characteristic polynomials;
 * :mod:`dtcrit.numerics.rotations`: quaternion rotation matrices in the one convention, body to world;
+* :mod:`dtcrit.numerics.distinct`: sorted distinct values without ``numpy.unique`` (and its import of
+  ``numpy.ma``);
 * :mod:`dtcrit.numerics.reference`: the mpmath references (imported only by tests and ``codegen``).
 
 The C, Fortran and NumPy texts of the same primitives that ``dtcrit codegen`` emits are package data

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from dtcrit.numerics.distinct import distinct
 from dtcrit.scenes.dense_cells import max_code_size, min_contact_angle_cos
 
 CONTACT_TOLERANCE = 1e-9  # tau: how far beyond touching a contact may be (as in dense_spheres)
@@ -94,13 +95,13 @@ def sphere_cos_bounds(radii, overlap: float) -> tuple[np.ndarray, np.ndarray, np
     tuple of numpy.ndarray
         ``(lo, hi, cos_max)`` per group.
     """
-    r = np.unique(np.asarray(radii, float))
+    r = distinct(np.asarray(radii, float))
     if len(r) <= EXACT_SPECIES:
         c = min_contact_angle_cos(r[:, None, None], r[None, :, None], r[None, None, :], overlap, CONTACT_TOLERANCE)
         return r, r, c.max(axis=(1, 2))
     edges = np.exp(np.linspace(math.log(r[0]), math.log(r[-1]), BINS + 1))
     idx = np.clip(np.searchsorted(edges, r, side="right") - 1, 0, BINS - 1)
-    used = np.unique(idx)
+    used = distinct(idx)
     lo = np.array([r[idx == b].min() for b in used])
     hi = np.array([r[idx == b].max() for b in used])
     return lo, hi, _cos_bound_binned(lo, hi, overlap)

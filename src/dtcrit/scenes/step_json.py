@@ -265,7 +265,10 @@ def order_of_accuracy_json(integrator: str) -> dict | None:
         ``{"damped": p, "undamped": p}``; ``None`` for a built-in scheme or when not found.
     """
     from dtcrit.integrators.schemes import USER_INTEGRATORS
+
+    if integrator not in USER_INTEGRATORS:  # a built-in scheme: the rule parser is not loaded
+        return None
     from dtcrit.integrators.user_rules import order_of
 
-    order = order_of(USER_INTEGRATORS[integrator]) if integrator in USER_INTEGRATORS else None
+    order = order_of(USER_INTEGRATORS[integrator])
     return None if order is None else {"damped": order[0], "undamped": order[1]}
