@@ -333,10 +333,8 @@ def partial_rows(args: tuple, scale: np.ndarray, weight: np.ndarray,
 
     Parameters
     ----------
-    args : tuple
-        ``matrix_free_kernels.loop_arguments``' tuple.
-    scale : numpy.ndarray
-        ``M^(-1/2)`` per DOF, (N, 6).
+    args, scale : tuple, numpy.ndarray
+        As ``summary``: the loops' arguments and ``M^(-1/2)`` per DOF.
     weight : numpy.ndarray
         The mass diagonal per DOF, (N, 6).
     particles : numpy.ndarray
