@@ -9,7 +9,10 @@ product itself).  ``chebyshev_start`` here is the same recurrence with the same 
 distributed vectors of a PETSc matrix (the inner products and norms are global), started, as the
 serial route, from a random vector plus all particles co-rotating about x, y and z
 (``rayleigh_trials.co_rotation`` of each rank's own particles: every particle's entry is its own).
-It only chooses where Krylov-Schur starts: the answer and its residual are SLEPc's.
+The random part is the same whatever the ranks (``global_uniform``: entry ``d`` of the vector is
+the ``d``-th draw of one PCG64 stream, each rank jumping to its first row), so that one and several
+ranks start from one vector and take about as many products.  It only chooses where Krylov-Schur
+starts: the answer and its residual are SLEPc's.
 """
 from __future__ import annotations
 
@@ -18,11 +21,39 @@ import numpy as np
 from dtcrit.packing.model import Packing
 from dtcrit.packing.solvers.largest_mode import FILTER_DEGREE, FILTER_STAGES, FILTER_STOP
 
-__all__ = ["start_vector", "chebyshev_start"]
+__all__ = ["global_uniform", "start_vector", "chebyshev_start"]
+
+
+def global_uniform(seed: int, lo: int, hi: int) -> np.ndarray:
+    """Entries ``lo .. hi - 1`` of one random vector uniform in ``[-1, 1)``: draws ``lo .. hi - 1`` of
+    the PCG64 stream of ``seed`` (``advance`` jumps to draw ``lo``; a double takes one 64-bit draw), so
+    that the ranks' pieces are one vector whatever their number.
+
+    Parameters
+    ----------
+    seed : int
+        The stream's seed.
+    lo, hi : int
+        The entries wanted (a rank's rows).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``hi - lo`` values.
+
+    Examples
+    --------
+    >>> bool((global_uniform(7, 0, 5)[3:] == global_uniform(7, 3, 5)).all())
+    True
+    """
+    stream = np.random.PCG64(seed)
+    stream.advance(int(lo))
+    return 2.0 * np.random.Generator(stream).random(int(hi) - int(lo)) - 1.0
 
 
 def start_vector(mat, local: Packing, n_own: int, seed: int):
-    """A random vector plus the normalised co-rotation hint, on ``mat``'s rows (collective).
+    """A random vector (``global_uniform``) plus the normalised co-rotation hint, on ``mat``'s rows
+    (collective).
 
     Parameters
     ----------
@@ -33,7 +64,7 @@ def start_vector(mat, local: Packing, n_own: int, seed: int):
     n_own : int
         Number of own particles.
     seed : int
-        Seed of this rank's random part.
+        Seed of the random part (the same on every rank).
 
     Returns
     -------
@@ -44,7 +75,7 @@ def start_vector(mat, local: Packing, n_own: int, seed: int):
 
     v = mat.createVecRight()
     hint = mat.createVecRight()
-    v.setArray(np.random.default_rng(seed).standard_normal(v.getLocalSize()))
+    v.setArray(global_uniform(seed, *v.getOwnershipRange()))
     rows = 6 * n_own
     hint.setArray((co_rotation(local, 0) + co_rotation(local, 1) + co_rotation(local, 2))[:rows])
     size = hint.norm()
