@@ -12,7 +12,6 @@ import math
 import numpy as np
 
 from dtcrit.integrators.stability import paper_eq46
-from dtcrit.packing.bounds.yade_stepper import single_contact_step
 from dtcrit.physics import rules_of_thumb as rot
 from dtcrit.physics.estimate import Estimate
 
@@ -120,6 +119,8 @@ def _gsts_side(kind: str, shape, contact) -> float | None:
         radius = float(np.max(shape.spheres[:, 3]))
     else:
         return None
+    from dtcrit.packing.bounds.yade_stepper import single_contact_step  # here: scenes without spheres skip it
+
     return single_contact_step(shape.mass, shape.inertia, contact.kn, contact.ks, contact.kr, contact.ktw, radius)
 
 
