@@ -16,7 +16,6 @@ from typing import Any
 
 from dtcrit.bodies.base import _Shape
 from dtcrit.bodies.clump import Clump
-from dtcrit.bodies.polyhedra import Box, ConvexPolyhedron
 from dtcrit.bodies.smooth import Ellipsoid, Sphere, Superquadric
 from dtcrit.errors import InputError
 from dtcrit.inputs.arrays import clump_spheres, vector, vertices
@@ -28,10 +27,19 @@ _KINDS = {
     "sphere": (Sphere, ("radius",)),
     "ellipsoid": (Ellipsoid, ("a", "b", "c")),
     "superquadric": (Superquadric, ("a", "b", "c", "eps1", "eps2")),
-    "box": (Box, ("a", "b", "c")),
-    "polyhedron": (ConvexPolyhedron, ("vertices",)),
+    "box": ("Box", ("a", "b", "c")),  # dtcrit.bodies.polyhedra, imported when one is built (_shape_class)
+    "polyhedron": ("ConvexPolyhedron", ("vertices",)),
 }
 _OPTIONAL = {"density", "mass"}
+
+
+def _shape_class(cls: Any) -> Any:
+    """A shape class of ``_KINDS``; a polyhedron's named one is imported here, on first use."""
+    if not isinstance(cls, str):
+        return cls
+    from dtcrit.bodies.polyhedra import Box, ConvexPolyhedron
+
+    return {"Box": Box, "ConvexPolyhedron": ConvexPolyhedron}[cls]
 
 # ----------------------------------------------------------------------------------------------
 # The vocabulary of a [[particle]] table
@@ -92,7 +100,8 @@ def shape_from_spec(kind: str, **params: Any) -> _Shape:
     if not isinstance(kind, str) or kind.lower() not in _KINDS:
         raise InputError("kind", f"must be one of {', '.join(_KINDS)} (got {kind!r})")
     cls, needed = _KINDS[kind.lower()]
-    allowed = set(needed) | _OPTIONAL | ({"rtol"} if cls is ConvexPolyhedron else set())
+    cls = _shape_class(cls)
+    allowed = set(needed) | _OPTIONAL | ({"rtol"} if kind.lower() == "polyhedron" else set())
     for key in params:
         if key not in allowed:
             raise InputError(key, f"unknown parameter for a {kind.lower()} (expected {', '.join(sorted(allowed))})")
@@ -240,11 +249,11 @@ def build_shape(prefix: str, kind: str, dims: dict, density: float | None, mass:
     elif kind == "superquadric":
         args, cls = tuple(dims["semi_axes"]) + tuple(dims["exponents"]), Superquadric
     elif kind == "box":
-        args, cls = tuple(dims["half_lengths"]), Box
+        args, cls = tuple(dims["half_lengths"]), _shape_class("Box")
     elif kind == "clump":
         args, cls = (dims["spheres"],), Clump
     else:
-        args, cls = (dims["vertices"],), ConvexPolyhedron
+        args, cls = (dims["vertices"],), _shape_class("ConvexPolyhedron")
     size_key = next(iter(dims))
     try:
         with warnings.catch_warnings(record=True):  # other warnings of the shape layer are dropped
