@@ -44,6 +44,10 @@ FEASIBILITY_RTOL = 1e-10
 as one of its vertices: including near-vertices can only raise the bound."""
 
 _TRIPLES = np.array(list(itertools.combinations(range(11), 3)))
+_PAIRS = np.array(list(itertools.combinations(range(11), 2)))
+_PAIR_INDEX = {(int(i), int(j)): k for k, (i, j) in enumerate(_PAIRS)}
+_JK, _IK, _IJ = (np.array([_PAIR_INDEX[(int(t[a]), int(t[b]))] for t in _TRIPLES]) for a, b in ((1, 2), (0, 2), (0, 1)))
+"""Per triple ``(i, j, k)``, the rows of ``n_j x n_k``, ``n_i x n_k`` and ``n_i x n_j`` among the 55 pairs."""
 
 
 def _corner_directions(face: np.ndarray, u0, u1, v0, v1) -> np.ndarray:
@@ -90,15 +94,22 @@ def _cell_bounds(normals: np.ndarray, offsets: np.ndarray, inertia, scale: float
 
 
 def _chunk_bounds(normals: np.ndarray, offsets: np.ndarray, inertia, scale: float) -> np.ndarray:
-    n1, n2, n3 = (normals[:, _TRIPLES[:, k]] for k in range(3))  # (N, 165, 3)
-    h1, h2, h3 = (offsets[:, _TRIPLES[:, k]] for k in range(3))
-    c23, c31, c12 = np.cross(n2, n3), np.cross(n3, n1), np.cross(n1, n2)
-    det = np.einsum("ntj,ntj->nt", n1, c23)
+    """Cramer's rule for every triple, from the 55 pair cross products of each polytope's planes.
+
+    ``n_k x n_i`` is taken as ``-(n_i x n_k)``, which is the same number: IEEE products commute and
+    ``a - b = -(b - a)`` exactly.  Planes, pairs and triples run along the first axis, cells along
+    the second, so that each gather copies whole rows.
+    """
+    planes = np.ascontiguousarray(normals.transpose(1, 0, 2))  # (11, N, 3)
+    levels = np.ascontiguousarray(offsets.T)  # (11, N)
+    pair_cross = np.cross(planes[_PAIRS[:, 0]], planes[_PAIRS[:, 1]])  # (55, N, 3)
+    c23, c31, c12 = pair_cross[_JK], -pair_cross[_IK], pair_cross[_IJ]  # (165, N, 3)
+    h1, h2, h3 = (levels[_TRIPLES[:, k], :, None] for k in range(3))
+    det = np.einsum("tnj,tnj->tn", planes[_TRIPLES[:, 0]], c23)
     ok = np.abs(det) > 1e-14
-    safe = np.where(ok, det, 1.0)
-    x = (h1[..., None] * c23 + h2[..., None] * c31 + h3[..., None] * c12) / safe[..., None]
-    slack = np.einsum("nkj,ntj->ntk", normals, x) - offsets[:, None, :]
-    ok &= np.all(slack <= FEASIBILITY_RTOL * scale, axis=2)
+    x = ((h1 * c23 + h2 * c31 + h3 * c12) / np.where(ok, det, 1.0)[..., None]).transpose(1, 0, 2)  # (N, 165, 3)
+    slack = np.matmul(x, normals.transpose(0, 2, 1)) - offsets[:, None, :]  # (N, 165, 11)
+    ok = ok.T & np.all(slack <= FEASIBILITY_RTOL * scale, axis=2)
     values = np.full(ok.shape, -np.inf)
     if np.any(ok):
         values[ok] = arm_lambda(x[ok], inertia)
