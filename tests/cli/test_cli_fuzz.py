@@ -396,3 +396,17 @@ def _is_float(text: str) -> bool:
     except ValueError:
         return False
     return True
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_a_parser_of_one_command_reads_its_command_lines_as_the_whole_parser(command):
+    """``main`` builds only the named command's parser: the arguments it reads, its usage and help are
+    the whole parser's, and its parser holds no other command."""
+    alone = build_parser(command)
+    (sub,) = [a for a in alone._actions if isinstance(a, argparse._SubParsersAction)]
+    assert list(sub.choices) == [command]
+    more = {"collide": [[EXAMPLES[0]]], "plan": [[d, "--target-dt", "1e-6"] for d in DUMPS[:1]]}
+    for extra in BASES.get(command, []) + more.get(command, []):
+        argv = [command, *extra]
+        assert vars(alone.parse_args(argv)) == vars(build_parser().parse_args(argv)), argv
+    assert sub.choices[command].format_help() == SUBPARSERS[command].format_help()

@@ -42,8 +42,14 @@ class _Parser(argparse.ArgumentParser):
         raise SystemExit(2)
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The ``dtcrit`` argument parser with every subcommand of ``COMMANDS``.
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The ``dtcrit`` argument parser with every subcommand of ``COMMANDS``, or with one of them.
+
+    Parameters
+    ----------
+    only : str, optional
+        A command of ``COMMANDS``: the parser has that subcommand alone, so that a command line
+        naming it imports no other command's module (``main`` passes the one named).
 
     Returns
     -------
@@ -55,7 +61,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="dtcrit", description="Critical time steps for explicit DEM simulations.")
     parser.add_argument("--version", action="version", version=f"dtcrit {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
-    for name in COMMANDS:
+    for name in COMMANDS if only is None else (only,):
         importlib.import_module(f"dtcrit.cli.{name}").add_parser(sub)
     return parser
 
@@ -73,8 +79,9 @@ def main(argv: list[str] | None = None) -> int:
     int
         The exit status: 0, or 2 for bad input (one line on standard error, no traceback).
     """
-    parser = build_parser()
-    args = parser.parse_args(argv)
+    words = sys.argv[1:] if argv is None else list(argv)
+    parser = build_parser(words[0] if words and words[0] in COMMANDS else None)
+    args = parser.parse_args(words)
     if not getattr(args, "run", None):
         sys.stderr.write(f"dtcrit: give a command, one of {', '.join(COMMANDS)} (dtcrit --help says what each does)\n")
         return 2
