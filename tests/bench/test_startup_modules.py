@@ -5,6 +5,7 @@ the scene's cases (``dtcrit.scenes.dense_tables``).
 """
 from __future__ import annotations
 
+import ast
 import json
 import os
 import subprocess
@@ -52,3 +53,32 @@ def test_each_example_alone_imports_no_heavy_module():
                               text=True, env={**os.environ, "PYTHONPATH": str(SRC)}, timeout=300)
         assert proc.returncode == 0, proc.stderr[-3000:]
         assert list(json.loads(proc.stdout).values()) == [[]], name
+
+
+UNUSED_BY_AN_ELLIPSOID_PAIR = ("dtcrit.cli.packing", "dtcrit.cli.plan", "dtcrit.cli.impact", "dtcrit.packing.step",
+                               "dtcrit.scenes.walls", "dtcrit.scenes.sizes", "dtcrit.scenes.rotational",
+                               "dtcrit.bodies.clump", "dtcrit.bodies.hull", "dtcrit.bodies.polyhedra", "json", "difflib")
+"""Modules a scene loads only when it uses them: another command's parser, walls, sphere sizes,
+rotational springs, clumps, polyhedra, JSON output, a "did you mean" message."""
+
+
+def _modules_after_step(name: str, watched: tuple[str, ...]) -> list[str]:
+    """The modules of ``watched`` loaded after ``dtcrit step`` on example ``name`` (a probe that itself
+    imports nothing but ``sys``, ``io`` and ``contextlib``)."""
+    code = ("import contextlib, io, sys\nfrom dtcrit.cli import main\n"
+            "with contextlib.redirect_stdout(io.StringIO()):\n    assert main(['step', sys.argv[1]]) == 0\n"
+            f"print(sorted(m for m in {watched!r} if m in sys.modules))\n")
+    proc = subprocess.run([sys.executable, "-c", code, str(REPO_ROOT / "examples" / name)], capture_output=True,
+                          text=True, env={**os.environ, "PYTHONPATH": str(SRC)}, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    return ast.literal_eval(proc.stdout.strip())
+
+
+def test_a_scene_imports_only_the_parts_it_uses():
+    """An ellipsoid pair loads none of ``UNUSED_BY_AN_ELLIPSOID_PAIR``; spheres on a floor, with walls
+    and a size, and the rolling-resistance scene load the walls, sizes and rotational modules they use
+    (so the probe does see a module loaded on first use)."""
+    assert _modules_after_step("paper_ellipsoids.toml", UNUSED_BY_AN_ELLIPSOID_PAIR) == []
+    assert _modules_after_step("spheres_on_a_floor.toml", ("dtcrit.scenes.walls", "dtcrit.scenes.sizes")) == [
+        "dtcrit.scenes.sizes", "dtcrit.scenes.walls"]
+    assert _modules_after_step("rolling_resistance.toml", ("dtcrit.scenes.rotational",)) == ["dtcrit.scenes.rotational"]

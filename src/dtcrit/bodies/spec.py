@@ -15,7 +15,6 @@ import warnings
 from typing import Any
 
 from dtcrit.bodies.base import _Shape
-from dtcrit.bodies.clump import Clump
 from dtcrit.bodies.smooth import Ellipsoid, Sphere, Superquadric
 from dtcrit.errors import InputError
 from dtcrit.inputs.arrays import clump_spheres, vector, vertices
@@ -34,9 +33,13 @@ _OPTIONAL = {"density", "mass"}
 
 
 def _shape_class(cls: Any) -> Any:
-    """A shape class of ``_KINDS``; a polyhedron's named one is imported here, on first use."""
+    """A shape class of ``_KINDS``; a polyhedron's or clump's named one is imported here, on first use."""
     if not isinstance(cls, str):
         return cls
+    if cls == "Clump":
+        from dtcrit.bodies.clump import Clump
+
+        return Clump
     from dtcrit.bodies.polyhedra import Box, ConvexPolyhedron
 
     return {"Box": Box, "ConvexPolyhedron": ConvexPolyhedron}[cls]
@@ -251,7 +254,7 @@ def build_shape(prefix: str, kind: str, dims: dict, density: float | None, mass:
     elif kind == "box":
         args, cls = tuple(dims["half_lengths"]), _shape_class("Box")
     elif kind == "clump":
-        args, cls = (dims["spheres"],), Clump
+        args, cls = (dims["spheres"],), _shape_class("Clump")
     else:
         args, cls = (dims["vertices"],), _shape_class("ConvexPolyhedron")
     size_key = next(iter(dims))

@@ -13,8 +13,6 @@ import math
 
 import numpy as np
 
-from dtcrit.bodies.hull import nearest_neighbours
-
 
 def _holder_maximiser(g: np.ndarray, p: float) -> tuple[np.ndarray, np.ndarray]:
     """Maximise ``g . x`` over the unit l_p ball (p >= 1), row-wise.
@@ -234,6 +232,8 @@ def _superquadric_surface_points(n: int, axes: np.ndarray, e1: float, e2: float)
         assert best is not None  # set on the first pass
         chosen, pts, h = best
         chosen = pts[chosen]
+        from dtcrit.bodies.hull import nearest_neighbours  # imported only when a sample is thinned
+
         near_tip = nearest_neighbours(chosen, tips)[0] < 0.5 * h
         points = np.concatenate([tips, chosen[~near_tip]])
     else:

@@ -28,7 +28,7 @@ import sys
 import time
 
 from dtcrit.errors import InputError
-from dtcrit.packing.step import DEFAULT_DENSITY, DEFAULT_RADIUS
+from dtcrit.packing.defaults import DEFAULT_DENSITY, DEFAULT_RADIUS
 
 
 def add_parser(subparsers) -> None:

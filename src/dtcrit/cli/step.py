@@ -12,7 +12,6 @@ This module and everything it imports stay free of SymPy (start-up time).
 """
 from __future__ import annotations
 
-import json
 import sys
 
 
@@ -207,6 +206,8 @@ def run(args) -> int:
     for key, message in scene.warnings:
         sys.stderr.write(f"{args.scene}:{key}: {message}\n")
     if args.json:
+        import json
+
         print(json.dumps(result.to_json(), indent=2, allow_nan=False))
     else:
         print(format_text(result))

@@ -3,7 +3,6 @@ one-line message naming the key.
 """
 from __future__ import annotations
 
-import difflib
 from typing import Any
 
 from dtcrit.errors import InputError
@@ -36,6 +35,8 @@ def check_keys(prefix: str, table: dict, allowed: tuple[str, ...], vocabulary: t
         path = f"{prefix}{key_text(key)}"
         if key in vocabulary:
             raise InputError(path, f"not used {where}; valid keys here: {', '.join(allowed)}")
+        import difflib  # only for a message
+
         close = difflib.get_close_matches(str(key), allowed, n=1, cutoff=0.6) or difflib.get_close_matches(
             str(key).lower(), allowed, n=1, cutoff=0.5
         )

@@ -1,7 +1,6 @@
 """Values as error messages show them: shortened, on one line, with their JSON/TOML type named."""
 from __future__ import annotations
 
-import json
 import re
 from typing import Any
 
@@ -88,4 +87,8 @@ def key_text(key: str) -> str:
     str
         The key, bare (``semi_axes``) or JSON-quoted (``"a b"``) so that messages show it safely.
     """
-    return key if _BARE_KEY.match(key) else json.dumps(key)
+    if _BARE_KEY.match(key):
+        return key
+    import json  # only for a key that needs quotes
+
+    return json.dumps(key)

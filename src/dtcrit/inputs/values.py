@@ -6,7 +6,6 @@ found 'x'``, :func:`finite`, :func:`whole`, :func:`integer_id`, :func:`stiffness
 """
 from __future__ import annotations
 
-import difflib
 import math
 from typing import Any, Literal, overload
 
@@ -100,6 +99,8 @@ def choice(key: str, value: Any, choices: tuple[str, ...], what: str) -> str:
         return text
     if text.lower() in choices:
         return text.lower()
+    import difflib  # only for a message
+
     close = difflib.get_close_matches(text.lower(), choices, n=1, cutoff=0.5)
     hint = f" (did you mean '{close[0]}'?)" if close else ""
     raise InputError(key, f"unknown {what} {short(text)}{hint}; choose one of {', '.join(choices)}")

@@ -13,7 +13,6 @@ or below the float64 range is refused with ``InputError``, never returned as inf
 """
 from __future__ import annotations
 
-import difflib
 import math
 from dataclasses import dataclass
 
@@ -82,6 +81,8 @@ def check_integrator(name: str) -> str:
     name, _note = resolve_integrator(name)
     if name in INTEGRATORS or name in USER_INTEGRATORS:
         return name
+    import difflib  # only for the message
+
     close = difflib.get_close_matches(str(name), NAMES + tuple(ENGINES), n=1)
     hint = f" (did you mean '{close[0]}'?)" if close else ""
     raise InputError("integrator", f"unknown integrator {name!r}{hint}; choose one of {', '.join(NAMES)}")

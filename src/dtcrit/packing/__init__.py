@@ -13,7 +13,8 @@ Modules: ``model`` (Packing, Box, the contact laws applied per contact), ``perio
 sheared cell), ``contact_set`` (Contacts), ``normal_arms`` (sphere arms held as lengths),
 ``uniform_values`` (a per-contact value of one number held once), ``step``
 (``packing_step``, the analysis behind ``dtcrit packing``), ``step_input`` (its inputs: a dump, a
-bodies file or a generated packing), ``report`` (``analyse`` and the report), ``report_text`` (its text),
+bodies file or a generated packing), ``defaults`` (the generated packings' density and radius),
+``report`` (``analyse`` and the report), ``report_text`` (its text),
 ``wall_bodies`` (fixed walls as bodies of infinite mass); and the subpackages
 ``readers`` (engine files), ``conventions`` (each engine's contact conventions), ``detection``
 (contacts from positions), ``operators`` (the contact element, ``K`` assembled or applied),

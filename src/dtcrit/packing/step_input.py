@@ -12,16 +12,13 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from dtcrit.errors import InputError
+from dtcrit.packing.defaults import DEFAULT_DENSITY, DEFAULT_RADIUS
 
 if TYPE_CHECKING:
     from dtcrit.packing.model import Contacts, Packing
 
 __all__ = ["DEFAULT_DENSITY", "DEFAULT_RADIUS", "PackingInput", "RANDOM_SECONDS_LIMIT", "packing_input"]
 
-DEFAULT_DENSITY = 2650.0
-"""Particle density of generated packings [kg/m^3] (quartz)."""
-DEFAULT_RADIUS = 1.0e-3
-"""Sphere (median) radius of generated packings [m]."""
 RANDOM_SECONDS_LIMIT = 1800.0
 """A random packing whose generation is estimated to take longer than this [s] is refused up front
 (``random_packing.generation_seconds``); below it a progress bar shows the relaxation on a terminal."""

@@ -1,4 +1,5 @@
-"""Scenes: the TOML description of a DEM simulation's contacts (``scene``, ``fields``, ``model``),
+"""Scenes: the TOML description of a DEM simulation's contacts (``scene``, ``fields``, ``model``;
+``contact_table``: the ``[contact]`` table),
 the ``dtcrit step`` API (``timestep``) and the estimates other DEM codes use (``code_estimates``; their
 formulas and the contact physics are ``dtcrit.physics``); ``local_damping`` (the keys ``local_damping``,
 ``local_damping_law``: the step times ``1/sqrt(1 + alpha)``).

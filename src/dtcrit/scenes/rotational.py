@@ -41,13 +41,14 @@ from dataclasses import dataclass
 from dtcrit.errors import InputError
 from dtcrit.physics import rotational_springs as rs_
 from dtcrit.scenes.fields import _choice, _number
+from dtcrit.scenes.model import ROTATIONAL_KEYS
 
 ROLLING_MODELS = ("epsd", "epsd2", "epsd3", "sds", "yade")
 TWISTING_MODELS = ("marshall", "sds")
-DIRECT_KEYS = ("kr", "ktw", "cr", "ctw")
-MODEL_KEYS = ("rolling_model", "rolling_friction", "rolling_viscous_damping", "rolling_stiffness_factor", "k_roll",
-              "gamma_roll", "alpha_kr", "alpha_ktw", "twisting_model", "k_twist", "gamma_twist", "contact_radius")
-ROTATIONAL_KEYS = DIRECT_KEYS + MODEL_KEYS
+DIRECT_KEYS = ROTATIONAL_KEYS[:4]
+"""The direct springs and dashpots ``kr``, ``ktw``, ``cr``, ``ctw``."""
+MODEL_KEYS = ROTATIONAL_KEYS[4:]
+"""The rolling and twisting models' keys."""
 NEEDS = {
     "epsd": ("rolling_friction",), "epsd2": (), "epsd3": ("rolling_friction", "rolling_stiffness_factor"),
     "sds": ("k_roll",), "yade": ("alpha_kr",),

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from dtcrit.errors import InputError
-from dtcrit.packing.step import DEFAULT_RADIUS
+from dtcrit.packing.defaults import DEFAULT_RADIUS
 
 if TYPE_CHECKING:
     from dtcrit.packing.distributed.slepc_backend import SlepcResult
