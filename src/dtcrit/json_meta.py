@@ -11,7 +11,6 @@ headers are read as text: nothing here imports the generated code.
 from __future__ import annotations
 
 from functools import lru_cache
-from pathlib import Path
 
 _HASH_PREFIX = "# Derivation hash:"
 
@@ -30,7 +29,8 @@ def sources_hash(sources: tuple[str, ...]) -> str:
     str
         The hash.
     """
-    import hashlib  # here, not at import: a plain ``dtcrit step`` starts without it
+    import hashlib  # here, not at import: a plain ``dtcrit step`` starts without them
+    from pathlib import Path
 
     root = Path(__file__).resolve().parent
     h = hashlib.sha256()

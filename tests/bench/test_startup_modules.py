@@ -57,9 +57,11 @@ def test_each_example_alone_imports_no_heavy_module():
 
 UNUSED_BY_AN_ELLIPSOID_PAIR = ("dtcrit.cli.packing", "dtcrit.cli.plan", "dtcrit.cli.impact", "dtcrit.packing.step",
                                "dtcrit.scenes.walls", "dtcrit.scenes.sizes", "dtcrit.scenes.rotational",
-                               "dtcrit.bodies.clump", "dtcrit.bodies.hull", "dtcrit.bodies.polyhedra", "json", "difflib")
+                               "dtcrit.bodies.clump", "dtcrit.bodies.hull", "dtcrit.bodies.polyhedra", "json", "difflib",
+                               "shutil", "pathlib")
 """Modules a scene loads only when it uses them: another command's parser, walls, sphere sizes,
-rotational springs, clumps, polyhedra, JSON output, a "did you mean" message."""
+rotational springs, clumps, polyhedra, JSON output, a "did you mean" message; and two the standard
+library would load at every start (``shutil`` for argparse's help width, ``pathlib`` to open a file)."""
 
 
 def _modules_after_step(name: str, watched: tuple[str, ...]) -> list[str]:

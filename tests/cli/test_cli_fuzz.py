@@ -20,6 +20,8 @@ from __future__ import annotations
 import argparse
 import contextlib
 import math
+import os
+import shutil
 from pathlib import Path
 from unittest import mock
 
@@ -27,7 +29,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from dtcrit.cli import COMMANDS, build_parser, main
+from dtcrit.cli import COMMANDS, build_parser, help_width, main
 from support.paths import REPO_ROOT as ROOT
 
 EXAMPLES = sorted(str(p) for p in (ROOT / "examples").glob("*.toml")
@@ -410,3 +412,20 @@ def test_a_parser_of_one_command_reads_its_command_lines_as_the_whole_parser(com
         argv = [command, *extra]
         assert vars(alone.parse_args(argv)) == vars(build_parser().parse_args(argv)), argv
     assert sub.choices[command].format_help() == SUBPARSERS[command].format_help()
+
+
+@given(columns=st.one_of(st.none(), st.integers(-5, 400).map(str), st.sampled_from(["", "abc", "1e3", " 90 "])))
+@settings(max_examples=60, deadline=None)
+def test_help_wraps_at_the_width_argparse_takes(columns):
+    """``help_width`` is ``shutil.get_terminal_size().columns - 2`` for any ``$COLUMNS`` (set, empty, odd,
+    negative or none), and ``dtcrit step --help`` wraps there as argparse's own formatter does."""
+    env = {} if columns is None else {"COLUMNS": columns}
+    with mock.patch.dict("os.environ", env, clear=False):
+        if columns is None:
+            os.environ.pop("COLUMNS", None)
+        assert help_width() == shutil.get_terminal_size().columns - 2
+        ours = SUBPARSERS["step"]
+        stock = argparse.ArgumentParser(prog=ours.prog, description=ours.description)
+        for action in ours._actions[1:]:  # all but -h, which the stock parser adds itself
+            stock._add_action(action)
+        assert ours.format_help() == stock.format_help()

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 
 # Subcommands in the order ``dtcrit --help`` lists them.
@@ -36,10 +37,35 @@ def _shorten(text: str, limit: int = 200) -> str:
     return text if len(text) <= limit else f"{text[: limit // 2 - 2]}...{text[-(limit // 2 - 1):]}"
 
 
+def help_width() -> int:
+    """The width argparse wraps help to, ``shutil.get_terminal_size().columns - 2``, found as shutil finds
+    it (``$COLUMNS``, else standard output's terminal, else 80) without importing shutil, whose
+    compression modules would load at every start (argparse sizes a formatter for each option added).
+
+    Returns
+    -------
+    int
+        The width in characters.
+    """
+    try:
+        columns = int(os.environ["COLUMNS"])
+    except (KeyError, ValueError):
+        columns = 0
+    if columns <= 0:
+        try:
+            columns = os.get_terminal_size(sys.__stdout__.fileno()).columns  # type: ignore[union-attr]
+        except (AttributeError, ValueError, OSError):
+            columns = 0
+    return (columns or 80) - 2
+
+
 class _Parser(argparse.ArgumentParser):
     def error(self, message):  # one line, exit status 2 (argparse's own convention)
         sys.stderr.write(f"{one_line(self.prog)}: {one_line(message)}\n")
         raise SystemExit(2)
+
+    def _get_formatter(self):
+        return self.formatter_class(prog=self.prog, width=help_width())
 
 
 def build_parser(only: str | None = None) -> argparse.ArgumentParser:

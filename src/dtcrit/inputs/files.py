@@ -9,9 +9,12 @@ from __future__ import annotations
 import re
 from collections.abc import Iterator
 from contextlib import contextmanager
-from pathlib import Path
+from typing import TYPE_CHECKING
 
 from dtcrit.errors import InputError, Location
+
+if TYPE_CHECKING:  # pathlib is not imported at run time: a path is opened as given (start-up)
+    from pathlib import Path
 
 
 def read_bounded(path: str | Path, limit: int) -> bytes:
@@ -37,7 +40,7 @@ def read_bounded(path: str | Path, limit: int) -> bytes:
     ValueError
         The path contains a NUL character.
     """
-    with Path(path).open("rb") as handle:
+    with open(path, "rb") as handle:
         return handle.read(limit + 1)
 
 
@@ -74,7 +77,8 @@ def text_lines(path: str | Path) -> list[str]:
         The lines, without their ends.
     """
     try:
-        data = Path(path).read_bytes()
+        with open(path, "rb") as handle:
+            data = handle.read()
     except OSError as exc:
         raise InputError(None, f"cannot read: {exc.strerror or exc}", source=path) from None
     lines = []

@@ -28,8 +28,7 @@ from __future__ import annotations
 import math
 import tomllib
 from dataclasses import replace
-from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from dtcrit.errors import InputError
 from dtcrit.inputs.files import read_bounded
@@ -38,6 +37,9 @@ from dtcrit.scenes.contact_table import contact_law
 from dtcrit.scenes.fields import _check_keys, _choice, _number, _required, _short, _string, _type_name
 from dtcrit.scenes.laws import resolve_pair
 from dtcrit.scenes.model import COLLISION_KEYS, PAIRS_CHOICES, TOP_KEYS, Particle, Scene
+
+if TYPE_CHECKING:
+    from pathlib import Path
 
 
 # ----------------------------------------------------------------------------------------------
