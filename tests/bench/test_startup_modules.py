@@ -1,7 +1,7 @@
 """Which modules ``dtcrit step EXAMPLE`` imports (module sets, never times): none of the heavy ones
 (``dtcrit.bench.startup.HEAVY_MODULES``: SymPy, SciPy's spatial, sparse, special, linalg, optimize)
-on any example scene, nor the dense-packing bound's branch and bound where its generated table holds
-the scene's cases (``dtcrit.scenes.dense_tables``).
+on any example scene, nor ``numpy.ma`` (which ``numpy.unique`` loads), nor the dense-packing bound's
+branch and bound where its generated table holds the scene's cases (``dtcrit.scenes.dense_tables``).
 """
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ import pytest
 from dtcrit.bench.startup import HEAVY_MODULES, example_scenes
 from support.paths import REPO_ROOT, SRC
 
-WATCHED = (*HEAVY_MODULES, "scipy", "dtcrit.scenes.dense_phi", "mpmath")
+WATCHED = (*HEAVY_MODULES, "scipy", "dtcrit.scenes.dense_phi", "mpmath", "numpy.ma")
 PROBE = (
     "import contextlib, io, json, sys\n"
     "from dtcrit.cli import main\n"

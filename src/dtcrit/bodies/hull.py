@@ -25,6 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from dtcrit.numerics.distinct import distinct
+
 __all__ = ["HullError", "Hull3D", "convex_hull_3d", "convex_hull_2d", "nearest_neighbours", "connected_components", "HULL_RTOL"]
 
 HULL_RTOL = 1e-10
@@ -255,7 +257,7 @@ def _face_planes(q: np.ndarray, tol: float) -> list:
     out = []
     for group in _merged_faces(q, hull, tol):
         normal = hull.equations[group, :3].sum(axis=0)
-        out.append((normal / np.linalg.norm(normal), np.unique(hull.simplices[group])))
+        out.append((normal / np.linalg.norm(normal), distinct(hull.simplices[group])))
     if len(out) < 4:  # a closed polyhedron has at least four faces
         raise HullError(f"the points are coplanar or degenerate (the merged faces do not close: {len(out)} found)")
     return out
@@ -332,7 +334,7 @@ def convex_hull_3d(points, rtol: float = HULL_RTOL) -> Hull3D:
         equations=equations,
         simplices=keep[tri],
         simplex_face=tri_face,
-        vertices=np.sort(keep[np.unique(flat)]),
+        vertices=np.sort(keep[distinct(flat)]),
         volume=float(np.sum(np.einsum("ij,ij->i", cross, corners[:, 0]))) / 6.0 * scale**3,
         area=0.5 * float(np.sum(np.linalg.norm(cross, axis=1))) * scale**2,
         tolerance=tol * scale,
