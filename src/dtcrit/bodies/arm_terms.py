@@ -38,10 +38,11 @@ def arm_terms_local(points: np.ndarray, inertia) -> np.ndarray:
     """
     p = np.atleast_2d(np.asarray(points, dtype=float))
     ixx, iyy, izz = (float(i) for i in inertia)
-    txx, tyy, tzz, txy, txz, tyz = (np.broadcast_to(np.asarray(t, float), p.shape[:1])
-                                    for t in _k.arm_term(p[:, 0], p[:, 1], p[:, 2], ixx, iyy, izz))
-    return np.stack([np.stack([txx, txy, txz], -1), np.stack([txy, tyy, tyz], -1),
-                     np.stack([txz, tyz, tzz], -1)], -2)
+    terms = _k.arm_term(p[:, 0], p[:, 1], p[:, 2], ixx, iyy, izz)  # xx, yy, zz, xy, xz, yz
+    sym = np.empty((p.shape[0], 3, 3))
+    for value, (i, j) in zip(terms, ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))):
+        sym[:, i, j] = sym[:, j, i] = value  # a term the kernel returns as a constant is broadcast
+    return sym
 
 
 def largest_eigenvalue(sym: np.ndarray) -> np.ndarray:
