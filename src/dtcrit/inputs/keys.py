@@ -6,7 +6,7 @@ from __future__ import annotations
 from typing import Any
 
 from dtcrit.errors import InputError
-from dtcrit.inputs.text import key_text
+from dtcrit.inputs.text import did_you_mean, key_text
 
 
 def check_keys(prefix: str, table: dict, allowed: tuple[str, ...], vocabulary: tuple[str, ...], where: str,
@@ -35,12 +35,7 @@ def check_keys(prefix: str, table: dict, allowed: tuple[str, ...], vocabulary: t
         path = f"{prefix}{key_text(key)}"
         if key in vocabulary:
             raise InputError(path, f"not used {where}; valid keys here: {', '.join(allowed)}")
-        import difflib  # only for a message
-
-        close = difflib.get_close_matches(str(key), allowed, n=1, cutoff=0.6) or difflib.get_close_matches(
-            str(key).lower(), allowed, n=1, cutoff=0.5
-        )
-        hint = f" (did you mean '{close[0]}'?)" if close else ""
+        hint = did_you_mean(str(key), allowed) or did_you_mean(str(key).lower(), allowed, 0.5)
         if prefix and key in top_level:
             hint = (f" ('{key}' is a top-level key: in TOML every key after a [table] header belongs to that table, "
                     "so write top-level keys before the first table)")

@@ -92,3 +92,34 @@ def key_text(key: str) -> str:
     import json  # only for a key that needs quotes
 
     return json.dumps(key)
+
+
+def did_you_mean(word: str, choices, cutoff: float = 0.6) -> str:
+    """The hint `` (did you mean 'x'?)`` naming the entry of ``choices`` closest to ``word``, or ``""``.
+
+    ``difflib.get_close_matches`` with one match; ``difflib`` is imported here, only when a message
+    needs it, not at every start.
+
+    Parameters
+    ----------
+    word : str
+        The word as given.
+    choices : sequence of str
+        The valid words (the hint only ever shows one of them).
+    cutoff : float
+        The least similarity ratio of a match, in [0, 1].
+
+    Returns
+    -------
+    str
+        The hint with its leading space, or an empty string when nothing is close.
+
+    Examples
+    --------
+    >>> did_you_mean("velocity-verlett", ("velocity-verlet", "leapfrog"))
+    " (did you mean 'velocity-verlet'?)"
+    """
+    import difflib
+
+    close = difflib.get_close_matches(word, list(choices), n=1, cutoff=cutoff)
+    return f" (did you mean '{close[0]}'?)" if close else ""

@@ -10,7 +10,7 @@ import math
 from typing import Any, Literal, overload
 
 from dtcrit.errors import InputError
-from dtcrit.inputs.text import short, show, type_name
+from dtcrit.inputs.text import did_you_mean, short, show, type_name
 
 
 def number(key: str, value: Any, *, allow_zero: bool = False, lo: float | None = None, hi: float | None = None,
@@ -99,10 +99,7 @@ def choice(key: str, value: Any, choices: tuple[str, ...], what: str) -> str:
         return text
     if text.lower() in choices:
         return text.lower()
-    import difflib  # only for a message
-
-    close = difflib.get_close_matches(text.lower(), choices, n=1, cutoff=0.5)
-    hint = f" (did you mean '{close[0]}'?)" if close else ""
+    hint = did_you_mean(text.lower(), choices, 0.5)
     raise InputError(key, f"unknown {what} {short(text)}{hint}; choose one of {', '.join(choices)}")
 
 

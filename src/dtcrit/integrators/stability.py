@@ -21,6 +21,7 @@ import numpy as np
 from dtcrit.integrators import precise
 from dtcrit._generated import critical_steps as _gen
 from dtcrit.errors import InputError
+from dtcrit.inputs.text import did_you_mean
 from dtcrit.integrators.engines import ENGINES, resolve_integrator
 from dtcrit.integrators.schemes import INTEGRATORS, NAMES, USER_INTEGRATORS
 from dtcrit.numerics.scaling import scaled_rates  # re-exported: omega, gamma on a power-of-two scale
@@ -81,10 +82,7 @@ def check_integrator(name: str) -> str:
     name, _note = resolve_integrator(name)
     if name in INTEGRATORS or name in USER_INTEGRATORS:
         return name
-    import difflib  # only for the message
-
-    close = difflib.get_close_matches(str(name), NAMES + tuple(ENGINES), n=1)
-    hint = f" (did you mean '{close[0]}'?)" if close else ""
+    hint = did_you_mean(str(name), NAMES + tuple(ENGINES))
     raise InputError("integrator", f"unknown integrator {name!r}{hint}; choose one of {', '.join(NAMES)}")
 
 
