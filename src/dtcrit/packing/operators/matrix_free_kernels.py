@@ -11,7 +11,8 @@ function the vectorised NumPy path of ``matrix_free.ContactOperator`` calls on a
 
 Measured on the jittered FCC benchmark (585k contacts): the vectorised NumPy product takes 4x the
 time of an assembled BSR product, the compiled loop under half of it, which is why this module
-exists.  ``available()`` says whether Numba is installed; without it the NumPy path is used.
+exists.  ``available()`` says whether Numba is installed; without it the NumPy path is used
+(``available``, ``threads`` and ``use_threads`` are ``numba_runtime``'s, re-exported here).
 
 The bounds' pass over the same arguments (``loop_arguments``) is ``particle_pass``.
 
@@ -20,52 +21,12 @@ file (or clear ``__pycache__``) so that the cached machine code is rebuilt.
 """
 from __future__ import annotations
 
-from types import ModuleType
-from typing import Any, Callable
-
 import numpy as np
 
 from dtcrit.packing.normal_arms import kernel_arms, lengths_along
 from dtcrit.packing.operators.contact_element import IDENTITY, body_forces, coefficient_at, contact_frame
+from dtcrit.packing.operators.numba_runtime import _jit, available, numba, prange, threads, use_threads  # noqa: F401 (re-exported)
 from dtcrit.packing.uniform_values import kernel_values
-
-
-def _import_numba() -> ModuleType | None:
-    try:  # pragma: no cover - exercised by whichever environment runs the tests
-        import numba as module
-    except ImportError:  # the NumPy path of matrix_free.ContactOperator is used instead
-        return None
-    return module
-
-
-numba = _import_numba()
-
-
-prange = numba.prange if numba is not None else range
-
-
-def _jit(fn: Callable[..., Any], parallel: bool = False) -> Callable[..., Any]:
-    """``fn`` compiled by Numba (machine code cached on disk, GIL released while it runs; ``parallel``:
-    its ``prange`` loops run on Numba's threads); without Numba a stand-in that raises (callers
-    check ``available()`` first).
-    """
-    if numba is None:  # pragma: no cover
-        def missing(*args: Any) -> Any:
-            raise RuntimeError("the compiled loops need Numba (pip install numba)")
-
-        return missing
-    return numba.njit(cache=True, nogil=True, parallel=parallel)(fn)
-
-
-def available() -> bool:
-    """Whether the compiled loops can be used (Numba importable).
-
-    Returns
-    -------
-    bool
-        ``True`` when Numba imports.
-    """
-    return numba is not None
 
 
 NO_LIMIT = 1 << 62
@@ -375,35 +336,3 @@ def block_bounds(count: int, blocks: int) -> np.ndarray:
         ``blocks + 1`` increasing int64 bounds from 0 to ``count``.
     """
     return np.linspace(0, count, max(1, int(blocks)) + 1).round().astype(np.int64)
-
-
-def threads() -> int:
-    """Threads the compiled loops may use (``numba.get_num_threads()``: ``NUMBA_NUM_THREADS`` or the
-    cores), 1 without Numba.
-
-    Returns
-    -------
-    int
-        The thread count.
-    """
-    return int(numba.get_num_threads()) if numba is not None else 1
-
-
-def use_threads(count: int) -> int:
-    """Let the compiled loops use ``count`` threads (``numba.set_num_threads``, capped at Numba's pool:
-    ``NUMBA_NUM_THREADS`` or the cores), e.g. one rank's share of its node's cores.
-
-    Parameters
-    ----------
-    count : int
-        Threads wanted (at least 1).
-
-    Returns
-    -------
-    int
-        The threads the loops now use (1 without Numba).
-    """
-    if numba is None:
-        return 1
-    numba.set_num_threads(max(1, min(int(count), int(numba.config.NUMBA_NUM_THREADS))))
-    return threads()
